@@ -1,0 +1,95 @@
+/* The passivity observer (PO) and passivity controller (PC) variants of
+ * DESIGN section 4, series PC in impedance causality.
+ *
+ * A control tick k takes the measured position (count and metres) and gives
+ * the command f_c(k) = f_e(k) + f_pc(k). The observer half (W, E_ref) is a
+ * separate step so that popc-analyze can recompute W and E_ref from a log's
+ * columns with exactly the code and floating-point operations that ran online. */
+#ifndef POPC_CONTROLLER_H
+#define POPC_CONTROLLER_H
+
+#include "popc/environment.h"
+#include "popc/scene.h"
+#include "popc/velocity.h"
+
+/* Controller events, OR-ed into the log's `flags` column. */
+enum popc_flag {
+	POPC_FLAG_ACTIVE = 1,    /* f_pc != 0 */
+	POPC_FLAG_HOLD = 2,      /* f_pc held while no count moved (Table I, first branch) */
+	POPC_FLAG_IGNORE = 4,    /* one-count reversal: produced energy ignored (Table I) */
+	POPC_FLAG_CLAMP = 8,     /* f_pc clamped to +-pc_bound */
+	POPC_FLAG_GUARD = 16,    /* a non-finite PC force was replaced by 0 */
+};
+
+/* One control tick as logged. */
+typedef struct popc_tick {
+	double t_s;
+	double x_m;           /* measured position */
+	long long count;      /* encoder counts */
+	double v_mps;         /* velocity the controller used */
+	double f_e_N, f_pc_N, f_c_N;
+	double W_J, E_ref_J;
+	unsigned flags;
+} popc_tick;
+
+/* PO and reference energy state (DESIGN section 4; seed eq. 3, Table I). */
+typedef struct popc_observer {
+	popc_variant variant;
+	popc_ignore_mode ignore_mode;
+	int started;
+	double x_prev_m;
+	long long count_prev;
+	double f_e_prev_N, f_c_prev_N;
+	double W_J, E_ref_J;
+	/* Table I memory: the last step on which a count moved */
+	long long prev_dcount;
+	double prev_dx_m, prev_fc_N;
+} popc_observer;
+
+/* What the observer step found, for the PC that follows. */
+typedef struct popc_observation {
+	double dx_m;          /* displacement the PO used: x(k) - x(k-1), or v T (filtered) */
+	long long dcount;
+	unsigned flags;       /* POPC_FLAG_IGNORE */
+} popc_observation;
+
+void popc_observer_init(popc_observer *o, popc_variant variant, popc_ignore_mode mode);
+
+/* Observer update at tick k from the measured position, the controller's
+ * velocity (used by filtered-velocity only), the period and the VE force f_e(k).
+ * Updates W(k) and E_ref(k). */
+void popc_observer_update(popc_observer *o, double x_m, long long count, double v_mps,
+			  double period_s, double f_e_N, popc_observation *obs);
+
+/* Stores the command f_c(k) that was sent (needed by W(k+1)) and Table I's
+ * Prev_fc when a count moved. */
+void popc_observer_commit(popc_observer *o, const popc_observation *obs, double f_e_N,
+			  double f_c_N);
+
+typedef struct popc_controller_config {
+	popc_variant variant;
+	double pc_bound_N;
+	popc_ignore_mode ignore_mode;
+	double resolution_m;
+	double period_s;
+	int foaw_window;
+	double foaw_noise_m;
+	popc_environment env;
+} popc_controller_config;
+
+typedef struct popc_controller {
+	popc_controller_config cfg;
+	popc_observer obs;
+	popc_foaw foaw;
+	double f_pc_prev_N;
+	int started;
+} popc_controller;
+
+void popc_controller_config_from_scene(popc_controller_config *c, const popc_scene *s);
+void popc_controller_init(popc_controller *c, const popc_controller_config *cfg);
+
+/* One control tick: fills every field of *out but t_s. f_c is always finite
+ * when x_m is finite. */
+void popc_controller_step(popc_controller *c, long long count, double x_m, popc_tick *out);
+
+#endif

@@ -1,0 +1,47 @@
+/* popc error reporting: every fallible library call returns 0 on success or a
+ * negative popc_status, and fills a popc_error with a message that names the
+ * file, line, key and allowed range where those apply. The library never exits. */
+#ifndef POPC_ERROR_H
+#define POPC_ERROR_H
+
+#include <stddef.h>
+
+/* Process exit codes shared by all popc programs (documented in README.md). */
+enum popc_exit {
+	POPC_EXIT_OK = 0,          /* success */
+	POPC_EXIT_RUN_FAILED = 1,  /* the run failed (I/O, numerical instability, ...) */
+	POPC_EXIT_USAGE = 2,       /* bad command line, scene, map or input file */
+	POPC_EXIT_SAFETY = 3,      /* safety stop on a real axis (fault bit, soft limit) */
+	POPC_EXIT_COMM_LOST = 4,   /* communication with the axis lost */
+	POPC_EXIT_INTERRUPTED = 5, /* stopped by SIGINT or SIGTERM, safe state reached */
+	POPC_EXIT_UNSTABLE = 6,    /* the integrator went unstable; the log says where */
+};
+
+typedef enum popc_status {
+	POPC_OK = 0,
+	POPC_ERR_INVALID = -1,  /* bad input: scene key, value, file content */
+	POPC_ERR_IO = -2,       /* file or stream error */
+	POPC_ERR_NOMEM = -3,
+	POPC_ERR_NUMERIC = -4,  /* non-finite or diverging numbers */
+	POPC_ERR_COMM = -5,     /* communication with an axis */
+	POPC_ERR_SAFETY = -6,   /* safety supervisor stop */
+	POPC_ERR_INTERRUPTED = -7,
+} popc_status;
+
+#define POPC_ERROR_MSG_MAX 512
+
+typedef struct popc_error {
+	char msg[POPC_ERROR_MSG_MAX];
+} popc_error;
+
+/* Writes a printf-style message into err (if err is not NULL) and returns status. */
+int popc_error_set(popc_error *err, int status, const char *fmt, ...)
+#if defined(__GNUC__)
+	__attribute__((format(printf, 3, 4)))
+#endif
+	;
+
+/* Maps a popc_status to the process exit code the CLI uses. */
+int popc_status_exit_code(int status);
+
+#endif

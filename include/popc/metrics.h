@@ -1,0 +1,44 @@
+/* Streaming summary metrics of a run or a log: the numbers the end-of-run
+ * summary prints and that popc-analyze compare tabulates. Memory is constant
+ * in the length of the run. */
+#ifndef POPC_METRICS_H
+#define POPC_METRICS_H
+
+#include <stdio.h>
+
+#include "popc/controller.h"
+#include "popc/environment.h"
+
+typedef struct popc_metrics_window {
+	long long ticks, active_ticks;
+	double pc_sq_sum;           /* sum f_pc^2 */
+	double pc_max_N;            /* max |f_pc| */
+	long long vsign_changes;    /* sign changes of the moving displacement, in contact */
+	long long contact_ticks;
+} popc_metrics_window;
+
+typedef struct popc_metrics {
+	double period_s;
+	double late_from_s;         /* start of the "late" window (low-velocity phase) */
+	popc_environment env;
+	popc_metrics_window all, late;
+	double pc_energy_J;         /* sum f_pc(k-1) (x(k) - x(k-1)): energy the PC dissipated */
+	double w_minus_eref_min_J, w_minus_eref_end_J;
+	double t_end_s;
+	/* running state */
+	int started;
+	double x_prev_m, f_pc_prev_N;
+	int last_sign;
+} popc_metrics;
+
+/* late_from_s: ticks at t >= late_from_s also count in the late window. */
+void popc_metrics_init(popc_metrics *m, const popc_environment *env, double period_s,
+		       double late_from_s);
+void popc_metrics_add(popc_metrics *m, const popc_tick *t);
+
+double popc_metrics_pc_rms(const popc_metrics_window *w);
+double popc_metrics_active_fraction(const popc_metrics_window *w);
+/* Velocity sign changes per second of contact. */
+double popc_metrics_vsign_rate(const popc_metrics_window *w, double period_s);
+
+#endif

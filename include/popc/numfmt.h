@@ -1,0 +1,30 @@
+/* Exact, fast conversion between doubles and decimal text for the CSV logs.
+ *
+ * popc_format_double writes the shortest decimal string that reads back to the
+ * same double (round-trip exact, bitwise, for every finite double including
+ * subnormals and negative zero). popc_parse_double reads a decimal number and
+ * returns the double nearest to it (round half to even), bitwise equal to what
+ * a correctly rounded strtod returns in the C locale. */
+#ifndef POPC_NUMFMT_H
+#define POPC_NUMFMT_H
+
+#include <stddef.h>
+
+/* Longest text popc_format_double can write, without the terminating NUL. */
+#define POPC_DOUBLE_TEXT_MAX 32
+
+/* Writes the shortest round-trip decimal form of v to buf (at least
+ * POPC_DOUBLE_TEXT_MAX + 1 bytes), NUL-terminated; returns the length.
+ * Finite values only are round-tripped; NaN is written as "nan" and infinities
+ * as "inf" / "-inf" (popc never logs them, but the writer must not crash). */
+size_t popc_format_double(double v, char *buf);
+
+/* Parses a decimal floating-point number at [s, end). Accepts an optional sign,
+ * digits with an optional '.', and an optional exponent (e or E); no leading
+ * spaces, no hex, no "nan"/"inf". On success stores the correctly rounded
+ * double in *out and returns the number of characters consumed (> 0); returns 0
+ * if no number starts at s. Stops at the first character that cannot continue
+ * the number, so the caller checks what follows (delimiter, end of line). */
+size_t popc_parse_double(const char *s, const char *end, double *out);
+
+#endif

@@ -1,0 +1,78 @@
+/* The simulated plant of DESIGN section 3: the operator's hand and the device
+ * as one rigid body,
+ *
+ *     M x'' = u(t) - B x' - K x,   M = M_HO + M_HI, B = B_HO + B_HI, K = K_HO + K_HI,
+ *
+ * driven over one step of length h by the generalized input force
+ *
+ *     u(t_k + tau) = u0 + u1 tau + us sin(w tau) + uc cos(w tau),  tau in [0, h),
+ *
+ * which holds the operator's pull K_HO x_d + B_HO x_d' (+ an exogenous force)
+ * minus the zero-order-held command f_c(k). A piecewise-linear intent gives
+ * u1 (first-order hold of x_d); a sine intent gives us, uc.
+ *
+ * The exact method steps with Phi = expm(A h) and the input columns of the
+ * augmented matrix exponential (exact to rounding for this input class); the
+ * fixed-step integrators use `substeps` steps per control period. */
+#ifndef POPC_PLANT_H
+#define POPC_PLANT_H
+
+#include "popc/error.h"
+#include "popc/scene.h"
+
+typedef struct popc_plant_state {
+	double x_m;
+	double v_mps;
+} popc_plant_state;
+
+typedef struct popc_plant_input {
+	double u0_N, u1_Nps, us_N, uc_N;
+} popc_plant_input;
+
+typedef struct popc_plant_config {
+	double mass_kg, damping_Nspm, stiffness_Npm;
+	double omega_radps;        /* w of the sine input; 0 when the scene has none */
+	popc_integrator method;
+	int substeps;              /* >= 1; ignored by the exact method */
+	double period_s;           /* control period T */
+} popc_plant_config;
+
+/* Precomputed step of length h: x+ = Phi x + Gam u (exact) or the integrator's
+ * own constants. Private fields; treat as opaque. */
+typedef struct popc_plant_step_coeffs {
+	double h_s;
+	double phi[2][2];
+	double gam[2][4];          /* columns for u0, u1, uc, us */
+	double trap[2][2];         /* trapezoid: (I - hA/2)^-1 (I + hA/2), per substep */
+	double trap_in[2];         /* trapezoid: (I - hA/2)^-1 b h/2 */
+} popc_plant_step_coeffs;
+
+typedef struct popc_plant {
+	popc_plant_config cfg;
+	popc_plant_step_coeffs full;   /* for h = T */
+} popc_plant;
+
+/* Validates the configuration (M > 0, B >= 0, K >= 0, finite, substeps >= 1)
+ * and precomputes the full-period step. */
+int popc_plant_init(popc_plant *p, const popc_plant_config *cfg, popc_error *err);
+
+/* Builds the plant configuration for a scene. */
+void popc_plant_config_from_scene(popc_plant_config *cfg, const popc_scene *s);
+
+/* Advances the state by one control period T. */
+void popc_plant_step(const popc_plant *p, popc_plant_state *st, const popc_plant_input *u);
+
+/* Advances the state by h in (0, T] (a period split at a profile breakpoint);
+ * the exact method computes its matrices for h (a few microseconds). */
+void popc_plant_step_h(const popc_plant *p, popc_plant_state *st, const popc_plant_input *u,
+		       double h_s);
+
+/* Precomputes the step coefficients for h (used by popc_plant_step_h). */
+void popc_plant_coeffs(const popc_plant_config *cfg, double h_s, popc_plant_step_coeffs *c);
+
+/* Dense matrix exponential of an n x n matrix (n <= 8), row major, by scaling
+ * and squaring with a [6/6] Pade approximant (Higham 2005, table 2.3: backward
+ * error below 2^-53 for ||A|| / 2^s <= 0.54). */
+int popc_expm(int n, const double *a, double *out);
+
+#endif

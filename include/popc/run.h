@@ -1,0 +1,39 @@
+/* The experiment loop: axis -> controller -> log, with the end-of-run summary. */
+#ifndef POPC_RUN_H
+#define POPC_RUN_H
+
+#include <signal.h>
+#include <stdio.h>
+
+#include "popc/axis.h"
+#include "popc/log.h"
+#include "popc/metrics.h"
+#include "popc/scene.h"
+
+typedef struct popc_run_summary {
+	double sim_time_s, wall_time_s;
+	long long ticks;
+	popc_integrator integrator;
+	int substeps;
+	double integrator_error_m;    /* max |x - x_exact| at the samples; 0 when exact */
+	popc_metrics metrics;
+	int status;                   /* 0 or the popc_status that stopped the run */
+	char stop_reason[POPC_ERROR_MSG_MAX + 64];
+} popc_run_summary;
+
+typedef struct popc_run_options {
+	popc_log_writer *log;              /* NULL: no log */
+	volatile sig_atomic_t *stop_flag;  /* set by a signal handler: stop safely */
+} popc_run_options;
+
+/* Runs the scene on the axis. Always calls the axis' stop() and writes the
+ * stop reason to the log before returning. Returns 0 or a negative popc_status. */
+int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
+	     popc_run_summary *sum, popc_error *err);
+
+/* Human summary (several lines) and one CSV row with its header. */
+void popc_run_summary_print(const popc_run_summary *sum, const popc_scene *s, FILE *f);
+void popc_run_summary_csv_header(FILE *f);
+void popc_run_summary_csv_row(const popc_run_summary *sum, const popc_scene *s, FILE *f);
+
+#endif

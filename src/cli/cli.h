@@ -1,0 +1,30 @@
+/* Shared helpers of the popc command-line verbs. */
+#ifndef POPC_CLI_H
+#define POPC_CLI_H
+
+#include <signal.h>
+
+#include "popc/error.h"
+#include "popc/scene.h"
+
+/* Set by SIGINT/SIGTERM; the run loop polls it every tick. */
+extern volatile sig_atomic_t popc_cli_stop;
+void popc_cli_install_signals(void);
+
+/* Prints "popc: <msg>" to stderr and returns the exit code for status. */
+int popc_cli_fail(const char *verb, int status, const popc_error *err);
+
+/* Loads a scene file (or only defaults when path is NULL), applies the
+ * --set assignments in order and validates. */
+int popc_cli_load_scene(popc_scene *s, const char *path, char **sets, int n_sets, popc_error *err);
+
+/* Collects a --set argument (the array grows as needed; freed by the caller). */
+int popc_cli_push(char ***list, int *n, char *value);
+
+/* Strict whole-string number parsers for options. */
+int popc_cli_parse_long(const char *text, long lo, long hi, long *out);
+
+int popc_cmd_run(int argc, char **argv);
+int popc_cmd_scene(int argc, char **argv);
+
+#endif

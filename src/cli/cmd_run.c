@@ -1,0 +1,132 @@
+/* popc run SCENE [--set k=v]... [--variant NAME] [--log FILE] [--summary FILE] */
+#include <getopt.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+#include "popc/axis.h"
+#include "popc/log.h"
+#include "popc/run.h"
+
+static void usage(FILE *f)
+{
+	fputs("usage: popc run SCENE [options]\n"
+	      "\n"
+	      "Runs the scene's experiment (the simulated plant, or a servo axis) through the\n"
+	      "virtual environment and the PO/PC variant, writes the CSV log and prints a\n"
+	      "summary on standard error.\n"
+	      "\n"
+	      "  --set section.key=value  override a scene key (repeatable, validated)\n"
+	      "  --variant NAME           controller.variant: none, po-pc, ref-energy,\n"
+	      "                           filtered-velocity, ignore, hold, improved\n"
+	      "  --log FILE               write the CSV log to FILE ('-': standard output)\n"
+	      "  --summary FILE           append the summary as a CSV row (header if new)\n"
+	      "  -q, --quiet              no summary on standard error\n"
+	      "  -h, --help               this help\n"
+	      "\n"
+	      "Exit status: 0 done, 1 run failed, 2 bad scene or usage, 3 safety stop,\n"
+	      "4 communication lost, 5 interrupted (safe state reached), 6 integrator unstable.\n",
+	      f);
+}
+
+enum { OPT_SET = 256, OPT_VARIANT, OPT_LOG, OPT_SUMMARY };
+
+static int write_summary_file(const char *path, const popc_run_summary *sum, const popc_scene *s)
+{
+	FILE *f = fopen(path, "a+");
+	if (!f)
+		return -1;
+	fseek(f, 0, SEEK_END);
+	if (ftell(f) == 0)
+		popc_run_summary_csv_header(f);
+	popc_run_summary_csv_row(sum, s, f);
+	return fclose(f);
+}
+
+int popc_cmd_run(int argc, char **argv)
+{
+	static const struct option opts[] = {
+		{"set", required_argument, NULL, OPT_SET},
+		{"variant", required_argument, NULL, OPT_VARIANT},
+		{"log", required_argument, NULL, OPT_LOG},
+		{"summary", required_argument, NULL, OPT_SUMMARY},
+		{"quiet", no_argument, NULL, 'q'},
+		{"help", no_argument, NULL, 'h'},
+		{NULL, 0, NULL, 0},
+	};
+	char **sets = NULL;
+	int n_sets = 0, quiet = 0, c;
+	const char *variant = NULL, *log_path = NULL, *summary_path = NULL;
+	optind = 1;
+	while ((c = getopt_long(argc, argv, "qh", opts, NULL)) != -1) {
+		switch (c) {
+		case OPT_SET: popc_cli_push(&sets, &n_sets, optarg); break;
+		case OPT_VARIANT: variant = optarg; break;
+		case OPT_LOG: log_path = optarg; break;
+		case OPT_SUMMARY: summary_path = optarg; break;
+		case 'q': quiet = 1; break;
+		case 'h': usage(stdout); free(sets); return 0;
+		default: usage(stderr); free(sets); return 2;
+		}
+	}
+	if (optind + 1 != argc) {
+		fprintf(stderr, "popc run: %s\n",
+			optind >= argc ? "missing SCENE file" : "more than one SCENE file");
+		usage(stderr);
+		free(sets);
+		return 2;
+	}
+	popc_scene s;
+	popc_error err;
+	char variant_set[96];
+	if (variant) {
+		snprintf(variant_set, sizeof variant_set, "controller.variant=%s", variant);
+		popc_cli_push(&sets, &n_sets, variant_set);
+	}
+	int st = popc_cli_load_scene(&s, argv[optind], sets, n_sets, &err);
+	free(sets);
+	if (st)
+		return popc_cli_fail("run", st, &err);
+
+	popc_axis *axis = NULL;
+	if (strcmp(s.axis, "sim") == 0) {
+		st = popc_sim_axis_create(&axis, &s, &err);
+	} else {
+		st = popc_error_set(&err, POPC_ERR_INVALID, "%s: axis.kind = %s: this build has no such axis",
+				    s.source, s.axis);
+	}
+	if (st)
+		return popc_cli_fail("run", st, &err);
+
+	popc_log_writer log;
+	popc_run_options ro = {.log = NULL, .stop_flag = &popc_cli_stop};
+	if (log_path) {
+		st = popc_log_open(&log, log_path, axis->ops->log_columns, &err);
+		if (!st)
+			st = popc_log_write_header(&log, axis->ops->name, &s, NULL, &err);
+		if (st) {
+			popc_axis_destroy(&axis);
+			return popc_cli_fail("run", st, &err);
+		}
+		ro.log = &log;
+	}
+	popc_cli_install_signals();
+	popc_run_summary sum;
+	int run_st = popc_run(&s, axis, &ro, &sum, &err);
+	popc_error cerr;
+	int close_st = log_path ? popc_log_close(&log, &cerr) : 0;
+	popc_axis_destroy(&axis);
+	if (!quiet)
+		popc_run_summary_print(&sum, &s, stderr);
+	if (summary_path && write_summary_file(summary_path, &sum, &s) != 0) {
+		fprintf(stderr, "popc run: %s: cannot write the summary\n", summary_path);
+		if (!run_st)
+			return 1;
+	}
+	if (run_st)
+		return popc_cli_fail("run", run_st, &err);
+	if (close_st)
+		return popc_cli_fail("run", close_st, &cerr);
+	return 0;
+}

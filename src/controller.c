@@ -1,0 +1,175 @@
+/* PO/PC variants (controller.h; DESIGN section 4; seed eq. 3 and Table I). */
+#include "popc/controller.h"
+
+#include <math.h>
+#include <string.h>
+
+void popc_observer_init(popc_observer *o, popc_variant variant, popc_ignore_mode mode)
+{
+	memset(o, 0, sizeof *o);
+	o->variant = variant;
+	o->ignore_mode = mode;
+}
+
+static int uses_ignore(popc_variant v)
+{
+	return v == POPC_VARIANT_IGNORE || v == POPC_VARIANT_IMPROVED;
+}
+
+void popc_observer_update(popc_observer *o, double x_m, long long count, double v_mps,
+			  double period_s, double f_e_N, popc_observation *obs)
+{
+	obs->flags = 0;
+	if (!o->started) {
+		/* tick 0: no displacement yet, W(0) = E_ref(0) = 0 */
+		o->started = 1;
+		o->x_prev_m = x_m;
+		o->count_prev = count;
+		o->f_e_prev_N = f_e_N;
+		o->f_c_prev_N = 0.0;
+		obs->dx_m = 0.0;
+		obs->dcount = 0;
+		return;
+	}
+	double dx = x_m - o->x_prev_m;
+	long long dcount = count - o->count_prev;
+	obs->dcount = dcount;
+	/* reference energy of the ideal spring: trapezoid of f_e over dx */
+	o->E_ref_J += (f_e_N + o->f_e_prev_N) * dx / 2.0;
+	if (o->variant == POPC_VARIANT_FILTERED_VELOCITY) {
+		/* seed eq. 2 with the estimated velocity: dW = f_c(k-1) v(k) T */
+		double dxv = v_mps * period_s;
+		obs->dx_m = dxv;
+		o->W_J += o->f_c_prev_N * dxv;
+	} else if (uses_ignore(o->variant) && dcount != 0 && dcount == -o->prev_dcount &&
+		   (dcount == 1 || dcount == -1)) {
+		/* Table I: one-count reversal: W(k) = W(k-1) - Prev_fc Prev_dx */
+		obs->dx_m = dx;
+		o->W_J -= o->prev_fc_N * o->prev_dx_m;
+		obs->flags |= POPC_FLAG_IGNORE;
+	} else {
+		/* seed eq. 3: W(k) = W(k-1) + f_c(k-1) dx(k) */
+		obs->dx_m = dx;
+		o->W_J += o->f_c_prev_N * dx;
+	}
+	o->x_prev_m = x_m;
+	o->count_prev = count;
+	o->f_e_prev_N = f_e_N;
+}
+
+void popc_observer_commit(popc_observer *o, const popc_observation *obs, double f_e_N,
+			  double f_c_N)
+{
+	if (uses_ignore(o->variant) && obs->dcount != 0) {
+		/* Table I: Prev_dx = dx(k); Prev_fc = f_c(k) before the PC is added
+		 * (literal: f_e(k)), or f_c(k-1) (undo the previous increment). */
+		o->prev_fc_N = o->ignore_mode == POPC_IGNORE_LITERAL ? f_e_N : o->f_c_prev_N;
+		o->prev_dx_m = obs->dx_m;
+		o->prev_dcount = obs->dcount;
+	}
+	o->f_c_prev_N = f_c_N;
+}
+
+void popc_controller_config_from_scene(popc_controller_config *c, const popc_scene *s)
+{
+	memset(c, 0, sizeof *c);
+	c->variant = s->variant;
+	c->pc_bound_N = s->pc_bound_N;
+	c->ignore_mode = s->ignore_mode;
+	c->resolution_m = s->enc_resolution_m;
+	c->period_s = popc_scene_period_s(s);
+	c->foaw_window = s->foaw_window;
+	c->foaw_noise_m = s->foaw_noise_m > 0 ? s->foaw_noise_m : s->enc_resolution_m;
+	popc_environment_from_scene(&c->env, s);
+}
+
+void popc_controller_init(popc_controller *c, const popc_controller_config *cfg)
+{
+	memset(c, 0, sizeof *c);
+	c->cfg = *cfg;
+	popc_observer_init(&c->obs, cfg->variant, cfg->ignore_mode);
+	popc_foaw_init(&c->foaw, cfg->foaw_window, cfg->foaw_noise_m, cfg->period_s);
+}
+
+/* f_pc = (E_ref - W) / dx when the PO is below its threshold; never divides by
+ * a zero displacement. */
+static double pc_force(double W, double threshold, double dx)
+{
+	if (W < threshold && dx != 0.0)
+		return (threshold - W) / dx;
+	return 0.0;
+}
+
+void popc_controller_step(popc_controller *c, long long count, double x_m, popc_tick *out)
+{
+	const popc_controller_config *cfg = &c->cfg;
+	double v;
+	if (cfg->variant == POPC_VARIANT_FILTERED_VELOCITY)
+		v = popc_foaw_update(&c->foaw, x_m);
+	else
+		v = c->started ? (x_m - c->obs.x_prev_m) / cfg->period_s : 0.0;
+	c->started = 1;
+
+	double f_e = popc_environment_force(&cfg->env, x_m, v);
+	popc_observation ob;
+	popc_observer_update(&c->obs, x_m, count, v, cfg->period_s, f_e, &ob);
+	const double W = c->obs.W_J, E_ref = c->obs.E_ref_J;
+	unsigned flags = ob.flags;
+
+	double f_pc = 0.0;
+	switch (cfg->variant) {
+	case POPC_VARIANT_NONE:
+		break;
+	case POPC_VARIANT_PO_PC:
+		f_pc = pc_force(W, 0.0, ob.dx_m);
+		break;
+	case POPC_VARIANT_REF_ENERGY:
+	case POPC_VARIANT_FILTERED_VELOCITY:
+	case POPC_VARIANT_IGNORE:
+		f_pc = pc_force(W, E_ref, ob.dx_m);
+		break;
+	case POPC_VARIANT_HOLD:
+	case POPC_VARIANT_IMPROVED:
+		if (ob.dcount == 0) {
+			/* Table I, |dx(k)| < delta: f_pc(k) = f_pc(k-1) */
+			f_pc = c->f_pc_prev_N;
+			if (f_pc != 0.0)
+				flags |= POPC_FLAG_HOLD;
+		} else {
+			f_pc = pc_force(W, E_ref, ob.dx_m);
+		}
+		break;
+	default:
+		break;
+	}
+	if (!isfinite(f_pc)) {
+		f_pc = 0.0;
+		flags |= POPC_FLAG_GUARD;
+	}
+	if (f_pc > cfg->pc_bound_N) {
+		f_pc = cfg->pc_bound_N;
+		flags |= POPC_FLAG_CLAMP;
+	} else if (f_pc < -cfg->pc_bound_N) {
+		f_pc = -cfg->pc_bound_N;
+		flags |= POPC_FLAG_CLAMP;
+	}
+	if (f_pc != 0.0)
+		flags |= POPC_FLAG_ACTIVE;
+	double f_c = f_e + f_pc;
+	if (!isfinite(f_c)) { /* only if f_e itself overflowed: command nothing */
+		f_c = 0.0;
+		flags |= POPC_FLAG_GUARD;
+	}
+	popc_observer_commit(&c->obs, &ob, f_e, f_c);
+	c->f_pc_prev_N = f_pc;
+
+	out->x_m = x_m;
+	out->count = count;
+	out->v_mps = v;
+	out->f_e_N = f_e;
+	out->f_pc_N = f_pc;
+	out->f_c_N = f_c;
+	out->W_J = W;
+	out->E_ref_J = E_ref;
+	out->flags = flags;
+}

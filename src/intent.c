@@ -1,0 +1,217 @@
+/* The operator's intent (intent.h). */
+#include "popc/intent.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define POPC_TWO_PI 6.283185307179586476925286766559
+
+static int set_points(popc_intent *in, size_t n, const double *t, const double *q)
+{
+	in->t = malloc(n * sizeof *in->t);
+	in->q = malloc(n * sizeof *in->q);
+	if (!in->t || !in->q)
+		return POPC_ERR_NOMEM;
+	memcpy(in->t, t, n * sizeof *t);
+	memcpy(in->q, q, n * sizeof *q);
+	in->n = n;
+	return 0;
+}
+
+/* Reads "t,value" rows; '#' comments and one header line are skipped. Times
+ * must increase strictly. */
+static int load_table(popc_intent *in, const char *path, popc_error *err)
+{
+	FILE *f = fopen(path, "r");
+	if (!f)
+		return popc_error_set(err, POPC_ERR_IO, "%s: cannot open table: %s", path,
+				      strerror(errno));
+	size_t cap = 64, n = 0;
+	double *t = malloc(cap * sizeof *t), *q = malloc(cap * sizeof *q);
+	char line[512];
+	int lineno = 0, status = 0;
+	while (t && q && fgets(line, sizeof line, f)) {
+		lineno++;
+		char *p = line;
+		while (*p == ' ' || *p == '\t')
+			p++;
+		if (*p == '#' || *p == '\n' || *p == '\r' || *p == '\0')
+			continue;
+		char *end;
+		double tv = strtod(p, &end);
+		if (end == p) {
+			if (n == 0 && lineno == 1)
+				continue; /* header line */
+			status = popc_error_set(err, POPC_ERR_INVALID,
+						"%s:%d: column 1: expected a time in seconds", path, lineno);
+			break;
+		}
+		while (*end == ' ' || *end == '\t')
+			end++;
+		if (*end != ',' && *end != ';' && *end != '\t') {
+			status = popc_error_set(err, POPC_ERR_INVALID,
+						"%s:%d: expected two columns t,value", path, lineno);
+			break;
+		}
+		p = end + 1;
+		double qv = strtod(p, &end);
+		while (*end == ' ' || *end == '\t' || *end == '\r' || *end == '\n')
+			end++;
+		if (end == p || *end != '\0' || !isfinite(tv) || !isfinite(qv)) {
+			status = popc_error_set(err, POPC_ERR_INVALID,
+						"%s:%d: column 2: expected a finite number", path, lineno);
+			break;
+		}
+		if (n > 0 && !(tv > t[n - 1])) {
+			status = popc_error_set(err, POPC_ERR_INVALID,
+						"%s:%d: time %g does not increase (previous %g)", path,
+						lineno, tv, t[n - 1]);
+			break;
+		}
+		if (n == cap) {
+			cap *= 2;
+			double *nt = realloc(t, cap * sizeof *t), *nq = realloc(q, cap * sizeof *q);
+			if (nt)
+				t = nt;
+			if (nq)
+				q = nq;
+			if (!nt || !nq)
+				break;
+		}
+		t[n] = tv;
+		q[n] = qv;
+		n++;
+	}
+	fclose(f);
+	if (!status && (!t || !q))
+		status = popc_error_set(err, POPC_ERR_NOMEM, "%s: out of memory", path);
+	if (!status && n == 0)
+		status = popc_error_set(err, POPC_ERR_INVALID, "%s: the table has no rows", path);
+	if (!status)
+		status = set_points(in, n, t, q);
+	free(t);
+	free(q);
+	return status;
+}
+
+int popc_intent_init(popc_intent *in, const popc_scene *s, popc_error *err)
+{
+	memset(in, 0, sizeof *in);
+	in->kind = s->intent;
+	in->k_op = s->op_stiffness_Npm;
+	in->b_op = s->op_damping_Nspm;
+	in->x0 = s->op_x0_m;
+	in->t0 = s->op_t0_s;
+	switch (s->intent) {
+	case POPC_INTENT_RAMP: {
+		double t_end = s->op_t0_s + fabs(s->op_x_end_m - s->op_x0_m) / s->op_speed_mps;
+		double t[3] = {0.0, s->op_t0_s, t_end}, q[3] = {s->op_x0_m, s->op_x0_m, s->op_x_end_m};
+		return set_points(in, 3, t, q);
+	}
+	case POPC_INTENT_FORCE: {
+		in->q_is_force = 1;
+		double t_end = s->op_t0_s + fabs(s->op_force_N) / s->op_force_rate_Nps;
+		double t[3] = {0.0, s->op_t0_s, t_end}, q[3] = {0.0, 0.0, s->op_force_N};
+		return set_points(in, 3, t, q);
+	}
+	case POPC_INTENT_TABLE:
+		in->q_is_force = s->op_table_quantity == POPC_TABLE_FORCE;
+		return load_table(in, s->op_table, err);
+	case POPC_INTENT_SINE: {
+		in->amplitude = s->op_amplitude_m;
+		in->omega = POPC_TWO_PI * s->op_frequency_Hz;
+		double t[2] = {0.0, s->op_t0_s}, q[2] = {s->op_x0_m, s->op_x0_m};
+		return set_points(in, 2, t, q);
+	}
+	}
+	return popc_error_set(err, POPC_ERR_INVALID, "unknown operator intent");
+}
+
+void popc_intent_free(popc_intent *in)
+{
+	free(in->t);
+	free(in->q);
+	in->t = in->q = NULL;
+	in->n = 0;
+}
+
+/* Index i of the segment [t_i, t_i+1) holding t; n - 1 past the last point,
+ * and -1 before the first. Intents are read at increasing times: the cursor
+ * makes this O(1) amortized. */
+static long segment(popc_intent *in, double t)
+{
+	if (t < in->t[0])
+		return -1;
+	size_t i = in->cursor < in->n ? in->cursor : 0;
+	if (in->t[i] > t)
+		i = 0;
+	while (i + 1 < in->n && in->t[i + 1] <= t)
+		i++;
+	in->cursor = i;
+	return (long)i;
+}
+
+static void pl_value(popc_intent *in, double t, double *q, double *slope, double *next_break)
+{
+	long i = segment(in, t);
+	if (i < 0) {
+		*q = in->q[0];
+		*slope = 0.0;
+		*next_break = in->t[0];
+	} else if ((size_t)i + 1 >= in->n) {
+		*q = in->q[in->n - 1];
+		*slope = 0.0;
+		*next_break = INFINITY;
+	} else {
+		double t0 = in->t[i], t1 = in->t[i + 1];
+		*slope = (in->q[i + 1] - in->q[i]) / (t1 - t0);
+		*q = in->q[i] + *slope * (t - t0);
+		*next_break = t1;
+	}
+}
+
+void popc_intent_input(popc_intent *in, double t, popc_plant_input *u, double *next_break)
+{
+	double q, slope;
+	pl_value(in, t, &q, &slope, next_break);
+	u->us_N = u->uc_N = 0.0;
+	if (in->kind == POPC_INTENT_SINE && t >= in->t0) {
+		/* x_d = x0 + A sin(phi + w tau), phi = w (t - t0):
+		 * u = K x_d + B x_d' = K x0 + us sin(w tau) + uc cos(w tau) */
+		double phi = in->omega * (t - in->t0), sp = sin(phi), cp = cos(phi);
+		double ka = in->k_op * in->amplitude, bw = in->b_op * in->amplitude * in->omega;
+		u->u0_N = in->k_op * in->x0;
+		u->u1_Nps = 0.0;
+		u->us_N = ka * cp - bw * sp;
+		u->uc_N = ka * sp + bw * cp;
+		*next_break = INFINITY;
+	} else if (in->q_is_force) {
+		/* the hand rests at x0 and pushes with f(t) */
+		u->u0_N = in->k_op * in->x0 + q;
+		u->u1_Nps = slope;
+	} else {
+		/* first-order hold of x_d: u = K x_d(t + tau) + B x_d' */
+		u->u0_N = in->k_op * q + in->b_op * slope;
+		u->u1_Nps = in->k_op * slope;
+	}
+}
+
+double popc_intent_xd(popc_intent *in, double t)
+{
+	if (in->kind == POPC_INTENT_SINE)
+		return t >= in->t0 ? in->x0 + in->amplitude * sin(in->omega * (t - in->t0)) : in->x0;
+	if (in->q_is_force)
+		return in->x0;
+	double q, slope, nb;
+	pl_value(in, t, &q, &slope, &nb);
+	return q;
+}
+
+double popc_intent_x_initial(const popc_intent *in)
+{
+	if (in->kind == POPC_INTENT_SINE || in->q_is_force)
+		return in->x0;
+	return in->q[0];
+}

@@ -1,0 +1,479 @@
+/* Scene keys, defaults, INI loading, --set overrides and the resolved dump.
+ * Every key is declared once, in scene_keys[] below. */
+#include "popc/scene.h"
+
+#include <errno.h>
+#include <ini.h>
+#include <math.h>
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "popc/numfmt.h"
+#include "popc/velocity.h"
+
+typedef enum { KEY_DOUBLE, KEY_INT, KEY_ENUM, KEY_STRING } key_type;
+
+typedef struct scene_key {
+	const char *section, *key;
+	key_type type;
+	size_t offset;
+	double min, max;          /* inclusive range, for numbers */
+	int min_open;             /* 1: the range is (min, max] */
+	const char *unit;
+	const char *const *names; /* KEY_ENUM: NULL-terminated names, index = value */
+	const char *help;
+} scene_key;
+
+static const char *const intent_names[] = {"ramp", "force", "table", "sine", NULL};
+static const char *const quantity_names[] = {"position", "force", NULL};
+static const char *const env_names[] = {"wall", "spring", NULL};
+static const char *const variant_names[] = {"none",   "po-pc", "ref-energy", "filtered-velocity",
+					    "ignore", "hold",  "improved",   NULL};
+static const char *const mode_names[] = {"literal", "undo", NULL};
+static const char *const integrator_names[] = {"exact", "trapezoid", "rk4", "semi-implicit-euler",
+					       "euler", NULL};
+static const char *const axis_names[] = {"sim", "modbus", NULL};
+
+#define OFF(field) offsetof(popc_scene, field)
+#define NUM(sec, k, field, lo, hi, open, unit, help) \
+	{sec, k, KEY_DOUBLE, OFF(field), lo, hi, open, unit, NULL, help}
+
+static const scene_key scene_keys[] = {
+	NUM("run", "duration", duration_s, 0, 1e7, 1, "s", "simulated time"),
+	NUM("run", "rate", rate_Hz, 1, 1e6, 0, "Hz", "control rate 1/T"),
+
+	NUM("operator", "mass", op_mass_kg, 0, 1e3, 0, "kg", "hand mass M_HO"),
+	NUM("operator", "damping", op_damping_Nspm, 0, 1e6, 0, "N s/m", "hand damping B_HO"),
+	NUM("operator", "stiffness", op_stiffness_Npm, 0, 1e9, 0, "N/m", "hand stiffness K_HO"),
+	{"operator", "intent", KEY_ENUM, OFF(intent), 0, 0, 0, "", intent_names,
+	 "what the operator wants: x_d(t) or a force"},
+	NUM("operator", "x0", op_x0_m, -1e3, 1e3, 0, "m", "rest position of the hand (start of x_d)"),
+	NUM("operator", "t0", op_t0_s, 0, 1e7, 0, "s", "start of the ramp, force or sine"),
+	NUM("operator", "speed", op_speed_mps, 0, 1e3, 1, "m/s", "ramp speed"),
+	NUM("operator", "x_end", op_x_end_m, -1e3, 1e3, 0, "m", "ramp end position"),
+	NUM("operator", "force", op_force_N, -1e6, 1e6, 0, "N", "force intent: held force"),
+	NUM("operator", "force_rate", op_force_rate_Nps, 0, 1e9, 1, "N/s", "force intent: rise rate"),
+	NUM("operator", "amplitude", op_amplitude_m, 0, 1e3, 0, "m", "sine amplitude"),
+	NUM("operator", "frequency", op_frequency_Hz, 0, 1e5, 0, "Hz", "sine frequency"),
+	{"operator", "table", KEY_STRING, OFF(op_table), 0, 0, 0, "path", NULL,
+	 "table intent: CSV of t,value rows (relative to the scene file)"},
+	{"operator", "table_quantity", KEY_ENUM, OFF(op_table_quantity), 0, 0, 0, "", quantity_names,
+	 "table intent: the value column is x_d (m) or an exogenous force (N)"},
+
+	NUM("device", "mass", dev_mass_kg, 0, 1e3, 0, "kg", "device mass M_HI"),
+	NUM("device", "damping", dev_damping_Nspm, 0, 1e6, 0, "N s/m", "device damping B_HI"),
+	NUM("device", "stiffness", dev_stiffness_Npm, 0, 1e9, 0, "N/m", "device stiffness K_HI"),
+
+	{"environment", "kind", KEY_ENUM, OFF(env_kind), 0, 0, 0, "", env_names,
+	 "unilateral wall or bilateral spring"},
+	NUM("environment", "stiffness", env_stiffness_Npm, 0, 1e9, 0, "N/m", "K_e"),
+	NUM("environment", "damping", env_damping_Nspm, 0, 1e6, 0, "N s/m", "B_e (wall damping)"),
+	NUM("environment", "position", env_position_m, -1e3, 1e3, 0, "m", "wall surface / spring rest"),
+
+	NUM("encoder", "resolution", enc_resolution_m, 0, 1, 1, "m", "delta: x_meas = delta floor(x/delta)"),
+
+	{"controller", "variant", KEY_ENUM, OFF(variant), 0, 0, 0, "", variant_names,
+	 "PO/PC variant (DESIGN section 4)"},
+	NUM("controller", "pc_bound", pc_bound_N, 0, 1e6, 1, "N", "bound on |f_pc|"),
+	{"controller", "ignore_mode", KEY_ENUM, OFF(ignore_mode), 0, 0, 0, "", mode_names,
+	 "Table I Prev_fc: literal f_e(k) or undo f_c(k-1)"},
+	{"controller", "foaw_window", KEY_INT, OFF(foaw_window), 1, POPC_FOAW_MAX_WINDOW, 0,
+	 "samples", NULL, "filtered-velocity: longest FOAW window"},
+	NUM("controller", "foaw_noise", foaw_noise_m, 0, 1, 0, "m",
+	    "filtered-velocity: FOAW noise band d (0: the encoder resolution)"),
+
+	{"integrator", "method", KEY_ENUM, OFF(integrator), 0, 0, 0, "", integrator_names,
+	 "plant integration"},
+	{"integrator", "substeps", KEY_INT, OFF(substeps), 1, 1e6, 0, "", NULL,
+	 "fixed-step integrators: steps per control period"},
+
+	{"axis", "kind", KEY_ENUM, OFF(axis), 0, 0, 0, "", axis_names,
+	 "sim (the plant above) or modbus (a servo drive)"},
+	{"axis", "map", KEY_STRING, OFF(axis_map), 0, 0, 0, "path", NULL,
+	 "modbus: register map file (relative to the scene file)"},
+	{"axis", "connect", KEY_STRING, OFF(axis_connect), 0, 0, 0, "uri", NULL,
+	 "modbus: tcp:HOST:PORT or rtu:DEVICE[:BAUD[:8N1]]"},
+};
+
+#define N_KEYS (sizeof scene_keys / sizeof scene_keys[0])
+
+void popc_scene_defaults(popc_scene *s)
+{
+	memset(s, 0, sizeof *s);
+	/* The paper's scene (seed Sec. III) with the ramp of DESIGN section 3. */
+	s->duration_s = 5.0;
+	s->rate_Hz = 1000.0;
+	s->op_mass_kg = 0.1;
+	s->op_damping_Nspm = 0.5;
+	s->op_stiffness_Npm = 50.0;
+	s->intent = POPC_INTENT_RAMP;
+	s->op_x0_m = -0.01;
+	s->op_t0_s = 0.5;
+	s->op_speed_mps = 0.05;
+	s->op_x_end_m = 0.03;
+	s->op_force_N = 1.0;
+	s->op_force_rate_Nps = 10.0;
+	s->op_amplitude_m = 0.005;
+	s->op_frequency_Hz = 1.0;
+	s->op_table_quantity = POPC_TABLE_POSITION;
+	s->dev_mass_kg = 0.2;
+	s->env_kind = POPC_ENV_WALL;
+	s->env_stiffness_Npm = 1000.0;
+	s->enc_resolution_m = 1e-5;
+	s->variant = POPC_VARIANT_REF_ENERGY;
+	s->pc_bound_N = 5.0;
+	s->ignore_mode = POPC_IGNORE_LITERAL;
+	s->foaw_window = 16;
+	s->foaw_noise_m = 0.0;
+	s->integrator = POPC_INTEGRATOR_EXACT;
+	s->substeps = 100;
+	strcpy(s->axis, "sim");
+}
+
+static const scene_key *find_key(const char *section, const char *key, int *section_known)
+{
+	*section_known = 0;
+	for (size_t i = 0; i < N_KEYS; i++) {
+		if (strcmp(scene_keys[i].section, section) != 0)
+			continue;
+		*section_known = 1;
+		if (strcmp(scene_keys[i].key, key) == 0)
+			return &scene_keys[i];
+	}
+	return NULL;
+}
+
+static void describe_range(const scene_key *k, char *buf, size_t cap)
+{
+	if (k->type == KEY_ENUM) {
+		size_t len = 0;
+		buf[0] = '\0';
+		for (int i = 0; k->names[i]; i++)
+			len += (size_t)snprintf(buf + len, len < cap ? cap - len : 0, "%s%s",
+						i ? "|" : "one of ", k->names[i]);
+	} else if (k->type == KEY_STRING) {
+		snprintf(buf, cap, "a %s", k->unit);
+	} else {
+		snprintf(buf, cap, "%s%g, %g]%s%s", k->min_open ? "(" : "[", k->min, k->max,
+			 k->unit[0] ? " " : "", k->unit);
+	}
+}
+
+/* Strict number: the whole text, C locale (popc never calls setlocale), finite. */
+static int parse_number(const char *text, double *out)
+{
+	if (!text[0] || strpbrk(text, "xXnN"))  /* no hex floats, nan, inf */
+		return -1;
+	char *end;
+	errno = 0;
+	double v = strtod(text, &end);
+	if (end == text || *end != '\0' || !isfinite(v) || errno == ERANGE)
+		return -1;
+	*out = v;
+	return 0;
+}
+
+static int set_key(popc_scene *s, const scene_key *k, const char *value, const char *where,
+		   popc_error *err)
+{
+	char range[160];
+	describe_range(k, range, sizeof range);
+	char *field = (char *)s + k->offset;
+	switch (k->type) {
+	case KEY_DOUBLE:
+	case KEY_INT: {
+		double v;
+		if (parse_number(value, &v) != 0)
+			return popc_error_set(err, POPC_ERR_INVALID,
+					      "%s%s.%s = '%s': not a finite number; allowed %s", where,
+					      k->section, k->key, value, range);
+		int below = k->min_open ? !(v > k->min) : !(v >= k->min);
+		if (below || !(v <= k->max))
+			return popc_error_set(err, POPC_ERR_INVALID,
+					      "%s%s.%s = %s: out of range; allowed %s", where, k->section,
+					      k->key, value, range);
+		if (k->type == KEY_INT) {
+			if (v != floor(v))
+				return popc_error_set(err, POPC_ERR_INVALID,
+						      "%s%s.%s = %s: not a whole number; allowed %s",
+						      where, k->section, k->key, value, range);
+			*(int *)(void *)field = (int)v;
+		} else {
+			*(double *)(void *)field = v;
+		}
+		return 0;
+	}
+	case KEY_ENUM:
+		for (int i = 0; k->names[i]; i++) {
+			if (strcmp(k->names[i], value) == 0) {
+				if (k->offset == offsetof(popc_scene, axis))
+					snprintf(s->axis, sizeof s->axis, "%s", value);
+				else
+					*(int *)(void *)field = i;
+				return 0;
+			}
+		}
+		return popc_error_set(err, POPC_ERR_INVALID, "%s%s.%s = '%s': unknown value; allowed %s",
+				      where, k->section, k->key, value, range);
+	case KEY_STRING:
+		if (strlen(value) >= POPC_PATH_MAX)
+			return popc_error_set(err, POPC_ERR_INVALID, "%s%s.%s: longer than %d characters",
+					      where, k->section, k->key, POPC_PATH_MAX - 1);
+		snprintf(field, POPC_PATH_MAX, "%s", value);
+		return 0;
+	}
+	return POPC_ERR_INVALID;
+}
+
+static int unknown_key(const char *section, const char *key, int section_known, const char *where,
+		       popc_error *err)
+{
+	if (!section_known)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%sunknown section [%s]; sections are run, operator, device, "
+				      "environment, encoder, controller, integrator, axis",
+				      where, section);
+	char keys[512];
+	size_t len = 0;
+	keys[0] = '\0';
+	for (size_t i = 0; i < N_KEYS; i++)
+		if (strcmp(scene_keys[i].section, section) == 0 && len < sizeof keys)
+			len += (size_t)snprintf(keys + len, sizeof keys - len, "%s%s", len ? ", " : "",
+						scene_keys[i].key);
+	return popc_error_set(err, POPC_ERR_INVALID, "%sunknown key %s.%s; [%s] has: %s", where, section,
+			      key, section, keys);
+}
+
+int popc_scene_set(popc_scene *s, const char *section, const char *key, const char *value,
+		   popc_error *err)
+{
+	int section_known;
+	const scene_key *k = find_key(section, key, &section_known);
+	if (!k)
+		return unknown_key(section, key, section_known, "--set: ", err);
+	return set_key(s, k, value, "--set ", err);
+}
+
+int popc_scene_set_assignment(popc_scene *s, const char *assignment, popc_error *err)
+{
+	const char *eq = strchr(assignment, '=');
+	const char *dot = strchr(assignment, '.');
+	if (!eq || !dot || dot > eq || dot == assignment || dot + 1 == eq)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "--set '%s': expected section.key=value (e.g. run.duration=10)",
+				      assignment);
+	char section[64], key[64];
+	size_t ls = (size_t)(dot - assignment), lk = (size_t)(eq - dot - 1);
+	if (ls >= sizeof section || lk >= sizeof key)
+		return popc_error_set(err, POPC_ERR_INVALID, "--set '%s': name too long", assignment);
+	memcpy(section, assignment, ls);
+	section[ls] = '\0';
+	memcpy(key, dot + 1, lk);
+	key[lk] = '\0';
+	return popc_scene_set(s, section, key, eq + 1, err);
+}
+
+/* ---- INI loading -------------------------------------------------------- */
+
+typedef struct load_ctx {
+	popc_scene *s;
+	const char *path;
+	popc_error *err;
+	int status;
+	unsigned char seen[N_KEYS];
+} load_ctx;
+
+static int scene_ini_handler(void *user, const char *section, const char *name, const char *value)
+{
+	load_ctx *c = user;
+	if (c->status)
+		return 1; /* keep the first error only; inih reports its line */
+	int section_known;
+	const scene_key *k = find_key(section, name, &section_known);
+	if (!k) {
+		c->status = unknown_key(section, name, section_known, "", c->err);
+		return 0;
+	}
+	size_t idx = (size_t)(k - scene_keys);
+	if (c->seen[idx]) {
+		c->status = popc_error_set(c->err, POPC_ERR_INVALID, "%s.%s given twice", section, name);
+		return 0;
+	}
+	c->seen[idx] = 1;
+	c->status = set_key(c->s, k, value, "", c->err);
+	return c->status ? 0 : 1;
+}
+
+/* Makes a path relative to the scene file's directory absolute-ish. */
+static void resolve_relative(char *field, const char *scene_path)
+{
+	if (!field[0] || field[0] == '/')
+		return;
+	const char *slash = strrchr(scene_path, '/');
+	if (!slash)
+		return;
+	char out[POPC_PATH_MAX];
+	int n = snprintf(out, sizeof out, "%.*s/%s", (int)(slash - scene_path), scene_path, field);
+	if (n > 0 && (size_t)n < sizeof out)
+		memcpy(field, out, (size_t)n + 1);
+}
+
+int popc_scene_load(popc_scene *s, const char *path, popc_error *err)
+{
+	FILE *f = fopen(path, "r");
+	if (!f)
+		return popc_error_set(err, POPC_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+	char table_before[POPC_PATH_MAX], map_before[POPC_PATH_MAX];
+	memcpy(table_before, s->op_table, sizeof table_before);
+	memcpy(map_before, s->axis_map, sizeof map_before);
+	load_ctx c = {.s = s, .path = path, .err = err};
+	int line = ini_parse_file(f, scene_ini_handler, &c);
+	fclose(f);
+	if (line < 0)
+		return popc_error_set(err, POPC_ERR_IO, "%s: cannot read", path);
+	if (line > 0) {
+		char msg[POPC_ERROR_MSG_MAX];
+		if (c.status)
+			snprintf(msg, sizeof msg, "%s", err ? err->msg : "");
+		else
+			snprintf(msg, sizeof msg, "malformed line (expected [section], key = value, "
+						  "or a ; or # comment)");
+		return popc_error_set(err, POPC_ERR_INVALID, "%s:%d: %s", path, line, msg);
+	}
+	if (strcmp(table_before, s->op_table) != 0)
+		resolve_relative(s->op_table, path);
+	if (strcmp(map_before, s->axis_map) != 0)
+		resolve_relative(s->axis_map, path);
+	snprintf(s->source, sizeof s->source, "%s", path);
+	return 0;
+}
+
+int popc_scene_validate(const popc_scene *s, popc_error *err)
+{
+	const char *src = s->source[0] ? s->source : "scene";
+	if (!(s->op_mass_kg + s->dev_mass_kg > 0))
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: operator.mass + device.mass must be > 0 kg", src);
+	if (s->intent == POPC_INTENT_RAMP && s->op_x_end_m == s->op_x0_m)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: operator.x_end must differ from operator.x0 for a ramp", src);
+	if (s->intent == POPC_INTENT_TABLE && !s->op_table[0])
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: operator.intent = table needs operator.table (a CSV file)", src);
+	if (s->intent == POPC_INTENT_SINE && s->op_frequency_Hz * popc_scene_period_s(s) > 0.25)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: operator.frequency = %g Hz is above a quarter of run.rate",
+				      src, s->op_frequency_Hz);
+	if (popc_scene_ticks(s) > 4000000000LL)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: run.duration * run.rate = %.0f ticks; at most 4e9", src,
+				      s->duration_s * s->rate_Hz);
+	if (strcmp(s->axis, "modbus") == 0 && (!s->axis_map[0] || !s->axis_connect[0]))
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: axis.kind = modbus needs axis.map and axis.connect", src);
+	return 0;
+}
+
+/* ---- output ------------------------------------------------------------- */
+
+void popc_scene_write(const popc_scene *s, FILE *f, const char *prefix)
+{
+	const char *section = "";
+	for (size_t i = 0; i < N_KEYS; i++) {
+		const scene_key *k = &scene_keys[i];
+		if (strcmp(section, k->section) != 0) {
+			section = k->section;
+			fprintf(f, "%s[%s]\n", prefix, section);
+		}
+		const char *field = (const char *)s + k->offset;
+		switch (k->type) {
+		case KEY_DOUBLE: {
+			char num[POPC_DOUBLE_TEXT_MAX + 1];
+			popc_format_double(*(const double *)(const void *)field, num);
+			fprintf(f, "%s%s = %s\n", prefix, k->key, num);
+			break;
+		}
+		case KEY_INT:
+			fprintf(f, "%s%s = %d\n", prefix, k->key, *(const int *)(const void *)field);
+			break;
+		case KEY_ENUM:
+			if (k->offset == offsetof(popc_scene, axis))
+				fprintf(f, "%s%s = %s\n", prefix, k->key, s->axis);
+			else
+				fprintf(f, "%s%s = %s\n", prefix, k->key,
+					k->names[*(const int *)(const void *)field]);
+			break;
+		case KEY_STRING:
+			fprintf(f, "%s%s = %s\n", prefix, k->key, field);
+			break;
+		}
+	}
+}
+
+void popc_scene_print_keys(FILE *f)
+{
+	popc_scene d;
+	popc_scene_defaults(&d);
+	for (size_t i = 0; i < N_KEYS; i++) {
+		const scene_key *k = &scene_keys[i];
+		char range[160], def[64];
+		describe_range(k, range, sizeof range);
+		const char *field = (const char *)&d + k->offset;
+		switch (k->type) {
+		case KEY_DOUBLE: popc_format_double(*(const double *)(const void *)field, def); break;
+		case KEY_INT: snprintf(def, sizeof def, "%d", *(const int *)(const void *)field); break;
+		case KEY_ENUM:
+			snprintf(def, sizeof def, "%s",
+				 k->offset == offsetof(popc_scene, axis)
+					 ? d.axis
+					 : k->names[*(const int *)(const void *)field]);
+			break;
+		case KEY_STRING: snprintf(def, sizeof def, "%s", field[0] ? field : "(none)"); break;
+		}
+		char name[80];
+		snprintf(name, sizeof name, "%s.%s", k->section, k->key);
+		fprintf(f, "  %-26s default %-10s allowed %s\n      %s\n", name, def, range, k->help);
+	}
+}
+
+const char *popc_variant_name(popc_variant v)
+{
+	return (unsigned)v < POPC_VARIANT_COUNT ? variant_names[v] : "?";
+}
+
+int popc_variant_from_name(const char *name, popc_variant *out)
+{
+	for (int i = 0; variant_names[i]; i++)
+		if (strcmp(variant_names[i], name) == 0) {
+			*out = (popc_variant)i;
+			return 0;
+		}
+	return POPC_ERR_INVALID;
+}
+
+const char *popc_integrator_name(popc_integrator m)
+{
+	return (unsigned)m < POPC_INTEGRATOR_COUNT ? integrator_names[m] : "?";
+}
+
+int popc_integrator_from_name(const char *name, popc_integrator *out)
+{
+	for (int i = 0; integrator_names[i]; i++)
+		if (strcmp(integrator_names[i], name) == 0) {
+			*out = (popc_integrator)i;
+			return 0;
+		}
+	return POPC_ERR_INVALID;
+}
+
+double popc_scene_period_s(const popc_scene *s)
+{
+	return 1.0 / s->rate_Hz;
+}
+
+long long popc_scene_ticks(const popc_scene *s)
+{
+	/* round, so that 5 s at 1 kHz is 5000 ticks despite 5 * 1000 rounding */
+	return llround(s->duration_s * s->rate_Hz);
+}
