@@ -142,7 +142,7 @@ void popc_controller_step(popc_controller *c, long long count, double x_m, popc_
 	default:
 		break;
 	}
-	if (!isfinite(f_pc)) {
+	if (isnan(f_pc)) { /* +-inf is left to the bound below: its sign is meaningful */
 		f_pc = 0.0;
 		flags |= POPC_FLAG_GUARD;
 	}

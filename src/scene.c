@@ -323,7 +323,8 @@ int popc_scene_load(popc_scene *s, const char *path, popc_error *err)
 {
 	FILE *f = fopen(path, "r");
 	if (!f)
-		return popc_error_set(err, POPC_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+		return popc_error_set(err, POPC_ERR_INVALID, "%s: cannot open scene: %s", path,
+				      strerror(errno));
 	char table_before[POPC_PATH_MAX], map_before[POPC_PATH_MAX];
 	memcpy(table_before, s->op_table, sizeof table_before);
 	memcpy(map_before, s->axis_map, sizeof map_before);

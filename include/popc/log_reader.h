@@ -1,0 +1,82 @@
+/* Streaming CSV log reader: popc's own logs and recorded device logs.
+ *
+ * Memory is constant in the length of the log (one block buffer). Header
+ * comment lines ("# key = value") before the column names are kept as
+ * provenance; comment lines after it ("# stop = ...") are kept too. The first
+ * non-comment line holds the column names; every later line is one row of
+ * numbers, parsed exactly (popc_parse_double), so values read back bitwise.
+ *
+ * Errors name the file, line and column: an empty file, a row with too few or
+ * too many cells, a cell that is not a finite number, a missing column. */
+#ifndef POPC_LOG_READER_H
+#define POPC_LOG_READER_H
+
+#include <stddef.h>
+#include <stdio.h>
+
+#include "popc/error.h"
+#include "popc/scene.h"
+
+#define POPC_LOG_MAX_COLUMNS 64
+#define POPC_LOG_MAX_HEADER_KEYS 128
+
+typedef struct popc_log_reader_options {
+	char delimiter;                 /* 0: detect from the header line (',', ';', tab, space) */
+	char comment;                   /* 0: '#' */
+	/* --column NAME=HEADER: popc's name NAME is the file's column HEADER */
+	int n_map;
+	const char *map_name[POPC_LOG_MAX_COLUMNS];
+	const char *map_header[POPC_LOG_MAX_COLUMNS];
+} popc_log_reader_options;
+
+typedef struct popc_log_reader {
+	FILE *f;
+	int owns_file;
+	char path[1024];
+	popc_log_reader_options opt;
+	char delimiter, comment;
+	/* columns */
+	int n_cols;
+	char *col_name[POPC_LOG_MAX_COLUMNS];
+	/* header "key = value" comments (keys qualified "section.key" below a [section]) */
+	int n_keys;
+	char *key[POPC_LOG_MAX_HEADER_KEYS], *value[POPC_LOG_MAX_HEADER_KEYS];
+	char stop_reason[512];
+	/* buffer */
+	char *buf;
+	size_t cap, start, end;
+	int eof;
+	long long lineno;               /* line number of the last line returned */
+	long long rows;
+	int t_col;                      /* index of "t", -1 if none: time must increase */
+	double t_prev;
+} popc_log_reader;
+
+/* Opens a log ("-" is standard input) and reads its header and column names. */
+int popc_log_reader_open(popc_log_reader *r, const char *path, const popc_log_reader_options *opt,
+			 popc_error *err);
+
+/* Reads the next row into values[0 .. n_cols-1]. Returns 1 for a row, 0 at the
+ * end, or a negative popc_status (message names file:line:column). */
+int popc_log_reader_next(popc_log_reader *r, double *values, popc_error *err);
+
+/* Index of popc's column NAME (through the --column map), or -1. */
+int popc_log_reader_column(const popc_log_reader *r, const char *name);
+
+/* Like popc_log_reader_column, but a missing column is an error naming it. */
+int popc_log_reader_require(const popc_log_reader *r, const char *name, int *index,
+			    popc_error *err);
+
+/* A header value ("variant", "source", "run.rate", ...) or NULL. */
+const char *popc_log_reader_header(const popc_log_reader *r, const char *key);
+
+/* Rebuilds the scene of a popc log from its header on top of s (defaults
+ * first). Keys the header lacks keep their values in s. */
+int popc_log_reader_scene(const popc_log_reader *r, popc_scene *s, popc_error *err);
+
+void popc_log_reader_close(popc_log_reader *r);
+
+/* Parses "NAME=HEADER" into the options' map (pointers into text). */
+int popc_log_reader_add_mapping(popc_log_reader_options *opt, char *text, popc_error *err);
+
+#endif

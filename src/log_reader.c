@@ -1,0 +1,394 @@
+/* Streaming CSV log reader (log_reader.h). */
+#include "popc/log_reader.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "popc/numfmt.h"
+
+#define READ_BLOCK (1u << 20)
+#define LINE_MAX_BYTES (1u << 20)
+
+static int fill(popc_log_reader *r)
+{
+	if (r->start > 0) {
+		memmove(r->buf, r->buf + r->start, r->end - r->start);
+		r->end -= r->start;
+		r->start = 0;
+	}
+	if (r->end == r->cap) {
+		if (r->cap >= LINE_MAX_BYTES + READ_BLOCK)
+			return -1;
+		size_t ncap = r->cap * 2;
+		char *nb = realloc(r->buf, ncap + 1);
+		if (!nb)
+			return -1;
+		r->buf = nb;
+		r->cap = ncap;
+	}
+	size_t n = fread(r->buf + r->end, 1, r->cap - r->end, r->f);
+	r->end += n;
+	if (n == 0)
+		r->eof = 1;
+	return 0;
+}
+
+/* Next line without its end-of-line; *complete = 0 if the file ended without a
+ * newline. Returns 0 at the end of the file, -1 on a line too long. */
+static int next_line(popc_log_reader *r, char **line, size_t *len, int *complete)
+{
+	for (;;) {
+		char *nl = memchr(r->buf + r->start, '\n', r->end - r->start);
+		if (nl) {
+			*line = r->buf + r->start;
+			*len = (size_t)(nl - *line);
+			r->start += *len + 1;
+			*complete = 1;
+			break;
+		}
+		if (r->eof) {
+			if (r->start == r->end)
+				return 0;
+			*line = r->buf + r->start;
+			*len = r->end - r->start;
+			r->start = r->end;
+			*complete = 0;
+			break;
+		}
+		if (fill(r) != 0)
+			return -1;
+	}
+	if (*len && (*line)[*len - 1] == '\r')
+		(*len)--;
+	(*line)[*len] = '\0'; /* the buffer has one spare byte past cap */
+	r->lineno++;
+	return 1;
+}
+
+static char *dupn(const char *s, size_t n)
+{
+	char *d = malloc(n + 1);
+	if (d) {
+		memcpy(d, s, n);
+		d[n] = '\0';
+	}
+	return d;
+}
+
+static void trim(const char **s, const char **e)
+{
+	while (*s < *e && (**s == ' ' || **s == '\t'))
+		(*s)++;
+	while (*e > *s && ((*e)[-1] == ' ' || (*e)[-1] == '\t'))
+		(*e)--;
+}
+
+/* "# key = value" provenance; section headers qualify the keys after them. */
+static void header_comment(popc_log_reader *r, const char *text, char *section, size_t cap)
+{
+	const char *s = text, *e = text + strlen(text);
+	trim(&s, &e);
+	if (s < e && *s == '[' && e[-1] == ']') {
+		snprintf(section, cap, "%.*s", (int)(e - s - 2), s + 1);
+		return;
+	}
+	const char *eq = memchr(s, '=', (size_t)(e - s));
+	if (!eq || r->n_keys >= POPC_LOG_MAX_HEADER_KEYS)
+		return;
+	const char *ks = s, *ke = eq, *vs = eq + 1, *ve = e;
+	trim(&ks, &ke);
+	trim(&vs, &ve);
+	char key[160];
+	if (section[0])
+		snprintf(key, sizeof key, "%s.%.*s", section, (int)(ke - ks), ks);
+	else
+		snprintf(key, sizeof key, "%.*s", (int)(ke - ks), ks);
+	if (strcmp(key, "stop") == 0) {
+		snprintf(r->stop_reason, sizeof r->stop_reason, "%.*s", (int)(ve - vs), vs);
+		return;
+	}
+	r->key[r->n_keys] = dupn(key, strlen(key));
+	r->value[r->n_keys] = dupn(vs, (size_t)(ve - vs));
+	if (r->key[r->n_keys] && r->value[r->n_keys])
+		r->n_keys++;
+}
+
+static char detect_delimiter(const char *line)
+{
+	const char cand[3] = {',', ';', '\t'};
+	int best = -1, best_n = 0;
+	for (int i = 0; i < 3; i++) {
+		int n = 0;
+		for (const char *p = line; *p; p++)
+			n += *p == cand[i];
+		if (n > best_n) {
+			best_n = n;
+			best = i;
+		}
+	}
+	return best < 0 ? ' ' : cand[best];
+}
+
+/* Splits line at the delimiter (runs of blanks for ' '). Returns the number
+ * of cells, or -1 past max. */
+static int split(char *line, char delim, const char **cs, const char **ce, int max)
+{
+	int n = 0;
+	char *p = line;
+	if (delim == ' ') {
+		for (;;) {
+			while (*p == ' ' || *p == '\t')
+				p++;
+			if (!*p)
+				return n;
+			if (n == max)
+				return -1;
+			cs[n] = p;
+			while (*p && *p != ' ' && *p != '\t')
+				p++;
+			ce[n++] = p;
+		}
+	}
+	for (;;) {
+		if (n == max)
+			return -1;
+		cs[n] = p;
+		char *d = strchr(p, delim);
+		ce[n] = d ? d : p + strlen(p);
+		trim(&cs[n], &ce[n]);
+		n++;
+		if (!d)
+			return n;
+		p = d + 1;
+	}
+}
+
+int popc_log_reader_open(popc_log_reader *r, const char *path, const popc_log_reader_options *opt,
+			 popc_error *err)
+{
+	memset(r, 0, sizeof *r);
+	snprintf(r->path, sizeof r->path, "%s", path);
+	if (opt)
+		r->opt = *opt;
+	r->comment = r->opt.comment ? r->opt.comment : '#';
+	r->t_col = -1;
+	if (strcmp(path, "-") == 0) {
+		r->f = stdin;
+	} else {
+		r->f = fopen(path, "rb");
+		if (!r->f)
+			return popc_error_set(err, POPC_ERR_IO, "%s: cannot open: %s", path,
+					      strerror(errno));
+		r->owns_file = 1;
+	}
+	r->cap = READ_BLOCK;
+	r->buf = malloc(r->cap + 1);
+	if (!r->buf) {
+		popc_log_reader_close(r);
+		return popc_error_set(err, POPC_ERR_NOMEM, "%s: out of memory", path);
+	}
+	char section[64] = "";
+	char *line;
+	size_t len;
+	int complete;
+	for (;;) {
+		int got = next_line(r, &line, &len, &complete);
+		if (got < 0) {
+			popc_log_reader_close(r);
+			return popc_error_set(err, POPC_ERR_INVALID, "%s:%lld: line too long", path,
+					      r->lineno + 1);
+		}
+		if (got == 0) {
+			popc_log_reader_close(r);
+			return popc_error_set(err, POPC_ERR_INVALID,
+					      "%s: %s: no column names line", path,
+					      r->lineno ? "only comments" : "empty file");
+		}
+		const char *s = line;
+		while (*s == ' ' || *s == '\t')
+			s++;
+		if (!*s)
+			continue;
+		if (*s == r->comment) {
+			header_comment(r, s + 1, section, sizeof section);
+			continue;
+		}
+		break;
+	}
+	r->delimiter = r->opt.delimiter ? r->opt.delimiter : detect_delimiter(line);
+	const char *cs[POPC_LOG_MAX_COLUMNS], *ce[POPC_LOG_MAX_COLUMNS];
+	int n = split(line, r->delimiter, cs, ce, POPC_LOG_MAX_COLUMNS);
+	if (n <= 0) {
+		popc_log_reader_close(r);
+		return popc_error_set(err, POPC_ERR_INVALID, "%s:%lld: %s", path, r->lineno,
+				      n < 0 ? "more than 64 columns" : "no column names");
+	}
+	for (int i = 0; i < n; i++) {
+		const char *a = cs[i], *b = ce[i];
+		if (b - a >= 2 && *a == '"' && b[-1] == '"') {
+			a++;
+			b--;
+		}
+		r->col_name[i] = dupn(a, (size_t)(b - a));
+		if (!r->col_name[i]) {
+			popc_log_reader_close(r);
+			return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+		}
+		r->n_cols = i + 1;
+	}
+	for (int i = 0; i < r->opt.n_map; i++)
+		if (popc_log_reader_column(r, r->opt.map_name[i]) < 0) {
+			popc_error_set(err, POPC_ERR_INVALID,
+				       "%s:%lld: --column %s=%s: the file has no column '%s'", path,
+				       r->lineno, r->opt.map_name[i], r->opt.map_header[i],
+				       r->opt.map_header[i]);
+			popc_log_reader_close(r);
+			return POPC_ERR_INVALID;
+		}
+	r->t_col = popc_log_reader_column(r, "t");
+	return 0;
+}
+
+int popc_log_reader_next(popc_log_reader *r, double *values, popc_error *err)
+{
+	char *line;
+	size_t len;
+	int complete;
+	for (;;) {
+		int got = next_line(r, &line, &len, &complete);
+		if (got < 0)
+			return popc_error_set(err, POPC_ERR_INVALID, "%s:%lld: line too long", r->path,
+					      r->lineno + 1);
+		if (got == 0)
+			return 0;
+		const char *s = line;
+		while (*s == ' ' || *s == '\t')
+			s++;
+		if (!*s)
+			continue;
+		if (*s == r->comment) {
+			char section[4] = "";
+			header_comment(r, s + 1, section, sizeof section);
+			continue;
+		}
+		break;
+	}
+	const char *cs[POPC_LOG_MAX_COLUMNS], *ce[POPC_LOG_MAX_COLUMNS];
+	int n = split(line, r->delimiter, cs, ce, r->n_cols);
+	if (n != r->n_cols) {
+		if (n >= 0 && n < r->n_cols)
+			return popc_error_set(err, POPC_ERR_INVALID,
+					      "%s:%lld: %d cells, expected %d (%s)", r->path, r->lineno,
+					      n, r->n_cols,
+					      complete ? "short row" : "truncated last line");
+		return popc_error_set(err, POPC_ERR_INVALID, "%s:%lld: more than %d cells", r->path,
+				      r->lineno, r->n_cols);
+	}
+	for (int i = 0; i < n; i++) {
+		size_t used = cs[i] < ce[i] ? popc_parse_double(cs[i], ce[i], &values[i]) : 0;
+		if (used == 0 || cs[i] + used != ce[i] || !isfinite(values[i])) {
+			int is_nan = ce[i] - cs[i] >= 3 && (strncmp(cs[i], "nan", 3) == 0 ||
+							    strncmp(cs[i], "NaN", 3) == 0 ||
+							    strncmp(cs[i], "-nan", 4) == 0);
+			return popc_error_set(
+				err, POPC_ERR_INVALID, "%s:%lld: column %d (%s): %s '%.*s'", r->path,
+				r->lineno, i + 1, r->col_name[i],
+				cs[i] == ce[i] ? "empty cell" : is_nan ? "NaN is not allowed" : "not a finite number",
+				(int)(ce[i] - cs[i] > 40 ? 40 : ce[i] - cs[i]), cs[i]);
+		}
+	}
+	if (r->t_col >= 0) {
+		double t = values[r->t_col];
+		if (r->rows > 0 && !(t > r->t_prev))
+			return popc_error_set(err, POPC_ERR_INVALID,
+					      "%s:%lld: column %d (%s): time %.17g does not increase "
+					      "(previous %.17g)",
+					      r->path, r->lineno, r->t_col + 1, r->col_name[r->t_col], t,
+					      r->t_prev);
+		r->t_prev = t;
+	}
+	r->rows++;
+	return 1;
+}
+
+int popc_log_reader_column(const popc_log_reader *r, const char *name)
+{
+	const char *header = name;
+	for (int i = 0; i < r->opt.n_map; i++)
+		if (strcmp(r->opt.map_name[i], name) == 0)
+			header = r->opt.map_header[i];
+	for (int i = 0; i < r->n_cols; i++)
+		if (strcmp(r->col_name[i], header) == 0)
+			return i;
+	return -1;
+}
+
+int popc_log_reader_require(const popc_log_reader *r, const char *name, int *index,
+			    popc_error *err)
+{
+	*index = popc_log_reader_column(r, name);
+	if (*index >= 0)
+		return 0;
+	return popc_error_set(err, POPC_ERR_INVALID,
+			      "%s: missing column '%s' (map another header to it with --column %s=HEADER)",
+			      r->path, name, name);
+}
+
+const char *popc_log_reader_header(const popc_log_reader *r, const char *key)
+{
+	for (int i = 0; i < r->n_keys; i++)
+		if (strcmp(r->key[i], key) == 0)
+			return r->value[i];
+	return NULL;
+}
+
+int popc_log_reader_scene(const popc_log_reader *r, popc_scene *s, popc_error *err)
+{
+	for (int i = 0; i < r->n_keys; i++) {
+		const char *dot = strchr(r->key[i], '.');
+		if (!dot)
+			continue;
+		char section[64];
+		snprintf(section, sizeof section, "%.*s", (int)(dot - r->key[i]), r->key[i]);
+		int st = popc_scene_set(s, section, dot + 1, r->value[i], err);
+		if (st) {
+			char msg[POPC_ERROR_MSG_MAX];
+			snprintf(msg, sizeof msg, "%s", err ? err->msg : "");
+			return popc_error_set(err, st, "%s: header: %s", r->path, msg);
+		}
+	}
+	return 0;
+}
+
+void popc_log_reader_close(popc_log_reader *r)
+{
+	if (r->f && r->owns_file)
+		fclose(r->f);
+	r->f = NULL;
+	for (int i = 0; i < r->n_cols; i++)
+		free(r->col_name[i]);
+	for (int i = 0; i < r->n_keys; i++) {
+		free(r->key[i]);
+		free(r->value[i]);
+	}
+	r->n_cols = r->n_keys = 0;
+	free(r->buf);
+	r->buf = NULL;
+}
+
+int popc_log_reader_add_mapping(popc_log_reader_options *opt, char *text, popc_error *err)
+{
+	char *eq = strchr(text, '=');
+	if (!eq || eq == text || !eq[1])
+		return popc_error_set(err, POPC_ERR_INVALID, "--column '%s': expected NAME=HEADER", text);
+	if (opt->n_map >= POPC_LOG_MAX_COLUMNS)
+		return popc_error_set(err, POPC_ERR_INVALID, "--column: at most %d mappings",
+				      POPC_LOG_MAX_COLUMNS);
+	*eq = '\0';
+	opt->map_name[opt->n_map] = text;
+	opt->map_header[opt->n_map] = eq + 1;
+	opt->n_map++;
+	return 0;
+}
