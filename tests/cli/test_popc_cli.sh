@@ -1,0 +1,102 @@
+#!/usr/bin/env bash
+# popc run / popc scene as a user runs them: help, exit codes, error messages,
+# the log's shape, summaries, the resolved scene, instability and SIGINT.
+set -u
+POPC=${POPC:?POPC must name the popc program}
+SRC=${POPC_SOURCE_ROOT:?}
+T=$(mktemp -d /tmp/popc-cli-XXXXXX)
+trap 'rm -rf "$T"' EXIT
+fails=0 passes=0
+ok()   { passes=$((passes + 1)); echo "ok - $1"; }
+bad()  { fails=$((fails + 1)); echo "not ok - $1"; }
+check() { local what=$1; shift; if "$@"; then ok "$what"; else bad "$what"; fi; }
+# expect_exit CODE DESC CMD...: runs CMD, stderr to $T/err
+expect_exit() {
+  local code=$1 what=$2; shift 2
+  "$@" >"$T/out" 2>"$T/err"; local rc=$?
+  if [ "$rc" -eq "$code" ]; then ok "$what (exit $rc)"; else bad "$what: exit $rc, expected $code: $(head -c 300 "$T/err")"; fi
+}
+err_has() { grep -qF -- "$1" "$T/err" || { echo "   stderr lacks '$1':"; sed 's/^/   | /' "$T/err" | head -5; return 1; }; }
+
+expect_exit 0 "popc --help" "$POPC" --help
+expect_exit 0 "popc run --help" "$POPC" run --help
+check "run --help documents exit codes" grep -q "6 integrator unstable" "$T/out"
+expect_exit 0 "popc scene --help" "$POPC" scene --help
+expect_exit 2 "popc without a verb" "$POPC"
+expect_exit 2 "unknown verb" "$POPC" frobnicate
+expect_exit 2 "run without a scene" "$POPC" run
+expect_exit 2 "run with an unknown option" "$POPC" run "$SRC/data/scenes/paper.ini" --bogus
+expect_exit 2 "run with a missing scene file" "$POPC" run "$T/none.ini"
+check "  names the missing file" err_has "$T/none.ini"
+
+printf '[run]\nduration = 1\n[operator]\nmass = -3\n' > "$T/bad.ini"
+expect_exit 2 "out-of-range key" "$POPC" run "$T/bad.ini" --log "$T/bad.csv"
+check "  names file:line, key and range" err_has "$T/bad.ini:4: operator.mass = -3: out of range; allowed [0, 1000] kg"
+check "  nothing ran: no log written" test ! -e "$T/bad.csv"
+expect_exit 2 "bad --set" "$POPC" run "$SRC/data/scenes/paper.ini" --set encoder.resolution=0
+check "  names the key and range" err_has "encoder.resolution = 0: out of range; allowed (0, 1] m"
+expect_exit 2 "bad --variant" "$POPC" run "$SRC/data/scenes/paper.ini" --variant fastest
+check "  lists the variants" err_has "none|po-pc|ref-energy|filtered-velocity|ignore|hold|improved"
+
+# the paper scene, logged
+expect_exit 0 "run paper.ini" "$POPC" run "$SRC/data/scenes/paper.ini" --log "$T/paper.csv" --summary "$T/sum.csv"
+check "  summary states the integrator" err_has "integrator: exact"
+check "  summary states the speed" err_has "x real time"
+check "  log has the provenance header" grep -qx "# source = sim" "$T/paper.csv"
+check "  log names the variant" grep -qx "# variant = ref-energy" "$T/paper.csv"
+check "  log holds the resolved scene" grep -qx "# \[encoder\]" "$T/paper.csv"
+check "  log has the column names" grep -qx "t,x,count,x_true,v,f_e,f_pc,f_c,W,E_ref,flags" "$T/paper.csv"
+rows=$(grep -c '^[0-9-]' "$T/paper.csv")
+check "  log has 5001 rows (t = 0 .. 5 s), got $rows" test "$rows" -eq 5001
+check "  log ends with the stop reason" test "$(tail -n 1 "$T/paper.csv")" = "# stop = completed"
+check "  summary CSV has a header and one row" test "$(wc -l < "$T/sum.csv")" -eq 2
+check "  summary CSV header" grep -q "^variant,integrator,substeps,status,ticks,sim_time_s,wall_time_s,realtime_factor" "$T/sum.csv"
+expect_exit 0 "second run appends to the summary" "$POPC" run "$SRC/data/scenes/paper.ini" -q --variant improved --summary "$T/sum.csv"
+check "  two rows, one header" test "$(wc -l < "$T/sum.csv")" -eq 3
+check "  -q prints nothing" test ! -s "$T/err"
+
+# log to standard output equals the log file
+"$POPC" run "$SRC/data/scenes/paper.ini" -q --log - > "$T/stdout.csv"
+check "--log - writes the same log to stdout" cmp -s "$T/stdout.csv" "$T/paper.csv"
+
+# the resolved scene: every key, reloadable, and it reproduces the run
+expect_exit 0 "scene show" "$POPC" scene show "$SRC/data/scenes/fig16.ini" --set run.duration=2
+cp "$T/out" "$T/resolved.ini"
+check "  every section present" test "$(grep -c '^\[' "$T/resolved.ini")" -eq 8
+check "  override applied" grep -qx "duration = 2" "$T/resolved.ini"
+check "  defaults explicit" grep -qx "ignore_mode = literal" "$T/resolved.ini"
+"$POPC" run "$T/resolved.ini" -q --log "$T/a.csv"
+"$POPC" run "$SRC/data/scenes/fig16.ini" -q --set run.duration=2 --log "$T/b.csv"
+check "  the resolved scene reproduces the run's rows" cmp -s <(grep -v '^#' "$T/a.csv") <(grep -v '^#' "$T/b.csv")
+expect_exit 0 "scene keys" "$POPC" scene keys
+check "  lists controller.pc_bound with its range" grep -q "controller.pc_bound .*allowed (0, 1e+06\] N" "$T/out"
+
+# a fixed-step integrator reports its error against the exact discretization
+expect_exit 0 "trapezoid run" "$POPC" run "$SRC/data/scenes/paper.ini" --set integrator.method=trapezoid --set integrator.substeps=100 --set run.duration=1
+check "  reports its error against exact" err_has "max position error against exact"
+
+# an unstable integrator stops the run with exit 6 and says why, in the log too
+expect_exit 6 "explicit Euler on a stiff hand diverges" "$POPC" run "$SRC/data/scenes/paper.ini" \
+  --set integrator.method=euler --set integrator.substeps=1 --set operator.stiffness=1e9 \
+  --set operator.mass=1e-3 --set device.mass=0 --log "$T/unstable.csv"
+check "  names the integrator and a stable alternative" err_has "integrator euler with 1 substeps"
+check "  log ends with the reason" grep -q "^# stop = integrator unstable" "$T/unstable.csv"
+check "  no non-finite number in the log" bash -c "! grep -qiE 'nan|inf' <(grep -v '^#' '$T/unstable.csv')"
+
+# SIGINT mid-run: the run stops, says so, keeps every completed tick, exits 5
+"$POPC" run "$SRC/data/scenes/paper.ini" --set run.duration=100000 --log "$T/int.csv" 2>"$T/int.err" &
+pid=$!
+for _ in $(seq 1 200); do
+  [ -s "$T/int.csv" ] && [ "$(grep -c '^[0-9]' "$T/int.csv")" -gt 1000 ] && break
+  sleep 0.05
+done
+kill -INT "$pid"
+wait "$pid"; rc=$?
+check "SIGINT: exit 5 (got $rc)" test "$rc" -eq 5
+check "  log ends with the signal stop line" grep -q "^# stop = signal" "$T/int.csv"
+last=$(grep '^[0-9]' "$T/int.csv" | tail -n 1)
+cells=$(echo "$last" | awk -F, '{print NF}')
+check "  last row is complete ($cells cells)" test "$cells" -eq 11
+
+echo "$passes passed, $fails failed"
+[ "$fails" -eq 0 ]
