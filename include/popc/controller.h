@@ -40,7 +40,13 @@ typedef struct popc_observer {
 	double x_prev_m;
 	long long count_prev;
 	double f_e_prev_N, f_c_prev_N;
+	/* W(k) and E_ref(k), rounded to double: what the controller and the log use. */
 	double W_J, E_ref_J;
+	/* Compensated (Neumaier / Kahan-Babuska) sums behind W_J and E_ref_J: the
+	 * exact running sum is *_sum_J + *_comp_J to within a few units in the
+	 * last place over any number of ticks (tests/perf/test_observer_precision.c),
+	 * where a plain sum loses about sqrt(ticks) ulps. W_J = W_sum_J + W_comp_J. */
+	double W_sum_J, W_comp_J, E_ref_sum_J, E_ref_comp_J;
 	/* Table I memory: the last step on which a count moved */
 	long long prev_dcount;
 	double prev_dx_m, prev_fc_N;
