@@ -198,6 +198,45 @@ void popc_intent_input(popc_intent *in, double t, popc_plant_input *u, double *n
 	}
 }
 
+void popc_intent_segment_at(popc_intent *in, double t, popc_intent_segment *g)
+{
+	memset(g, 0, sizeof *g);
+	if (in->kind == POPC_INTENT_SINE && t >= in->t0) {
+		g->affine = 0;
+		g->t_lo_s = t;
+		g->t_next_s = t; /* never valid: popc_intent_input on every step */
+		return;
+	}
+	long i = segment(in, t);
+	g->affine = 1;
+	g->is_force = in->q_is_force;
+	if (i < 0) {
+		g->constant = 1;
+		g->q_i = in->q[0];
+		g->t_lo_s = -INFINITY;
+		g->t_next_s = in->t[0];
+	} else if ((size_t)i + 1 >= in->n) {
+		g->constant = 1;
+		g->q_i = in->q[in->n - 1];
+		g->t_lo_s = in->t[i];
+		g->t_next_s = INFINITY;
+	} else {
+		/* the operations of pl_value, split into per-segment and per-step parts */
+		g->t_i = in->t[i];
+		g->q_i = in->q[i];
+		g->slope = (in->q[i + 1] - in->q[i]) / (in->t[i + 1] - in->t[i]);
+		g->t_lo_s = in->t[i];
+		g->t_next_s = in->t[i + 1];
+	}
+	if (in->kind == POPC_INTENT_SINE) /* a sine before its start holds x0 */
+		g->t_next_s = g->t_next_s < in->t0 ? g->t_next_s : in->t0;
+	/* popc_intent_input: force u0 = k x0 + q, u1 = q'; position u0 = k q + b q', u1 = k q' */
+	g->k_q = in->k_op;
+	g->b_slope = in->b_op * g->slope;
+	g->k_x0 = in->k_op * in->x0;
+	g->u1_Nps = in->q_is_force ? g->slope : in->k_op * g->slope;
+}
+
 double popc_intent_xd(popc_intent *in, double t)
 {
 	if (in->kind == POPC_INTENT_SINE)

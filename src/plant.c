@@ -161,20 +161,10 @@ static void fixed_step(const popc_plant_config *cfg, const popc_plant_step_coeff
 	st->v_mps = v;
 }
 
-static inline void exact_step(const popc_plant_step_coeffs *c, popc_plant_state *st,
-			      const popc_plant_input *u)
-{
-	double x = st->x_m, v = st->v_mps;
-	st->x_m = c->phi[0][0] * x + c->phi[0][1] * v + c->gam[0][0] * u->u0_N +
-		  c->gam[0][1] * u->u1_Nps + c->gam[0][2] * u->uc_N + c->gam[0][3] * u->us_N;
-	st->v_mps = c->phi[1][0] * x + c->phi[1][1] * v + c->gam[1][0] * u->u0_N +
-		    c->gam[1][1] * u->u1_Nps + c->gam[1][2] * u->uc_N + c->gam[1][3] * u->us_N;
-}
-
 void popc_plant_step(const popc_plant *p, popc_plant_state *st, const popc_plant_input *u)
 {
 	if (p->cfg.method == POPC_INTEGRATOR_EXACT)
-		exact_step(&p->full, st, u);
+		popc_plant_step_exact(&p->full, st, u);
 	else
 		fixed_step(&p->cfg, &p->full, st, u);
 }
@@ -189,7 +179,7 @@ void popc_plant_step_h(const popc_plant *p, popc_plant_state *st, const popc_pla
 	popc_plant_step_coeffs c;
 	popc_plant_coeffs(&p->cfg, h_s, &c);
 	if (p->cfg.method == POPC_INTEGRATOR_EXACT)
-		exact_step(&c, st, u);
+		popc_plant_step_exact(&c, st, u);
 	else
 		fixed_step(&p->cfg, &c, st, u);
 }

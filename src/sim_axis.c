@@ -22,6 +22,7 @@ typedef struct sim_axis {
 	double period_s, delta_m, tol_s;
 	long long k;               /* index of the current tick */
 	double max_error_m;
+	popc_intent_segment seg;   /* the intent segment of the current tick (fast path) */
 } sim_axis;
 
 static int sim_sample(popc_axis *a, popc_axis_sample *out, popc_error *err)
@@ -72,9 +73,38 @@ static void advance(sim_axis *s, popc_plant *p, popc_plant_state *st, double f_c
 	}
 }
 
+/* The operator input for the whole period [t, t_end) from the cached intent
+ * segment, when no breakpoint needs a split: then advance() would make one
+ * popc_intent_input call and one full-period step with exactly this input.
+ * Returns 0 when the period needs the general path. */
+static int whole_period_input(sim_axis *s, double t, double t_end, popc_plant_input *u)
+{
+	popc_intent_segment *g = &s->seg;
+	if (!(t >= g->t_lo_s && t < g->t_next_s && g->t_next_s >= t_end - s->tol_s)) {
+		popc_intent_segment_at(&s->intent, t, g);
+		if (!g->affine || !(g->t_next_s >= t_end - s->tol_s))
+			return 0;
+	}
+	popc_intent_segment_input(g, t, u);
+	return 1;
+}
+
 static int sim_exchange(popc_axis *a, double f_c_N, popc_axis_sample *next, popc_error *err)
 {
 	sim_axis *s = a->priv;
+	if (!s->shadow && s->scene.integrator == POPC_INTEGRATOR_EXACT) {
+		/* the hot path of a long exact run: no lookup, no call, no shadow */
+		double t = (double)s->k * s->period_s, t_end = (double)(s->k + 1) * s->period_s;
+		popc_plant_input u;
+		if (whole_period_input(s, t, t_end, &u)) {
+			u.u0_N -= f_c_N;
+			popc_plant_step_exact(&s->plant.full, &s->st, &u);
+		} else {
+			advance(s, &s->plant, &s->st, f_c_N);
+		}
+		s->k++;
+		return sim_sample(a, next, err);
+	}
 	advance(s, &s->plant, &s->st, f_c_N);
 	if (s->shadow) {
 		advance(s, &s->exact, &s->st_exact, f_c_N);
@@ -152,6 +182,7 @@ int popc_sim_axis_create(popc_axis **out, const popc_scene *sc, popc_error *err)
 	}
 	s->st.x_m = popc_intent_x_initial(&s->intent);
 	s->st_exact = s->st;
+	s->seg.t_lo_s = s->seg.t_next_s = 0.0; /* empty: looked up on the first step */
 	a->ops = &sim_ops;
 	a->priv = s;
 	*out = a;

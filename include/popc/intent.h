@@ -34,6 +34,35 @@ void popc_intent_free(popc_intent *in);
  * breakpoint strictly inside (t, t + h), or a value >= t + h if none. */
 void popc_intent_input(popc_intent *in, double t, popc_plant_input *u, double *next_break);
 
+/* The operator's input on one segment of a piecewise-linear intent, so that
+ * the simulated axis can skip popc_intent_input between breakpoints (the hot
+ * path of a long run). For every t in [t_lo_s, t_next_s) popc_intent_input
+ * gives, bitwise, u0 = k_q * (q_i + slope (t - t_i)) + b_slope (position) or
+ * u0 = k_x0 + (q_i + slope (t - t_i)) (force), u1 = u1_Nps, us = uc = 0, and
+ * next_break = t_next_s. affine = 0 (a sine) means: call popc_intent_input. */
+typedef struct popc_intent_segment {
+	int affine;
+	int is_force;
+	int constant;                /* before the first or after the last point: q = q_i */
+	double t_lo_s, t_next_s;
+	double t_i, q_i, slope;
+	double k_q, b_slope, k_x0, u1_Nps;
+} popc_intent_segment;
+
+/* The segment holding t (see popc_intent_segment). */
+void popc_intent_segment_at(popc_intent *in, double t, popc_intent_segment *g);
+
+/* u over [t, t + h) from a segment holding t: the same operations, in the same
+ * order, as popc_intent_input (bitwise equal). */
+static inline void popc_intent_segment_input(const popc_intent_segment *g, double t,
+					     popc_plant_input *u)
+{
+	double q = g->constant ? g->q_i : g->q_i + g->slope * (t - g->t_i);
+	u->u0_N = g->is_force ? g->k_x0 + q : g->k_q * q + g->b_slope;
+	u->u1_Nps = g->u1_Nps;
+	u->us_N = u->uc_N = 0.0;
+}
+
 /* Desired position x_d(t) (m) and the exogenous force f_op(t) (N), for logs and tests. */
 double popc_intent_xd(popc_intent *in, double t);
 

@@ -52,6 +52,20 @@ typedef struct popc_plant {
 	popc_plant_step_coeffs full;   /* for h = T */
 } popc_plant;
 
+/* One exact step with precomputed coefficients: x+ = Phi x + Gam u. Inline
+ * because it is the whole plant cost of a long run (a dozen flops). The
+ * operations and their order are those of popc_plant_step for the exact method,
+ * so both give the same bits. */
+static inline void popc_plant_step_exact(const popc_plant_step_coeffs *c, popc_plant_state *st,
+					 const popc_plant_input *u)
+{
+	double x = st->x_m, v = st->v_mps;
+	st->x_m = c->phi[0][0] * x + c->phi[0][1] * v + c->gam[0][0] * u->u0_N +
+		  c->gam[0][1] * u->u1_Nps + c->gam[0][2] * u->uc_N + c->gam[0][3] * u->us_N;
+	st->v_mps = c->phi[1][0] * x + c->phi[1][1] * v + c->gam[1][0] * u->u0_N +
+		    c->gam[1][1] * u->u1_Nps + c->gam[1][2] * u->uc_N + c->gam[1][3] * u->us_N;
+}
+
 /* Validates the configuration (M > 0, B >= 0, K >= 0, finite, substeps >= 1)
  * and precomputes the full-period step. */
 int popc_plant_init(popc_plant *p, const popc_plant_config *cfg, popc_error *err);
