@@ -1,5 +1,7 @@
 /* The simulated axis: operator intent, plant and encoder of a scene (axis.h). */
+#include <limits.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -13,6 +15,26 @@
  * position to +-1e3 m, so a plant state past 1e6 m is no physics. */
 #define DIVERGED_M 1e6
 
+/* A fixed-step integrator is stopped as unstable when its position error
+ * against the exact shadow exceeds this many times (the exact trajectory's
+ * range so far + one encoder count). A stable integrator's error stays below
+ * the range of the motion (at worst a phase error: |x - x_exact| <= 2 x the
+ * amplitude); an unstable one grows geometrically, so the factor only decides
+ * how early it is caught, never whether a stable run is stopped. */
+#define ERROR_BOUND_FACTOR 10.0
+
+/* Energy growth bound. The plant is linear and a fixed-step integrator is a
+ * fixed linear map per control period, so its free (unforced) motion grows by
+ * exactly rho^k in amplitude after k periods, rho its spectral radius; the
+ * exact plant is passive (B, K >= 0: its rho <= 1). An integrator with
+ * rho > 1 amplifies every truncation and rounding error without bound; popc
+ * lets it run while that growth stays below GROWTH_MAX in amplitude
+ * (GROWTH_MAX^2 = 100 in energy) and stops the run before the period that
+ * would cross it. RHO_MARGIN absorbs the rounding of rho itself (rho of an
+ * undamped exact plant computes as 1 +- a few ulps). */
+#define GROWTH_MAX 10.0
+#define RHO_MARGIN 1e-12
+
 typedef struct sim_axis {
 	popc_scene scene;
 	popc_plant plant, exact;   /* exact: the reference the integrator is measured against */
@@ -22,8 +44,78 @@ typedef struct sim_axis {
 	double period_s, delta_m, tol_s;
 	long long k;               /* index of the current tick */
 	double max_error_m;
+	double x_exact_min_m, x_exact_max_m; /* range of the exact trajectory so far */
+	double rho;                /* integrator's free-motion growth per period (1 if exact) */
+	long long k_unstable;      /* first tick whose growth rho^k passes GROWTH_MAX */
 	popc_intent_segment seg;   /* the intent segment of the current tick (fast path) */
 } sim_axis;
+
+/* Spectral radius of a real 2 x 2 matrix: the growth factor of its free motion. */
+static double spectral_radius(double a, double b, double c, double d)
+{
+	double half_tr = 0.5 * (a + d), det = a * d - b * c, disc = half_tr * half_tr - det;
+	if (disc < 0.0)
+		return sqrt(det); /* complex pair: |lambda|^2 = det */
+	double r = sqrt(disc);
+	return fmax(fabs(half_tr + r), fabs(half_tr - r));
+}
+
+/* Growth factor per control period of the free (unforced) plant as the
+ * configured integrator steps it with n substeps: the spectral radius of its
+ * one-period transition matrix, built column by column from unit states. */
+static double amplification(const popc_plant_config *cfg0, int n)
+{
+	popc_plant_config cfg = *cfg0;
+	cfg.substeps = n;
+	popc_plant p;
+	if (popc_plant_init(&p, &cfg, NULL) != 0)
+		return NAN;
+	popc_plant_input zero = {0.0, 0.0, 0.0, 0.0};
+	popc_plant_state c0 = {1.0, 0.0}, c1 = {0.0, 1.0};
+	popc_plant_step(&p, &c0, &zero);
+	popc_plant_step(&p, &c1, &zero);
+	return spectral_radius(c0.x_m, c1.x_m, c0.v_mps, c1.v_mps);
+}
+
+/* The error for an integrator that left the exact trajectory: names the
+ * integrator, its step, whether it is unstable for this plant (growth factor
+ * against the exact one) and a stable alternative. */
+static int integrator_failed(const sim_axis *s, const char *what, popc_error *err)
+{
+	popc_plant_config cfg = s->plant.cfg;
+	const char *name = popc_integrator_name(cfg.method);
+	int n = cfg.substeps;
+	const double (*phi)[2] = s->exact.full.phi;
+	double rho_exact = spectral_radius(phi[0][0], phi[0][1], phi[1][0], phi[1][1]);
+	double limit = fmax(1.0, rho_exact) * (1.0 + RHO_MARGIN);
+	double rho = s->rho;
+	char verdict[160], alt[200];
+	if (rho > limit)
+		snprintf(verdict, sizeof verdict,
+			 "is unstable for this plant: it amplifies free motion by %.6g per period, "
+			 "the exact plant by %.6g",
+			 rho, rho_exact);
+	else
+		snprintf(verdict, sizeof verdict, "is stable but too inaccurate for this scene");
+	int n_ok = 0;
+	for (long m = 2L * n; m <= 1000000L && !n_ok; m *= 2)
+		if (amplification(&cfg, (int)m) <= limit)
+			n_ok = (int)m;
+	if (rho > limit && n_ok)
+		snprintf(alt, sizeof alt, "integrator.method = exact (stable for any step), or "
+			 "integrator.substeps >= %d", n_ok);
+	else if (rho > limit)
+		snprintf(alt, sizeof alt, "integrator.method = exact (stable for any step); no substep "
+			 "count up to 1e6 makes %s stable here", name);
+	else
+		snprintf(alt, sizeof alt, "integrator.method = exact (stable for any step), or more "
+			 "substeps");
+	return popc_error_set(err, POPC_ERR_NUMERIC,
+			      "%s at t = %.9g s (tick %lld): integrator %s with %d substeps, step h = "
+			      "%g s, %s; use %s",
+			      what, (double)s->k * s->period_s, s->k, name, n, s->period_s / n,
+			      verdict, alt);
+}
 
 static int sim_sample(popc_axis *a, popc_axis_sample *out, popc_error *err)
 {
@@ -34,15 +126,18 @@ static int sim_sample(popc_axis *a, popc_axis_sample *out, popc_error *err)
 	out->dt_s = 0.0;
 	out->rtt_s = 0.0;
 	if (!ok || !isfinite(s->st.v_mps) || fabs(s->st.x_m) > DIVERGED_M) {
-		const char *alt = s->scene.integrator == POPC_INTEGRATOR_EXACT
-					  ? "a smaller run.duration or a physical scene"
-					  : "integrator.method = exact (stable for any step)";
+		char what[96];
+		snprintf(what, sizeof what, "the plant diverged (x = %g m, v = %g m/s)", s->st.x_m,
+			 s->st.v_mps);
+		if (s->shadow)
+			return integrator_failed(s, what, err);
 		return popc_error_set(
 			err, POPC_ERR_NUMERIC,
-			"the plant diverged at t = %g s (x = %g m): integrator %s with %d substeps, step "
-			"h = %g s, is unstable for this scene; use %s or more substeps",
-			(double)s->k * s->period_s, s->st.x_m, popc_integrator_name(s->scene.integrator),
-			s->scene.substeps, s->period_s / s->scene.substeps, alt);
+			"%s at t = %.9g s (tick %lld) with the exact integrator, which is exact for any "
+			"step: the closed loop of this scene is unstable (the physics, not the "
+			"integrator); add damping, lower the wall stiffness or raise the control rate "
+			"(a sampled wall is passive for b > K_e T / 2), or use a PC variant",
+			what, (double)s->k * s->period_s, s->k);
 	}
 	return 0;
 }
@@ -105,12 +200,34 @@ static int sim_exchange(popc_axis *a, double f_c_N, popc_axis_sample *next, popc
 		s->k++;
 		return sim_sample(a, next, err);
 	}
+	if (s->k + 1 >= s->k_unstable) {
+		/* stop before computing a state past the growth bound */
+		char what[160];
+		double g = pow(s->rho, (double)(s->k + 1));
+		snprintf(what, sizeof what,
+			 "energy growth beyond the bound: its free motion would grow %.3g x in "
+			 "amplitude (%.3g x in energy; the bound is %g x)",
+			 g, g * g, GROWTH_MAX);
+		return integrator_failed(s, what, err);
+	}
 	advance(s, &s->plant, &s->st, f_c_N);
 	if (s->shadow) {
 		advance(s, &s->exact, &s->st_exact, f_c_N);
-		double e = fabs(s->st.x_m - s->st_exact.x_m);
+		double x_ex = s->st_exact.x_m, e = fabs(s->st.x_m - x_ex);
 		if (e > s->max_error_m || isnan(e))
 			s->max_error_m = e;
+		s->x_exact_min_m = fmin(s->x_exact_min_m, x_ex);
+		s->x_exact_max_m = fmax(s->x_exact_max_m, x_ex);
+		double bound = ERROR_BOUND_FACTOR * (s->x_exact_max_m - s->x_exact_min_m + s->delta_m);
+		if (e > bound && isfinite(e)) {
+			s->k++;
+			char what[160];
+			snprintf(what, sizeof what,
+				 "the position error %.3g m against the exact discretization passed %.3g "
+				 "m (%g x the exact motion's range + 1 count)",
+				 e, bound, ERROR_BOUND_FACTOR);
+			return integrator_failed(s, what, err);
+		}
 	}
 	s->k++;
 	return sim_sample(a, next, err);
@@ -167,7 +284,14 @@ int popc_sim_axis_create(popc_axis **out, const popc_scene *sc, popc_error *err)
 	popc_plant_config cfg;
 	popc_plant_config_from_scene(&cfg, sc);
 	int st = popc_plant_init(&s->plant, &cfg, err);
+	s->rho = 1.0;
+	s->k_unstable = LLONG_MAX;
 	if (!st && cfg.method != POPC_INTEGRATOR_EXACT) {
+		s->rho = amplification(&cfg, cfg.substeps);
+		if (s->rho > 1.0 + RHO_MARGIN) {
+			double k = ceil(log(GROWTH_MAX) / log(s->rho));
+			s->k_unstable = k < 1.0 ? 1 : k < 1e18 ? (long long)k : LLONG_MAX;
+		}
 		s->shadow = 1;
 		cfg.method = POPC_INTEGRATOR_EXACT;
 		st = popc_plant_init(&s->exact, &cfg, err);
@@ -182,6 +306,7 @@ int popc_sim_axis_create(popc_axis **out, const popc_scene *sc, popc_error *err)
 	}
 	s->st.x_m = popc_intent_x_initial(&s->intent);
 	s->st_exact = s->st;
+	s->x_exact_min_m = s->x_exact_max_m = s->st.x_m;
 	s->seg.t_lo_s = s->seg.t_next_s = 0.0; /* empty: looked up on the first step */
 	a->ops = &sim_ops;
 	a->priv = s;
