@@ -1,0 +1,166 @@
+/* popc-analyze: shared helpers of the verbs (one cmd_*.c per verb).
+ *
+ * ana_log wraps the library's streaming log reader for every verb: it maps
+ * popc's column names (t, x, count, v, f_e, f_pc, f_c, W, E_ref, ...) to the
+ * file's headers, rebuilds the scene from a popc log's header (then --set),
+ * derives the columns a foreign log lacks, and hands out one popc_tick per row.
+ * Memory is constant in the length of the log. */
+#ifndef POPC_ANALYZE_H
+#define POPC_ANALYZE_H
+
+#include <stdio.h>
+
+#include "popc/chatter.h"
+#include "popc/controller.h"
+#include "popc/environment.h"
+#include "popc/error.h"
+#include "popc/log_reader.h"
+#include "popc/scene.h"
+
+/* Options every verb that reads logs accepts (--column, --delimiter,
+ * --comment, --set). */
+typedef struct ana_input_options {
+	popc_log_reader_options reader;
+	char **sets;
+	int n_sets;
+} ana_input_options;
+
+/* The long options of ana_input_options, to splice into a verb's table. */
+enum {
+	ANA_OPT_COLUMN = 1000,
+	ANA_OPT_DELIMITER,
+	ANA_OPT_COMMENT,
+	ANA_OPT_SET,
+};
+#define ANA_INPUT_LONG_OPTIONS                                               \
+	{"column", required_argument, NULL, ANA_OPT_COLUMN},                 \
+	{"delimiter", required_argument, NULL, ANA_OPT_DELIMITER},           \
+	{"comment", required_argument, NULL, ANA_OPT_COMMENT},               \
+	{"set", required_argument, NULL, ANA_OPT_SET}
+#define ANA_INPUT_HELP                                                                         \
+	"  --column NAME=HEADER     popc's column NAME is the file's column HEADER (repeatable;\n" \
+	"                           names: t x count x_true v f_e f_pc f_c W E_ref flags)\n"      \
+	"  --delimiter C            cell delimiter: ',' ';' tab ('\\t' or 'tab') or 'space'\n"    \
+	"                           (default: detected from the column names line)\n"             \
+	"  --comment C              comment character (default '#')\n"                            \
+	"  --set section.key=value  scene parameter the log lacks or overrides, e.g.\n"          \
+	"                           encoder.resolution=1e-5 environment.stiffness=1000\n"         \
+	"                           run.rate=1000 (repeatable)\n"
+
+/* Handles one of the ANA_OPT_* options; returns 0, or 2 after printing why. */
+int ana_input_option(ana_input_options *o, int opt, char *arg, const char *verb);
+void ana_input_free(ana_input_options *o);
+
+typedef struct ana_log {
+	popc_log_reader r;
+	popc_scene scene;
+	popc_environment env;
+	char name[256];           /* file name without directory and ".csv" */
+	char variant[64];         /* header's variant, or "unknown" */
+	int is_popc;              /* has a popc provenance header */
+	double period_s;          /* 1 / run.rate, or the first time step */
+	int period_from_time;     /* 1: no rate known, taken from the time column */
+	/* column indices, -1 when the file lacks them */
+	int c_t, c_x, c_count, c_x_true, c_v, c_f_e, c_f_pc, c_f_c, c_W, c_E_ref, c_flags;
+	int c_dt, c_rtt;
+	/* look-ahead: the first two rows are read at open to find the period */
+	double ahead[2][POPC_LOG_MAX_COLUMNS];
+	int n_ahead, ahead_pos, ahead_st;
+	double row[POPC_LOG_MAX_COLUMNS];
+	/* derived columns */
+	long long k;              /* ticks handed out */
+	double x_prev_m;
+	popc_observer obs;        /* recomputes W and E_ref when the file lacks them */
+} ana_log;
+
+/* One row as analysed: the tick plus the optional columns. */
+typedef struct ana_row {
+	popc_tick tick;
+	double x_true_m;          /* NAN when absent */
+	double dt_s, rtt_s;       /* NAN when absent */
+	double W_logged_J, E_ref_logged_J; /* NAN when absent */
+} ana_row;
+
+/* Opens a log: reader, scene (defaults, header, --set; validated), columns.
+ * Requires t and a position (x or count). Errors name the file, line, column. */
+int ana_log_open(ana_log *l, const char *path, const ana_input_options *o, popc_error *err);
+
+/* Next row: 1, 0 at the end, or a negative popc_status. */
+int ana_log_next(ana_log *l, ana_row *row, popc_error *err);
+
+void ana_log_close(ana_log *l);
+
+/* The observer that ran online for a variant (Table I for ignore/improved). */
+void ana_online_observer(const popc_scene *s, popc_variant *variant, popc_ignore_mode *mode);
+
+/* Prints "popc-analyze VERB: msg" and returns the exit code for status. */
+int ana_fail(const char *verb, int status, const popc_error *err);
+
+/* Writes v in shortest round-trip form. */
+void ana_put_double(FILE *f, double v);
+
+/* Chatter thresholds from "--threshold name=value". */
+int ana_threshold_option(popc_chatter_config *cfg, char *arg, const char *verb);
+
+/* Verbs */
+int ana_cmd_energy(int argc, char **argv);
+int ana_cmd_chatter(int argc, char **argv);
+int ana_cmd_compare(int argc, char **argv);
+int ana_cmd_replay(int argc, char **argv);
+int ana_cmd_report(int argc, char **argv);
+
+/* compare's one row, shared by compare and report. */
+typedef struct ana_summary {
+	char log[256];
+	char variant[64];
+	double pc_rms_N, pc_rms_late_N, pc_max_N, pc_active, pc_energy_J;
+	double w_minus_eref_min_J, w_minus_eref_end_J;
+	double vsign_rate_Hz, vsign_rate_late_Hz;
+	popc_chatter_result chatter;
+	double duration_s;
+	long long ticks;
+} ana_summary;
+
+/* Streams a log through popc_metrics and the chatter detector (and on_row,
+ * if not NULL, for every row). late_from_s < 0: the second half of the
+ * header's run.duration, or the whole log when the header has none. */
+typedef void (*ana_row_fn)(void *ctx, const ana_row *row);
+int ana_summarize(const char *path, const ana_input_options *o, const popc_chatter_config *ccfg,
+		  double late_from_s, ana_summary *s, ana_row_fn on_row, void *ctx,
+		  popc_error *err);
+
+typedef enum ana_format { ANA_TEXT, ANA_CSV, ANA_MARKDOWN } ana_format;
+int ana_format_from_name(const char *name, ana_format *f);
+void ana_summary_print_header(FILE *f, ana_format fmt);
+void ana_summary_print_row(FILE *f, ana_format fmt, const ana_summary *s);
+
+/* Min/max decimation for plots: at most max_buckets buckets, each keeping
+ * the minimum and maximum of every column and which came first, so a
+ * chattering signal still fills its band. When the buckets run out, pairs
+ * are merged and the bucket width doubles: memory is bounded whatever the
+ * length of the log. */
+#define ANA_DECIM_MAX_COLS 12
+typedef struct ana_decim_bucket {
+	long long n;
+	double t0_s, t1_s;
+	double mn[ANA_DECIM_MAX_COLS], mx[ANA_DECIM_MAX_COLS];
+	long long imn[ANA_DECIM_MAX_COLS], imx[ANA_DECIM_MAX_COLS];
+} ana_decim_bucket;
+
+typedef struct ana_decimator {
+	int n_cols, cap, n;
+	long long width, k;
+	ana_decim_bucket *b;
+} ana_decimator;
+
+int ana_decim_init(ana_decimator *d, int n_cols, int max_buckets);
+void ana_decim_add(ana_decimator *d, double t_s, const double *values);
+/* Writes "t v1 v2 ..." rows (NaN for a missing value); returns 0 or -1. */
+int ana_decim_write(const ana_decimator *d, FILE *f);
+void ana_decim_free(ana_decimator *d);
+
+/* Runs "gnuplot SCRIPT" in directory dir (fork/exec); 0 when it exits 0. */
+int ana_run_gnuplot(const char *gnuplot, const char *dir, const char *script, char *why,
+		    size_t why_cap);
+
+#endif

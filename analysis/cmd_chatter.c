@@ -1,0 +1,158 @@
+/* popc-analyze chatter: flags the seed's noisy behavior (PC chattering in the
+ * low-velocity phase) as time intervals and a sustained low-frequency limit
+ * cycle, with the library's streaming detector (popc/chatter.h). */
+#include <getopt.h>
+#include <math.h>
+#include <string.h>
+
+#include "analyze.h"
+
+static void usage(FILE *f)
+{
+	fputs("usage: popc-analyze chatter [options] LOG...\n"
+	      "\n"
+	      "Flags PC chattering (seed Fig. 3: the PC force switching sign at high rate with\n"
+	      "a large RMS while the velocity sign flips in contact) as time intervals, and\n"
+	      "separately a sustained low-frequency limit cycle (seed Fig. 10: the contact\n"
+	      "keeps oscillating with an amplitude far above the encoder resolution).\n"
+	      "Metrics and thresholds: docs/ANALYSIS.md.\n"
+	      "\n"
+	      "  --format text|csv        text (default), or CSV rows log,kind,start_s,end_s,value\n"
+	      "                           (kind chatter: value = largest window PC RMS, N;\n"
+	      "                           kind limit_cycle: value = amplitude, m)\n"
+	      "  --threshold NAME=VALUE   change a threshold (repeatable); names and defaults:\n"
+	      "                           window=0.1 s, pc_rms=0.5 N, pc_flip_rate=100 /s,\n"
+	      "                           vsign_rate=100 /s, contact=0.5 (share of window),\n"
+	      "                           lc_window=2 s, lc_amplitude=50 counts,\n"
+	      "                           lc_hysteresis=5 counts, lc_freq_min=1 Hz,\n"
+	      "                           lc_freq_max=50 Hz, lc_contact=0.1, lc_sustain=0.5\n"
+	      "  -q, --quiet              print nothing; the exit status tells\n" ANA_INPUT_HELP
+	      "  -h, --help               this help\n"
+	      "\n"
+	      "Exit status (like diff): 0 nothing flagged, 1 chatter or a limit cycle flagged,\n"
+	      "2 trouble (bad usage or input).\n",
+	      f);
+}
+
+enum { OPT_FORMAT = 256, OPT_THRESHOLD };
+
+static void print_text(const char *log, const popc_chatter_result *r)
+{
+	printf("%s: ", log);
+	if (r->n_intervals)
+		printf("chatter %.3f s in %d interval%s:", r->chatter_s, r->n_intervals,
+		       r->n_intervals == 1 ? "" : "s");
+	else
+		printf("no chatter");
+	for (int i = 0; i < r->n_stored; i++)
+		printf(" [%.3f, %.3f) s (PC RMS up to %.3g N)%s", r->intervals[i].start_s,
+		       r->intervals[i].end_s, r->intervals[i].pc_rms_max_N,
+		       i + 1 < r->n_stored ? "," : "");
+	if (r->n_stored < r->n_intervals)
+		printf(" ... (%d more)", r->n_intervals - r->n_stored);
+	printf("; %s\n", r->limit_cycle ? "LIMIT CYCLE" : "no limit cycle");
+	printf("  windows: max PC RMS %.3g N, max PC sign flips %.4g /s, max velocity sign changes "
+	       "%.4g /s in contact\n",
+	       r->max_pc_rms_N, r->max_pc_flip_rate_Hz, r->max_vsign_rate_Hz);
+	printf("  last %.3g s: amplitude %.3g m at %.3g Hz, %.0f %% in contact, sustain %.3g, "
+	       "PC RMS %.3g N, W - E_ref drift %.3g J\n",
+	       r->lc_span_s, r->lc_amplitude_m, r->lc_frequency_Hz, 100.0 * r->lc_contact,
+	       r->lc_sustain, r->lc_pc_rms_N, r->lc_w_drift_J);
+}
+
+static void print_csv(const char *log, const popc_chatter_result *r)
+{
+	for (int i = 0; i < r->n_stored; i++) {
+		printf("%s,chatter,", log);
+		ana_put_double(stdout, r->intervals[i].start_s);
+		putchar(',');
+		ana_put_double(stdout, r->intervals[i].end_s);
+		putchar(',');
+		ana_put_double(stdout, r->intervals[i].pc_rms_max_N);
+		putchar('\n');
+	}
+	if (r->limit_cycle) {
+		printf("%s,limit_cycle,", log);
+		ana_put_double(stdout, r->lc_start_s);
+		putchar(',');
+		ana_put_double(stdout, r->lc_end_s);
+		putchar(',');
+		ana_put_double(stdout, r->lc_amplitude_m);
+		putchar('\n');
+	}
+}
+
+int ana_cmd_chatter(int argc, char **argv)
+{
+	static const struct option opts[] = {
+		{"format", required_argument, NULL, OPT_FORMAT},
+		{"threshold", required_argument, NULL, OPT_THRESHOLD},
+		{"quiet", no_argument, NULL, 'q'},
+		{"help", no_argument, NULL, 'h'},
+		ANA_INPUT_LONG_OPTIONS,
+		{NULL, 0, NULL, 0},
+	};
+	ana_input_options in;
+	memset(&in, 0, sizeof in);
+	popc_chatter_config cc;
+	popc_chatter_config_defaults(&cc);
+	ana_format fmt = ANA_TEXT;
+	int c, rc = 0, quiet = 0, flagged = 0;
+	optind = 1;
+	while ((c = getopt_long(argc, argv, "qh", opts, NULL)) != -1) {
+		switch (c) {
+		case OPT_FORMAT:
+			if (ana_format_from_name(optarg, &fmt) != 0 || fmt == ANA_MARKDOWN) {
+				fprintf(stderr, "popc-analyze chatter: --format '%s': text or csv\n", optarg);
+				rc = 2;
+				goto out;
+			}
+			break;
+		case OPT_THRESHOLD:
+			if ((rc = ana_threshold_option(&cc, optarg, "chatter")) != 0)
+				goto out;
+			break;
+		case 'q': quiet = 1; break;
+		case 'h': usage(stdout); goto out;
+		case ANA_OPT_COLUMN:
+		case ANA_OPT_DELIMITER:
+		case ANA_OPT_COMMENT:
+		case ANA_OPT_SET:
+			if ((rc = ana_input_option(&in, c, optarg, "chatter")) != 0)
+				goto out;
+			break;
+		default: usage(stderr); rc = 2; goto out;
+		}
+	}
+	if (optind >= argc) {
+		fprintf(stderr, "popc-analyze chatter: missing LOG\n");
+		usage(stderr);
+		rc = 2;
+		goto out;
+	}
+	if (!quiet && fmt == ANA_CSV)
+		puts("log,kind,start_s,end_s,value");
+	for (int i = optind; i < argc; i++) {
+		ana_summary s;
+		popc_error err;
+		int st = ana_summarize(argv[i], &in, &cc, -1.0, &s, NULL, NULL, &err);
+		if (st) {
+			ana_fail("chatter", st, &err);
+			rc = 2;
+			continue;
+		}
+		if (s.chatter.n_intervals || s.chatter.limit_cycle)
+			flagged = 1;
+		if (quiet)
+			continue;
+		if (fmt == ANA_CSV)
+			print_csv(s.log, &s.chatter);
+		else
+			print_text(s.log, &s.chatter);
+	}
+	if (rc == 0 && flagged)
+		rc = 1;
+out:
+	ana_input_free(&in);
+	return rc;
+}

@@ -1,0 +1,235 @@
+/* popc-analyze compare: one row of metrics per log (popc_metrics and the
+ * chatter detector), as text, CSV or Markdown. */
+#include <getopt.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "analyze.h"
+#include "popc/metrics.h"
+
+int ana_summarize(const char *path, const ana_input_options *o, const popc_chatter_config *ccfg,
+		  double late_from_s, ana_summary *s, ana_row_fn on_row, void *ctx,
+		  popc_error *err)
+{
+	memset(s, 0, sizeof *s);
+	ana_log l;
+	int st = ana_log_open(&l, path, o, err);
+	if (st)
+		return st;
+	snprintf(s->log, sizeof s->log, "%s", l.name);
+	snprintf(s->variant, sizeof s->variant, "%s", l.variant);
+	if (late_from_s < 0.0) {
+		/* the online summary's late window: the second half of the run, the
+		 * seed's low-velocity phase; a log without a duration: all of it */
+		late_from_s = popc_log_reader_header(&l.r, "run.duration") ? 0.5 * l.scene.duration_s
+									   : -(double)INFINITY;
+	}
+	popc_metrics m;
+	popc_metrics_init(&m, &l.env, l.period_s, late_from_s);
+	popc_chatter_config cc = *ccfg;
+	cc.resolution_m = l.scene.enc_resolution_m;
+	popc_chatter det;
+	st = popc_chatter_init(&det, &cc, l.period_s, &l.env, err);
+	if (st) {
+		ana_log_close(&l);
+		return st;
+	}
+	ana_row row;
+	double t0 = 0.0, t1 = 0.0;
+	while ((st = ana_log_next(&l, &row, err)) == 1) {
+		if (s->ticks == 0)
+			t0 = row.tick.t_s;
+		t1 = row.tick.t_s;
+		popc_metrics_add(&m, &row.tick);
+		popc_chatter_add(&det, &row.tick);
+		if (on_row)
+			on_row(ctx, &row);
+		s->ticks++;
+	}
+	ana_log_close(&l);
+	if (st < 0)
+		return st;
+	popc_chatter_finish(&det, &s->chatter);
+	s->duration_s = t1 - t0;
+	s->pc_rms_N = popc_metrics_pc_rms(&m.all);
+	s->pc_rms_late_N = popc_metrics_pc_rms(&m.late);
+	s->pc_max_N = m.all.pc_max_N;
+	s->pc_active = popc_metrics_active_fraction(&m.all);
+	s->pc_energy_J = m.pc_energy_J;
+	s->w_minus_eref_min_J = isfinite(m.w_minus_eref_min_J) ? m.w_minus_eref_min_J : 0.0;
+	s->w_minus_eref_end_J = m.w_minus_eref_end_J;
+	s->vsign_rate_Hz = popc_metrics_vsign_rate(&m.all, m.period_s);
+	s->vsign_rate_late_Hz = popc_metrics_vsign_rate(&m.late, m.period_s);
+	return 0;
+}
+
+static const char *const columns[] = {
+	"log", "variant", "ticks", "duration_s", "pc_rms", "pc_rms_late", "pc_max", "pc_active",
+	"pc_energy", "w_minus_eref_min", "w_minus_eref_end", "vsign_rate", "vsign_rate_late",
+	"chatter_s", "chatter_intervals", "limit_cycle", "lc_amplitude", "lc_frequency",
+};
+#define N_COLUMNS ((int)(sizeof columns / sizeof columns[0]))
+
+void ana_summary_print_header(FILE *f, ana_format fmt)
+{
+	switch (fmt) {
+	case ANA_CSV:
+		for (int i = 0; i < N_COLUMNS; i++)
+			fprintf(f, "%s%s", i ? "," : "", columns[i]);
+		fputc('\n', f);
+		break;
+	case ANA_MARKDOWN:
+		for (int i = 0; i < N_COLUMNS; i++)
+			fprintf(f, "| %s ", columns[i]);
+		fputs("|\n", f);
+		for (int i = 0; i < N_COLUMNS; i++)
+			fputs(i < 2 ? "|---" : "|---:", f);
+		fputs("|\n", f);
+		break;
+	default:
+		fprintf(f, "%-20s %-18s %7s %8s %8s %8s %8s %8s %10s %10s %10s %8s %8s %8s %4s %3s %10s %8s\n",
+			"log", "variant", "ticks", "dur_s", "pc_rms", "rms_late", "pc_max", "active",
+			"pc_energy", "wme_min", "wme_end", "vsign/s", "vs_late", "chat_s", "n", "lc",
+			"lc_amp_m", "lc_Hz");
+	}
+}
+
+void ana_summary_print_row(FILE *f, ana_format fmt, const ana_summary *s)
+{
+	const popc_chatter_result *c = &s->chatter;
+	double v[] = {s->duration_s,     s->pc_rms_N,          s->pc_rms_late_N,
+		      s->pc_max_N,       s->pc_active,         s->pc_energy_J,
+		      s->w_minus_eref_min_J, s->w_minus_eref_end_J, s->vsign_rate_Hz,
+		      s->vsign_rate_late_Hz, c->chatter_s};
+	const int nv = (int)(sizeof v / sizeof v[0]);
+	if (fmt == ANA_TEXT) {
+		fprintf(f, "%-20s %-18s %7lld %8.4g %8.4g %8.4g %8.4g %8.4g %10.3e %10.3e %10.3e %8.4g %8.4g %8.4g %4d %3d %10.3e %8.4g\n",
+			s->log, s->variant, s->ticks, v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7],
+			v[8], v[9], v[10], c->n_intervals, c->limit_cycle, c->lc_amplitude_m,
+			c->lc_frequency_Hz);
+		return;
+	}
+	const char *sep = fmt == ANA_CSV ? "," : " | ";
+	if (fmt == ANA_MARKDOWN)
+		fputs("| ", f);
+	fprintf(f, "%s%s%s%s%lld", s->log, sep, s->variant, sep, s->ticks);
+	for (int i = 0; i < nv; i++) {
+		fputs(sep, f);
+		if (fmt == ANA_MARKDOWN)
+			fprintf(f, "%.4g", v[i]);
+		else
+			ana_put_double(f, v[i]);
+	}
+	fprintf(f, "%s%d%s%d%s", sep, c->n_intervals, sep, c->limit_cycle, sep);
+	if (fmt == ANA_MARKDOWN) {
+		fprintf(f, "%.4g | %.4g |\n", c->lc_amplitude_m, c->lc_frequency_Hz);
+	} else {
+		ana_put_double(f, c->lc_amplitude_m);
+		fputs(sep, f);
+		ana_put_double(f, c->lc_frequency_Hz);
+		fputc('\n', f);
+	}
+}
+
+static void usage(FILE *f)
+{
+	fputs("usage: popc-analyze compare [options] LOG...\n"
+	      "\n"
+	      "One row per log, one column per metric, for comparing controller variants and\n"
+	      "parameter values. Columns (SI units; docs/ANALYSIS.md):\n"
+	      "  log, variant, ticks, duration_s; pc_rms, pc_rms_late, pc_max (N); pc_active\n"
+	      "  (share of ticks with f_pc != 0); pc_energy (J, sum f_pc(k-1) dx(k));\n"
+	      "  w_minus_eref_min, w_minus_eref_end (J); vsign_rate, vsign_rate_late (velocity\n"
+	      "  sign changes per second in contact); chatter_s, chatter_intervals, limit_cycle,\n"
+	      "  lc_amplitude (m), lc_frequency (Hz) from the chatter detector.\n"
+	      "The late window is the second half of run.duration (popc logs), else --late-from.\n"
+	      "\n"
+	      "  --format text|csv|markdown  output format (default text)\n"
+	      "  --late-from T            start of the late window (s)\n"
+	      "  --threshold NAME=VALUE   a chatter threshold (see 'chatter --help'; repeatable)\n" ANA_INPUT_HELP
+	      "  -h, --help               this help\n"
+	      "\n"
+	      "Exit status: 0 done, 2 bad usage or input (the other logs are still compared).\n",
+	      f);
+}
+
+enum { OPT_FORMAT = 256, OPT_LATE, OPT_THRESHOLD };
+
+int ana_cmd_compare(int argc, char **argv)
+{
+	static const struct option opts[] = {
+		{"format", required_argument, NULL, OPT_FORMAT},
+		{"late-from", required_argument, NULL, OPT_LATE},
+		{"threshold", required_argument, NULL, OPT_THRESHOLD},
+		{"help", no_argument, NULL, 'h'},
+		ANA_INPUT_LONG_OPTIONS,
+		{NULL, 0, NULL, 0},
+	};
+	ana_input_options in;
+	memset(&in, 0, sizeof in);
+	popc_chatter_config cc;
+	popc_chatter_config_defaults(&cc);
+	ana_format fmt = ANA_TEXT;
+	double late_from = -1.0;
+	int c, rc = 0;
+	optind = 1;
+	while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
+		switch (c) {
+		case OPT_FORMAT:
+			if (ana_format_from_name(optarg, &fmt) != 0) {
+				fprintf(stderr, "popc-analyze compare: --format '%s': text, csv or markdown\n",
+					optarg);
+				rc = 2;
+				goto out;
+			}
+			break;
+		case OPT_LATE: {
+			char *end;
+			late_from = strtod(optarg, &end);
+			if (end == optarg || *end || !isfinite(late_from) || late_from < 0) {
+				fprintf(stderr, "popc-analyze compare: --late-from '%s': a time >= 0 s\n",
+					optarg);
+				rc = 2;
+				goto out;
+			}
+			break;
+		}
+		case OPT_THRESHOLD:
+			if ((rc = ana_threshold_option(&cc, optarg, "compare")) != 0)
+				goto out;
+			break;
+		case 'h': usage(stdout); goto out;
+		case ANA_OPT_COLUMN:
+		case ANA_OPT_DELIMITER:
+		case ANA_OPT_COMMENT:
+		case ANA_OPT_SET:
+			if ((rc = ana_input_option(&in, c, optarg, "compare")) != 0)
+				goto out;
+			break;
+		default: usage(stderr); rc = 2; goto out;
+		}
+	}
+	if (optind >= argc) {
+		fprintf(stderr, "popc-analyze compare: missing LOG\n");
+		usage(stderr);
+		rc = 2;
+		goto out;
+	}
+	ana_summary_print_header(stdout, fmt);
+	for (int i = optind; i < argc; i++) {
+		ana_summary s;
+		popc_error err;
+		int st = ana_summarize(argv[i], &in, &cc, late_from, &s, NULL, NULL, &err);
+		if (st) {
+			rc = ana_fail("compare", st, &err);
+			continue;
+		}
+		ana_summary_print_row(stdout, fmt, &s);
+	}
+	if (fflush(stdout) != 0)
+		rc = 2;
+out:
+	ana_input_free(&in);
+	return rc;
+}

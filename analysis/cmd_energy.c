@@ -1,0 +1,347 @@
+/* popc-analyze energy: recompute the passivity observer W and the reference
+ * energy E_ref from a log's positions and forces with each observer
+ * definition of the seed, through the library's popc_observer_* (the code
+ * that ran online), and compare with the logged W and E_ref. */
+#include <getopt.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "analyze.h"
+
+typedef enum definition {
+	DEF_ONLINE,
+	DEF_EQ3,
+	DEF_EQ2,
+	DEF_FILTERED,
+	DEF_IGNORE,
+	DEF_IGNORE_UNDO,
+	DEF_COUNT
+} definition;
+
+static const struct {
+	const char *name, *what;
+} defs[DEF_COUNT] = {
+	{"online", "the observer the log's variant ran online (one of the below)"},
+	{"eq3", "seed eq. 3, held force: W(k) = W(k-1) + f_c(k-1) (x(k) - x(k-1))"},
+	{"eq2", "seed eq. 2, backward velocity: W(k) = W(k-1) + T f_c(k) v(k), v(k) = dx(k)/T"},
+	{"filtered", "eq. 2 with the logged velocity (filtered-velocity): W += f_c(k-1) v(k) T"},
+	{"ignore", "Table I: one-count reversal energy ignored, Prev_fc = f_e(k) (literal)"},
+	{"ignore-undo", "Table I with Prev_fc = f_c(k-1): a reversal undoes the last increment"},
+};
+
+static void usage(FILE *f)
+{
+	fputs("usage: popc-analyze energy [options] LOG...\n"
+	      "\n"
+	      "Recomputes the passivity observer W and the reference energy E_ref from each\n"
+	      "log's positions (x, count), velocity (v) and forces (f_e, f_c) with the\n"
+	      "library's observer, for each observer definition, and reports the largest\n"
+	      "difference from the logged W and E_ref (0 for popc's own logs with 'online').\n"
+	      "Missing columns are derived: v as the backward difference, f_e from the\n"
+	      "environment (--set environment.*), f_c as f_e + f_pc.\n"
+	      "\n"
+	      "observer definitions (E_ref is always the trapezoid of f_e over dx):\n",
+	      f);
+	for (int i = 0; i < DEF_COUNT; i++)
+		fprintf(f, "  %-12s %s\n", defs[i].name, defs[i].what);
+	fputs("\n"
+	      "  --observer NAME          a definition above (repeatable; default: all)\n"
+	      "  --format text|csv        summary format (default text)\n"
+	      "  -o, --output FILE        also write the recomputed columns of one LOG as CSV:\n"
+	      "                           t,x,f_c,W_logged,E_ref_logged,E_ref,W_<observer>...\n"
+	      "  --check                  exit 1 unless 'online' equals the logged W and E_ref\n"
+	      "                           bit for bit on every row\n" ANA_INPUT_HELP
+	      "  -h, --help               this help\n"
+	      "\n"
+	      "Exit status: 0 done, 1 --check found a difference, 2 bad usage or input.\n",
+	      f);
+}
+
+enum { OPT_OBSERVER = 256, OPT_FORMAT, OPT_CHECK };
+
+typedef struct energy_state {
+	definition def;
+	popc_observer obs;
+	double max_dW_J, max_dE_J;
+	long long mismatches;     /* rows whose W or E_ref differ in any bit */
+	double wme_min_J;
+} energy_state;
+
+static int same_bits(double a, double b)
+{
+	return memcmp(&a, &b, sizeof a) == 0;
+}
+
+static void observer_for(const ana_log *l, definition d, popc_observer *o)
+{
+	popc_variant v = POPC_VARIANT_REF_ENERGY;
+	popc_ignore_mode m = POPC_IGNORE_LITERAL;
+	switch (d) {
+	case DEF_ONLINE: ana_online_observer(&l->scene, &v, &m); break;
+	case DEF_EQ3:
+	case DEF_EQ2: v = POPC_VARIANT_REF_ENERGY; break;
+	case DEF_FILTERED: v = POPC_VARIANT_FILTERED_VELOCITY; break;
+	case DEF_IGNORE: v = POPC_VARIANT_IGNORE; break;
+	case DEF_IGNORE_UNDO:
+		v = POPC_VARIANT_IGNORE;
+		m = POPC_IGNORE_UNDO;
+		break;
+	default: break;
+	}
+	popc_observer_init(o, v, m);
+}
+
+/* One tick of one definition, with the library's observer. */
+static void step(energy_state *s, const ana_log *l, const popc_tick *t)
+{
+	popc_observation ob;
+	if (s->def == DEF_EQ2) {
+		/* eq. 2 pairs f(t_k) with v(t_k): store f_c(k) as the force the next
+		 * update multiplies, before the update (dcount 0: no Table I memory) */
+		popc_observation none = {0.0, 0, 0u};
+		popc_observer_commit(&s->obs, &none, t->f_e_N, t->f_c_N);
+		popc_observer_update(&s->obs, t->x_m, t->count, t->v_mps, l->period_s, t->f_e_N, &ob);
+		return;
+	}
+	popc_observer_update(&s->obs, t->x_m, t->count, t->v_mps, l->period_s, t->f_e_N, &ob);
+	popc_observer_commit(&s->obs, &ob, t->f_e_N, t->f_c_N);
+}
+
+static int energy_one(const char *path, const ana_input_options *in, const int *want, int n_want,
+		      ana_format fmt, const char *out_path, int check, int *check_failed)
+{
+	ana_log l;
+	popc_error err;
+	int st = ana_log_open(&l, path, in, &err);
+	if (st)
+		return ana_fail("energy", st, &err);
+	energy_state s[DEF_COUNT];
+	for (int i = 0; i < n_want; i++) {
+		memset(&s[i], 0, sizeof s[i]);
+		s[i].def = (definition)want[i];
+		s[i].wme_min_J = INFINITY;
+		observer_for(&l, s[i].def, &s[i].obs);
+	}
+	const int logged = l.c_W >= 0 && l.c_E_ref >= 0;
+	if (check && !logged) {
+		ana_log_close(&l);
+		fprintf(stderr, "popc-analyze energy: %s: --check needs the logged W and E_ref columns\n",
+			path);
+		return 2;
+	}
+	FILE *out = NULL;
+	if (out_path) {
+		out = strcmp(out_path, "-") == 0 ? stdout : fopen(out_path, "w");
+		if (!out) {
+			ana_log_close(&l);
+			fprintf(stderr, "popc-analyze energy: %s: cannot open for writing\n", out_path);
+			return 2;
+		}
+		fprintf(out, "# popc-analyze energy of %s\n# period = %.17g\nt,x,f_c,W_logged,E_ref_logged,E_ref",
+			path, l.period_s);
+		for (int i = 0; i < n_want; i++)
+			fprintf(out, ",W_%s", defs[s[i].def].name);
+		fputc('\n', out);
+	}
+	ana_row row;
+	long long rows = 0;
+	while ((st = ana_log_next(&l, &row, &err)) == 1) {
+		const popc_tick *t = &row.tick;
+		for (int i = 0; i < n_want; i++) {
+			energy_state *e = &s[i];
+			step(e, &l, t);
+			double W = e->obs.W_J, E = e->obs.E_ref_J;
+			if (W - E < e->wme_min_J)
+				e->wme_min_J = W - E;
+			if (logged) {
+				double dW = fabs(W - row.W_logged_J), dE = fabs(E - row.E_ref_logged_J);
+				if (dW > e->max_dW_J)
+					e->max_dW_J = dW;
+				if (dE > e->max_dE_J)
+					e->max_dE_J = dE;
+				if (!same_bits(W, row.W_logged_J) || !same_bits(E, row.E_ref_logged_J))
+					e->mismatches++;
+			}
+		}
+		if (out) {
+			ana_put_double(out, t->t_s);
+			fputc(',', out);
+			ana_put_double(out, t->x_m);
+			fputc(',', out);
+			ana_put_double(out, t->f_c_N);
+			fputc(',', out);
+			if (logged) {
+				ana_put_double(out, row.W_logged_J);
+				fputc(',', out);
+				ana_put_double(out, row.E_ref_logged_J);
+			} else {
+				fputs("nan,nan", out);
+			}
+			fputc(',', out);
+			ana_put_double(out, s[0].obs.E_ref_J);
+			for (int i = 0; i < n_want; i++) {
+				fputc(',', out);
+				ana_put_double(out, s[i].obs.W_J);
+			}
+			fputc('\n', out);
+		}
+		rows++;
+	}
+	int write_failed = 0;
+	if (out && out != stdout)
+		write_failed = fclose(out) != 0;
+	else if (out)
+		write_failed = fflush(out) != 0;
+	ana_log_close(&l);
+	if (st < 0)
+		return ana_fail("energy", st, &err);
+	if (write_failed) {
+		fprintf(stderr, "popc-analyze energy: %s: write failed\n", out_path);
+		return 2;
+	}
+	FILE *f = out == stdout ? stderr : stdout;
+	for (int i = 0; i < n_want; i++) {
+		const energy_state *e = &s[i];
+		const char *name = defs[e->def].name;
+		char real[32] = "";
+		if (e->def == DEF_ONLINE) {
+			popc_observer o;
+			observer_for(&l, DEF_ONLINE, &o);
+			definition d = o.variant == POPC_VARIANT_FILTERED_VELOCITY ? DEF_FILTERED
+				       : o.variant == POPC_VARIANT_IGNORE ||
+						 o.variant == POPC_VARIANT_IMPROVED
+					       ? (o.ignore_mode == POPC_IGNORE_UNDO ? DEF_IGNORE_UNDO
+										    : DEF_IGNORE)
+					       : DEF_EQ3;
+			snprintf(real, sizeof real, "online=%s", defs[d].name);
+			name = real;
+			if (check && e->mismatches)
+				*check_failed = 1;
+		}
+		double wme_end = e->obs.W_J - e->obs.E_ref_J;
+		if (fmt == ANA_CSV) {
+			printf("%s,%s,%lld,", l.name, name, rows);
+			ana_put_double(stdout, e->obs.W_J);
+			putchar(',');
+			ana_put_double(stdout, e->obs.E_ref_J);
+			putchar(',');
+			ana_put_double(stdout, wme_end);
+			putchar(',');
+			ana_put_double(stdout, isfinite(e->wme_min_J) ? e->wme_min_J : 0.0);
+			if (logged) {
+				putchar(',');
+				ana_put_double(stdout, e->max_dW_J);
+				putchar(',');
+				ana_put_double(stdout, e->max_dE_J);
+				printf(",%lld\n", e->mismatches);
+			} else {
+				fputs(",,,\n", stdout);
+			}
+		} else {
+			fprintf(f, "%-24s %-20s W_end %11.4e  E_ref_end %11.4e  W-E_ref end %11.4e min %11.4e",
+				l.name, name, e->obs.W_J, e->obs.E_ref_J, wme_end,
+				isfinite(e->wme_min_J) ? e->wme_min_J : 0.0);
+			if (logged)
+				fprintf(f, "  max|dW| %.3g  max|dE_ref| %.3g  rows differing %lld\n",
+					e->max_dW_J, e->max_dE_J, e->mismatches);
+			else
+				fputs("  (no logged W, E_ref)\n", f);
+		}
+	}
+	return 0;
+}
+
+int ana_cmd_energy(int argc, char **argv)
+{
+	static const struct option opts[] = {
+		{"observer", required_argument, NULL, OPT_OBSERVER},
+		{"format", required_argument, NULL, OPT_FORMAT},
+		{"output", required_argument, NULL, 'o'},
+		{"check", no_argument, NULL, OPT_CHECK},
+		{"help", no_argument, NULL, 'h'},
+		ANA_INPUT_LONG_OPTIONS,
+		{NULL, 0, NULL, 0},
+	};
+	ana_input_options in;
+	memset(&in, 0, sizeof in);
+	int want[DEF_COUNT], n_want = 0, check = 0, c, rc = 0;
+	ana_format fmt = ANA_TEXT;
+	const char *out_path = NULL;
+	optind = 1;
+	while ((c = getopt_long(argc, argv, "o:h", opts, NULL)) != -1) {
+		switch (c) {
+		case OPT_OBSERVER: {
+			int found = -1;
+			for (int i = 0; i < DEF_COUNT; i++)
+				if (strcmp(optarg, defs[i].name) == 0)
+					found = i;
+			if (found < 0) {
+				fprintf(stderr, "popc-analyze energy: --observer '%s': unknown (see --help)\n",
+					optarg);
+				rc = 2;
+				goto out;
+			}
+			int dup = 0;
+			for (int i = 0; i < n_want; i++)
+				dup |= want[i] == found;
+			if (!dup)
+				want[n_want++] = found;
+			break;
+		}
+		case OPT_FORMAT:
+			if (ana_format_from_name(optarg, &fmt) != 0 || fmt == ANA_MARKDOWN) {
+				fprintf(stderr, "popc-analyze energy: --format '%s': text or csv\n", optarg);
+				rc = 2;
+				goto out;
+			}
+			break;
+		case 'o': out_path = optarg; break;
+		case OPT_CHECK: check = 1; break;
+		case 'h': usage(stdout); goto out;
+		case ANA_OPT_COLUMN:
+		case ANA_OPT_DELIMITER:
+		case ANA_OPT_COMMENT:
+		case ANA_OPT_SET:
+			if ((rc = ana_input_option(&in, c, optarg, "energy")) != 0)
+				goto out;
+			break;
+		default: usage(stderr); rc = 2; goto out;
+		}
+	}
+	if (optind >= argc) {
+		fprintf(stderr, "popc-analyze energy: missing LOG\n");
+		usage(stderr);
+		rc = 2;
+		goto out;
+	}
+	if (out_path && argc - optind != 1) {
+		fprintf(stderr, "popc-analyze energy: --output takes exactly one LOG\n");
+		rc = 2;
+		goto out;
+	}
+	if (n_want == 0)
+		for (int i = 0; i < DEF_COUNT; i++)
+			want[n_want++] = i;
+	if (check) {
+		int has_online = 0;
+		for (int i = 0; i < n_want; i++)
+			has_online |= want[i] == DEF_ONLINE;
+		if (!has_online)
+			want[n_want++] = DEF_ONLINE;
+	}
+	if (fmt == ANA_CSV)
+		puts("log,observer,rows,W_end,E_ref_end,w_minus_eref_end,w_minus_eref_min,max_abs_dW,"
+		     "max_abs_dE_ref,rows_differing");
+	int check_failed = 0;
+	for (int i = optind; i < argc; i++) {
+		int r = energy_one(argv[i], &in, want, n_want, fmt, out_path, check, &check_failed);
+		if (r > rc)
+			rc = r;
+	}
+	if (rc == 0 && check_failed)
+		rc = 1;
+out:
+	ana_input_free(&in);
+	return rc;
+}

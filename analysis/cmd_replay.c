@@ -1,0 +1,217 @@
+/* popc-analyze replay: run controller variants open loop over the recorded
+ * position trace of a log and write one popc log per variant (source replay).
+ * Open loop: the trace does not react to the replayed force; what changes is
+ * what each controller would have commanded and observed on that trace. */
+#include <getopt.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "analyze.h"
+#include "popc/encoder.h"
+#include "popc/log.h"
+#include "popc/numfmt.h"
+
+#define MAX_VARIANTS POPC_VARIANT_COUNT
+
+static void usage(FILE *f)
+{
+	fputs("usage: popc-analyze replay LOG --variant NAME... [options]\n"
+	      "\n"
+	      "Runs each controller variant open loop over the recorded position trace of LOG\n"
+	      "(its t and count columns, or x quantized to encoder.resolution) and writes one\n"
+	      "popc log per variant (source = replay) that the other verbs read. The scene is\n"
+	      "the log's header (popc logs) or the defaults, then --set. Replaying a popc log\n"
+	      "with its own variant reproduces its rows exactly.\n"
+	      "\n"
+	      "  --variant NAME           none, po-pc, ref-energy, filtered-velocity, ignore,\n"
+	      "                           hold, improved, or 'all' (repeatable)\n"
+	      "  -o, --output-dir DIR     write DIR/<log>.<variant>.csv (default: .)\n"
+	      "  --prefix P               write P<variant>.csv instead\n"
+	      "  -q, --quiet              do not list the files written\n" ANA_INPUT_HELP
+	      "  -h, --help               this help\n"
+	      "\n"
+	      "Exit status: 0 done, 2 bad usage or input, 1 a log could not be written.\n",
+	      f);
+}
+
+enum { OPT_VARIANT = 256, OPT_PREFIX };
+
+typedef struct replay_out {
+	popc_scene scene;
+	popc_controller ctl;
+	popc_log_writer w;
+	char path[1100];
+	int open;
+} replay_out;
+
+int ana_cmd_replay(int argc, char **argv)
+{
+	static const struct option opts[] = {
+		{"variant", required_argument, NULL, OPT_VARIANT},
+		{"output-dir", required_argument, NULL, 'o'},
+		{"prefix", required_argument, NULL, OPT_PREFIX},
+		{"quiet", no_argument, NULL, 'q'},
+		{"help", no_argument, NULL, 'h'},
+		ANA_INPUT_LONG_OPTIONS,
+		{NULL, 0, NULL, 0},
+	};
+	ana_input_options in;
+	memset(&in, 0, sizeof in);
+	popc_variant variants[MAX_VARIANTS];
+	int n_var = 0, c, rc = 0, quiet = 0;
+	const char *dir = NULL, *prefix = NULL;
+	replay_out *outs = NULL;
+	ana_log l;
+	int log_open = 0;
+	popc_error err;
+	optind = 1;
+	while ((c = getopt_long(argc, argv, "o:qh", opts, NULL)) != -1) {
+		switch (c) {
+		case OPT_VARIANT: {
+			popc_variant v;
+			int all = strcmp(optarg, "all") == 0;
+			if (!all && popc_variant_from_name(optarg, &v) != 0) {
+				fprintf(stderr,
+					"popc-analyze replay: --variant '%s': none, po-pc, ref-energy, "
+					"filtered-velocity, ignore, hold, improved or all\n",
+					optarg);
+				rc = 2;
+				goto out;
+			}
+			for (int k = 0; k < POPC_VARIANT_COUNT; k++) {
+				if (!all && k != (int)v)
+					continue;
+				int dup = 0;
+				for (int i = 0; i < n_var; i++)
+					dup |= (int)variants[i] == k;
+				if (!dup)
+					variants[n_var++] = (popc_variant)k;
+			}
+			break;
+		}
+		case 'o': dir = optarg; break;
+		case OPT_PREFIX: prefix = optarg; break;
+		case 'q': quiet = 1; break;
+		case 'h': usage(stdout); goto out;
+		case ANA_OPT_COLUMN:
+		case ANA_OPT_DELIMITER:
+		case ANA_OPT_COMMENT:
+		case ANA_OPT_SET:
+			if ((rc = ana_input_option(&in, c, optarg, "replay")) != 0)
+				goto out;
+			break;
+		default: usage(stderr); rc = 2; goto out;
+		}
+	}
+	if (optind + 1 != argc || n_var == 0 || (dir && prefix)) {
+		fprintf(stderr, "popc-analyze replay: %s\n",
+			optind >= argc       ? "missing LOG"
+			: optind + 1 < argc  ? "exactly one LOG"
+			: n_var == 0         ? "missing --variant"
+					     : "--output-dir and --prefix exclude each other");
+		usage(stderr);
+		rc = 2;
+		goto out;
+	}
+	const char *path = argv[optind];
+	int st = ana_log_open(&l, path, &in, &err);
+	if (st) {
+		rc = ana_fail("replay", st, &err);
+		goto out;
+	}
+	log_open = 1;
+	popc_scene base = l.scene;
+	if (l.period_from_time) {
+		/* a foreign log without a rate: its first time step is the period */
+		if (!(l.period_s > 0.0)) {
+			fprintf(stderr, "popc-analyze replay: %s: cannot tell the period from the time "
+					"column; give --set run.rate=HZ\n",
+				path);
+			rc = 2;
+			goto out;
+		}
+		base.rate_Hz = 1.0 / l.period_s;
+	}
+	unsigned columns = (l.c_x_true >= 0 ? POPC_LOG_COL_X_TRUE : 0u) |
+			   (l.c_dt >= 0 && l.c_rtt >= 0 ? POPC_LOG_COL_TIMING : 0u);
+	outs = calloc((size_t)n_var, sizeof *outs);
+	if (!outs) {
+		fprintf(stderr, "popc-analyze replay: out of memory\n");
+		rc = 2;
+		goto out;
+	}
+	char extra[1400];
+	snprintf(extra, sizeof extra, "# replay_of = %s\n# replay_of_variant = %s\n", path, l.variant);
+	for (int i = 0; i < n_var; i++) {
+		replay_out *o = &outs[i];
+		o->scene = base;
+		o->scene.variant = variants[i];
+		const char *vn = popc_variant_name(variants[i]);
+		if (prefix)
+			snprintf(o->path, sizeof o->path, "%s%s.csv", prefix, vn);
+		else
+			snprintf(o->path, sizeof o->path, "%s/%s.%s.csv", dir ? dir : ".", l.name, vn);
+		popc_controller_config cfg;
+		popc_controller_config_from_scene(&cfg, &o->scene);
+		popc_controller_init(&o->ctl, &cfg);
+		st = popc_log_open(&o->w, o->path, columns, &err);
+		if (!st) {
+			o->open = 1;
+			st = popc_log_write_header(&o->w, "replay", &o->scene, extra, &err);
+		}
+		if (st) {
+			rc = ana_fail("replay", st, &err);
+			goto out;
+		}
+	}
+	ana_row row;
+	const double delta = base.enc_resolution_m;
+	while ((st = ana_log_next(&l, &row, &err)) == 1) {
+		/* the measured position as the online loop forms it from the count */
+		double x = popc_encoder_position(row.tick.count, delta);
+		for (int i = 0; i < n_var; i++) {
+			popc_log_row lr;
+			memset(&lr, 0, sizeof lr);
+			popc_controller_step(&outs[i].ctl, row.tick.count, x, &lr.tick);
+			lr.tick.t_s = row.tick.t_s;
+			lr.x_true_m = row.x_true_m;
+			lr.dt_s = row.dt_s;
+			lr.rtt_s = row.rtt_s;
+			if ((st = popc_log_write_row(&outs[i].w, &lr, &err)) != 0) {
+				rc = ana_fail("replay", st, &err);
+				rc = rc == 2 ? 1 : rc;
+				goto out;
+			}
+		}
+	}
+	if (st < 0) {
+		rc = ana_fail("replay", st, &err);
+		goto out;
+	}
+	for (int i = 0; i < n_var; i++) {
+		st = popc_log_write_comment(&outs[i].w, "stop", "completed", &err);
+		if (!st)
+			st = popc_log_close(&outs[i].w, &err);
+		outs[i].open = 0;
+		if (st) {
+			ana_fail("replay", st, &err);
+			rc = 1;
+		} else if (!quiet) {
+			printf("%s\n", outs[i].path);
+		}
+	}
+out:
+	if (outs) {
+		for (int i = 0; i < n_var; i++)
+			if (outs[i].open) {
+				popc_error cerr;
+				popc_log_close(&outs[i].w, &cerr);
+			}
+		free(outs);
+	}
+	if (log_open)
+		ana_log_close(&l);
+	ana_input_free(&in);
+	return rc;
+}

@@ -1,0 +1,317 @@
+/* Shared helpers of popc-analyze (analyze.h): input options, the log wrapper
+ * that derives missing columns, error printing. */
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "analyze.h"
+#include "popc/encoder.h"
+#include "popc/numfmt.h"
+
+int ana_fail(const char *verb, int status, const popc_error *err)
+{
+	fprintf(stderr, "popc-analyze %s: %s\n", verb, err->msg);
+	return popc_status_exit_code(status);
+}
+
+void ana_put_double(FILE *f, double v)
+{
+	char b[POPC_DOUBLE_TEXT_MAX + 1];
+	popc_format_double(v, b);
+	fputs(b, f);
+}
+
+static int push(char ***list, int *n, char *value)
+{
+	char **grown = realloc(*list, (size_t)(*n + 1) * sizeof **list);
+	if (!grown)
+		return -1;
+	grown[(*n)++] = value;
+	*list = grown;
+	return 0;
+}
+
+static int parse_char_option(const char *arg, char *out)
+{
+	if (strcmp(arg, "tab") == 0 || strcmp(arg, "\\t") == 0 || strcmp(arg, "\t") == 0)
+		*out = '\t';
+	else if (strcmp(arg, "space") == 0 || strcmp(arg, " ") == 0)
+		*out = ' ';
+	else if (strlen(arg) == 1 && arg[0] != '\n' && arg[0] != '\r' &&
+		 !(arg[0] >= '0' && arg[0] <= '9') && arg[0] != '.' && arg[0] != '-' &&
+		 arg[0] != '+')
+		*out = arg[0];
+	else
+		return -1;
+	return 0;
+}
+
+int ana_input_option(ana_input_options *o, int opt, char *arg, const char *verb)
+{
+	popc_error err;
+	switch (opt) {
+	case ANA_OPT_COLUMN:
+		if (popc_log_reader_add_mapping(&o->reader, arg, &err) != 0) {
+			fprintf(stderr, "popc-analyze %s: %s\n", verb, err.msg);
+			return 2;
+		}
+		return 0;
+	case ANA_OPT_DELIMITER:
+	case ANA_OPT_COMMENT: {
+		char c;
+		if (parse_char_option(arg, &c) != 0) {
+			fprintf(stderr,
+				"popc-analyze %s: --%s '%s': expected one character (or 'tab', "
+				"'space'), not a digit, '.', '+' or '-'\n",
+				verb, opt == ANA_OPT_DELIMITER ? "delimiter" : "comment", arg);
+			return 2;
+		}
+		if (opt == ANA_OPT_DELIMITER)
+			o->reader.delimiter = c;
+		else
+			o->reader.comment = c;
+		return 0;
+	}
+	case ANA_OPT_SET:
+		if (!strchr(arg, '=') || !strchr(arg, '.')) {
+			fprintf(stderr, "popc-analyze %s: --set '%s': expected section.key=value\n",
+				verb, arg);
+			return 2;
+		}
+		if (push(&o->sets, &o->n_sets, arg) != 0) {
+			fprintf(stderr, "popc-analyze %s: out of memory\n", verb);
+			return 2;
+		}
+		return 0;
+	default:
+		return 2;
+	}
+}
+
+void ana_input_free(ana_input_options *o)
+{
+	free(o->sets);
+	o->sets = NULL;
+	o->n_sets = 0;
+}
+
+int ana_threshold_option(popc_chatter_config *cfg, char *arg, const char *verb)
+{
+	char *eq = strchr(arg, '=');
+	popc_error err;
+	if (!eq) {
+		fprintf(stderr, "popc-analyze %s: --threshold '%s': expected name=value\n", verb, arg);
+		return 2;
+	}
+	*eq = '\0';
+	int st = popc_chatter_config_set(cfg, arg, eq + 1, &err);
+	*eq = '=';
+	if (st) {
+		fprintf(stderr, "popc-analyze %s: --threshold: %s\n", verb, err.msg);
+		return 2;
+	}
+	return 0;
+}
+
+void ana_online_observer(const popc_scene *s, popc_variant *variant, popc_ignore_mode *mode)
+{
+	*variant = s->variant;
+	*mode = s->ignore_mode;
+}
+
+static void base_name(const char *path, char *out, size_t cap)
+{
+	const char *b = strrchr(path, '/');
+	b = b ? b + 1 : path;
+	if (strcmp(path, "-") == 0)
+		b = "stdin";
+	size_t n = strlen(b);
+	if (n > 4 && strcmp(b + n - 4, ".csv") == 0)
+		n -= 4;
+	snprintf(out, cap, "%.*s", (int)n, b);
+}
+
+static int set_given(const ana_input_options *o, const char *key)
+{
+	size_t n = strlen(key);
+	for (int i = 0; i < o->n_sets; i++)
+		if (strncmp(o->sets[i], key, n) == 0 && o->sets[i][n] == '=')
+			return 1;
+	return 0;
+}
+
+int ana_log_open(ana_log *l, const char *path, const ana_input_options *o, popc_error *err)
+{
+	memset(l, 0, sizeof *l);
+	base_name(path, l->name, sizeof l->name);
+	int st = popc_log_reader_open(&l->r, path, &o->reader, err);
+	if (st)
+		return st;
+	popc_log_reader *r = &l->r;
+	l->is_popc = popc_log_reader_header(r, "format") != NULL &&
+		     popc_log_reader_header(r, "source") != NULL;
+	popc_scene_defaults(&l->scene);
+	snprintf(l->scene.source, sizeof l->scene.source, "%s", path);
+	if (l->is_popc && (st = popc_log_reader_scene(r, &l->scene, err)) != 0)
+		goto fail;
+	for (int i = 0; i < o->n_sets; i++)
+		if ((st = popc_scene_set_assignment(&l->scene, o->sets[i], err)) != 0)
+			goto fail;
+	if ((st = popc_scene_validate(&l->scene, err)) != 0)
+		goto fail;
+	popc_environment_from_scene(&l->env, &l->scene);
+	const char *variant = popc_log_reader_header(r, "variant");
+	if (variant)
+		snprintf(l->variant, sizeof l->variant, "%s", variant);
+	else if (set_given(o, "controller.variant"))
+		snprintf(l->variant, sizeof l->variant, "%s", popc_variant_name(l->scene.variant));
+	else
+		snprintf(l->variant, sizeof l->variant, "unknown");
+
+	l->c_t = popc_log_reader_column(r, "t");
+	l->c_x = popc_log_reader_column(r, "x");
+	l->c_count = popc_log_reader_column(r, "count");
+	l->c_x_true = popc_log_reader_column(r, "x_true");
+	l->c_v = popc_log_reader_column(r, "v");
+	l->c_f_e = popc_log_reader_column(r, "f_e");
+	l->c_f_pc = popc_log_reader_column(r, "f_pc");
+	l->c_f_c = popc_log_reader_column(r, "f_c");
+	l->c_W = popc_log_reader_column(r, "W");
+	l->c_E_ref = popc_log_reader_column(r, "E_ref");
+	l->c_flags = popc_log_reader_column(r, "flags");
+	l->c_dt = popc_log_reader_column(r, "dt");
+	l->c_rtt = popc_log_reader_column(r, "rtt");
+	if ((st = popc_log_reader_require(r, "t", &l->c_t, err)) != 0)
+		goto fail;
+	if (l->c_x < 0 && l->c_count < 0) {
+		st = popc_error_set(err, POPC_ERR_INVALID,
+				    "%s: missing column 'x' (or 'count'): map a position column with "
+				    "--column x=HEADER",
+				    path);
+		goto fail;
+	}
+	/* the first two rows: the period of a log that does not give its rate */
+	while (l->n_ahead < 2) {
+		int got = popc_log_reader_next(r, l->ahead[l->n_ahead], err);
+		if (got < 0) {
+			st = got;
+			goto fail;
+		}
+		if (got == 0)
+			break;
+		l->n_ahead++;
+	}
+	if (l->n_ahead == 0) {
+		st = popc_error_set(err, POPC_ERR_INVALID, "%s:%lld: no data rows after the column names",
+				    path, r->lineno);
+		goto fail;
+	}
+	if ((l->is_popc && popc_log_reader_header(r, "run.rate")) || set_given(o, "run.rate") ||
+	    l->n_ahead < 2) {
+		l->period_s = popc_scene_period_s(&l->scene);
+	} else {
+		l->period_s = l->ahead[1][l->c_t] - l->ahead[0][l->c_t];
+		l->period_from_time = 1;
+	}
+	popc_variant v;
+	popc_ignore_mode m;
+	ana_online_observer(&l->scene, &v, &m);
+	popc_observer_init(&l->obs, v, m);
+	return 0;
+fail:
+	popc_log_reader_close(r);
+	return st;
+}
+
+int ana_log_next(ana_log *l, ana_row *out, popc_error *err)
+{
+	const double *row;
+	if (l->ahead_pos < l->n_ahead) {
+		row = l->ahead[l->ahead_pos++];
+	} else {
+		int got = popc_log_reader_next(&l->r, l->row, err);
+		if (got <= 0)
+			return got;
+		row = l->row;
+	}
+	/* the look-ahead rows were lines lineno-1 and lineno; name the right one */
+	long long line = l->r.lineno - (l->n_ahead - l->ahead_pos);
+	const double delta = l->scene.enc_resolution_m;
+	const double T = l->period_s;
+	popc_tick *t = &out->tick;
+	memset(out, 0, sizeof *out);
+	t->t_s = row[l->c_t];
+	if (l->c_count >= 0) {
+		double c = row[l->c_count];
+		if (!(c == floor(c) && fabs(c) < 4.0e18))
+			return popc_error_set(err, POPC_ERR_INVALID,
+					      "%s:%lld: column %d (count): %.17g is not an integer count",
+					      l->r.path, line, l->c_count + 1, c);
+		t->count = (long long)c;
+		t->x_m = l->c_x >= 0 ? row[l->c_x] : popc_encoder_position(t->count, delta);
+	} else {
+		/* a foreign position in metres: the nearest encoder count */
+		t->x_m = row[l->c_x];
+		double c = nearbyint(t->x_m / delta);
+		if (!(fabs(c) < 4.0e18))
+			return popc_error_set(err, POPC_ERR_INVALID,
+					      "%s:%lld: column %d (x): %.17g m is %.3g counts of %g m",
+					      l->r.path, line, l->c_x + 1, t->x_m, c, delta);
+		t->count = (long long)c;
+	}
+	if (l->c_v >= 0)
+		t->v_mps = row[l->c_v];
+	else /* the backward difference the non-filtered variants use online */
+		t->v_mps = l->k > 0 ? (t->x_m - l->x_prev_m) / T : 0.0;
+	t->f_e_N = l->c_f_e >= 0 ? row[l->c_f_e]
+				 : popc_environment_force(&l->env, t->x_m, t->v_mps);
+	if (l->c_f_pc >= 0)
+		t->f_pc_N = row[l->c_f_pc];
+	else
+		t->f_pc_N = l->c_f_c >= 0 ? row[l->c_f_c] - t->f_e_N : 0.0;
+	t->f_c_N = l->c_f_c >= 0 ? row[l->c_f_c] : t->f_e_N + t->f_pc_N;
+	out->W_logged_J = l->c_W >= 0 ? row[l->c_W] : (double)NAN;
+	out->E_ref_logged_J = l->c_E_ref >= 0 ? row[l->c_E_ref] : (double)NAN;
+	if (l->c_W >= 0 && l->c_E_ref >= 0) {
+		t->W_J = row[l->c_W];
+		t->E_ref_J = row[l->c_E_ref];
+	} else {
+		/* the observer that ran online, on the logged positions and forces */
+		popc_observation ob;
+		popc_observer_update(&l->obs, t->x_m, t->count, t->v_mps, T, t->f_e_N, &ob);
+		popc_observer_commit(&l->obs, &ob, t->f_e_N, t->f_c_N);
+		t->W_J = l->c_W >= 0 ? row[l->c_W] : l->obs.W_J;
+		t->E_ref_J = l->c_E_ref >= 0 ? row[l->c_E_ref] : l->obs.E_ref_J;
+	}
+	if (l->c_flags >= 0) {
+		double f = row[l->c_flags];
+		t->flags = f >= 0 && f < 4294967296.0 ? (unsigned)f : 0u;
+	} else {
+		t->flags = t->f_pc_N != 0.0 ? POPC_FLAG_ACTIVE : 0u;
+	}
+	out->x_true_m = l->c_x_true >= 0 ? row[l->c_x_true] : (double)NAN;
+	out->dt_s = l->c_dt >= 0 ? row[l->c_dt] : (double)NAN;
+	out->rtt_s = l->c_rtt >= 0 ? row[l->c_rtt] : (double)NAN;
+	l->x_prev_m = t->x_m;
+	l->k++;
+	return 1;
+}
+
+void ana_log_close(ana_log *l)
+{
+	popc_log_reader_close(&l->r);
+}
+
+int ana_format_from_name(const char *name, ana_format *f)
+{
+	if (strcmp(name, "text") == 0)
+		*f = ANA_TEXT;
+	else if (strcmp(name, "csv") == 0)
+		*f = ANA_CSV;
+	else if (strcmp(name, "markdown") == 0 || strcmp(name, "md") == 0)
+		*f = ANA_MARKDOWN;
+	else
+		return -1;
+	return 0;
+}

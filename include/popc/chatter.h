@@ -1,0 +1,131 @@
+/* Streaming detector of the seed's "noisy behavior" (PC chattering) and of a
+ * sustained low-frequency limit cycle, fed one popc_tick per control tick.
+ * Memory is constant in the length of the log. Metrics, thresholds and their
+ * reasoning: docs/ANALYSIS.md.
+ *
+ * Chatter (seed Fig. 3(d), Fig. 4): in a sliding window (default 100 ms, slid
+ * by a tenth of its length) the PC force is large (RMS), switches sign often
+ * (sign flips per second) and the velocity sign changes often while in
+ * contact. Windows meeting all three are merged into time intervals.
+ *
+ * Limit cycle (seed Fig. 10, and the sampled spring without PC, Fig. 6): over
+ * the last seconds of the log the position keeps oscillating with an amplitude
+ * far above the encoder resolution, at a low frequency, in contact, and does
+ * not decay. Turning points are found with a hysteresis of a few counts so
+ * that quantization dither never counts as motion.
+ *
+ *   popc_chatter_config cfg;
+ *   popc_chatter_config_defaults(&cfg);
+ *   cfg.resolution_m = scene.enc_resolution_m;
+ *   popc_chatter det;
+ *   popc_chatter_init(&det, &cfg, period_s, &env, &err);
+ *   for each tick: popc_chatter_add(&det, &tick);
+ *   popc_chatter_result res;
+ *   popc_chatter_finish(&det, &res);
+ */
+#ifndef POPC_CHATTER_H
+#define POPC_CHATTER_H
+
+#include "popc/controller.h"
+#include "popc/environment.h"
+#include "popc/error.h"
+
+#define POPC_CHATTER_MAX_INTERVALS 32 /* stored; more are counted in n_intervals */
+#define POPC_CHATTER_SUBBLOCKS 10     /* the chatter window slides by 1/10 of its length */
+#define POPC_CHATTER_LC_SEGMENTS 8    /* the limit-cycle window is kept as 8 segments */
+
+typedef struct popc_chatter_config {
+	/* chatter: all three in one window */
+	double window_s;               /* sliding window length (s) */
+	double pc_rms_min_N;           /* PC force RMS in the window at least this */
+	double pc_flip_rate_min_Hz;    /* PC force sign flips per second at least this */
+	double vsign_rate_min_Hz;      /* velocity sign changes per second of contact */
+	double contact_min;            /* share of the window's ticks in contact */
+	/* limit cycle: over the last lc_window_s of the log */
+	double lc_window_s;
+	double lc_amplitude_min_counts;  /* mean half swing, in encoder counts */
+	double lc_hysteresis_counts;     /* a turning point needs this much return */
+	double lc_freq_min_Hz, lc_freq_max_Hz;
+	double lc_contact_min;           /* share of ticks in contact */
+	double lc_sustain_min;           /* amplitude last quarter / first quarter */
+	double resolution_m;             /* encoder resolution delta (m) */
+} popc_chatter_config;
+
+typedef struct popc_chatter_interval {
+	double start_s, end_s;
+	double pc_rms_max_N;           /* largest window PC RMS inside the interval */
+} popc_chatter_interval;
+
+typedef struct popc_chatter_result {
+	double chatter_s;              /* total flagged time (s) */
+	int n_intervals;               /* every interval found */
+	int n_stored;                  /* min(n_intervals, POPC_CHATTER_MAX_INTERVALS) */
+	popc_chatter_interval intervals[POPC_CHATTER_MAX_INTERVALS];
+	int limit_cycle;               /* 0 or 1 */
+	/* chatter metrics: maxima over the full windows */
+	double max_pc_rms_N, max_pc_flip_rate_Hz, max_vsign_rate_Hz;
+	/* limit-cycle metrics over the last window */
+	double lc_span_s;              /* time actually covered (shorter logs: less) */
+	double lc_start_s, lc_end_s;   /* the window: [start, end] */
+	double lc_amplitude_m;         /* mean half swing between turning points */
+	double lc_frequency_Hz;        /* turning points / 2 / span */
+	double lc_contact;             /* share of ticks in contact */
+	double lc_sustain;             /* amplitude of the last quarter / first quarter */
+	double lc_pc_rms_N;            /* PC force RMS (small: the PC does not act) */
+	double lc_w_drift_J;           /* change of W - E_ref over the window */
+} popc_chatter_result;
+
+/* Sums over a stretch of ticks (internal, in the struct for constant memory). */
+typedef struct popc_chatter_block {
+	long long ticks, contact_ticks, pc_flips, vsign_changes;
+	double pc_sq_sum;
+	double t_first_s, t_last_s;
+} popc_chatter_block;
+
+typedef struct popc_chatter_segment {
+	long long ticks, contact_ticks, reversals;
+	double swing_sum_m, pc_sq_sum;
+	double t_first_s, t_last_s;
+	double wme_first_J, wme_last_J;  /* W - E_ref at the first and last tick */
+} popc_chatter_segment;
+
+typedef struct popc_chatter {
+	popc_chatter_config cfg;
+	popc_environment env;
+	double period_s;
+	long long sub_ticks, seg_ticks;  /* ticks per chatter sub-block, per lc segment */
+	/* sliding chatter window: ring of completed sub-blocks plus the open one */
+	popc_chatter_block ring[POPC_CHATTER_SUBBLOCKS], cur;
+	int ring_n, ring_head;
+	/* limit cycle: ring of completed segments plus the open one */
+	popc_chatter_segment seg[POPC_CHATTER_LC_SEGMENTS], seg_cur;
+	int seg_n, seg_head;
+	/* running state */
+	int started, last_vsign, last_pcsign, lc_dir;
+	double x_prev_m, lc_ext_m, lc_turn_m, lc_min_m, lc_max_m;
+	/* intervals */
+	int open;
+	popc_chatter_interval cur_iv;
+	popc_chatter_result res;
+} popc_chatter;
+
+/* The documented defaults (docs/ANALYSIS.md), encoder resolution 1e-5 m. */
+void popc_chatter_config_defaults(popc_chatter_config *cfg);
+
+/* Sets a threshold by name ("window", "pc_rms", "pc_flip_rate", "vsign_rate",
+ * "contact", "lc_window", "lc_amplitude", "lc_hysteresis", "lc_freq_min",
+ * "lc_freq_max", "lc_contact", "lc_sustain") from text. */
+int popc_chatter_config_set(popc_chatter_config *cfg, const char *name, const char *value,
+			    popc_error *err);
+
+/* Checks the configuration and the period (s); env says what "in contact" is. */
+int popc_chatter_init(popc_chatter *d, const popc_chatter_config *cfg, double period_s,
+		      const popc_environment *env, popc_error *err);
+
+/* One control tick (t, x, f_pc, W, E_ref are used). Ticks come in time order. */
+void popc_chatter_add(popc_chatter *d, const popc_tick *t);
+
+/* Closes the open interval and fills *r. Call once, after the last tick. */
+void popc_chatter_finish(popc_chatter *d, popc_chatter_result *r);
+
+#endif

@@ -1,0 +1,342 @@
+/* Streaming chatter and limit-cycle detector (chatter.h; docs/ANALYSIS.md). */
+#include "popc/chatter.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+
+void popc_chatter_config_defaults(popc_chatter_config *c)
+{
+	memset(c, 0, sizeof *c);
+	/* 100 ms: ten cycles of a 100 Hz switching, one cycle of the ~9 Hz contact mode */
+	c->window_s = 0.1;
+	/* 10 % of the paper scene's 5 N PC bound; improved stays below 0.1 N per window */
+	c->pc_rms_min_N = 0.5;
+	/* a flip every 10 ms or faster: > 5 times the 18 reversals/s of the 9 Hz mode */
+	c->pc_flip_rate_min_Hz = 100.0;
+	c->vsign_rate_min_Hz = 100.0;
+	c->contact_min = 0.5;
+	c->lc_window_s = 2.0;
+	/* 50 counts: far above the 1-count quantization dither, 3x below the
+	 * +-150 counts of the paper scene's limit cycle */
+	c->lc_amplitude_min_counts = 50.0;
+	c->lc_hysteresis_counts = 5.0;
+	c->lc_freq_min_Hz = 1.0;
+	c->lc_freq_max_Hz = 50.0;
+	c->lc_contact_min = 0.1;
+	c->lc_sustain_min = 0.5;
+	c->resolution_m = 1e-5;
+}
+
+typedef struct threshold_key {
+	const char *name;
+	size_t offset;
+	double lo, hi;
+} threshold_key;
+
+static const threshold_key keys[] = {
+	{"window", offsetof(popc_chatter_config, window_s), 1e-6, 1e3},
+	{"pc_rms", offsetof(popc_chatter_config, pc_rms_min_N), 0.0, 1e12},
+	{"pc_flip_rate", offsetof(popc_chatter_config, pc_flip_rate_min_Hz), 0.0, 1e9},
+	{"vsign_rate", offsetof(popc_chatter_config, vsign_rate_min_Hz), 0.0, 1e9},
+	{"contact", offsetof(popc_chatter_config, contact_min), 0.0, 1.0},
+	{"lc_window", offsetof(popc_chatter_config, lc_window_s), 1e-6, 1e6},
+	{"lc_amplitude", offsetof(popc_chatter_config, lc_amplitude_min_counts), 0.0, 1e12},
+	{"lc_hysteresis", offsetof(popc_chatter_config, lc_hysteresis_counts), 1e-3, 1e12},
+	{"lc_freq_min", offsetof(popc_chatter_config, lc_freq_min_Hz), 0.0, 1e9},
+	{"lc_freq_max", offsetof(popc_chatter_config, lc_freq_max_Hz), 0.0, 1e9},
+	{"lc_contact", offsetof(popc_chatter_config, lc_contact_min), 0.0, 1.0},
+	{"lc_sustain", offsetof(popc_chatter_config, lc_sustain_min), 0.0, 1e9},
+	{"resolution", offsetof(popc_chatter_config, resolution_m), 1e-15, 1e3},
+};
+
+int popc_chatter_config_set(popc_chatter_config *c, const char *name, const char *value,
+			    popc_error *err)
+{
+	for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++) {
+		if (strcmp(keys[i].name, name) != 0)
+			continue;
+		char *end;
+		errno = 0;
+		double v = strtod(value, &end);
+		if (end == value || *end || errno || !isfinite(v) || v < keys[i].lo || v > keys[i].hi)
+			return popc_error_set(err, POPC_ERR_INVALID,
+					      "threshold %s = '%s': expected a number in [%g, %g]", name,
+					      value, keys[i].lo, keys[i].hi);
+		*(double *)(void *)((char *)c + keys[i].offset) = v;
+		return 0;
+	}
+	return popc_error_set(err, POPC_ERR_INVALID,
+			      "unknown threshold '%s' (window, pc_rms, pc_flip_rate, vsign_rate, "
+			      "contact, lc_window, lc_amplitude, lc_hysteresis, lc_freq_min, "
+			      "lc_freq_max, lc_contact, lc_sustain, resolution)",
+			      name);
+}
+
+int popc_chatter_init(popc_chatter *d, const popc_chatter_config *cfg, double period_s,
+		      const popc_environment *env, popc_error *err)
+{
+	memset(d, 0, sizeof *d);
+	if (!(period_s > 0.0) || !isfinite(period_s))
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "chatter detector: period %g s must be positive", period_s);
+	if (!(cfg->resolution_m > 0.0) || !(cfg->window_s > 0.0) || !(cfg->lc_window_s > 0.0) ||
+	    !(cfg->lc_hysteresis_counts > 0.0) || cfg->lc_freq_min_Hz > cfg->lc_freq_max_Hz)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "chatter detector: resolution, window, lc_window and "
+				      "lc_hysteresis must be positive and lc_freq_min <= lc_freq_max");
+	d->cfg = *cfg;
+	d->env = *env;
+	d->period_s = period_s;
+	double sub = cfg->window_s / period_s / POPC_CHATTER_SUBBLOCKS;
+	double seg = cfg->lc_window_s / period_s / POPC_CHATTER_LC_SEGMENTS;
+	if (sub > 1e12 || seg > 1e12)
+		return popc_error_set(err, POPC_ERR_INVALID, "chatter detector: window too long");
+	d->sub_ticks = sub < 1.0 ? 1 : llround(sub);
+	d->seg_ticks = seg < 1.0 ? 1 : llround(seg);
+	return 0;
+}
+
+static void close_interval(popc_chatter *d)
+{
+	if (!d->open)
+		return;
+	popc_chatter_result *r = &d->res;
+	r->chatter_s += d->cur_iv.end_s - d->cur_iv.start_s;
+	if (r->n_stored < POPC_CHATTER_MAX_INTERVALS)
+		r->intervals[r->n_stored++] = d->cur_iv;
+	r->n_intervals++;
+	d->open = 0;
+}
+
+/* A full window: the POPC_CHATTER_SUBBLOCKS newest sub-blocks. */
+static void evaluate_window(popc_chatter *d)
+{
+	popc_chatter_block w;
+	memset(&w, 0, sizeof w);
+	for (int i = 0; i < d->ring_n; i++) {
+		const popc_chatter_block *b = &d->ring[(d->ring_head + i) % POPC_CHATTER_SUBBLOCKS];
+		if (i == 0)
+			w.t_first_s = b->t_first_s;
+		w.t_last_s = b->t_last_s;
+		w.ticks += b->ticks;
+		w.contact_ticks += b->contact_ticks;
+		w.pc_flips += b->pc_flips;
+		w.vsign_changes += b->vsign_changes;
+		w.pc_sq_sum += b->pc_sq_sum;
+	}
+	const double T = d->period_s;
+	double rms = sqrt(w.pc_sq_sum / (double)w.ticks);
+	double flips = (double)w.pc_flips / ((double)w.ticks * T);
+	double contact = (double)w.contact_ticks / (double)w.ticks;
+	double vrate = w.contact_ticks ? (double)w.vsign_changes / ((double)w.contact_ticks * T) : 0.0;
+	popc_chatter_result *r = &d->res;
+	if (rms > r->max_pc_rms_N)
+		r->max_pc_rms_N = rms;
+	if (flips > r->max_pc_flip_rate_Hz)
+		r->max_pc_flip_rate_Hz = flips;
+	if (contact >= d->cfg.contact_min && vrate > r->max_vsign_rate_Hz)
+		r->max_vsign_rate_Hz = vrate;
+	int flagged = contact >= d->cfg.contact_min && rms >= d->cfg.pc_rms_min_N &&
+		      flips >= d->cfg.pc_flip_rate_min_Hz && vrate >= d->cfg.vsign_rate_min_Hz;
+	if (!flagged)
+		return;
+	/* the window covers its ticks: [t_first, t_last + T) */
+	double start = w.t_first_s, end = w.t_last_s + T;
+	if (d->open && start <= d->cur_iv.end_s) {
+		d->cur_iv.end_s = end;
+		if (rms > d->cur_iv.pc_rms_max_N)
+			d->cur_iv.pc_rms_max_N = rms;
+		return;
+	}
+	close_interval(d);
+	d->open = 1;
+	d->cur_iv.start_s = start;
+	d->cur_iv.end_s = end;
+	d->cur_iv.pc_rms_max_N = rms;
+}
+
+/* Turning points with hysteresis h: a reversal is recorded when the position
+ * has come back by h from its extreme; its swing is extreme - previous turn. */
+static void track_turns(popc_chatter *d, double x)
+{
+	const double h = d->cfg.lc_hysteresis_counts * d->cfg.resolution_m;
+	double swing = 0.0;
+	if (d->lc_dir == 0) {
+		if (!d->started) {
+			d->lc_min_m = d->lc_max_m = x;
+			return;
+		}
+		if (x < d->lc_min_m)
+			d->lc_min_m = x;
+		if (x > d->lc_max_m)
+			d->lc_max_m = x;
+		if (d->lc_max_m - x >= h) {
+			d->lc_dir = -1;
+			d->lc_turn_m = d->lc_max_m;
+			d->lc_ext_m = x;
+		} else if (x - d->lc_min_m >= h) {
+			d->lc_dir = 1;
+			d->lc_turn_m = d->lc_min_m;
+			d->lc_ext_m = x;
+		}
+		return;
+	}
+	if (d->lc_dir > 0) {
+		if (x > d->lc_ext_m) {
+			d->lc_ext_m = x;
+			return;
+		}
+		if (d->lc_ext_m - x < h)
+			return;
+		swing = d->lc_ext_m - d->lc_turn_m;
+	} else {
+		if (x < d->lc_ext_m) {
+			d->lc_ext_m = x;
+			return;
+		}
+		if (x - d->lc_ext_m < h)
+			return;
+		swing = d->lc_turn_m - d->lc_ext_m;
+	}
+	d->lc_turn_m = d->lc_ext_m;
+	d->lc_ext_m = x;
+	d->lc_dir = -d->lc_dir;
+	d->seg_cur.reversals++;
+	d->seg_cur.swing_sum_m += swing;
+}
+
+static int sign_of(double v)
+{
+	return v > 0.0 ? 1 : v < 0.0 ? -1 : 0;
+}
+
+void popc_chatter_add(popc_chatter *d, const popc_tick *t)
+{
+	int vchange = 0, flip = 0;
+	if (d->started) {
+		/* velocity sign: sign of the last nonzero displacement (as metrics.c) */
+		int s = sign_of(t->x_m - d->x_prev_m);
+		if (s != 0) {
+			vchange = d->last_vsign != 0 && s != d->last_vsign;
+			d->last_vsign = s;
+		}
+	}
+	int ps = sign_of(t->f_pc_N);
+	if (ps != 0) {
+		flip = d->last_pcsign != 0 && ps != d->last_pcsign;
+		d->last_pcsign = ps;
+	}
+	int contact = popc_environment_in_contact(&d->env, t->x_m);
+
+	popc_chatter_block *b = &d->cur;
+	if (b->ticks == 0)
+		b->t_first_s = t->t_s;
+	b->t_last_s = t->t_s;
+	b->ticks++;
+	b->contact_ticks += contact;
+	b->pc_flips += flip;
+	b->vsign_changes += contact && vchange;
+	b->pc_sq_sum += t->f_pc_N * t->f_pc_N;
+	if (b->ticks == d->sub_ticks) {
+		if (d->ring_n < POPC_CHATTER_SUBBLOCKS) {
+			d->ring[(d->ring_head + d->ring_n) % POPC_CHATTER_SUBBLOCKS] = *b;
+			d->ring_n++;
+		} else {
+			d->ring[d->ring_head] = *b;
+			d->ring_head = (d->ring_head + 1) % POPC_CHATTER_SUBBLOCKS;
+		}
+		memset(b, 0, sizeof *b);
+		if (d->ring_n == POPC_CHATTER_SUBBLOCKS)
+			evaluate_window(d);
+	}
+
+	track_turns(d, t->x_m);
+	popc_chatter_segment *g = &d->seg_cur;
+	double wme = t->W_J - t->E_ref_J;
+	if (g->ticks == 0) {
+		g->t_first_s = t->t_s;
+		g->wme_first_J = wme;
+	}
+	g->t_last_s = t->t_s;
+	g->wme_last_J = wme;
+	g->ticks++;
+	g->contact_ticks += contact;
+	g->pc_sq_sum += t->f_pc_N * t->f_pc_N;
+	if (g->ticks == d->seg_ticks) {
+		if (d->seg_n < POPC_CHATTER_LC_SEGMENTS) {
+			d->seg[(d->seg_head + d->seg_n) % POPC_CHATTER_LC_SEGMENTS] = *g;
+			d->seg_n++;
+		} else {
+			d->seg[d->seg_head] = *g;
+			d->seg_head = (d->seg_head + 1) % POPC_CHATTER_LC_SEGMENTS;
+		}
+		memset(g, 0, sizeof *g);
+	}
+	d->x_prev_m = t->x_m;
+	d->started = 1;
+}
+
+/* Mean half swing over segments [from, to) of the chronological list. */
+static double amplitude_of(const popc_chatter_segment *const *list, int from, int to,
+			   long long *reversals)
+{
+	double sum = 0.0;
+	long long n = 0;
+	for (int i = from; i < to; i++) {
+		sum += list[i]->swing_sum_m;
+		n += list[i]->reversals;
+	}
+	*reversals = n;
+	return n ? sum / (double)n / 2.0 : 0.0;
+}
+
+void popc_chatter_finish(popc_chatter *d, popc_chatter_result *r)
+{
+	close_interval(d);
+	/* the last lc window: completed segments, oldest first, then the open one */
+	const popc_chatter_segment *list[POPC_CHATTER_LC_SEGMENTS + 1];
+	int n = 0;
+	for (int i = 0; i < d->seg_n; i++)
+		list[n++] = &d->seg[(d->seg_head + i) % POPC_CHATTER_LC_SEGMENTS];
+	if (d->seg_cur.ticks > 0)
+		list[n++] = &d->seg_cur;
+	popc_chatter_result *res = &d->res;
+	long long ticks = 0, contact = 0, rev = 0;
+	double pc_sq = 0.0;
+	for (int i = 0; i < n; i++) {
+		ticks += list[i]->ticks;
+		contact += list[i]->contact_ticks;
+		pc_sq += list[i]->pc_sq_sum;
+	}
+	if (ticks > 0) {
+		res->lc_span_s = (double)ticks * d->period_s;
+		res->lc_start_s = list[0]->t_first_s;
+		res->lc_end_s = list[n - 1]->t_last_s;
+		res->lc_amplitude_m = amplitude_of(list, 0, n, &rev);
+		res->lc_frequency_Hz = (double)rev / 2.0 / res->lc_span_s;
+		res->lc_contact = (double)contact / (double)ticks;
+		res->lc_pc_rms_N = sqrt(pc_sq / (double)ticks);
+		res->lc_w_drift_J = list[n - 1]->wme_last_J - list[0]->wme_first_J;
+		/* sustained: the last quarter still swings like the first */
+		int q = n / 4 > 0 ? n / 4 : 1;
+		long long rev_first, rev_last;
+		double a_first = amplitude_of(list, 0, q, &rev_first);
+		double a_last = amplitude_of(list, n - q, n, &rev_last);
+		if (rev_last == 0)
+			res->lc_sustain = 0.0;
+		else if (rev_first == 0)
+			res->lc_sustain = 1.0; /* started from rest and now swings: not decaying */
+		else
+			res->lc_sustain = a_last / a_first;
+	}
+	const popc_chatter_config *c = &d->cfg;
+	res->limit_cycle = res->lc_span_s >= 0.5 * c->lc_window_s &&
+			   res->lc_amplitude_m >= c->lc_amplitude_min_counts * c->resolution_m &&
+			   res->lc_frequency_Hz >= c->lc_freq_min_Hz &&
+			   res->lc_frequency_Hz <= c->lc_freq_max_Hz &&
+			   res->lc_contact >= c->lc_contact_min && res->lc_sustain >= c->lc_sustain_min;
+	*r = *res;
+}
