@@ -7,6 +7,7 @@
 #include "cli.h"
 #include "popc/axis.h"
 #include "popc/log.h"
+#include "popc/modbus_axis.h"
 #include "popc/run.h"
 
 static void usage(FILE *f)
@@ -22,6 +23,12 @@ static void usage(FILE *f)
 	      "                           filtered-velocity, ignore, hold, improved\n"
 	      "  --log FILE               write the CSV log to FILE ('-': standard output)\n"
 	      "  --summary FILE           append the summary as a CSV row (header if new)\n"
+	      "  --axis sim|modbus        axis.kind: the simulated plant or a servo drive\n"
+	      "  --map FILE               axis.map: the drive's register map (docs/MODBUS.md)\n"
+	      "  --connect URI            axis.connect: tcp:HOST:PORT or rtu:DEVICE[:BAUD[:8N1]]\n"
+	      "  --free-run               modbus: no deadlines, each tick as soon as the last\n"
+	      "                           is done (lockstep dry runs against popc-servo-sim)\n"
+	      "  --rt                     modbus: try SCHED_FIFO and mlockall (notes if denied)\n"
 	      "  -q, --quiet              no summary on standard error\n"
 	      "  -h, --help               this help\n"
 	      "\n"
@@ -30,7 +37,8 @@ static void usage(FILE *f)
 	      f);
 }
 
-enum { OPT_SET = 256, OPT_VARIANT, OPT_LOG, OPT_SUMMARY };
+enum { OPT_SET = 256, OPT_VARIANT, OPT_LOG, OPT_SUMMARY, OPT_AXIS, OPT_MAP, OPT_CONNECT,
+       OPT_FREE_RUN, OPT_RT };
 
 static int write_summary_file(const char *path, const popc_run_summary *sum, const popc_scene *s)
 {
@@ -51,6 +59,11 @@ int popc_cmd_run(int argc, char **argv)
 		{"variant", required_argument, NULL, OPT_VARIANT},
 		{"log", required_argument, NULL, OPT_LOG},
 		{"summary", required_argument, NULL, OPT_SUMMARY},
+		{"axis", required_argument, NULL, OPT_AXIS},
+		{"map", required_argument, NULL, OPT_MAP},
+		{"connect", required_argument, NULL, OPT_CONNECT},
+		{"free-run", no_argument, NULL, OPT_FREE_RUN},
+		{"rt", no_argument, NULL, OPT_RT},
 		{"quiet", no_argument, NULL, 'q'},
 		{"help", no_argument, NULL, 'h'},
 		{NULL, 0, NULL, 0},
@@ -58,6 +71,10 @@ int popc_cmd_run(int argc, char **argv)
 	char **sets = NULL;
 	int n_sets = 0, quiet = 0, c;
 	const char *variant = NULL, *log_path = NULL, *summary_path = NULL;
+	const char *axis_opt[3] = {NULL, NULL, NULL}; /* --axis, --map, --connect */
+	popc_modbus_options mbo;
+	popc_modbus_options_defaults(&mbo);
+	mbo.notes = stderr;
 	optind = 1;
 	while ((c = getopt_long(argc, argv, "qh", opts, NULL)) != -1) {
 		switch (c) {
@@ -65,6 +82,11 @@ int popc_cmd_run(int argc, char **argv)
 		case OPT_VARIANT: variant = optarg; break;
 		case OPT_LOG: log_path = optarg; break;
 		case OPT_SUMMARY: summary_path = optarg; break;
+		case OPT_AXIS: axis_opt[0] = optarg; break;
+		case OPT_MAP: axis_opt[1] = optarg; break;
+		case OPT_CONNECT: axis_opt[2] = optarg; break;
+		case OPT_FREE_RUN: mbo.pace = 0; break;
+		case OPT_RT: mbo.realtime = 1; break;
 		case 'q': quiet = 1; break;
 		case 'h': usage(stdout); free(sets); return 0;
 		default: usage(stderr); free(sets); return 2;
@@ -84,6 +106,15 @@ int popc_cmd_run(int argc, char **argv)
 		snprintf(variant_set, sizeof variant_set, "controller.variant=%s", variant);
 		popc_cli_push(&sets, &n_sets, variant_set);
 	}
+	/* --axis, --map, --connect are --set axis.kind=, axis.map=, axis.connect= */
+	static const char *const axis_keys[3] = {"kind", "map", "connect"};
+	char axis_set[3][POPC_PATH_MAX + 16];
+	for (int i = 0; i < 3; i++) {
+		if (!axis_opt[i])
+			continue;
+		snprintf(axis_set[i], sizeof axis_set[i], "axis.%s=%s", axis_keys[i], axis_opt[i]);
+		popc_cli_push(&sets, &n_sets, axis_set[i]);
+	}
 	int st = popc_cli_load_scene(&s, argv[optind], sets, n_sets, &err);
 	free(sets);
 	if (st)
@@ -92,6 +123,8 @@ int popc_cmd_run(int argc, char **argv)
 	popc_axis *axis = NULL;
 	if (strcmp(s.axis, "sim") == 0) {
 		st = popc_sim_axis_create(&axis, &s, &err);
+	} else if (strcmp(s.axis, "modbus") == 0) {
+		st = popc_modbus_axis_create(&axis, &s, &mbo, &err);
 	} else {
 		st = popc_error_set(&err, POPC_ERR_INVALID, "%s: axis.kind = %s: this build has no such axis",
 				    s.source, s.axis);
@@ -116,9 +149,11 @@ int popc_cmd_run(int argc, char **argv)
 	int run_st = popc_run(&s, axis, &ro, &sum, &err);
 	popc_error cerr;
 	int close_st = log_path ? popc_log_close(&log, &cerr) : 0;
-	popc_axis_destroy(&axis);
 	if (!quiet)
 		popc_run_summary_print(&sum, &s, stderr);
+	if (!quiet && axis->ops->report) /* period and latency percentiles of a real axis */
+		axis->ops->report(axis, stderr, NULL, NULL, 0);
+	popc_axis_destroy(&axis);
 	if (summary_path && write_summary_file(summary_path, &sum, &s) != 0) {
 		fprintf(stderr, "popc run: %s: cannot write the summary\n", summary_path);
 		if (!run_st)

@@ -1,0 +1,111 @@
+/* A servo drive's Modbus register map, read from an INI file (one file per
+ * drive layout, data/drives/). DESIGN section 6: drives differ in word order,
+ * units and enable/fault words, so the layout is data, never code.
+ *
+ *   [drive]    name, slave, fc23, timeout_ms, max_failures, enable_timeout_ms, watchdog_ms
+ *   [position] register, table, type, word_order, counts_per_m | counts_per_rev + lead_m
+ *              (+ gear), soft_min_m, soft_max_m
+ *   [command]  register, type, word_order, newton_per_unit | percent_of_rated_per_unit
+ *              + rated_torque_Nm + lead_m (+ gear), limit_N
+ *   [enable]   register, table (holding | coil), on (up to 4 values, written in
+ *              order), off
+ *   [status]   register, table, ready_mask, fault_mask
+ *
+ * Addresses are zero-based protocol addresses. Word conversion is done here, by
+ * hand: libmodbus 3.1.6's float getters and setters disagree and its
+ * MODBUS_GET_INT32_FROM_INT16 is wrong for negative values (DESIGN section 6). */
+#ifndef POPC_REGISTER_MAP_H
+#define POPC_REGISTER_MAP_H
+
+#include <stdint.h>
+
+#include "popc/error.h"
+#include "popc/scene.h"
+
+typedef enum popc_reg_table {
+	POPC_TABLE_HOLDING, /* FC03 read, FC06/FC16/FC23 write */
+	POPC_TABLE_INPUT,   /* FC04 read only */
+	POPC_TABLE_COIL,    /* FC05 write (enable only) */
+} popc_reg_table;
+
+typedef enum popc_reg_type {
+	POPC_REG_INT16,
+	POPC_REG_UINT16,
+	POPC_REG_INT32,
+	POPC_REG_UINT32,
+	POPC_REG_FLOAT32,
+	POPC_REG_FLOAT64, /* 4 registers: an exact command path (IEEE 754 binary64) */
+} popc_reg_type;
+
+typedef enum popc_word_order {
+	POPC_WORDS_HI_LO, /* most significant word at the lowest address (AKD, ZLTECH) */
+	POPC_WORDS_LO_HI, /* least significant word first (Delta ASDA, Kinco) */
+} popc_word_order;
+
+#define POPC_MAP_ENABLE_MAX 4
+
+typedef struct popc_register_map {
+	char path[POPC_PATH_MAX];
+	char name[128];
+	int slave;                 /* 1..247 */
+	int fc23;                  /* write the command and read the position in one transaction */
+	int timeout_ms;            /* response (and byte) timeout */
+	int max_failures;          /* failed transactions in a row before communication is lost */
+	int enable_timeout_ms;     /* how long start() waits for the ready bits */
+	int watchdog_ms;           /* the drive's command watchdog (popc-servo-sim), 0: off */
+
+	struct {
+		int reg;
+		popc_reg_table table;
+		popc_reg_type type;
+		popc_word_order order;
+		double counts_per_m;   /* position value units per metre */
+		double soft_min_m, soft_max_m;
+	} pos;
+	struct {
+		int reg;
+		popc_reg_type type;
+		popc_word_order order;
+		double newton_per_unit;
+		double limit_N;        /* force clamp, always applied */
+	} cmd;
+	struct {
+		int reg;
+		popc_reg_table table;
+		int n_on;
+		uint16_t on[POPC_MAP_ENABLE_MAX]; /* written in order; the last one means enabled */
+		uint16_t off;
+	} enable;
+	struct {
+		int reg;
+		popc_reg_table table;
+		uint16_t ready_mask;   /* ready when (status & ready_mask) == ready_mask */
+		uint16_t fault_mask;   /* faulted when status & fault_mask != 0 */
+	} status;
+} popc_register_map;
+
+/* Reads and validates a map file. Unknown or duplicate keys, bad values,
+ * missing keys and inconsistent combinations (overlapping registers, two
+ * scales given, a command that cannot reach limit_N, ...) are rejected with a
+ * message naming the file, the line (0 when the problem is a missing key) and
+ * the key. Returns 0 or a negative popc_status. */
+int popc_register_map_load(popc_register_map *m, const char *path, popc_error *err);
+
+/* Number of 16-bit registers a value of this type occupies (1, 2 or 4). */
+int popc_reg_type_words(popc_reg_type t);
+const char *popc_reg_type_name(popc_reg_type t);
+
+/* Words -> value. Integer types are exact in a double (|v| < 2^53). */
+double popc_reg_decode(const uint16_t *words, popc_reg_type t, popc_word_order o);
+
+/* Value -> words. Integer types round to nearest and saturate at the type's
+ * range; returns 1 when the value had to be saturated, else 0. */
+int popc_reg_encode(double v, popc_reg_type t, popc_word_order o, uint16_t *words);
+
+/* Whether the drive's position counts are the scene's encoder counts
+ * (counts_per_m * resolution == 1 within 1e-9): then counts pass through
+ * unchanged, and a run on the drive sees exactly the counts the simulated
+ * encoder would give. */
+int popc_register_map_counts_are_scene_counts(const popc_register_map *m, double resolution_m);
+
+#endif

@@ -1,0 +1,660 @@
+/* The Modbus axis (modbus_axis.h): a servo drive through libmodbus, with its
+ * register map, pacing on absolute deadlines and the safety supervisor. */
+#include "popc/modbus_axis.h"
+
+#include <errno.h>
+#include <math.h>
+#include <modbus.h>
+#include <sched.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/mman.h>
+#include <sys/select.h>
+#include <time.h>
+
+#include "modbus_stats.h"
+#include "popc/encoder.h"
+#include "popc/log.h"
+#include "popc/register_map.h"
+
+/* Span of one block read that covers both position and status; a longer
+ * span reads them separately. FC03/FC04 allow 125 registers (Modbus
+ * Application Protocol V1.1b3, 6.3), FC23 reads 125 too (6.17). */
+#define BLOCK_MAX 32
+
+typedef struct mb_axis {
+	popc_register_map map;
+	popc_modbus_uri uri;
+	char uri_text[POPC_PATH_MAX + 32];
+	popc_modbus_options opt;
+	modbus_t *ctx;
+	int connected;
+
+	double delta_m;
+	int passthrough;           /* drive counts are scene counts */
+	int64_t period_ns;
+
+	/* the block read every tick: position (and status when close to it) */
+	popc_reg_table blk_table;
+	int blk_reg, blk_n;
+	int status_in_block;
+
+	/* pacing */
+	int64_t next_deadline_ns;
+	int64_t last_sample_ns;
+	int have_sample;
+
+	/* supervisor state */
+	int enabled;               /* the link was opened: stop() must zero and disable */
+	int failures_in_row;
+	int last_errno;
+	double last_cmd_N;
+
+	/* statistics */
+	popc_histogram dt_hist, rtt_hist;
+	long long exchanges, overruns, skipped_periods, failures, reconnects, clamps;
+	int rt_fifo, rt_locked;
+	char rt_note[256];
+} mb_axis;
+
+static int64_t now_ns(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
+}
+
+/* "popc: modbus: <what> <detail>" on the notes stream. */
+static void note(mb_axis *a, const char *what, const char *detail)
+{
+	if (a->opt.notes)
+		fprintf(a->opt.notes, "popc: modbus: %s %s\n", what, detail);
+}
+
+/* ---- link ----------------------------------------------------------------- */
+
+static void set_timeouts(mb_axis *a)
+{
+	uint32_t ms = (uint32_t)a->map.timeout_ms;
+	modbus_set_response_timeout(a->ctx, ms / 1000, (ms % 1000) * 1000);
+	/* between two bytes of one frame: the same bound (a pty or a USB adapter
+	 * delivers a frame in pieces; a real line needs 1.5 characters) */
+	modbus_set_byte_timeout(a->ctx, ms / 1000, (ms % 1000) * 1000);
+}
+
+static int link_open(mb_axis *a, popc_error *err)
+{
+	if (!a->ctx) {
+		if (a->uri.rtu)
+			a->ctx = modbus_new_rtu(a->uri.device, a->uri.baud, a->uri.parity, a->uri.data_bits,
+						a->uri.stop_bits);
+		else
+			a->ctx = modbus_new_tcp_pi(a->uri.host, a->uri.port);
+		if (!a->ctx)
+			return popc_error_set(err, POPC_ERR_COMM, "%s: cannot create the Modbus context: %s",
+					      a->uri_text, modbus_strerror(errno));
+		/* LINK recovery can retry forever and doubles every timeout (DESIGN 6) */
+		modbus_set_error_recovery(a->ctx, MODBUS_ERROR_RECOVERY_NONE);
+		modbus_set_slave(a->ctx, a->map.slave);
+		set_timeouts(a);
+	}
+	if (a->connected)
+		return 0;
+	if (modbus_connect(a->ctx) != 0)
+		return popc_error_set(err, POPC_ERR_COMM, "%s: cannot connect: %s", a->uri_text,
+				      modbus_strerror(errno));
+	/* modbus_rtu_set_serial_mode is not called: RS-232 is the default, and it
+	 * fails with ENOTTY on the pseudo-terminals the tests use */
+	a->connected = 1;
+	return 0;
+}
+
+static void link_close(mb_axis *a)
+{
+	if (a->ctx && a->connected)
+		modbus_close(a->ctx);
+	a->connected = 0;
+}
+
+/* RTU has no transaction id: after a failure, discard whatever arrives until
+ * the line has been quiet for one response timeout (bounded: 4 timeouts), so
+ * that a late reply is not taken for the answer to the next request. */
+static void rtu_drain(mb_axis *a)
+{
+	int fd = modbus_get_socket(a->ctx);
+	modbus_flush(a->ctx);
+	if (fd < 0)
+		return;
+	for (int round = 0; round < 4; round++) {
+		fd_set rd;
+		FD_ZERO(&rd);
+		FD_SET(fd, &rd);
+		struct timeval tv = {a->map.timeout_ms / 1000, (a->map.timeout_ms % 1000) * 1000};
+		int r = select(fd + 1, &rd, NULL, NULL, &tv);
+		if (r == 0)
+			return;
+		if (r < 0 && errno != EINTR)
+			return;
+		modbus_flush(a->ctx);
+	}
+}
+
+/* After a failed transaction: make the link usable for the next attempt. */
+static void recover(mb_axis *a, int e)
+{
+	if (e >= EMBXILFUN && e <= EMBXGTAR)
+		return; /* an exception reply: the link and the framing are fine */
+	if (a->uri.rtu) {
+		rtu_drain(a);
+		return;
+	}
+	/* TCP: a timeout may leave a late reply in the stream, and a reset or a
+	 * broken socket is gone for good; a new connection is clean either way */
+	link_close(a);
+	popc_error ignored;
+	if (link_open(a, &ignored) == 0) {
+		a->reconnects++;
+		note(a, "reconnected to", a->uri_text);
+	}
+}
+
+/* Exceptions that mean the map does not fit the drive: retrying cannot help. */
+static int is_config_exception(int e)
+{
+	return e == EMBXILFUN || e == EMBXILADD || e == EMBXILVAL;
+}
+
+enum { OP_READ_BLOCK, OP_READ_STATUS, OP_WRITE_CMD, OP_WRITE_AND_READ, OP_WRITE_ENABLE };
+
+typedef struct mb_op {
+	int kind;
+	const uint16_t *words;  /* command words, or the enable word */
+	uint16_t *dest;         /* read destination */
+} mb_op;
+
+static int do_op(mb_axis *a, const mb_op *op)
+{
+	const popc_register_map *m = &a->map;
+	int ncmd = popc_reg_type_words(m->cmd.type), rc = -1;
+	switch (op->kind) {
+	case OP_READ_BLOCK:
+		rc = a->blk_table == POPC_TABLE_HOLDING
+			     ? modbus_read_registers(a->ctx, a->blk_reg, a->blk_n, op->dest)
+			     : modbus_read_input_registers(a->ctx, a->blk_reg, a->blk_n, op->dest);
+		break;
+	case OP_READ_STATUS:
+		rc = m->status.table == POPC_TABLE_HOLDING
+			     ? modbus_read_registers(a->ctx, m->status.reg, 1, op->dest)
+			     : modbus_read_input_registers(a->ctx, m->status.reg, 1, op->dest);
+		break;
+	case OP_WRITE_CMD:
+		rc = ncmd == 1 ? modbus_write_register(a->ctx, m->cmd.reg, op->words[0])
+			       : modbus_write_registers(a->ctx, m->cmd.reg, ncmd, op->words);
+		break;
+	case OP_WRITE_AND_READ:
+		rc = modbus_write_and_read_registers(a->ctx, m->cmd.reg, ncmd, op->words, a->blk_reg,
+						     a->blk_n, op->dest);
+		break;
+	case OP_WRITE_ENABLE:
+		rc = m->enable.table == POPC_TABLE_COIL
+			     ? modbus_write_bit(a->ctx, m->enable.reg, op->words[0] ? 1 : 0)
+			     : modbus_write_register(a->ctx, m->enable.reg, op->words[0]);
+		break;
+	}
+	return rc < 0 ? -1 : 0;
+}
+
+static const char *op_name(int kind)
+{
+	switch (kind) {
+	case OP_READ_BLOCK: return "position read";
+	case OP_READ_STATUS: return "status read";
+	case OP_WRITE_CMD: return "command write";
+	case OP_WRITE_AND_READ: return "command write + position read (FC23)";
+	default: return "enable write";
+	}
+}
+
+/* One transaction, retried until it succeeds or max_failures transactions in
+ * a row have failed. A failed read is never replaced by an older value. */
+static int transact(mb_axis *a, const mb_op *op, popc_error *err)
+{
+	for (;;) {
+		popc_error link_err;
+		int st = a->connected ? 0 : link_open(a, &link_err);
+		if (!st && do_op(a, op) == 0) {
+			a->failures_in_row = 0;
+			return 0;
+		}
+		int e = st ? ECONNREFUSED : errno;
+		a->last_errno = e;
+		a->failures++;
+		a->failures_in_row++;
+		if (!st && is_config_exception(e))
+			return popc_error_set(err, POPC_ERR_INVALID,
+					      "%s: the drive at %s rejected the %s: %s (check the register map%s)",
+					      a->map.path, a->uri_text, op_name(op->kind), modbus_strerror(e),
+					      op->kind == OP_WRITE_AND_READ ? "; a drive without FC23 needs fc23 = no"
+									    : "");
+		if (a->failures_in_row >= a->map.max_failures)
+			return popc_error_set(err, POPC_ERR_COMM,
+					      "%s: %d failed transactions in a row (last: %s: %s)", a->uri_text,
+					      a->failures_in_row, op_name(op->kind),
+					      st ? link_err.msg : modbus_strerror(e));
+		if (a->connected)
+			recover(a, e);
+	}
+}
+
+/* ---- conversions and supervision ------------------------------------------ */
+
+static int check_status(mb_axis *a, uint16_t status, int want_ready, popc_error *err)
+{
+	const popc_register_map *m = &a->map;
+	if (status & m->status.fault_mask)
+		return popc_error_set(err, POPC_ERR_SAFETY,
+				      "drive fault: status 0x%04x has fault bits 0x%04x (fault_mask 0x%04x)",
+				      status, status & m->status.fault_mask, m->status.fault_mask);
+	if (want_ready && (status & m->status.ready_mask) != m->status.ready_mask)
+		return popc_error_set(err, POPC_ERR_SAFETY,
+				      "drive not ready: status 0x%04x lacks ready bits 0x%04x", status,
+				      m->status.ready_mask & (uint16_t)~status);
+	return 0;
+}
+
+/* Block words -> sample, with the safety checks. */
+static int decode_sample(mb_axis *a, const uint16_t *blk, uint16_t status, popc_axis_sample *out,
+			 popc_error *err)
+{
+	const popc_register_map *m = &a->map;
+	int st = check_status(a, status, 1, err);
+	if (st)
+		return st;
+	double raw = popc_reg_decode(blk + (m->pos.reg - a->blk_reg), m->pos.type, m->pos.order);
+	long long count;
+	if (a->passthrough && m->pos.type != POPC_REG_FLOAT32 && m->pos.type != POPC_REG_FLOAT64) {
+		count = (long long)raw;
+	} else {
+		int ok;
+		count = popc_encoder_count(raw / m->pos.counts_per_m, a->delta_m, &ok);
+		if (!ok || !isfinite(raw))
+			return popc_error_set(err, POPC_ERR_SAFETY, "position value %g is not a position",
+					      raw);
+	}
+	double x_m = popc_encoder_position(count, a->delta_m);
+	if (x_m < m->pos.soft_min_m || x_m > m->pos.soft_max_m)
+		return popc_error_set(err, POPC_ERR_SAFETY,
+				      "position %g m is outside the soft limits [%g, %g] m (%s)", x_m,
+				      m->pos.soft_min_m, m->pos.soft_max_m, m->path);
+	out->count = count;
+	out->x_true_m = NAN;
+	return 0;
+}
+
+/* Reads position and status; fills blk and *status. */
+static int read_state(mb_axis *a, uint16_t *blk, uint16_t *status, popc_error *err)
+{
+	mb_op op = {.kind = OP_READ_BLOCK, .dest = blk};
+	int st = transact(a, &op, err);
+	if (st)
+		return st;
+	if (a->status_in_block) {
+		*status = blk[a->map.status.reg - a->blk_reg];
+		return 0;
+	}
+	mb_op sop = {.kind = OP_READ_STATUS, .dest = status};
+	return transact(a, &sop, err);
+}
+
+/* The command register holds the force on the device. The runner's f_c is
+ * the force into the virtual environment and the device receives -f_c
+ * (DESIGN section 3), so exchange() passes -f_c (an exact negation: a lockstep
+ * server negates it back bit for bit) and start/stop pass +0. */
+static void encode_device_force(mb_axis *a, double f_N, uint16_t *words)
+{
+	const popc_register_map *m = &a->map;
+	double f = f_N;
+	if (!(f == f))
+		f = 0.0; /* NaN never reaches the drive */
+	if (f > m->cmd.limit_N) {
+		f = m->cmd.limit_N;
+		a->clamps++;
+	} else if (f < -m->cmd.limit_N) {
+		f = -m->cmd.limit_N;
+		a->clamps++;
+	}
+	a->last_cmd_N = f;
+	popc_reg_encode(f / m->cmd.newton_per_unit, m->cmd.type, m->cmd.order, words);
+}
+
+/* Sleeps until the next deadline on the absolute grid. A deadline already
+ * passed is an overrun; grid points passed by a whole period are skipped
+ * rather than run back to back. */
+static void wait_deadline(mb_axis *a)
+{
+	if (!a->opt.pace)
+		return;
+	a->next_deadline_ns += a->period_ns;
+	int64_t now = now_ns();
+	if (now > a->next_deadline_ns) {
+		a->overruns++;
+		while (a->next_deadline_ns + a->period_ns <= now) {
+			a->next_deadline_ns += a->period_ns;
+			a->skipped_periods++;
+		}
+		return;
+	}
+	struct timespec ts = {(time_t)(a->next_deadline_ns / 1000000000),
+			      (long)(a->next_deadline_ns % 1000000000)};
+	/* EINTR: a signal; the runner polls its flag after this tick */
+	while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL) == EINTR)
+		;
+}
+
+static void stamp(mb_axis *a, int64_t t_read_ns, int64_t rtt_ns, popc_axis_sample *out)
+{
+	out->dt_s = a->have_sample ? 1e-9 * (double)(t_read_ns - a->last_sample_ns) : 0.0;
+	out->rtt_s = 1e-9 * (double)rtt_ns;
+	if (a->have_sample)
+		popc_histogram_add(&a->dt_hist, t_read_ns - a->last_sample_ns);
+	popc_histogram_add(&a->rtt_hist, rtt_ns);
+	a->last_sample_ns = t_read_ns;
+	a->have_sample = 1;
+}
+
+/* ---- axis operations ------------------------------------------------------ */
+
+static void realtime_on(mb_axis *a)
+{
+	if (!a->opt.realtime) {
+		snprintf(a->rt_note, sizeof a->rt_note, "not requested (normal scheduling)");
+		return;
+	}
+	char fifo[96], lock[96];
+	if (mlockall(MCL_CURRENT | MCL_FUTURE) == 0) {
+		a->rt_locked = 1;
+		snprintf(lock, sizeof lock, "memory locked");
+	} else {
+		snprintf(lock, sizeof lock, "mlockall not permitted (%s)", strerror(errno));
+	}
+	struct sched_param sp = {.sched_priority = a->opt.rt_priority};
+	if (sched_setscheduler(0, SCHED_FIFO, &sp) == 0) {
+		a->rt_fifo = 1;
+		snprintf(fifo, sizeof fifo, "SCHED_FIFO priority %d", a->opt.rt_priority);
+	} else {
+		snprintf(fifo, sizeof fifo, "SCHED_FIFO not permitted (%s): normal scheduling", strerror(errno));
+	}
+	snprintf(a->rt_note, sizeof a->rt_note, "%s, %s", fifo, lock);
+	note(a, "real-time:", a->rt_note);
+}
+
+static void realtime_off(mb_axis *a)
+{
+	if (a->rt_fifo) {
+		struct sched_param sp = {.sched_priority = 0};
+		sched_setscheduler(0, SCHED_OTHER, &sp);
+		a->rt_fifo = 0;
+	}
+	if (a->rt_locked) {
+		munlockall();
+		a->rt_locked = 0;
+	}
+}
+
+static int mb_start(popc_axis *ax, popc_error *err)
+{
+	mb_axis *a = ax->priv;
+	const popc_register_map *m = &a->map;
+	int st = link_open(a, err);
+	if (st)
+		return st;
+	a->enabled = 1; /* from here on, stop() writes zero force and the disable word */
+	/* no start while the drive reports a fault */
+	uint16_t status;
+	mb_op sop = {.kind = OP_READ_STATUS, .dest = &status};
+	if ((st = transact(a, &sop, err)))
+		return st;
+	if ((st = check_status(a, status, 0, err))) {
+		char msg[POPC_ERROR_MSG_MAX];
+		snprintf(msg, sizeof msg, "%s", err ? err->msg : "");
+		return popc_error_set(err, st, "%s; popc does not start a drive that reports a fault", msg);
+	}
+	uint16_t zero[4];
+	encode_device_force(a, 0.0, zero);
+	mb_op cop = {.kind = OP_WRITE_CMD, .words = zero};
+	if ((st = transact(a, &cop, err)))
+		return st;
+	for (int i = 0; i < m->enable.n_on; i++) {
+		mb_op eop = {.kind = OP_WRITE_ENABLE, .words = &m->enable.on[i]};
+		if ((st = transact(a, &eop, err)))
+			return st;
+	}
+	int64_t until = now_ns() + (int64_t)m->enable_timeout_ms * 1000000;
+	for (;;) {
+		if ((st = transact(a, &sop, err)))
+			return st;
+		if (status & m->status.fault_mask)
+			return check_status(a, status, 0, err);
+		if ((status & m->status.ready_mask) == m->status.ready_mask)
+			break;
+		if (now_ns() > until)
+			return popc_error_set(err, POPC_ERR_SAFETY,
+					      "drive not ready %d ms after enable: status 0x%04x, ready_mask 0x%04x",
+					      m->enable_timeout_ms, status, m->status.ready_mask);
+	}
+	realtime_on(a);
+	return 0;
+}
+
+static int mb_sample(popc_axis *ax, popc_axis_sample *out, popc_error *err)
+{
+	mb_axis *a = ax->priv;
+	uint16_t blk[BLOCK_MAX], status = 0;
+	int64_t t = now_ns();
+	a->next_deadline_ns = t; /* the grid starts at the first sample */
+	int st = read_state(a, blk, &status, err);
+	if (st)
+		return st;
+	stamp(a, t, now_ns() - t, out);
+	return decode_sample(a, blk, status, out, err);
+}
+
+static int mb_exchange(popc_axis *ax, double f_c_N, popc_axis_sample *next, popc_error *err)
+{
+	mb_axis *a = ax->priv;
+	uint16_t words[4], blk[BLOCK_MAX], status = 0;
+	encode_device_force(a, -f_c_N, words);
+	int st;
+	int64_t rtt = 0, t;
+	a->exchanges++;
+	if (a->map.fc23) {
+		wait_deadline(a);
+		t = now_ns();
+		mb_op op = {.kind = OP_WRITE_AND_READ, .words = words, .dest = blk};
+		if ((st = transact(a, &op, err)))
+			return st;
+		if (a->status_in_block) {
+			status = blk[a->map.status.reg - a->blk_reg];
+		} else {
+			mb_op sop = {.kind = OP_READ_STATUS, .dest = &status};
+			if ((st = transact(a, &sop, err)))
+				return st;
+		}
+		rtt = now_ns() - t;
+	} else {
+		int64_t tw = now_ns();
+		mb_op op = {.kind = OP_WRITE_CMD, .words = words};
+		if ((st = transact(a, &op, err)))
+			return st;
+		rtt = now_ns() - tw;
+		wait_deadline(a);
+		t = now_ns();
+		if ((st = read_state(a, blk, &status, err)))
+			return st;
+		rtt += now_ns() - t;
+	}
+	stamp(a, t, rtt, next);
+	return decode_sample(a, blk, status, next, err);
+}
+
+/* Zero force, then disable: each attempted even when the other failed. */
+static int mb_stop(popc_axis *ax, popc_error *err)
+{
+	mb_axis *a = ax->priv;
+	const popc_register_map *m = &a->map;
+	realtime_off(a);
+	if (!a->enabled)
+		return 0;
+	a->failures_in_row = 0;
+	uint16_t zero[4];
+	encode_device_force(a, 0.0, zero);
+	mb_op cop = {.kind = OP_WRITE_CMD, .words = zero};
+	popc_error e1, e2;
+	int st1 = transact(a, &cop, &e1);
+	a->failures_in_row = 0;
+	mb_op eop = {.kind = OP_WRITE_ENABLE, .words = &m->enable.off};
+	int st2 = transact(a, &eop, &e2);
+	a->enabled = 0;
+	if (st1 || st2)
+		return popc_error_set(err, POPC_ERR_COMM, "safe stop incomplete:%s%s%s%s",
+				      st1 ? " zero force not confirmed: " : "", st1 ? e1.msg : "",
+				      st2 ? " disable not confirmed: " : "", st2 ? e2.msg : "");
+	return 0;
+}
+
+static void mb_report(popc_axis *ax, FILE *human, char *csv_names, char *csv_values, size_t cap)
+{
+	mb_axis *a = ax->priv;
+	const popc_histogram *d = &a->dt_hist, *r = &a->rtt_hist;
+	double T = 1e-9 * (double)a->period_ns;
+	if (human) {
+		fprintf(human, "  modbus: %s, map %s (%s), %s\n", a->uri_text, a->map.path, a->map.name,
+			a->map.fc23 ? "FC23 write+read" : "FC16 write, FC03/04 read");
+		fprintf(human,
+			"  period dt: target %.6g ms, mean %.6g ms, p50 %.6g ms, p99 %.6g ms, p99.9 %.6g ms, "
+			"max %.6g ms; overruns %lld (skipped periods %lld)%s\n",
+			1e3 * T, 1e3 * popc_histogram_mean_s(d), 1e3 * popc_histogram_quantile_s(d, 0.5),
+			1e3 * popc_histogram_quantile_s(d, 0.99), 1e3 * popc_histogram_quantile_s(d, 0.999),
+			1e3 * popc_histogram_max_s(d), a->overruns, a->skipped_periods,
+			a->opt.pace ? "" : " (free-run: no deadlines)");
+		fprintf(human,
+			"  latency rtt: mean %.6g ms, p50 %.6g ms, p99 %.6g ms, p99.9 %.6g ms, max %.6g ms "
+			"over %llu exchanges\n",
+			1e3 * popc_histogram_mean_s(r), 1e3 * popc_histogram_quantile_s(r, 0.5),
+			1e3 * popc_histogram_quantile_s(r, 0.99), 1e3 * popc_histogram_quantile_s(r, 0.999),
+			1e3 * popc_histogram_max_s(r), (unsigned long long)r->n);
+		fprintf(human, "  link: %lld failed transactions, %lld reconnects; force clamped %lld times "
+			       "at %g N; real-time: %s\n",
+			a->failures, a->reconnects, a->clamps, a->map.cmd.limit_N,
+			a->rt_note[0] ? a->rt_note : "not started");
+	}
+	if (csv_names && csv_values && cap) {
+		double v[10] = {popc_histogram_quantile_s(d, 0.5), popc_histogram_quantile_s(d, 0.99),
+				popc_histogram_quantile_s(d, 0.999), popc_histogram_max_s(d),
+				popc_histogram_quantile_s(r, 0.5), popc_histogram_quantile_s(r, 0.99),
+				popc_histogram_quantile_s(r, 0.999), popc_histogram_max_s(r),
+				(double)a->overruns, (double)a->failures};
+		static const char *const names[10] = {"dt_p50_s", "dt_p99_s", "dt_p999_s", "dt_max_s",
+						     "rtt_p50_s", "rtt_p99_s", "rtt_p999_s", "rtt_max_s",
+						     "overruns", "failed_transactions"};
+		for (int i = 0; i < 10; i++) {
+			size_t ln = strlen(csv_names), lv = strlen(csv_values);
+			snprintf(csv_names + ln, cap - ln, ",%s", names[i]);
+			snprintf(csv_values + lv, cap - lv, ",%.9g", v[i]);
+		}
+	}
+}
+
+static void mb_destroy(popc_axis *ax)
+{
+	mb_axis *a = ax->priv;
+	realtime_off(a);
+	if (a->ctx) {
+		link_close(a);
+		modbus_free(a->ctx);
+	}
+	free(a);
+	free(ax);
+}
+
+static const popc_axis_ops modbus_ops = {
+	.name = "modbus",
+	.log_columns = POPC_LOG_COL_TIMING,
+	.start = mb_start,
+	.sample = mb_sample,
+	.exchange = mb_exchange,
+	.stop = mb_stop,
+	.report = mb_report,
+	.destroy = mb_destroy,
+};
+
+void popc_modbus_options_defaults(popc_modbus_options *o)
+{
+	o->pace = 1;
+	o->realtime = 0;
+	o->rt_priority = 50;
+	o->notes = NULL;
+}
+
+int popc_modbus_axis_create(popc_axis **out, const popc_scene *s, const popc_modbus_options *o,
+			    popc_error *err)
+{
+	*out = NULL;
+	if (!s->axis_map[0] || !s->axis_connect[0])
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: the modbus axis needs axis.map and axis.connect (--map, --connect)",
+				      s->source[0] ? s->source : "scene");
+	popc_axis *ax = calloc(1, sizeof *ax);
+	mb_axis *a = calloc(1, sizeof *a);
+	if (!ax || !a) {
+		free(ax);
+		free(a);
+		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+	}
+	if (o)
+		a->opt = *o;
+	else
+		popc_modbus_options_defaults(&a->opt);
+	if (a->opt.rt_priority < 1 || a->opt.rt_priority > 99)
+		a->opt.rt_priority = 50;
+	int st = popc_register_map_load(&a->map, s->axis_map, err);
+	if (!st)
+		st = popc_modbus_uri_parse(s->axis_connect, &a->uri, err);
+	if (st) {
+		free(a);
+		free(ax);
+		return st;
+	}
+	popc_modbus_uri_format(&a->uri, a->uri_text, sizeof a->uri_text);
+	if (!a->uri.rtu && strcmp(a->uri.port, "0") == 0) {
+		free(a);
+		free(ax);
+		return popc_error_set(err, POPC_ERR_INVALID, "axis.connect = %s: port 0 is not a server port",
+				      s->axis_connect);
+	}
+	a->delta_m = s->enc_resolution_m;
+	a->passthrough = popc_register_map_counts_are_scene_counts(&a->map, a->delta_m);
+	a->period_ns = (int64_t)llround(1e9 * popc_scene_period_s(s));
+	if (a->period_ns < 1)
+		a->period_ns = 1;
+	const popc_register_map *m = &a->map;
+	int npos = popc_reg_type_words(m->pos.type);
+	a->blk_table = m->pos.table;
+	a->blk_reg = m->pos.reg;
+	a->blk_n = npos;
+	if (m->status.table == m->pos.table) {
+		int lo = m->status.reg < m->pos.reg ? m->status.reg : m->pos.reg;
+		int hi = m->status.reg + 1 > m->pos.reg + npos ? m->status.reg + 1 : m->pos.reg + npos;
+		if (hi - lo <= BLOCK_MAX) {
+			a->blk_reg = lo;
+			a->blk_n = hi - lo;
+			a->status_in_block = 1;
+		}
+	}
+	popc_histogram_init(&a->dt_hist);
+	popc_histogram_init(&a->rtt_hist);
+	ax->ops = &modbus_ops;
+	ax->priv = a;
+	*out = ax;
+	return 0;
+}

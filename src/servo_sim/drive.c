@@ -1,0 +1,229 @@
+/* popc-servo-sim's drive model (drive.h). */
+#include "drive.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "popc/numfmt.h"
+
+/* Every protocol address exists, so any register map fits (the Modbus data
+ * model has 65536 addresses per table, Application Protocol V1.1b3, 4.4). */
+#define TABLE_SIZE 65536
+
+static uint16_t *table_of(servo_drive *d, popc_reg_table t)
+{
+	return t == POPC_TABLE_INPUT ? d->mb->tab_input_registers : d->mb->tab_registers;
+}
+
+static void record(servo_drive *d, const char *text)
+{
+	snprintf(d->record[d->n_record % DRIVE_RECORD_MAX], sizeof d->record[0], "%s", text);
+	d->n_record++;
+}
+
+/* Position and status registers from the plant and the drive state. */
+static void refresh(servo_drive *d)
+{
+	const popc_register_map *m = &d->map;
+	double v;
+	if (d->passthrough && m->pos.type != POPC_REG_FLOAT32 && m->pos.type != POPC_REG_FLOAT64)
+		v = (double)d->smp.count; /* exactly the simulated encoder's count */
+	else if (m->pos.type == POPC_REG_FLOAT32 || m->pos.type == POPC_REG_FLOAT64)
+		v = d->smp.x_true_m * m->pos.counts_per_m;
+	else
+		v = floor(d->smp.x_true_m * m->pos.counts_per_m); /* the drive's own encoder */
+	popc_reg_encode(v, m->pos.type, m->pos.order, table_of(d, m->pos.table) + m->pos.reg);
+	uint16_t status = 0;
+	if (d->enabled && !d->fault)
+		status |= m->status.ready_mask;
+	if (d->fault)
+		status |= m->status.fault_mask;
+	table_of(d, m->status.table)[m->status.reg] = status;
+}
+
+void drive_set_fault(servo_drive *d, const char *why, int permanent)
+{
+	if (!d->fault)
+		snprintf(d->fault_why, sizeof d->fault_why, "%s", why);
+	d->fault = 1;
+	d->fault_permanent |= permanent;
+	d->enabled = 0;
+	refresh(d);
+}
+
+/* One control period with the force now in force. */
+static int advance(servo_drive *d)
+{
+	double f_dev = d->enabled && !d->fault ? d->force_N : 0.0;
+	popc_error err;
+	/* the device receives -f_c (DESIGN section 3), so f_c = -f_dev; exact */
+	if (d->plant->ops->exchange(d->plant, -f_dev, &d->smp, &err) != 0) {
+		fprintf(stderr, "popc-servo-sim: %s\n", err.msg);
+		drive_set_fault(d, "plant diverged", 1);
+		return -1;
+	}
+	d->k++;
+	return 0;
+}
+
+void drive_tick(servo_drive *d, int64_t now_ns)
+{
+	if (d->watchdog_ms > 0 && d->enabled && !d->fault &&
+	    now_ns - d->last_cmd_ns > (int64_t)d->watchdog_ms * 1000000) {
+		fprintf(stderr, "popc-servo-sim: watchdog: no command for %d ms: fault, zero torque\n",
+			d->watchdog_ms);
+		drive_set_fault(d, "watchdog", 0);
+	}
+	if (d->lockstep || !d->clock_running)
+		return;
+	long long target = (now_ns - d->origin_ns) / d->period_ns;
+	int moved = 0;
+	while (d->k < target) {
+		if (advance(d) != 0)
+			break;
+		moved = 1;
+	}
+	if (moved)
+		refresh(d);
+}
+
+static void enable_write(servo_drive *d, uint16_t value, int64_t now_ns)
+{
+	const popc_register_map *m = &d->map;
+	char text[64];
+	snprintf(text, sizeof text, "enable 0x%04x", value);
+	record(d, text);
+	if (value == m->enable.off) {
+		d->enabled = 0;
+		if (d->fault && !d->fault_permanent) /* a latched fault clears on disable */
+			d->fault = 0;
+	} else if (value == m->enable.on[m->enable.n_on - 1]) {
+		if (!d->fault) {
+			d->enabled = 1;
+			d->last_cmd_ns = now_ns;
+			if (!d->clock_running) {
+				d->clock_running = 1;
+				d->origin_ns = now_ns - d->k * d->period_ns;
+			}
+		}
+	} else {
+		d->enabled = 0; /* an intermediate word of an enable sequence */
+	}
+	refresh(d);
+}
+
+/* Registers [addr, addr + n) were written with the big-endian words at p. */
+static int register_write(servo_drive *d, int addr, int n, const uint8_t *p, int64_t now_ns)
+{
+	const popc_register_map *m = &d->map;
+	int ncmd = popc_reg_type_words(m->cmd.type), cmd_hit = 0;
+	for (int i = 0; i < n; i++) {
+		int r = addr + i;
+		uint16_t v = (uint16_t)(p[2 * i] << 8 | p[2 * i + 1]);
+		if (r >= m->cmd.reg && r < m->cmd.reg + ncmd) {
+			d->mb->tab_registers[r] = v;
+			cmd_hit = 1;
+		} else if (m->enable.table == POPC_TABLE_HOLDING && r == m->enable.reg) {
+			d->mb->tab_registers[r] = v;
+			enable_write(d, v, now_ns);
+		}
+	}
+	if (!cmd_hit)
+		return 0;
+	/* real time: the periods before this write ran with the old command */
+	drive_tick(d, now_ns);
+	double units = popc_reg_decode(d->mb->tab_registers + m->cmd.reg, m->cmd.type, m->cmd.order);
+	d->force_N = units * m->cmd.newton_per_unit;
+	d->last_cmd_ns = now_ns;
+	d->commands++;
+	char text[64], num[POPC_DOUBLE_TEXT_MAX + 1];
+	popc_format_double(d->force_N, num);
+	snprintf(text, sizeof text, "command %s", num);
+	record(d, text);
+	int st = 0;
+	if (d->lockstep && d->enabled && !d->fault)
+		st = advance(d);
+	refresh(d);
+	return st;
+}
+
+static int be16(const uint8_t *p)
+{
+	return p[0] << 8 | p[1];
+}
+
+int drive_apply_request(servo_drive *d, const uint8_t *q, int len, int hl, int64_t now_ns)
+{
+	if (len < hl + 5)
+		return 0;
+	int fc = q[hl], addr = be16(q + hl + 1);
+	switch (fc) {
+	case MODBUS_FC_WRITE_SINGLE_COIL:
+		if (d->map.enable.table == POPC_TABLE_COIL && addr == d->map.enable.reg)
+			enable_write(d, be16(q + hl + 3) == 0xFF00 ? 1 : 0, now_ns);
+		return 0;
+	case MODBUS_FC_WRITE_SINGLE_REGISTER:
+		return register_write(d, addr, 1, q + hl + 3, now_ns);
+	case MODBUS_FC_WRITE_MULTIPLE_REGISTERS: {
+		int n = be16(q + hl + 3);
+		if (n < 1 || n > MODBUS_MAX_WRITE_REGISTERS || addr + n > TABLE_SIZE || hl + 6 + 2 * n > len)
+			return 0; /* malformed: modbus_reply answers with an exception */
+		return register_write(d, addr, n, q + hl + 6, now_ns);
+	}
+	case MODBUS_FC_WRITE_AND_READ_REGISTERS: {
+		if (len < hl + 10)
+			return 0;
+		int waddr = be16(q + hl + 5), n = be16(q + hl + 7);
+		if (n < 1 || n > MODBUS_MAX_WR_WRITE_REGISTERS || waddr + n > TABLE_SIZE ||
+		    hl + 10 + 2 * n > len)
+			return 0;
+		return register_write(d, waddr, n, q + hl + 10, now_ns);
+	}
+	default:
+		return 0;
+	}
+}
+
+int drive_init(servo_drive *d, const popc_register_map *map, const popc_scene *scene, int lockstep,
+	       popc_error *err)
+{
+	memset(d, 0, sizeof *d);
+	d->map = *map;
+	d->scene = *scene;
+	d->lockstep = lockstep;
+	d->watchdog_ms = map->watchdog_ms;
+	d->passthrough = popc_register_map_counts_are_scene_counts(map, scene->enc_resolution_m);
+	d->period_ns = llround(1e9 * popc_scene_period_s(scene));
+	if (d->period_ns < 1)
+		d->period_ns = 1;
+	int st = popc_sim_axis_create(&d->plant, scene, err);
+	if (st)
+		return st;
+	if ((st = d->plant->ops->start(d->plant, err)) || (st = d->plant->ops->sample(d->plant, &d->smp, err))) {
+		popc_axis_destroy(&d->plant);
+		return st;
+	}
+	d->mb = modbus_mapping_new(TABLE_SIZE, 0, TABLE_SIZE, TABLE_SIZE);
+	if (!d->mb) {
+		popc_axis_destroy(&d->plant);
+		return popc_error_set(err, POPC_ERR_NOMEM, "cannot allocate the register tables");
+	}
+	refresh(d);
+	return 0;
+}
+
+void drive_free(servo_drive *d)
+{
+	if (d->mb)
+		modbus_mapping_free(d->mb);
+	d->mb = NULL;
+	popc_axis_destroy(&d->plant);
+}
+
+void drive_write_record(const servo_drive *d, FILE *f)
+{
+	long long first = d->n_record > DRIVE_RECORD_MAX ? d->n_record - DRIVE_RECORD_MAX : 0;
+	for (long long i = first; i < d->n_record; i++)
+		fprintf(f, "%s\n", d->record[i % DRIVE_RECORD_MAX]);
+}

@@ -1,0 +1,74 @@
+/* popc-servo-sim's drive model: the registers of any register map around the
+ * simulated plant of a scene (popc_sim_axis_create). Private to the program.
+ *
+ * - Position registers hold the plant's measured position in the map's type
+ *   and scale; when the map's counts are the scene's encoder counts they hold
+ *   exactly the count the simulated encoder gives, so a lockstep run equals
+ *   the simulated run bit for bit.
+ * - The command register holds the force on the device (the runner writes
+ *   -f_c: the device receives -f_c, DESIGN section 3); it acts only while the
+ *   drive is enabled and not faulted.
+ * - Lockstep: each command write while enabled advances the plant exactly one
+ *   control period. Real time: the plant follows the wall clock from the first
+ *   enable, one period at a time with the command then in force (ZOH).
+ * - Watchdog: enabled and no command for watchdog_ms -> fault bit, zero force.
+ *   A fault latches until the disable word is written (except a fault set
+ *   with --start-faulted, which stays until the program ends). */
+#ifndef POPC_SERVO_SIM_DRIVE_H
+#define POPC_SERVO_SIM_DRIVE_H
+
+#include <modbus.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#include "popc/axis.h"
+#include "popc/register_map.h"
+#include "popc/scene.h"
+
+#define DRIVE_RECORD_MAX 8
+
+typedef struct servo_drive {
+	popc_register_map map;
+	popc_scene scene;
+	popc_axis *plant;
+	popc_axis_sample smp;
+	modbus_mapping_t *mb;
+	int lockstep;
+	int passthrough;
+	int64_t period_ns;
+
+	int enabled;
+	int fault, fault_permanent;
+	char fault_why[128];
+	double force_N;            /* the command as decoded: force on the device */
+	long long k;               /* control periods the plant has advanced */
+	int clock_running;
+	int64_t origin_ns;         /* real time: when the plant's clock started */
+	int64_t last_cmd_ns;
+	int watchdog_ms;
+
+	long long commands;
+	char record[DRIVE_RECORD_MAX][64]; /* the last writes of command and enable, a ring */
+	long long n_record;
+} servo_drive;
+
+int drive_init(servo_drive *d, const popc_register_map *map, const popc_scene *scene, int lockstep,
+	       popc_error *err);
+void drive_free(servo_drive *d);
+
+/* Applies the writes of a request (FC05/06/16/23) before libmodbus builds the
+ * reply, so that an FC23 reply carries the position after the command. query
+ * and len are what modbus_receive returned; hl its header length. Returns 0,
+ * or -1 when the plant diverged (the drive faults). */
+int drive_apply_request(servo_drive *d, const uint8_t *query, int len, int hl, int64_t now_ns);
+
+/* Time passes: the real-time plant catches up with the clock; the watchdog. */
+void drive_tick(servo_drive *d, int64_t now_ns);
+
+/* Sets a fault (fault injection, or --start-faulted when permanent). */
+void drive_set_fault(servo_drive *d, const char *why, int permanent);
+
+/* Writes the recorded last writes, oldest first, one per line. */
+void drive_write_record(const servo_drive *d, FILE *f);
+
+#endif

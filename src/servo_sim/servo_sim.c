@@ -1,0 +1,498 @@
+/* popc-servo-sim: a Modbus server (libmodbus, TCP or RTU) that behaves like a
+ * servo drive with any register map, around the simulated plant of a scene.
+ * Used by the tests and by users to dry-run a register map (docs/MODBUS.md).
+ *
+ *   popc-servo-sim --map MAPFILE --listen URI --scene SCENE [--lockstep] [faults]
+ *
+ * One client at a time (a TCP server goes back to accept() when its client
+ * leaves). Requests are numbered from 1 over the program's life; the fault
+ * options name requests by number. */
+#include <errno.h>
+#include <getopt.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/select.h>
+#include <sys/socket.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <modbus.h>
+
+#include "drive.h"
+#include "popc/modbus_axis.h"
+
+static volatile sig_atomic_t stop_requested = 0;
+
+static void on_signal(int sig)
+{
+	(void)sig;
+	stop_requested = 1;
+}
+
+static void usage(FILE *f)
+{
+	fputs("usage: popc-servo-sim --map MAPFILE --listen URI --scene SCENE [options]\n"
+	      "\n"
+	      "A Modbus server that behaves like a servo drive described by MAPFILE, wrapped\n"
+	      "around the simulated plant of SCENE. URI: tcp:HOST:PORT (PORT 0: any free\n"
+	      "port) or rtu:DEVICE[:BAUD[:8N1]]. Prints 'popc-servo-sim: listening on URI'\n"
+	      "on standard output when ready; stops cleanly on SIGTERM or SIGINT.\n"
+	      "\n"
+	      "  --lockstep            advance the plant one control period per force command\n"
+	      "                        written while enabled (deterministic); default: real time\n"
+	      "  --set section.key=V   override a scene key (repeatable)\n"
+	      "  --watchdog-ms MS      command watchdog (default: the map's drive.watchdog_ms)\n"
+	      "  --record FILE         on exit, write the last writes of command and enable\n"
+	      "                        there (oldest first), e.g. 'command 0' then 'enable 0x0000'\n"
+	      "  --notify-at N         print 'popc-servo-sim: request N' on stdout at request N\n"
+	      "  --pace-baud           RTU: hold each reply for the wire time of request and\n"
+	      "                        reply at the URI's baud plus two 3.5-character gaps\n"
+	      "                        (a pseudo-terminal does not pace bytes)\n"
+	      "fault injection (N: request number, from 1; COUNT: how many, default 1):\n"
+	      "  --drop N[,COUNT]      apply the request but send no reply\n"
+	      "  --delay N,MS[,COUNT]  reply MS milliseconds late\n"
+	      "  --exception N,CODE[,COUNT]  answer with Modbus exception CODE, apply nothing\n"
+	      "  --corrupt-crc N[,COUNT]     RTU: send the reply with a wrong CRC\n"
+	      "  --close-after N       TCP: close the connection after replying to request N\n"
+	      "                        (then accept the next one)\n"
+	      "  --exit-after N        close the link and exit after replying to request N\n"
+	      "  --fault-at N          set the drive's fault bits at request N\n"
+	      "  --start-faulted       report a fault from the start (it never clears)\n"
+	      "  -h, --help            this help\n"
+	      "\n"
+	      "Exit status: 0 stopped by a signal or --exit-after, 2 usage, 1 failure.\n",
+	      f);
+}
+
+typedef struct fault_range {
+	long first, count, arg;
+} fault_range;
+
+static int in_range(const fault_range *r, long n)
+{
+	return r->first > 0 && n >= r->first && n < r->first + r->count;
+}
+
+/* "N[,COUNT]" or, with want_arg, "N,ARG[,COUNT]". */
+static int parse_range(const char *text, int want_arg, fault_range *r)
+{
+	long v[3] = {0, 0, 0};
+	int n = 0;
+	const char *p = text;
+	while (n < 3) {
+		char *end;
+		errno = 0;
+		v[n] = strtol(p, &end, 10);
+		if (end == p || errno || v[n] < 0)
+			return -1;
+		n++;
+		if (*end == '\0')
+			break;
+		if (*end != ',')
+			return -1;
+		p = end + 1;
+	}
+	if (*p && n == 3 && strchr(p, ','))
+		return -1;
+	if (v[0] < 1 || n < 1 + want_arg)
+		return -1;
+	r->first = v[0];
+	r->arg = want_arg ? v[1] : 0;
+	r->count = n > 1 + want_arg ? v[1 + want_arg] : 1;
+	return r->count >= 1 ? 0 : -1;
+}
+
+static int parse_count(const char *text, long min, long *out)
+{
+	char *end;
+	errno = 0;
+	long v = strtol(text, &end, 10);
+	if (end == text || *end || errno || v < min)
+		return -1;
+	*out = v;
+	return 0;
+}
+
+static int64_t now_ns(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
+}
+
+typedef struct server {
+	servo_drive drive;
+	modbus_t *ctx;
+	popc_modbus_uri uri;
+	int listen_fd;
+	sigset_t run_mask;        /* the mask during pselect: termination signals deliverable */
+	int capture[2];           /* socketpair: replies built here, then held or altered */
+	long requests;
+	fault_range drop, delay, exception, corrupt;
+	long close_after, exit_after, fault_at, notify_at;
+	int pace_baud;
+	int exiting;
+} server;
+
+/* Waits until fd is readable, a timeout (ms, -1: none) passes or a
+ * termination signal arrives. Returns 1 readable, 0 timeout, -1 signal. */
+static int wait_readable(server *sv, int fd, int timeout_ms)
+{
+	fd_set rd;
+	FD_ZERO(&rd);
+	if (fd >= 0)
+		FD_SET(fd, &rd);
+	struct timespec ts = {timeout_ms / 1000, (long)(timeout_ms % 1000) * 1000000};
+	int r = pselect(fd + 1, &rd, NULL, NULL, timeout_ms >= 0 ? &ts : NULL, &sv->run_mask);
+	if (r < 0)
+		return errno == EINTR && stop_requested ? -1 : 0;
+	return r > 0 ? 1 : 0;
+}
+
+/* Sleeps until an absolute CLOCK_MONOTONIC time, or until a termination signal. */
+static void sleep_until(server *sv, int64_t t_ns)
+{
+	for (;;) {
+		int64_t left = t_ns - now_ns();
+		if (left <= 0 || stop_requested)
+			return;
+		struct timespec ts = {(time_t)(left / 1000000000), (long)(left % 1000000000)};
+		pselect(0, NULL, NULL, NULL, &ts, &sv->run_mask);
+	}
+}
+
+/* Wire time of n characters (start bit, data bits, parity, stop bits). */
+static int64_t wire_ns(const popc_modbus_uri *u, int n)
+{
+	int bits = 1 + u->data_bits + (u->parity != 'N') + u->stop_bits;
+	return (int64_t)n * bits * 1000000000LL / u->baud;
+}
+
+/* The silent interval that ends an RTU frame: 3.5 characters, fixed at
+ * 1.75 ms above 19200 baud (Modbus over Serial Line V1.02, 2.5.1.1). */
+static int64_t t35_ns(const popc_modbus_uri *u)
+{
+	return u->baud > 19200 ? 1750000 : wire_ns(u, 7) / 2;
+}
+
+/* Builds the reply into the capture socket pair instead of the link. */
+static int capture_reply(server *sv, const uint8_t *q, int len, uint8_t *out, int cap)
+{
+	int real = modbus_get_socket(sv->ctx);
+	modbus_set_socket(sv->ctx, sv->capture[0]);
+	int n = modbus_reply(sv->ctx, q, len, sv->drive.mb);
+	modbus_set_socket(sv->ctx, real);
+	if (n <= 0)
+		return -1;
+	int got = 0;
+	while (got < n && got < cap) {
+		ssize_t r = read(sv->capture[1], out + got, (size_t)(cap - got));
+		if (r <= 0)
+			return -1;
+		got += (int)r;
+	}
+	return got;
+}
+
+static void send_raw(server *sv, const uint8_t *buf, int n)
+{
+	int fd = modbus_get_socket(sv->ctx);
+	int off = 0;
+	while (off < n) {
+		ssize_t w = sv->uri.rtu ? write(fd, buf + off, (size_t)(n - off))
+					: send(fd, buf + off, (size_t)(n - off), MSG_NOSIGNAL);
+		if (w <= 0) {
+			if (w < 0 && errno == EINTR)
+				continue;
+			return;
+		}
+		off += (int)w;
+	}
+}
+
+/* Handles one received request. Returns 1 to close the connection, 0 to go on. */
+static int handle(server *sv, const uint8_t *q, int len, int64_t t_rx)
+{
+	long n = ++sv->requests;
+	if (sv->notify_at && n == sv->notify_at) {
+		printf("popc-servo-sim: request %ld\n", n);
+		fflush(stdout);
+	}
+	if (sv->fault_at && n == sv->fault_at) {
+		fprintf(stderr, "popc-servo-sim: injected drive fault at request %ld\n", n);
+		drive_set_fault(&sv->drive, "injected", 0);
+	}
+	if (in_range(&sv->exception, n)) {
+		modbus_reply_exception(sv->ctx, q, (unsigned)sv->exception.arg);
+		return 0;
+	}
+	drive_tick(&sv->drive, t_rx);
+	drive_apply_request(&sv->drive, q, len, modbus_get_header_length(sv->ctx), t_rx);
+	if (in_range(&sv->drop, n))
+		return 0;
+	if (in_range(&sv->delay, n))
+		sleep_until(sv, t_rx + sv->delay.arg * 1000000LL);
+	int corrupt = sv->uri.rtu && in_range(&sv->corrupt, n);
+	if (corrupt || (sv->uri.rtu && sv->pace_baud)) {
+		uint8_t buf[MODBUS_RTU_MAX_ADU_LENGTH + 8];
+		int r = capture_reply(sv, q, len, buf, (int)sizeof buf);
+		if (r > 0) {
+			if (corrupt)
+				buf[r - 1] ^= 0xA5; /* the CRC's high byte */
+			if (sv->pace_baud)
+				sleep_until(sv, t_rx + wire_ns(&sv->uri, len) + wire_ns(&sv->uri, r) +
+						       2 * t35_ns(&sv->uri));
+			send_raw(sv, buf, r);
+		}
+	} else {
+		modbus_reply(sv->ctx, q, len, sv->drive.mb);
+	}
+	if (sv->exit_after && n >= sv->exit_after) {
+		sv->exiting = 1;
+		return 1;
+	}
+	return sv->close_after && n == sv->close_after;
+}
+
+/* Serves requests on the open link until it closes or a signal arrives. */
+static void serve_link(server *sv)
+{
+	uint8_t q[MODBUS_MAX_ADU_LENGTH > MODBUS_RTU_MAX_ADU_LENGTH ? MODBUS_MAX_ADU_LENGTH
+								    : MODBUS_RTU_MAX_ADU_LENGTH];
+	int fd = modbus_get_socket(sv->ctx);
+	int tick_ms = sv->drive.watchdog_ms > 0 ? 5 : 100;
+	while (!stop_requested && !sv->exiting) {
+		int r = wait_readable(sv, fd, tick_ms);
+		drive_tick(&sv->drive, now_ns());
+		if (r < 0)
+			return;
+		if (r == 0)
+			continue;
+		int len = modbus_receive(sv->ctx, q);
+		int64_t t_rx = now_ns();
+		if (len < 0) {
+			if (!sv->uri.rtu)
+				return; /* the client left or the stream broke: next client */
+			modbus_flush(sv->ctx); /* a damaged RTU frame: wait for the next one */
+			continue;
+		}
+		if (len == 0)
+			continue; /* RTU: addressed to another slave */
+		if (handle(sv, q, len, t_rx))
+			return;
+	}
+}
+
+static void print_ready(server *sv)
+{
+	char text[POPC_PATH_MAX + 64];
+	if (!sv->uri.rtu) {
+		struct sockaddr_storage ss;
+		socklen_t sl = sizeof ss;
+		if (getsockname(sv->listen_fd, (struct sockaddr *)&ss, &sl) == 0) {
+			int port = ss.ss_family == AF_INET6 ? ntohs(((struct sockaddr_in6 *)&ss)->sin6_port)
+							    : ntohs(((struct sockaddr_in *)&ss)->sin_port);
+			snprintf(sv->uri.port, sizeof sv->uri.port, "%d", port);
+		}
+	}
+	popc_modbus_uri_format(&sv->uri, text, sizeof text);
+	printf("popc-servo-sim: listening on %s\n", text);
+	fflush(stdout);
+}
+
+static int run_server(server *sv)
+{
+	if (sv->uri.rtu) {
+		sv->ctx = modbus_new_rtu(sv->uri.device, sv->uri.baud, sv->uri.parity, sv->uri.data_bits,
+					 sv->uri.stop_bits);
+		if (!sv->ctx || modbus_set_slave(sv->ctx, sv->drive.map.slave) != 0 ||
+		    modbus_connect(sv->ctx) != 0) {
+			fprintf(stderr, "popc-servo-sim: %s: %s\n", sv->uri.device, modbus_strerror(errno));
+			return 1;
+		}
+		print_ready(sv);
+		while (!stop_requested && !sv->exiting)
+			serve_link(sv);
+		return 0;
+	}
+	sv->ctx = modbus_new_tcp_pi(sv->uri.host, sv->uri.port);
+	if (!sv->ctx) {
+		fprintf(stderr, "popc-servo-sim: %s\n", modbus_strerror(errno));
+		return 1;
+	}
+	sv->listen_fd = modbus_tcp_pi_listen(sv->ctx, 1);
+	if (sv->listen_fd < 0) {
+		fprintf(stderr, "popc-servo-sim: listen on %s:%s: %s\n", sv->uri.host, sv->uri.port,
+			modbus_strerror(errno));
+		return 1;
+	}
+	print_ready(sv);
+	while (!stop_requested && !sv->exiting) {
+		int r = wait_readable(sv, sv->listen_fd, sv->drive.watchdog_ms > 0 ? 5 : 100);
+		drive_tick(&sv->drive, now_ns());
+		if (r <= 0)
+			continue;
+		int s = sv->listen_fd;
+		if (modbus_tcp_pi_accept(sv->ctx, &s) < 0)
+			continue;
+		int one = 1;
+		setsockopt(modbus_get_socket(sv->ctx), IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+		serve_link(sv);
+		modbus_close(sv->ctx);
+	}
+	close(sv->listen_fd);
+	return 0;
+}
+
+enum { OPT_MAP = 256, OPT_LISTEN, OPT_SCENE, OPT_LOCKSTEP, OPT_SET, OPT_WATCHDOG, OPT_RECORD,
+       OPT_NOTIFY, OPT_PACE, OPT_DROP, OPT_DELAY, OPT_EXCEPTION, OPT_CORRUPT, OPT_CLOSE,
+       OPT_EXIT, OPT_FAULT_AT, OPT_START_FAULTED };
+
+int main(int argc, char **argv)
+{
+	static const struct option opts[] = {
+		{"map", required_argument, NULL, OPT_MAP},
+		{"listen", required_argument, NULL, OPT_LISTEN},
+		{"scene", required_argument, NULL, OPT_SCENE},
+		{"lockstep", no_argument, NULL, OPT_LOCKSTEP},
+		{"set", required_argument, NULL, OPT_SET},
+		{"watchdog-ms", required_argument, NULL, OPT_WATCHDOG},
+		{"record", required_argument, NULL, OPT_RECORD},
+		{"notify-at", required_argument, NULL, OPT_NOTIFY},
+		{"pace-baud", no_argument, NULL, OPT_PACE},
+		{"drop", required_argument, NULL, OPT_DROP},
+		{"delay", required_argument, NULL, OPT_DELAY},
+		{"exception", required_argument, NULL, OPT_EXCEPTION},
+		{"corrupt-crc", required_argument, NULL, OPT_CORRUPT},
+		{"close-after", required_argument, NULL, OPT_CLOSE},
+		{"exit-after", required_argument, NULL, OPT_EXIT},
+		{"fault-at", required_argument, NULL, OPT_FAULT_AT},
+		{"start-faulted", no_argument, NULL, OPT_START_FAULTED},
+		{"help", no_argument, NULL, 'h'},
+		{NULL, 0, NULL, 0},
+	};
+	static server sv;
+	const char *map_path = NULL, *listen = NULL, *scene_path = NULL, *record_path = NULL;
+	const char *sets[64];
+	int n_sets = 0, lockstep = 0, start_faulted = 0, c;
+	long watchdog = -1;
+	while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
+		int bad = 0;
+		switch (c) {
+		case OPT_MAP: map_path = optarg; break;
+		case OPT_LISTEN: listen = optarg; break;
+		case OPT_SCENE: scene_path = optarg; break;
+		case OPT_LOCKSTEP: lockstep = 1; break;
+		case OPT_SET:
+			if (n_sets == 64)
+				bad = 1;
+			else
+				sets[n_sets++] = optarg;
+			break;
+		case OPT_WATCHDOG: bad = parse_count(optarg, 0, &watchdog) || watchdog > 600000; break;
+		case OPT_RECORD: record_path = optarg; break;
+		case OPT_NOTIFY: bad = parse_count(optarg, 1, &sv.notify_at); break;
+		case OPT_PACE: sv.pace_baud = 1; break;
+		case OPT_DROP: bad = parse_range(optarg, 0, &sv.drop); break;
+		case OPT_DELAY: bad = parse_range(optarg, 1, &sv.delay); break;
+		case OPT_EXCEPTION:
+			bad = parse_range(optarg, 1, &sv.exception) || sv.exception.arg < 1 ||
+			      sv.exception.arg > 255;
+			break;
+		case OPT_CORRUPT: bad = parse_range(optarg, 0, &sv.corrupt); break;
+		case OPT_CLOSE: bad = parse_count(optarg, 1, &sv.close_after); break;
+		case OPT_EXIT: bad = parse_count(optarg, 1, &sv.exit_after); break;
+		case OPT_FAULT_AT: bad = parse_count(optarg, 1, &sv.fault_at); break;
+		case OPT_START_FAULTED: start_faulted = 1; break;
+		case 'h': usage(stdout); return 0;
+		default: usage(stderr); return 2;
+		}
+		if (bad) {
+			fprintf(stderr, "popc-servo-sim: bad value '%s' for --%s\n", optarg,
+				opts[c - OPT_MAP].name);
+			return 2;
+		}
+	}
+	if (optind != argc || !map_path || !listen || !scene_path) {
+		fprintf(stderr, "popc-servo-sim: %s\n",
+			optind != argc ? "unexpected argument" : "--map, --listen and --scene are required");
+		usage(stderr);
+		return 2;
+	}
+	popc_error err;
+	popc_register_map map;
+	popc_scene scene;
+	int st = popc_register_map_load(&map, map_path, &err);
+	if (!st) {
+		popc_scene_defaults(&scene);
+		st = popc_scene_load(&scene, scene_path, &err);
+		for (int i = 0; !st && i < n_sets; i++)
+			st = popc_scene_set_assignment(&scene, sets[i], &err);
+		if (!st)
+			st = popc_scene_validate(&scene, &err);
+	}
+	if (!st)
+		st = popc_modbus_uri_parse(listen, &sv.uri, &err);
+	if (!st && sv.uri.rtu && (sv.close_after))
+		st = popc_error_set(&err, POPC_ERR_INVALID, "--close-after needs a TCP link");
+	if (!st && !sv.uri.rtu && (sv.corrupt.first || sv.pace_baud))
+		st = popc_error_set(&err, POPC_ERR_INVALID, "--corrupt-crc and --pace-baud need an RTU link");
+	if (st) {
+		fprintf(stderr, "popc-servo-sim: %s\n", err.msg);
+		return st == POPC_ERR_INVALID || st == POPC_ERR_IO ? 2 : 1;
+	}
+	if (watchdog >= 0)
+		map.watchdog_ms = (int)watchdog;
+	if ((st = drive_init(&sv.drive, &map, &scene, lockstep, &err))) {
+		fprintf(stderr, "popc-servo-sim: %s\n", err.msg);
+		return 1;
+	}
+	if (start_faulted)
+		drive_set_fault(&sv.drive, "start-faulted", 1);
+	if (socketpair(AF_UNIX, SOCK_STREAM, 0, sv.capture) != 0) {
+		perror("popc-servo-sim: socketpair");
+		return 1;
+	}
+	/* termination signals are blocked except inside pselect: no lost wake-up */
+	struct sigaction sa;
+	memset(&sa, 0, sizeof sa);
+	sa.sa_handler = on_signal;
+	sigemptyset(&sa.sa_mask);
+	sigaction(SIGTERM, &sa, NULL);
+	sigaction(SIGINT, &sa, NULL);
+	signal(SIGPIPE, SIG_IGN);
+	sigset_t block;
+	sigemptyset(&block);
+	sigaddset(&block, SIGTERM);
+	sigaddset(&block, SIGINT);
+	sigprocmask(SIG_BLOCK, &block, &sv.run_mask);
+	sigdelset(&sv.run_mask, SIGTERM);
+	sigdelset(&sv.run_mask, SIGINT);
+
+	int rc = run_server(&sv);
+	fprintf(stderr, "popc-servo-sim: stopped after %ld requests, %lld commands, %lld periods%s%s\n",
+		sv.requests, sv.drive.commands, sv.drive.k, sv.drive.fault ? "; fault: " : "",
+		sv.drive.fault ? sv.drive.fault_why : "");
+	if (record_path) {
+		FILE *f = fopen(record_path, "w");
+		if (f) {
+			drive_write_record(&sv.drive, f);
+			fclose(f);
+		} else {
+			fprintf(stderr, "popc-servo-sim: %s: cannot write the record\n", record_path);
+			rc = 1;
+		}
+	}
+	if (sv.ctx) {
+		modbus_close(sv.ctx);
+		modbus_free(sv.ctx);
+	}
+	close(sv.capture[0]);
+	close(sv.capture[1]);
+	drive_free(&sv.drive);
+	return rc;
+}
