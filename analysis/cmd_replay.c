@@ -31,7 +31,7 @@ static void usage(FILE *f)
 	      "  -q, --quiet              do not list the files written\n" ANA_INPUT_HELP
 	      "  -h, --help               this help\n"
 	      "\n"
-	      "Exit status: 0 done, 2 bad usage or input, 1 a log could not be written.\n",
+	      "Exit status: 0 done, 2 bad usage, bad input or a log that could not be written.\n",
 	      f);
 }
 
@@ -180,7 +180,6 @@ int ana_cmd_replay(int argc, char **argv)
 			lr.rtt_s = row.rtt_s;
 			if ((st = popc_log_write_row(&outs[i].w, &lr, &err)) != 0) {
 				rc = ana_fail("replay", st, &err);
-				rc = rc == 2 ? 1 : rc;
 				goto out;
 			}
 		}
@@ -195,8 +194,7 @@ int ana_cmd_replay(int argc, char **argv)
 			st = popc_log_close(&outs[i].w, &err);
 		outs[i].open = 0;
 		if (st) {
-			ana_fail("replay", st, &err);
-			rc = 1;
+			rc = ana_fail("replay", st, &err);
 		} else if (!quiet) {
 			printf("%s\n", outs[i].path);
 		}

@@ -156,7 +156,10 @@ static int write_log_script(const char *dir, const report_log *lg)
 			"  set object %d rect from first %.9g, graph 0 to first %.9g, graph 1 "
 			"fillcolor rgb \"#ffd8d8\" fillstyle solid 1.0 noborder behind\n",
 			i + 1, c->intervals[i].start_s, c->intervals[i].end_s);
+	if (lg->sum.pc_max_N == 0.0) /* the PC never acted: a flat line, not gnuplot's warning */
+		fputs("  set yrange [-1:1]\n", f);
 	fprintf(f, "  plot data using 1:6 with lines lw 1 title \"f_pc%s\"\n"
+		   "  set autoscale y\n"
 		   "  unset object\n"
 		   "  unset multiplot\n"
 		   "  set output\n"

@@ -12,7 +12,10 @@
 int ana_fail(const char *verb, int status, const popc_error *err)
 {
 	fprintf(stderr, "popc-analyze %s: %s\n", verb, err->msg);
-	return popc_status_exit_code(status);
+	/* like diff: 1 is "found something" (chatter, a --check difference), so
+	 * every failure to read or write is trouble, 2 */
+	(void)status;
+	return POPC_EXIT_USAGE;
 }
 
 void ana_put_double(FILE *f, double v)

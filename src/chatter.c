@@ -143,8 +143,22 @@ static void evaluate_window(popc_chatter *d)
 		      flips >= d->cfg.pc_flip_rate_min_Hz && vrate >= d->cfg.vsign_rate_min_Hz;
 	if (!flagged)
 		return;
-	/* the window covers its ticks: [t_first, t_last + T) */
+	/* the flagged stretch: from the first to the last sub-block in which the
+	 * PC force switched sign, so an interval does not grow by a window length
+	 * at each end; a sub-block covers its ticks: [t_first, t_last + T) */
 	double start = w.t_first_s, end = w.t_last_s + T;
+	int first = -1, last = -1;
+	for (int i = 0; i < d->ring_n; i++) {
+		if (d->ring[(d->ring_head + i) % POPC_CHATTER_SUBBLOCKS].pc_flips > 0) {
+			if (first < 0)
+				first = i;
+			last = i;
+		}
+	}
+	if (first >= 0) {
+		start = d->ring[(d->ring_head + first) % POPC_CHATTER_SUBBLOCKS].t_first_s;
+		end = d->ring[(d->ring_head + last) % POPC_CHATTER_SUBBLOCKS].t_last_s + T;
+	}
 	if (d->open && start <= d->cur_iv.end_s) {
 		d->cur_iv.end_s = end;
 		if (rms > d->cur_iv.pc_rms_max_N)

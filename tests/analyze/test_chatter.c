@@ -1,0 +1,216 @@
+/* The streaming chatter and limit-cycle detector (popc/chatter.h) on
+ * synthetic tick streams whose answer is known by construction. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include "popc/chatter.h"
+
+#define T_S 1e-3
+#define DELTA_M 1e-5
+
+static const double two_pi = 6.283185307179586;
+
+static popc_environment wall(void)
+{
+	popc_environment e = {POPC_ENV_WALL, 1000.0, 0.0, 0.0};
+	return e;
+}
+
+static void start(popc_chatter *d, popc_chatter_config *cfg)
+{
+	popc_chatter_config_defaults(cfg);
+	cfg->resolution_m = DELTA_M;
+	popc_environment env = wall();
+	popc_error err;
+	assert_int_equal(popc_chatter_init(d, cfg, T_S, &env, &err), 0);
+}
+
+/* A tick at step k with the position quantized as the encoder would. */
+static void add(popc_chatter *d, long long k, double x_m, double f_pc_N)
+{
+	popc_tick t = {0};
+	t.t_s = (double)k * T_S;
+	t.count = (long long)floor(x_m / DELTA_M);
+	t.x_m = (double)t.count * DELTA_M;
+	t.f_pc_N = f_pc_N;
+	popc_chatter_add(d, &t);
+}
+
+static void quiet_contact_is_not_flagged(void **state)
+{
+	(void)state;
+	popc_chatter d;
+	popc_chatter_config cfg;
+	start(&d, &cfg);
+	for (long long k = 0; k < 5000; k++)
+		add(&d, k, 1e-3, 0.0);
+	popc_chatter_result r;
+	popc_chatter_finish(&d, &r);
+	assert_int_equal(r.n_intervals, 0);
+	assert_true(r.chatter_s == 0.0);
+	assert_int_equal(r.limit_cycle, 0);
+}
+
+/* PC force switching +-5 N every tick with the position dithering one count,
+ * from 1 s to 2 s: one interval covering that second (to a window's length). */
+static void chatter_burst_is_one_interval(void **state)
+{
+	(void)state;
+	popc_chatter d;
+	popc_chatter_config cfg;
+	start(&d, &cfg);
+	for (long long k = 0; k < 3000; k++) {
+		int burst = k >= 1000 && k < 2000;
+		double x = 1e-3 + (burst && (k & 1) ? DELTA_M : 0.0) + 0.5 * DELTA_M;
+		add(&d, k, x, burst ? ((k & 1) ? 5.0 : -5.0) : 0.0);
+	}
+	popc_chatter_result r;
+	popc_chatter_finish(&d, &r);
+	assert_int_equal(r.n_intervals, 1);
+	assert_true(r.intervals[0].start_s >= 0.9 && r.intervals[0].start_s <= 1.01);
+	assert_true(r.intervals[0].end_s >= 1.99 && r.intervals[0].end_s <= 2.1);
+	assert_true(fabs(r.chatter_s - 1.0) < 0.11);
+	assert_true(fabs(r.intervals[0].pc_rms_max_N - 5.0) < 1e-9);
+	assert_int_equal(r.limit_cycle, 0);
+}
+
+/* The same switching without contact (x < 0: in free space) is not chatter. */
+static void no_contact_no_chatter(void **state)
+{
+	(void)state;
+	popc_chatter d;
+	popc_chatter_config cfg;
+	start(&d, &cfg);
+	for (long long k = 0; k < 2000; k++)
+		add(&d, k, -1e-3 + ((k & 1) ? DELTA_M : 0.0), (k & 1) ? 5.0 : -5.0);
+	popc_chatter_result r;
+	popc_chatter_finish(&d, &r);
+	assert_int_equal(r.n_intervals, 0);
+}
+
+/* Small PC force (0.1 N RMS, like improved) switching fast is not flagged. */
+static void small_pc_force_not_flagged(void **state)
+{
+	(void)state;
+	popc_chatter d;
+	popc_chatter_config cfg;
+	start(&d, &cfg);
+	for (long long k = 0; k < 2000; k++)
+		add(&d, k, 1e-3 + ((k & 1) ? DELTA_M : 0.0), (k & 1) ? 0.1 : -0.1);
+	popc_chatter_result r;
+	popc_chatter_finish(&d, &r);
+	assert_int_equal(r.n_intervals, 0);
+	assert_true(fabs(r.max_pc_rms_N - 0.1) < 1e-12);
+}
+
+/* Bursts beyond the stored intervals are still counted and timed. */
+static void intervals_are_bounded(void **state)
+{
+	(void)state;
+	popc_chatter d;
+	popc_chatter_config cfg;
+	start(&d, &cfg);
+	const int bursts = POPC_CHATTER_MAX_INTERVALS + 8;
+	for (long long k = 0; k < (long long)bursts * 400; k++) {
+		int burst = k % 400 < 200;
+		double x = 1e-3 + 0.5 * DELTA_M + (burst && (k & 1) ? DELTA_M : 0.0);
+		add(&d, k, x, burst ? ((k & 1) ? 5.0 : -5.0) : 0.0);
+	}
+	popc_chatter_result r;
+	popc_chatter_finish(&d, &r);
+	assert_int_equal(r.n_intervals, bursts);
+	assert_int_equal(r.n_stored, POPC_CHATTER_MAX_INTERVALS);
+	assert_true(r.chatter_s > 0.2 * bursts * 0.9);
+}
+
+static popc_chatter_result sine(double amp_m, double freq_Hz, double tau_s, double seconds)
+{
+	popc_chatter d;
+	popc_chatter_config cfg;
+	start(&d, &cfg);
+	long long n = (long long)(seconds / T_S);
+	for (long long k = 0; k <= n; k++) {
+		double t = (double)k * T_S;
+		double a = tau_s > 0 ? amp_m * exp(-t / tau_s) : amp_m;
+		add(&d, k, 1e-3 + a * sin(two_pi * freq_Hz * t), 0.0);
+	}
+	popc_chatter_result r;
+	popc_chatter_finish(&d, &r);
+	return r;
+}
+
+/* The paper scene's limit cycle: 9 Hz, +-1.5 mm around 1 mm (in and out of contact). */
+static void sustained_oscillation_is_a_limit_cycle(void **state)
+{
+	(void)state;
+	popc_chatter_result r = sine(1.5e-3, 9.0, 0.0, 5.0);
+	assert_int_equal(r.limit_cycle, 1);
+	assert_true(fabs(r.lc_amplitude_m - 1.5e-3) < 0.1e-3);
+	assert_true(fabs(r.lc_frequency_Hz - 9.0) < 0.5);
+	assert_true(r.lc_contact > 0.6 && r.lc_contact < 0.9);
+	assert_true(r.lc_sustain > 0.9 && r.lc_sustain < 1.1);
+	assert_true(fabs(r.lc_span_s - 2.0) < 0.01);
+	assert_int_equal(r.n_intervals, 0);
+}
+
+static void decaying_or_small_oscillation_is_not(void **state)
+{
+	(void)state;
+	/* decays with tau = 1 s: still 1.5 mm e^-3 ~ 75 um at 3 s, but fading */
+	popc_chatter_result r = sine(1.5e-3 * exp(3.0), 9.0, 1.0, 5.0);
+	assert_true(r.lc_sustain < 0.5);
+	assert_int_equal(r.limit_cycle, 0);
+	/* sustained but 20 counts: below the 50-count amplitude threshold */
+	r = sine(20 * DELTA_M, 9.0, 0.0, 5.0);
+	assert_true(r.lc_sustain > 0.8);
+	assert_int_equal(r.limit_cycle, 0);
+	/* sustained, large, but 100 Hz: above lc_freq_max */
+	r = sine(1.5e-3, 100.0, 0.0, 5.0);
+	assert_int_equal(r.limit_cycle, 0);
+	/* too short a log to judge (0.5 s of a 2 s window) */
+	r = sine(1.5e-3, 9.0, 0.0, 0.5);
+	assert_int_equal(r.limit_cycle, 0);
+}
+
+static void config_set_and_init_errors(void **state)
+{
+	(void)state;
+	popc_chatter_config cfg;
+	popc_chatter_config_defaults(&cfg);
+	popc_error err;
+	assert_int_equal(popc_chatter_config_set(&cfg, "pc_rms", "1.5", &err), 0);
+	assert_true(cfg.pc_rms_min_N == 1.5);
+	assert_int_equal(popc_chatter_config_set(&cfg, "lc_amplitude", "20", &err), 0);
+	assert_true(cfg.lc_amplitude_min_counts == 20.0);
+	static const char *const bad[][2] = {
+		{"nope", "1"}, {"pc_rms", "-1"}, {"pc_rms", "1x"}, {"window", "0"},
+		{"contact", "1.5"}, {"lc_freq_max", "nan"}, {"pc_rms", ""},
+	};
+	for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++)
+		assert_int_equal(popc_chatter_config_set(&cfg, bad[i][0], bad[i][1], &err),
+				 POPC_ERR_INVALID);
+	popc_chatter d;
+	popc_environment env = wall();
+	assert_int_equal(popc_chatter_init(&d, &cfg, 0.0, &env, &err), POPC_ERR_INVALID);
+	cfg.lc_freq_min_Hz = 60.0;
+	assert_int_equal(popc_chatter_init(&d, &cfg, T_S, &env, &err), POPC_ERR_INVALID);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(quiet_contact_is_not_flagged),
+		cmocka_unit_test(chatter_burst_is_one_interval),
+		cmocka_unit_test(no_contact_no_chatter),
+		cmocka_unit_test(small_pc_force_not_flagged),
+		cmocka_unit_test(intervals_are_bounded),
+		cmocka_unit_test(sustained_oscillation_is_a_limit_cycle),
+		cmocka_unit_test(decaying_or_small_oscillation_is_not),
+		cmocka_unit_test(config_set_and_init_errors),
+	};
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}

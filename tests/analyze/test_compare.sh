@@ -1,0 +1,36 @@
+# popc-analyze compare: one row per log with the documented columns; values
+# agree with the measured paper scenes (DESIGN section 4).
+. "$2"
+for v in none ref-energy improved; do run_scene paper.ini "$W/$v.csv" --variant "$v"; done
+
+expect_rc 0 "$A" compare --format csv "$W/none.csv" "$W/ref-energy.csv" "$W/improved.csv" || finish
+head -1 "$W/out" >"$W/header"
+for col in log variant pc_rms pc_max pc_active pc_energy w_minus_eref_min w_minus_eref_end \
+	vsign_rate chatter_s limit_cycle; do
+	tr ',' '\n' <"$W/header" | grep -qx "$col" || fail "missing column $col"
+done
+[ "$(wc -l <"$W/out")" -eq 4 ] && ok "csv: header + 3 rows" || fail "csv rows: $(cat "$W/out")"
+cp "$W/out" "$W/compare.csv"
+# column by name
+col() { awk -F, -v lg="$1" -v name="$2" 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+	$1 == lg { print $c[name] }' "$W/compare.csv"; }
+# late PC RMS measured: ref-energy 2.40 N, improved 0.024 N, none 0 (DESIGN: 2.4, 0.02, 0)
+awk -v a="$(col ref-energy pc_rms_late)" -v b="$(col improved pc_rms_late)" -v c="$(col none pc_rms)" \
+	'BEGIN { exit !(a > 2.0 && a < 2.8 && b > 0 && b < 0.05 && c == 0) }' &&
+	ok "late PC RMS: ref-energy $(col ref-energy pc_rms_late), improved $(col improved pc_rms_late)" ||
+	fail "late PC RMS out of range"
+# velocity sign changes: ref-energy about 136 /s, improved 23 /s (about 6x fewer)
+awk -v a="$(col ref-energy vsign_rate)" -v b="$(col improved vsign_rate)" \
+	'BEGIN { exit !(a > 100 && b < 40 && a / b > 4) }' && ok "vsign_rate ref-energy vs improved" ||
+	fail "vsign_rate"
+[ "$(col none limit_cycle)" = 1 ] && [ "$(col improved limit_cycle)" = 0 ] && ok "limit_cycle column" ||
+	fail "limit_cycle column"
+awk -v w="$(col none w_minus_eref_end)" 'BEGIN { exit !(w < -8e-3 && w > -11e-3) }' &&
+	ok "none: W - E_ref ends near -9.5e-3 J" || fail "none w_minus_eref_end $(col none w_minus_eref_end)"
+
+expect_rc 0 "$A" compare --format markdown "$W/none.csv" && grep -q '^| log | variant |' "$W/out" &&
+	grep -q '^| none | none |' "$W/out" && ok "markdown" || fail "markdown: $(cat "$W/out")"
+expect_rc 0 "$A" compare "$W/none.csv" && grep -q '^none ' "$W/out" && ok "text"
+expect_rc 2 "$A" compare --format xml "$W/none.csv" && ok "bad --format: exit 2"
+expect_rc 0 "$A" compare --help && ok "--help"
+finish
