@@ -1,0 +1,429 @@
+/* The sweep planner (sweep.h): value lists and ranges, the cartesian product,
+ * run ids, plan ids and shards. */
+#include "popc/sweep.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+uint64_t popc_sweep_fnv1a(uint64_t h, const void *data, size_t n)
+{
+	const unsigned char *b = data;
+	for (size_t i = 0; i < n; i++) {
+		h ^= b[i];
+		h *= 0x100000001b3ULL; /* FNV-1a 64-bit prime */
+	}
+	return h;
+}
+
+void popc_sweep_values_free(char **values, int n_values)
+{
+	if (!values)
+		return;
+	for (int i = 0; i < n_values; i++)
+		free(values[i]);
+	free(values);
+}
+
+/* Strict number: the whole text, finite, C locale (popc sets no locale). */
+static int parse_finite(const char *text, double *out)
+{
+	char *end;
+	errno = 0;
+	double v = strtod(text, &end);
+	if (end == text || *end || errno == ERANGE || !isfinite(v))
+		return -1;
+	*out = v;
+	return 0;
+}
+
+static int cmp_str(const void *a, const void *b)
+{
+	return strcmp(*(char *const *)a, *(char *const *)b);
+}
+
+static int check_duplicates(char **values, int n, const char *spec, popc_error *err)
+{
+	if (n < 2)
+		return 0;
+	char **sorted = malloc((size_t)n * sizeof *sorted);
+	if (!sorted)
+		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+	memcpy(sorted, values, (size_t)n * sizeof *sorted);
+	qsort(sorted, (size_t)n, sizeof *sorted, cmp_str);
+	int st = 0;
+	for (int i = 1; i < n && !st; i++)
+		if (strcmp(sorted[i - 1], sorted[i]) == 0)
+			st = popc_error_set(err, POPC_ERR_INVALID,
+					    "'%s': value '%s' appears twice (a range too fine for 12 "
+					    "significant digits gives repeated values)",
+					    spec, sorted[i]);
+	free(sorted);
+	return st;
+}
+
+static int expand_range(const char *spec, char ***values, int *n_values, popc_error *err)
+{
+	char buf[POPC_SWEEP_VALUE_MAX * 2];
+	if (strlen(spec) >= sizeof buf)
+		return popc_error_set(err, POPC_ERR_INVALID, "'%.40s...': range too long", spec);
+	strcpy(buf, spec);
+	char *part[5];
+	int np = 0;
+	for (char *p = buf, *colon; np < 5; p = colon + 1) {
+		part[np++] = p;
+		colon = strchr(p, ':');
+		if (!colon)
+			break;
+		*colon = '\0';
+	}
+	int is_log = np == 4 && strcmp(part[3], "log") == 0;
+	if (np != 3 && !is_log)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "'%s': a range is lo:hi:n or lo:hi:n:log (a list is a,b,c)", spec);
+	double lo, hi, nd;
+	if (parse_finite(part[0], &lo) || parse_finite(part[1], &hi))
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "'%s': range ends must be finite numbers (lo:hi:n[:log])", spec);
+	if (parse_finite(part[2], &nd) || nd != floor(nd) || nd < 1 || nd > (double)POPC_SWEEP_RANGE_MAX)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "'%s': the number of points n must be a whole number in [1, %ld]",
+				      spec, POPC_SWEEP_RANGE_MAX);
+	if (is_log && !(lo > 0 && hi > 0))
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "'%s': a logarithmic range needs lo > 0 and hi > 0", spec);
+	int n = (int)nd;
+	char **v = calloc((size_t)n, sizeof *v);
+	if (!v)
+		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+	double log_lo = is_log ? log(lo) : 0.0, log_hi = is_log ? log(hi) : 0.0;
+	for (int i = 0; i < n; i++) {
+		double x;
+		if (i == 0)
+			x = lo;
+		else if (i == n - 1)
+			x = hi;
+		else if (is_log)
+			x = exp(log_lo + (log_hi - log_lo) * (double)i / (double)(n - 1));
+		else
+			x = lo + (hi - lo) * (double)i / (double)(n - 1);
+		char text[40];
+		snprintf(text, sizeof text, "%.12g", x);
+		/* -0 reads as 0 and prints as "-0": one spelling of zero */
+		if (strcmp(text, "-0") == 0)
+			strcpy(text, "0");
+		v[i] = strdup(text);
+		if (!v[i]) {
+			popc_sweep_values_free(v, n);
+			return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+		}
+	}
+	int st = check_duplicates(v, n, spec, err);
+	if (st) {
+		popc_sweep_values_free(v, n);
+		return st;
+	}
+	*values = v;
+	*n_values = n;
+	return 0;
+}
+
+static int expand_list(const char *spec, char ***values, int *n_values, popc_error *err)
+{
+	int n = 1;
+	for (const char *p = spec; *p; p++)
+		n += *p == ',';
+	char **v = calloc((size_t)n, sizeof *v);
+	if (!v)
+		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+	const char *p = spec;
+	int st = 0;
+	for (int i = 0; i < n && !st; i++) {
+		const char *comma = strchr(p, ',');
+		size_t len = comma ? (size_t)(comma - p) : strlen(p);
+		if (len == 0)
+			st = popc_error_set(err, POPC_ERR_INVALID, "'%s': empty value in the list (item %d)",
+					    spec, i + 1);
+		else if (len >= POPC_SWEEP_VALUE_MAX)
+			st = popc_error_set(err, POPC_ERR_INVALID, "'%s': item %d longer than %d characters",
+					    spec, i + 1, POPC_SWEEP_VALUE_MAX - 1);
+		else if (memchr(p, '"', len) || memchr(p, '\n', len) || memchr(p, '\r', len))
+			st = popc_error_set(err, POPC_ERR_INVALID,
+					    "'%s': item %d holds a quote or a line break (not allowed in "
+					    "summary.csv cells)",
+					    spec, i + 1);
+		else if (!(v[i] = strndup(p, len)))
+			st = popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+		p = comma ? comma + 1 : p + len;
+	}
+	if (!st)
+		st = check_duplicates(v, n, spec, err);
+	if (st) {
+		popc_sweep_values_free(v, n);
+		return st;
+	}
+	*values = v;
+	*n_values = n;
+	return 0;
+}
+
+int popc_sweep_expand(const char *spec, char ***values, int *n_values, popc_error *err)
+{
+	*values = NULL;
+	*n_values = 0;
+	if (!spec[0])
+		return popc_error_set(err, POPC_ERR_INVALID, "empty value list");
+	/* a list has commas; without commas, a colon makes it a range */
+	if (!strchr(spec, ',') && strchr(spec, ':'))
+		return expand_range(spec, values, n_values, err);
+	return expand_list(spec, values, n_values, err);
+}
+
+int popc_sweep_axis_parse(const char *vary, popc_sweep_axis *axis, popc_error *err)
+{
+	memset(axis, 0, sizeof *axis);
+	const char *eq = strchr(vary, '=');
+	const char *dot = strchr(vary, '.');
+	if (!eq || !dot || dot > eq || dot == vary || dot + 1 == eq)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "--vary '%s': expected section.key=LIST (e.g. "
+				      "operator.speed=0.01:0.1:10 or controller.variant=none,improved)",
+				      vary);
+	size_t ls = (size_t)(dot - vary), lk = (size_t)(eq - dot - 1);
+	if (ls >= sizeof axis->section || lk >= sizeof axis->key)
+		return popc_error_set(err, POPC_ERR_INVALID, "--vary '%s': name too long", vary);
+	if (strlen(eq + 1) >= sizeof axis->spec)
+		return popc_error_set(err, POPC_ERR_INVALID, "--vary '%.60s...': values too long", vary);
+	memcpy(axis->section, vary, ls);
+	memcpy(axis->key, dot + 1, lk);
+	strcpy(axis->spec, eq + 1);
+	popc_error e;
+	int st = popc_sweep_expand(axis->spec, &axis->values, &axis->n_values, &e);
+	if (st)
+		return popc_error_set(err, st, "--vary %s.%s: %s", axis->section, axis->key, e.msg);
+	return 0;
+}
+
+void popc_sweep_axis_free(popc_sweep_axis *axis)
+{
+	popc_sweep_values_free(axis->values, axis->n_values);
+	axis->values = NULL;
+	axis->n_values = 0;
+}
+
+void popc_sweep_plan_free(popc_sweep_plan *p)
+{
+	for (int a = 0; a < p->n_axes; a++)
+		popc_sweep_axis_free(&p->axes[a]);
+	free(p->axes);
+	free(p->columns);
+	p->axes = NULL;
+	p->n_axes = 0;
+	p->columns = NULL;
+}
+
+void popc_sweep_run_values(const popc_sweep_plan *p, long long i, int *value_index)
+{
+	/* mixed radix, last axis fastest */
+	for (int a = p->n_axes - 1; a >= 0; a--) {
+		long long n = p->axes[a].n_values;
+		value_index[a] = (int)(i % n);
+		i /= n;
+	}
+}
+
+int popc_sweep_run_scene(const popc_sweep_plan *p, long long i, popc_scene *s, popc_error *err)
+{
+	*s = p->base;
+	long long rest = i;
+	for (int a = p->n_axes - 1; a >= 0; a--) {
+		const popc_sweep_axis *ax = &p->axes[a];
+		int st = popc_scene_set(s, ax->section, ax->key, ax->values[rest % ax->n_values], err);
+		if (st)
+			return st;
+		rest /= ax->n_values;
+	}
+	return popc_scene_validate(s, err);
+}
+
+void popc_sweep_run_id(const popc_sweep_plan *p, long long i, char *buf)
+{
+	snprintf(buf, POPC_SWEEP_ID_MAX, "%0*lld", p->id_width, i);
+}
+
+long long popc_sweep_id_parse(const popc_sweep_plan *p, const char *text)
+{
+	long long v = 0;
+	int n = 0;
+	for (; text[n]; n++) {
+		if (text[n] < '0' || text[n] > '9' || n >= 12)
+			return -1;
+		v = v * 10 + (text[n] - '0');
+	}
+	if (n != p->id_width || v >= p->n_runs)
+		return -1;
+	return v;
+}
+
+/* Hashes the base scene as popc_scene_write writes it. */
+static int hash_scene(const popc_scene *s, uint64_t *h, popc_error *err)
+{
+	char *text = NULL;
+	size_t len = 0;
+	FILE *f = open_memstream(&text, &len);
+	if (!f)
+		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+	popc_scene_write(s, f, "");
+	if (fclose(f) != 0) {
+		free(text);
+		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+	}
+	*h = popc_sweep_fnv1a(*h, text, len);
+	free(text);
+	return 0;
+}
+
+static int describe_run(const popc_sweep_plan *p, long long i, char *buf, size_t cap)
+{
+	int idx[64];
+	popc_sweep_run_values(p, i, idx);
+	size_t len = 0;
+	for (int a = 0; a < p->n_axes && len < cap; a++)
+		len += (size_t)snprintf(buf + len, cap - len, "%s%s.%s=%s", a ? " " : "",
+					p->axes[a].section, p->axes[a].key,
+					p->axes[a].values[idx[a]]);
+	return 0;
+}
+
+int popc_sweep_plan_init(popc_sweep_plan *p, const popc_scene *base, popc_sweep_axis *axes,
+			 int n_axes, int check_every_run, popc_error *err)
+{
+	memset(p, 0, sizeof *p);
+	p->base = *base;
+	p->axes = axes;
+	p->n_axes = n_axes;
+	if (n_axes > 64)
+		return popc_error_set(err, POPC_ERR_INVALID, "more than 64 --vary axes");
+	p->n_runs = 1;
+	for (int a = 0; a < n_axes; a++) {
+		const popc_sweep_axis *ax = &axes[a];
+		for (int b = 0; b < a; b++)
+			if (strcmp(axes[b].section, ax->section) == 0 && strcmp(axes[b].key, ax->key) == 0)
+				return popc_error_set(err, POPC_ERR_INVALID,
+						      "--vary %s.%s given twice: give all its values in "
+						      "one list",
+						      ax->section, ax->key);
+		/* each value on its own, through the scene's own checks: the
+		 * message names the key and the allowed range */
+		for (int v = 0; v < ax->n_values; v++) {
+			popc_scene scratch = *base;
+			popc_error e;
+			int st = popc_scene_set(&scratch, ax->section, ax->key, ax->values[v], &e);
+			if (st)
+				return popc_error_set(err, st, "--vary %s.%s=%s, value %d of %d ('%s'): %s",
+						      ax->section, ax->key, ax->spec, v + 1,
+						      ax->n_values, ax->values[v], e.msg);
+		}
+		if (p->n_runs > POPC_SWEEP_RUNS_MAX / ax->n_values)
+			return popc_error_set(err, POPC_ERR_INVALID,
+					      "the sweep has more than %lld runs: split it",
+					      POPC_SWEEP_RUNS_MAX);
+		p->n_runs *= ax->n_values;
+	}
+	p->id_width = 4;
+	for (long long m = 10000; m < p->n_runs; m *= 10)
+		p->id_width++;
+	p->columns = popc_sweep_columns_header(axes, n_axes);
+	if (!p->columns)
+		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+
+	uint64_t h = POPC_SWEEP_FNV_OFFSET;
+	static const char magic[] = "popc sweep plan 1\n";
+	h = popc_sweep_fnv1a(h, magic, sizeof magic - 1);
+	int st = hash_scene(base, &h, err);
+	if (st)
+		return st;
+	for (int a = 0; a < n_axes; a++) {
+		const popc_sweep_axis *ax = &axes[a];
+		h = popc_sweep_fnv1a(h, ax->section, strlen(ax->section) + 1);
+		h = popc_sweep_fnv1a(h, ax->key, strlen(ax->key) + 1);
+		for (int v = 0; v < ax->n_values; v++)
+			h = popc_sweep_fnv1a(h, ax->values[v], strlen(ax->values[v]) + 1);
+	}
+	h = popc_sweep_fnv1a(h, p->columns, strlen(p->columns));
+	p->plan_id = h;
+
+	if (check_every_run) {
+		popc_scene s;
+		for (long long i = 0; i < p->n_runs; i++) {
+			popc_error e;
+			st = popc_sweep_run_scene(p, i, &s, &e);
+			if (st) {
+				char id[POPC_SWEEP_ID_MAX], what[1024];
+				popc_sweep_run_id(p, i, id);
+				describe_run(p, i, what, sizeof what);
+				return popc_error_set(err, st, "run %s (%s): %s", id, what, e.msg);
+			}
+		}
+	}
+	return 0;
+}
+
+/* ---- shards ---------------------------------------------------------------- */
+
+static int parse_count(const char *text, long long lo, long long hi, long long *out)
+{
+	char *end;
+	errno = 0;
+	long long v = strtoll(text, &end, 10);
+	if (end == text || *end || errno || v < lo || v > hi)
+		return -1;
+	*out = v;
+	return 0;
+}
+
+int popc_sweep_shard_parse(const char *text, popc_sweep_shard *sh, popc_error *err)
+{
+	char buf[64];
+	const char *slash = strchr(text, '/');
+	if (!slash || strlen(text) >= sizeof buf)
+		return popc_error_set(err, POPC_ERR_INVALID, "--shard '%s': expected I/N (e.g. 0/4)", text);
+	memcpy(buf, text, (size_t)(slash - text));
+	buf[slash - text] = '\0';
+	long long i, n;
+	if (parse_count(slash + 1, 1, POPC_SWEEP_RUNS_MAX, &n) != 0)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "--shard '%s': N must be a whole number in [1, %lld]", text,
+				      POPC_SWEEP_RUNS_MAX);
+	if (parse_count(buf, 0, n - 1, &i) != 0)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "--shard '%s': I must be a whole number in [0, %lld]", text, n - 1);
+	sh->index = i;
+	sh->count = n;
+	return 0;
+}
+
+int popc_sweep_shard_from_slurm(const char *task_id, const char *task_count, const char *task_min,
+				const char *task_step, popc_sweep_shard *sh, popc_error *err)
+{
+	if (!task_id || !task_count || !task_id[0] || !task_count[0])
+		return 0;
+	long long id, count, min = 0, step = 1;
+	if (parse_count(task_id, 0, 1LL << 40, &id) || parse_count(task_count, 1, POPC_SWEEP_RUNS_MAX, &count)
+	    || (task_min && task_min[0] && parse_count(task_min, 0, 1LL << 40, &min))
+	    || (task_step && task_step[0] && parse_count(task_step, 1, 1LL << 40, &step)))
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "SLURM_ARRAY_TASK_ID=%s, SLURM_ARRAY_TASK_COUNT=%s: not whole numbers",
+				      task_id, task_count);
+	long long off = id - min;
+	if (off < 0 || off % step != 0 || off / step >= count)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "Slurm array task %lld (min %lld, step %lld, count %lld) is not one "
+				      "of a regular array: submit with --array=0-%lld (or pass --shard I/N)",
+				      id, min, step, count, count - 1);
+	sh->index = off / step;
+	sh->count = count;
+	return 1;
+}

@@ -1,0 +1,313 @@
+/* One run of a sweep in this process (sweep.h): the same steps as `popc run`
+ * (cmd_run.c) on the simulated axis, then the run's summary file. */
+#include "popc/sweep.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+
+#include "popc/axis.h"
+#include "popc/controller.h"
+#include "popc/encoder.h"
+#include "popc/log.h"
+#include "popc/log_reader.h"
+#include "popc/run.h"
+
+/* ---- the chatter detector ----------------------------------------------------- *
+ *
+ * popc_run offers no per-tick hook, and its summary has no chatter metrics.
+ * So the run's axis is wrapped: the wrapper sees every sample (the encoder
+ * count of tick k) and every command f_c(k), runs a second controller on the
+ * same counts (the same function with the same inputs, so the same ticks,
+ * bit for bit) and feeds the ticks to the detector. It checks each f_c(k)
+ * popc_run sends against its own, bitwise, and a run where they differ (the
+ * loop changed in run.c) fails rather than report numbers of another run.
+ * A tick hook in popc_run_options would make the second controller
+ * unnecessary. */
+
+typedef struct tee_axis {
+	popc_axis self;
+	popc_axis *inner;
+	popc_controller ctl;
+	popc_chatter det;
+	double period_s, resolution_m;
+	long long k;
+	double f_c_N;       /* the mirror's command of the last tick */
+	int diverged;
+} tee_axis;
+
+static void tee_tick(tee_axis *t, const popc_axis_sample *smp)
+{
+	popc_tick tick;
+	tick.t_s = (double)t->k * t->period_s; /* as popc_run: t = k T */
+	popc_controller_step(&t->ctl, smp->count, popc_encoder_position(smp->count, t->resolution_m),
+			     &tick);
+	popc_chatter_add(&t->det, &tick);
+	t->f_c_N = tick.f_c_N;
+	t->k++;
+}
+
+static int tee_start(popc_axis *a, popc_error *err)
+{
+	tee_axis *t = a->priv;
+	return t->inner->ops->start(t->inner, err);
+}
+
+static int tee_sample(popc_axis *a, popc_axis_sample *out, popc_error *err)
+{
+	tee_axis *t = a->priv;
+	int st = t->inner->ops->sample(t->inner, out, err);
+	if (!st)
+		tee_tick(t, out);
+	return st;
+}
+
+static int tee_exchange(popc_axis *a, double f_c_N, popc_axis_sample *next, popc_error *err)
+{
+	tee_axis *t = a->priv;
+	if (memcmp(&f_c_N, &t->f_c_N, sizeof f_c_N) != 0 && !t->diverged) {
+		t->diverged = 1;
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "sweep: the chatter detector's controller disagrees with the run's "
+				      "at t = %g s (f_c %.17g against %.17g N)",
+				      (double)(t->k - 1) * t->period_s, t->f_c_N, f_c_N);
+	}
+	int st = t->inner->ops->exchange(t->inner, f_c_N, next, err);
+	if (!st)
+		tee_tick(t, next);
+	return st;
+}
+
+static int tee_stop(popc_axis *a, popc_error *err)
+{
+	tee_axis *t = a->priv;
+	return t->inner->ops->stop(t->inner, err);
+}
+
+static void tee_destroy(popc_axis *a)
+{
+	(void)a; /* lives on the stack of popc_sweep_run_one */
+}
+
+static popc_axis_ops tee_ops(const popc_axis *inner)
+{
+	return (popc_axis_ops){
+		.name = inner->ops->name,
+		.log_columns = inner->ops->log_columns,
+		.start = tee_start,
+		.sample = tee_sample,
+		.exchange = tee_exchange,
+		.stop = tee_stop,
+		.report = NULL,
+		.destroy = tee_destroy,
+	};
+}
+
+static int chatter_init(popc_chatter *det, const popc_scene *s, const popc_controller_config *ccfg,
+			popc_error *err)
+{
+	popc_chatter_config cc;
+	popc_chatter_config_defaults(&cc);
+	cc.resolution_m = s->enc_resolution_m;
+	return popc_chatter_init(det, &cc, popc_scene_period_s(s), &ccfg->env, err);
+}
+
+int popc_sweep_chatter_from_log(const char *log_path, popc_chatter_result *res, popc_error *err)
+{
+	popc_log_reader r;
+	int st = popc_log_reader_open(&r, log_path, NULL, err);
+	if (st)
+		return st;
+	popc_scene s;
+	popc_scene_defaults(&s);
+	st = popc_log_reader_scene(&r, &s, err);
+	int col[5];
+	static const char *const names[5] = {"t", "x", "f_pc", "W", "E_ref"};
+	for (int k = 0; k < 5 && !st; k++)
+		st = popc_log_reader_require(&r, names[k], &col[k], err);
+	popc_controller_config ccfg;
+	popc_chatter det;
+	if (!st) {
+		popc_controller_config_from_scene(&ccfg, &s);
+		st = chatter_init(&det, &s, &ccfg, err);
+	}
+	double v[POPC_LOG_MAX_COLUMNS];
+	while (!st && (st = popc_log_reader_next(&r, v, err)) == 1) {
+		popc_tick t;
+		memset(&t, 0, sizeof t);
+		t.t_s = v[col[0]];
+		t.x_m = v[col[1]];
+		t.f_pc_N = v[col[2]];
+		t.W_J = v[col[3]];
+		t.E_ref_J = v[col[4]];
+		popc_chatter_add(&det, &t);
+		st = 0;
+	}
+	popc_log_reader_close(&r);
+	if (st < 0)
+		return st;
+	popc_chatter_finish(&det, res);
+	return 0;
+}
+
+static double now_s(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* The popc run summary header and row as text, as `popc run --summary` writes
+ * them: the sweep row is built from these by column name, like for --list runs. */
+static int summary_text(const popc_run_summary *sum, const popc_scene *s, char **header, char **row)
+{
+	size_t len;
+	*header = *row = NULL;
+	FILE *f = open_memstream(header, &len);
+	if (!f)
+		return -1;
+	popc_run_summary_csv_header(f);
+	if (fclose(f) != 0)
+		return -1;
+	f = open_memstream(row, &len);
+	if (!f)
+		return -1;
+	popc_run_summary_csv_row(sum, s, f);
+	return fclose(f) != 0 ? -1 : 0;
+}
+
+static int write_scene(const char *path, const popc_scene *s, popc_error *err)
+{
+	char *text = NULL;
+	size_t len = 0;
+	FILE *f = open_memstream(&text, &len);
+	if (!f)
+		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+	popc_scene_write(s, f, "");
+	if (fclose(f) != 0) {
+		free(text);
+		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+	}
+	int st = popc_sweep_write_atomic(path, text, len, err);
+	free(text);
+	return st;
+}
+
+int popc_sweep_run_one(const popc_sweep_plan *p, long long i, const char *dir, int keep_log,
+		       int rows_fd, volatile sig_atomic_t *stop_flag, popc_sweep_result *res,
+		       popc_error *err)
+{
+	memset(res, 0, sizeof *res);
+	double t0 = now_s();
+	char rdir[POPC_PATH_MAX], path[POPC_PATH_MAX + 32];
+	if (popc_sweep_run_dir(p, dir, i, rdir, sizeof rdir) != 0)
+		return popc_error_set(err, POPC_ERR_IO, "%s: path too long", dir);
+	/* summaries only: no directory per run (a mkdir costs about as much
+	 * as a tenth of a paper-scene run) */
+	if (keep_log && mkdir(rdir, 0777) != 0 && errno != EEXIST)
+		return popc_error_set(err, POPC_ERR_IO, "%s: %s", rdir, strerror(errno));
+
+	popc_scene s;
+	popc_error rerr;
+	popc_axis *axis = NULL;
+	popc_log_writer log;
+	int log_open = 0, have_sum = 0;
+	popc_run_summary sum;
+	int st = popc_sweep_run_scene(p, i, &s, &rerr);
+	if (!st && keep_log) {
+		snprintf(path, sizeof path, "%s/scene.ini", rdir);
+		st = write_scene(path, &s, &rerr);
+	}
+	if (!st) {
+		if (strcmp(s.axis, "sim") == 0)
+			st = popc_sim_axis_create(&axis, &s, &rerr);
+		else
+			st = popc_error_set(&rerr, POPC_ERR_INVALID,
+					    "axis = %s: a sweep runs the simulated axis only", s.axis);
+	}
+	if (!st && keep_log) {
+		snprintf(path, sizeof path, "%s/log.csv", rdir);
+		st = popc_log_open(&log, path, axis->ops->log_columns, &rerr);
+		if (!st) {
+			log_open = 1;
+			st = popc_log_write_header(&log, axis->ops->name, &s, NULL, &rerr);
+		}
+	}
+	tee_axis tee;
+	popc_axis_ops tops;
+	popc_chatter_result chat;
+	int have_chat = 0;
+	if (!st) {
+		memset(&tee, 0, sizeof tee);
+		tops = tee_ops(axis);
+		tee.self = (popc_axis){.ops = &tops, .priv = &tee};
+		tee.inner = axis;
+		tee.period_s = popc_scene_period_s(&s);
+		tee.resolution_m = s.enc_resolution_m;
+		popc_controller_config ccfg;
+		popc_controller_config_from_scene(&ccfg, &s);
+		popc_controller_init(&tee.ctl, &ccfg);
+		st = chatter_init(&tee.det, &s, &ccfg, &rerr);
+	}
+	if (!st) {
+		popc_run_options ro = {.log = log_open ? &log : NULL, .stop_flag = stop_flag};
+		st = popc_run(&s, &tee.self, &ro, &sum, &rerr);
+		/* popc_run asked the wrapper, which is not the sim axis */
+		sum.integrator_error_m = popc_sim_axis_max_error(axis);
+		have_sum = 1;
+		if (!tee.diverged) {
+			popc_chatter_finish(&tee.det, &chat);
+			have_chat = 1;
+		}
+	}
+	if (log_open) {
+		popc_error cerr;
+		int cst = popc_log_close(&log, &cerr);
+		if (cst && !st) {
+			st = cst;
+			rerr = cerr;
+		}
+	}
+	popc_axis_destroy(&axis);
+	res->wall_time_s = now_s() - t0;
+	res->exit_status = popc_status_exit_code(st);
+	if (have_sum)
+		snprintf(res->reason, sizeof res->reason, "%s", sum.stop_reason);
+	else
+		snprintf(res->reason, sizeof res->reason, "%s", rerr.msg);
+	if (st == POPC_ERR_INTERRUPTED || (stop_flag && *stop_flag && st)) {
+		res->interrupted = 1;
+		return 0;
+	}
+
+	char *header = NULL, *run_row = NULL;
+	if (have_sum && summary_text(&sum, &s, &header, &run_row) != 0) {
+		free(header);
+		free(run_row);
+		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+	}
+	char row[POPC_SWEEP_ROW_MAX];
+	int n = popc_sweep_row(p, i, res->exit_status, header, have_sum ? run_row : NULL,
+			       have_chat ? &chat : NULL, res->wall_time_s, row, sizeof row, err);
+	free(header);
+	free(run_row);
+	if (n < 0)
+		return n;
+	if (keep_log) {
+		/* the run's own copy, next to its log: header and row */
+		char text[POPC_SWEEP_ROW_MAX * 2];
+		size_t lc = strlen(p->columns);
+		if (lc + (size_t)n < sizeof text) {
+			memcpy(text, p->columns, lc);
+			memcpy(text + lc, row, (size_t)n);
+			snprintf(path, sizeof path, "%s/summary.csv", rdir);
+			int st2 = popc_sweep_write_atomic(path, text, lc + (size_t)n, err);
+			if (st2)
+				return st2;
+		}
+	}
+	return popc_sweep_rows_append(p, rows_fd, i, row, res->exit_status, res->reason, err);
+}
