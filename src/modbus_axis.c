@@ -539,7 +539,7 @@ static void mb_report(popc_axis *ax, FILE *human, char *csv_names, char *csv_val
 			a->opt.pace ? "" : " (free-run: no deadlines)");
 		fprintf(human,
 			"  latency rtt: mean %.6g ms, p50 %.6g ms, p99 %.6g ms, p99.9 %.6g ms, max %.6g ms "
-			"over %llu exchanges\n",
+			"over %llu samples\n",
 			1e3 * popc_histogram_mean_s(r), 1e3 * popc_histogram_quantile_s(r, 0.5),
 			1e3 * popc_histogram_quantile_s(r, 0.99), 1e3 * popc_histogram_quantile_s(r, 0.999),
 			1e3 * popc_histogram_max_s(r), (unsigned long long)r->n);

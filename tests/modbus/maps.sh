@@ -1,0 +1,49 @@
+#!/bin/bash
+# Every register map shipped in data/drives/ dry-runs against popc-servo-sim
+# (lockstep, TCP): the run completes (exit 0) and the server's last writes are
+# zero force and the map's disable word. A bad map and a bad URI are usage
+# errors (exit 2) naming the file, line and key.
+#   maps.sh SERVO_SIM
+. "$(dirname "$0")/lib.sh"
+
+for map in "$DRIVES"/*.ini; do
+	name=$(basename "$map" .ini)
+	off=$(awk -F= '/^\[enable\]/ { e = 1 } e && $1 ~ /^off/ { gsub(/[ \t]|;.*/, "", $2); print $2; exit }' "$map")
+	start_server --map "$map" --listen tcp:127.0.0.1:0 --scene "$SCENE" --lockstep \
+		--record "$WORK/rec-$name.txt"
+	rc=0
+	"$POPC" run "$SCENE" -q --set run.duration=1.5 --axis modbus --map "$map" --connect "$SRV_URI" \
+		--free-run --log "$WORK/$name.csv" || rc=$?
+	stop_server
+	expect_rc "$name" $rc 0
+	check_log "$WORK/$name.csv" '^# stop = completed$'
+	[ "$(rows "$WORK/$name.csv")" -eq 1501 ] || fail "$name: not every tick logged"
+	check_last_writes "$WORK/rec-$name.txt" "$(printf '0x%04x' "$off")"
+	# the drive's own counts and units: the contact still happens (count > 0)
+	cols "$WORK/$name.csv" | awk '$2 > 0 { c = 1 } END { exit !c }' || fail "$name: no contact"
+done
+
+# a map with an error: exit 2, the message names file:line and key
+sed 's/^type = int32/type = int24/' "$DRIVES/generic.ini" >"$WORK/bad.ini"
+rc=0
+"$POPC" run "$SCENE" -q --axis modbus --map "$WORK/bad.ini" --connect tcp:127.0.0.1:1 \
+	2>"$WORK/bad.err" || rc=$?
+expect_rc bad-map $rc 2
+grep -q "$WORK/bad.ini:[0-9]*: position.type = int24: expected one of" "$WORK/bad.err" ||
+	fail "bad map message: $(cat "$WORK/bad.err")"
+rc=0
+"$POPC" run "$SCENE" -q --axis modbus --map "$DRIVES/generic.ini" --connect serial:x \
+	2>"$WORK/uri.err" || rc=$?
+expect_rc bad-uri $rc 2
+grep -q "connect URI 'serial:x': unknown transport" "$WORK/uri.err" || fail "bad URI message"
+# nobody listens: a connection failure before start is a communication loss
+rc=0
+"$POPC" run "$SCENE" -q --axis modbus --map "$DRIVES/generic.ini" --connect tcp:127.0.0.1:1 \
+	--log "$WORK/refused.csv" 2>"$WORK/refused.err" || rc=$?
+expect_rc refused $rc 4
+check_log "$WORK/refused.csv" '^# stop = axis start failed: .*cannot connect'
+# popc-servo-sim: usage errors
+rc=0
+"$SIM" --map "$DRIVES/generic.ini" --listen tcp:127.0.0.1:0 2>/dev/null || rc=$?
+expect_rc sim-usage $rc 2
+finish

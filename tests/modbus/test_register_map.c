@@ -1,0 +1,301 @@
+/* Register maps, word conversion and connection URIs of the Modbus axis:
+ * table-driven, bitwise where the conversion is exact. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+#include <unistd.h>
+
+#include "modbus_stats.h"
+#include "popc/modbus_axis.h"
+#include "popc/register_map.h"
+
+/* ---- words ---------------------------------------------------------------- */
+
+typedef struct word_case {
+	popc_reg_type type;
+	popc_word_order order;
+	double value;
+	uint16_t words[4];
+} word_case;
+
+static const word_case word_cases[] = {
+	{POPC_REG_INT16, POPC_WORDS_HI_LO, -1, {0xFFFF}},
+	{POPC_REG_INT16, POPC_WORDS_HI_LO, -32768, {0x8000}},
+	{POPC_REG_INT16, POPC_WORDS_HI_LO, 32767, {0x7FFF}},
+	{POPC_REG_UINT16, POPC_WORDS_HI_LO, 65535, {0xFFFF}},
+	/* negative int32: MODBUS_GET_INT32_FROM_INT16 gets these wrong before 3.1.7 */
+	{POPC_REG_INT32, POPC_WORDS_HI_LO, -1000, {0xFFFF, 0xFC18}},
+	{POPC_REG_INT32, POPC_WORDS_LO_HI, -1000, {0xFC18, 0xFFFF}},
+	{POPC_REG_INT32, POPC_WORDS_HI_LO, -2147483648.0, {0x8000, 0x0000}},
+	{POPC_REG_INT32, POPC_WORDS_LO_HI, 65536, {0x0000, 0x0001}},
+	{POPC_REG_UINT32, POPC_WORDS_HI_LO, 4294967295.0, {0xFFFF, 0xFFFF}},
+	{POPC_REG_FLOAT32, POPC_WORDS_HI_LO, 1.5, {0x3FC0, 0x0000}},
+	{POPC_REG_FLOAT32, POPC_WORDS_LO_HI, -2.0, {0x0000, 0xC000}},
+	{POPC_REG_FLOAT64, POPC_WORDS_HI_LO, 0.1, {0x3FB9, 0x9999, 0x9999, 0x999A}},
+	{POPC_REG_FLOAT64, POPC_WORDS_LO_HI, 0.1, {0x999A, 0x9999, 0x9999, 0x3FB9}},
+};
+
+static void test_words(void **state)
+{
+	(void)state;
+	for (size_t i = 0; i < sizeof word_cases / sizeof word_cases[0]; i++) {
+		const word_case *c = &word_cases[i];
+		int n = popc_reg_type_words(c->type);
+		uint16_t w[4] = {0, 0, 0, 0};
+		assert_int_equal(popc_reg_encode(c->value, c->type, c->order, w), 0);
+		assert_memory_equal(w, c->words, (size_t)n * sizeof w[0]);
+		double back = popc_reg_decode(c->words, c->type, c->order);
+		assert_memory_equal(&back, &c->value, sizeof back);
+	}
+}
+
+static void test_saturation_and_rounding(void **state)
+{
+	(void)state;
+	uint16_t w[4];
+	assert_int_equal(popc_reg_encode(40000, POPC_REG_INT16, POPC_WORDS_HI_LO, w), 1);
+	assert_int_equal(w[0], 0x7FFF);
+	assert_int_equal(popc_reg_encode(-1, POPC_REG_UINT16, POPC_WORDS_HI_LO, w), 1);
+	assert_int_equal(w[0], 0);
+	assert_int_equal(popc_reg_encode(NAN, POPC_REG_INT32, POPC_WORDS_HI_LO, w), 1);
+	assert_int_equal(w[0] | w[1], 0);
+	assert_int_equal(popc_reg_encode(2.5, POPC_REG_INT16, POPC_WORDS_HI_LO, w), 0);
+	assert_int_equal(w[0], 2); /* nearest, ties to even */
+	assert_int_equal(popc_reg_encode(-2.6, POPC_REG_INT16, POPC_WORDS_HI_LO, w), 0);
+	assert_int_equal(w[0], 0xFFFD);
+}
+
+/* every double survives float64 both ways, bit for bit (the exact command path) */
+static void test_float64_exact(void **state)
+{
+	(void)state;
+	uint64_t x = 0x9E3779B97F4A7C15u;
+	for (int i = 0; i < 10000; i++) {
+		x ^= x << 13;
+		x ^= x >> 7;
+		x ^= x << 17;
+		double v;
+		memcpy(&v, &x, sizeof v);
+		if (isnan(v))
+			continue;
+		uint16_t w[4];
+		popc_reg_encode(v, POPC_REG_FLOAT64, POPC_WORDS_LO_HI, w);
+		double back = popc_reg_decode(w, POPC_REG_FLOAT64, POPC_WORDS_LO_HI);
+		assert_memory_equal(&back, &v, sizeof v);
+	}
+}
+
+/* ---- map files ------------------------------------------------------------ */
+
+static const char *const good_map =
+	"[drive]\nslave = 3\nfc23 = yes\n"
+	"[position]\nregister = 100\ntype = int32\nword_order = lo-hi\ncounts_per_rev = 10000\n"
+	"lead_m = 0.01\ngear = 2\n"
+	"[command]\nregister = 200\ntype = int16\npercent_of_rated_per_unit = 0.1\n"
+	"rated_torque_Nm = 0.5\nlead_m = 0.01\nlimit_N = 20\n"
+	"[enable]\nregister = 300\non = 6, 7, 0x0F\noff = 6\n"
+	"[status]\nregister = 102\nready_mask = 0x27\nfault_mask = 0x08\n";
+
+static const char *write_map(const char *text)
+{
+	static char path[64];
+	snprintf(path, sizeof path, "/tmp/popc-test-map-%ld.ini", (long)getpid());
+	FILE *f = fopen(path, "w");
+	assert_non_null(f);
+	fputs(text, f);
+	fclose(f);
+	return path;
+}
+
+static void test_good_map(void **state)
+{
+	(void)state;
+	popc_register_map m;
+	popc_error err;
+	const char *path = write_map(good_map);
+	int st = popc_register_map_load(&m, path, &err);
+	if (st)
+		fail_msg("%s", err.msg);
+	assert_int_equal(m.slave, 3);
+	assert_int_equal(m.fc23, 1);
+	assert_int_equal(m.pos.order, POPC_WORDS_LO_HI);
+	/* counts_per_rev * gear / lead = 10000 * 2 / 0.01 */
+	assert_true(fabs(m.pos.counts_per_m - 2e6) < 1e-6);
+	/* 0.1 % of 0.5 N m through a 10 mm lead: 0.001 * 0.5 * 2 pi / 0.01 N */
+	assert_true(fabs(m.cmd.newton_per_unit - 0.001 * 0.5 * 2 * 3.14159265358979323846 / 0.01) < 1e-12);
+	assert_int_equal(m.enable.n_on, 3);
+	assert_int_equal(m.enable.on[2], 0x0F);
+	assert_int_equal(m.enable.off, 6);
+	assert_int_equal(m.status.ready_mask, 0x27);
+	assert_int_equal(m.timeout_ms, 20); /* defaults */
+	assert_int_equal(m.max_failures, 3);
+	assert_true(isinf(m.pos.soft_max_m));
+	unlink(path);
+}
+
+/* A bad map: replace the line starting with `from` by `to`; the message must
+ * hold `want` (file:line and key). */
+typedef struct bad_case {
+	const char *from, *to, *want;
+} bad_case;
+
+static const bad_case bad_cases[] = {
+	{"slave = 3", "slave = 0", ":2: drive.slave = 0: expected an integer in [1, 247]"},
+	{"slave = 3", "slave = 3\nslave = 4", ":3: drive.slave given twice"},
+	{"fc23 = yes", "fc23 = maybe", ":3: drive.fc23 = maybe: expected one of: no yes"},
+	{"type = int32", "type = int24", ":6: position.type = int24"},
+	{"lead_m = 0.01\ngear", "gear", "missing position.lead_m"},
+	{"counts_per_rev = 10000", "counts_per_rev = 10000\ncounts_per_m = 5", "not both"},
+	{"limit_N = 20", "limit_N = 20000", ":17: command.limit_N = 20000: limit_N in command units does not fit"},
+	{"limit_N = 20", "", "missing command.limit_N: the force clamp is not optional"},
+	{"register = 200", "register = 101", ":12: command.register = 101: overlaps the position registers"},
+	{"register = 102", "register = 101", ":23: status.register = 101: overlaps the position registers"},
+	{"off = 6", "off = 15", ":21: enable.off = 15: off must differ from the last on word"},
+	{"fault_mask = 0x08", "fault_mask = 0x21", ":25: status.fault_mask = 0x21: shares bits with ready_mask"},
+	{"[status]", "[statuss]", "unknown section [statuss]"},
+	{"gear = 2", "gearing = 2", ":10: unknown key position.gearing"},
+};
+
+static char *replace(const char *text, const char *from, const char *to)
+{
+	const char *at = strstr(text, from);
+	assert_non_null(at);
+	size_t n = strlen(text) + strlen(to) + 1;
+	char *out = malloc(n);
+	assert_non_null(out);
+	snprintf(out, n, "%.*s%s%s", (int)(at - text), text, to, at + strlen(from));
+	return out;
+}
+
+static void test_bad_maps(void **state)
+{
+	(void)state;
+	for (size_t i = 0; i < sizeof bad_cases / sizeof bad_cases[0]; i++) {
+		const bad_case *c = &bad_cases[i];
+		char *text = replace(good_map, c->from, c->to);
+		const char *path = write_map(text);
+		free(text);
+		popc_register_map m;
+		popc_error err;
+		int st = popc_register_map_load(&m, path, &err);
+		unlink(path);
+		if (st != POPC_ERR_INVALID)
+			fail_msg("case %zu (%s): status %d, want invalid", i, c->to, st);
+		if (!strstr(err.msg, c->want) || !strstr(err.msg, path))
+			fail_msg("case %zu: message '%s' lacks '%s' or the file name", i, err.msg, c->want);
+	}
+}
+
+/* the maps shipped in data/drives/ all load */
+static void test_shipped_maps(void **state)
+{
+	(void)state;
+	static const char *const names[] = {"generic.ini", "popc-exact.ini", "hilo-percent-torque.ini",
+					    "lohi-int32.ini", "cia402.ini"};
+	const char *root = getenv("POPC_SOURCE_ROOT");
+	if (!root)
+		skip();
+	for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
+		char path[1024];
+		snprintf(path, sizeof path, "%s/data/drives/%s", root, names[i]);
+		popc_register_map m;
+		popc_error err;
+		if (popc_register_map_load(&m, path, &err))
+			fail_msg("%s", err.msg);
+	}
+}
+
+/* ---- URIs ----------------------------------------------------------------- */
+
+typedef struct uri_case {
+	const char *text;
+	int ok;
+	const char *canonical;
+} uri_case;
+
+static const uri_case uri_cases[] = {
+	{"tcp:127.0.0.1:1502", 1, "tcp:127.0.0.1:1502"},
+	{"tcp:localhost", 1, "tcp:localhost:502"},
+	{"tcp:[::1]:5020", 1, "tcp:[::1]:5020"},
+	{"rtu:/dev/ttyUSB0", 1, "rtu:/dev/ttyUSB0:19200:8E1"},
+	{"rtu:/dev/ttyS1:115200:8N1", 1, "rtu:/dev/ttyS1:115200:8N1"},
+	{"rtu:/dev/ttyS1:115200", 1, "rtu:/dev/ttyS1:115200:8E1"},
+	{"tcp:127.0.0.1:70000", 0, NULL},
+	{"tcp::502", 0, NULL},
+	{"tcp:[::1", 0, NULL},
+	{"rtu:/dev/ttyS1:fast", 0, NULL},
+	{"rtu:/dev/ttyS1:9600:9N1", 0, NULL},
+	{"udp:1.2.3.4:502", 0, NULL},
+	{"rtu:", 0, NULL},
+};
+
+static void test_uris(void **state)
+{
+	(void)state;
+	for (size_t i = 0; i < sizeof uri_cases / sizeof uri_cases[0]; i++) {
+		const uri_case *c = &uri_cases[i];
+		popc_modbus_uri u;
+		popc_error err;
+		int st = popc_modbus_uri_parse(c->text, &u, &err);
+		if (!c->ok) {
+			if (st != POPC_ERR_INVALID || !strstr(err.msg, c->text))
+				fail_msg("%s: accepted or message without the URI", c->text);
+			continue;
+		}
+		if (st)
+			fail_msg("%s: %s", c->text, err.msg);
+		char buf[1200];
+		popc_modbus_uri_format(&u, buf, sizeof buf);
+		assert_string_equal(buf, c->canonical);
+	}
+}
+
+/* ---- latency histogram --------------------------------------------------- */
+
+static void test_histogram(void **state)
+{
+	(void)state;
+	static popc_histogram h; /* 70 kB: static, not on the stack */
+	popc_histogram_init(&h);
+	assert_true(popc_histogram_quantile_s(&h, 0.5) == 0.0);
+	/* 1, 2, ..., 100000 us: the q-quantile is q * 100000 us (nearest rank) */
+	for (int64_t us = 1; us <= 100000; us++)
+		popc_histogram_add(&h, us * 1000);
+	const double q[] = {0.5, 0.99, 0.999, 1.0};
+	for (size_t i = 0; i < 4; i++) {
+		double want = q[i] * 0.1, got = popc_histogram_quantile_s(&h, q[i]);
+		/* the upper edge of the bucket: never below, at most 1/128 above */
+		if (!(got >= want && got <= want * (1.0 + 1.0 / 128)))
+			fail_msg("q %g: %.9g s, want %.9g s (+0.8 %%)", q[i], got, want);
+	}
+	assert_true(popc_histogram_max_s(&h) == 0.1);
+	assert_true(fabs(popc_histogram_mean_s(&h) - 0.05000050) < 1e-12);
+	/* small values are exact, huge ones land in the top bucket */
+	popc_histogram_init(&h);
+	popc_histogram_add(&h, 7);
+	assert_true(fabs(popc_histogram_quantile_s(&h, 0.5) - 7e-9) < 1e-20);
+	popc_histogram_add(&h, INT64_MAX);
+	assert_true(popc_histogram_quantile_s(&h, 1.0) > 1e3);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_words),
+		cmocka_unit_test(test_saturation_and_rounding),
+		cmocka_unit_test(test_float64_exact),
+		cmocka_unit_test(test_good_map),
+		cmocka_unit_test(test_bad_maps),
+		cmocka_unit_test(test_shipped_maps),
+		cmocka_unit_test(test_uris),
+		cmocka_unit_test(test_histogram),
+	};
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}
