@@ -35,6 +35,21 @@
 #define GROWTH_MAX 10.0
 #define RHO_MARGIN 1e-12
 
+/* Energy balance. For M x'' = u - B x' - K x the plant's energy
+ * E = M v^2 / 2 + K x^2 / 2 obeys dE/dt = u v - B v^2 <= u v: it can never
+ * exceed E(0) plus the work of its inputs (the operator's pull and -f_c).
+ * A fixed-step integrator's surplus, C = E(k) - E(0) - sum of the input work
+ * (midpoint rule per period, u(t + T/2) (x(k+1) - x(k)), exact for an input
+ * held over the period), is energy the integrator made up. The run stops
+ * when C exceeds ENERGY_SURPLUS_MAX times the largest energy the plant held
+ * (plus one count's worth): then the motion is made up, not simulated. This
+ * catches the closed-loop case the shadow cannot: the exact shadow gets the
+ * same commands, so an integrator whose garbage drives the PC drags its
+ * shadow with it. A passive plant, a trapezoid (energy-conserving) and RK4
+ * (dissipative) keep C <= 0 up to rounding and the work estimate's error;
+ * semi-implicit Euler's energy error stays bounded by its modified energy. */
+#define ENERGY_SURPLUS_MAX 1.0
+
 typedef struct sim_axis {
 	popc_scene scene;
 	popc_plant plant, exact;   /* exact: the reference the integrator is measured against */
@@ -46,6 +61,7 @@ typedef struct sim_axis {
 	double max_error_m;
 	double x_exact_min_m, x_exact_max_m; /* range of the exact trajectory so far */
 	double rho;                /* integrator's free-motion growth per period (1 if exact) */
+	double energy_J, energy_peak_J, surplus_J, energy_floor_J; /* energy balance */
 	long long k_unstable;      /* first tick whose growth rho^k passes GROWTH_MAX */
 	popc_intent_segment seg;   /* the intent segment of the current tick (fast path) */
 } sim_axis;
@@ -129,15 +145,22 @@ static int sim_sample(popc_axis *a, popc_axis_sample *out, popc_error *err)
 		char what[96];
 		snprintf(what, sizeof what, "the plant diverged (x = %g m, v = %g m/s)", s->st.x_m,
 			 s->st.v_mps);
-		if (s->shadow)
+		/* an integrator that diverges together with its exact shadow (fed the
+		 * same commands) only follows the physics */
+		int with_shadow = s->shadow && isfinite(s->st.x_m) &&
+				  fabs(s->st.x_m - s->st_exact.x_m) < 0.5 * fabs(s->st.x_m);
+		if (s->scene.integrator != POPC_INTEGRATOR_EXACT && !with_shadow)
 			return integrator_failed(s, what, err);
 		return popc_error_set(
 			err, POPC_ERR_NUMERIC,
-			"%s at t = %.9g s (tick %lld) with the exact integrator, which is exact for any "
-			"step: the closed loop of this scene is unstable (the physics, not the "
-			"integrator); add damping, lower the wall stiffness or raise the control rate "
-			"(a sampled wall is passive for b > K_e T / 2), or use a PC variant",
-			what, (double)s->k * s->period_s, s->k);
+			"%s at t = %.9g s (tick %lld) %s: the closed loop of this scene is unstable "
+			"(the physics, not the integrator); add damping, lower the wall stiffness or "
+			"raise the control rate (a sampled wall is passive for b > K_e T / 2), or use a "
+			"PC variant",
+			what, (double)s->k * s->period_s, s->k,
+			s->scene.integrator == POPC_INTEGRATOR_EXACT
+				? "with the exact integrator, which is exact for any step"
+				: "and so does the exact integrator fed the same commands");
 	}
 	return 0;
 }
@@ -210,7 +233,31 @@ static int sim_exchange(popc_axis *a, double f_c_N, popc_axis_sample *next, popc
 			 g, g * g, GROWTH_MAX);
 		return integrator_failed(s, what, err);
 	}
+	double x_before = s->st.x_m;
 	advance(s, &s->plant, &s->st, f_c_N);
+	{
+		/* energy balance (ENERGY_SURPLUS_MAX) */
+		const popc_plant_config *c = &s->plant.cfg;
+		popc_plant_input um;
+		double nb, t_mid = ((double)s->k + 0.5) * s->period_s;
+		popc_intent_input(&s->intent, t_mid, &um, &nb);
+		double work = (um.u0_N + um.uc_N - f_c_N) * (s->st.x_m - x_before);
+		double e = 0.5 * c->mass_kg * s->st.v_mps * s->st.v_mps +
+			   0.5 * c->stiffness_Npm * s->st.x_m * s->st.x_m;
+		s->surplus_J += (e - s->energy_J) - work;
+		s->energy_J = e;
+		s->energy_peak_J = fmax(s->energy_peak_J, e);
+		double bound = ENERGY_SURPLUS_MAX * (s->energy_peak_J + s->energy_floor_J);
+		if (s->surplus_J > bound && isfinite(s->surplus_J)) {
+			s->k++;
+			char what[200];
+			snprintf(what, sizeof what,
+				 "energy growth beyond the bound: it made up %.3g J that no input "
+				 "supplied, more than %g x the most energy the plant held (%.3g J)",
+				 s->surplus_J, ENERGY_SURPLUS_MAX, s->energy_peak_J);
+			return integrator_failed(s, what, err);
+		}
+	}
 	if (s->shadow) {
 		advance(s, &s->exact, &s->st_exact, f_c_N);
 		double x_ex = s->st_exact.x_m, e = fabs(s->st.x_m - x_ex);
@@ -307,6 +354,11 @@ int popc_sim_axis_create(popc_axis **out, const popc_scene *sc, popc_error *err)
 	s->st.x_m = popc_intent_x_initial(&s->intent);
 	s->st_exact = s->st;
 	s->x_exact_min_m = s->x_exact_max_m = s->st.x_m;
+	s->energy_J = s->energy_peak_J =
+		0.5 * cfg.stiffness_Npm * s->st.x_m * s->st.x_m; /* at rest */
+	/* one encoder count of the spring plus one count per period of motion */
+	s->energy_floor_J = 0.5 * cfg.stiffness_Npm * s->delta_m * s->delta_m +
+			    0.5 * cfg.mass_kg * (s->delta_m / s->period_s) * (s->delta_m / s->period_s);
 	s->seg.t_lo_s = s->seg.t_next_s = 0.0; /* empty: looked up on the first step */
 	a->ops = &sim_ops;
 	a->priv = s;
@@ -318,7 +370,19 @@ double popc_sim_axis_max_error(const popc_axis *a)
 {
 	if (!a || a->ops != &sim_ops)
 		return 0.0;
-	return ((const sim_axis *)a->priv)->max_error_m;
+	const sim_axis *s = a->priv;
+	if (s->scene.integrator != POPC_INTEGRATOR_EXACT && !s->shadow)
+		return NAN;
+	return s->max_error_m;
+}
+
+void popc_sim_axis_set_shadow(popc_axis *a, int on)
+{
+	if (!a || a->ops != &sim_ops)
+		return;
+	sim_axis *s = a->priv;
+	if (s->scene.integrator != POPC_INTEGRATOR_EXACT)
+		s->shadow = on != 0;
 }
 
 void popc_axis_destroy(popc_axis **a)

@@ -44,6 +44,12 @@ int popc_sim_axis_create(popc_axis **out, const popc_scene *s, popc_error *err);
  * alongside the run (0 for the exact method). */
 double popc_sim_axis_max_error(const popc_axis *a);
 
+/* Turns the exact shadow of a simulated axis with a fixed-step integrator off
+ * (on = 0) or back on, so that a benchmark times the integrator alone; with
+ * the shadow off popc_sim_axis_max_error reports NaN and only the growth bound
+ * and the divergence check guard the run. No effect on an exact or non-sim axis. */
+void popc_sim_axis_set_shadow(popc_axis *a, int on);
+
 void popc_axis_destroy(popc_axis **a);
 
 #endif

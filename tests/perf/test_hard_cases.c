@@ -1,0 +1,428 @@
+/* Hard cases (issue 5): stiff walls and plants, tiny and large masses, zero
+ * damping, coarse and fine encoders, slow and fast control rates, with every
+ * integrator. What must hold on every run:
+ *   - the run either completes or stops with POPC_ERR_NUMERIC (exit 6);
+ *   - every force command that reaches the axis is finite, the PC force never
+ *     exceeds its bound, and every sample the loop logs is finite;
+ *   - a fixed-step integrator that is stopped says which integrator, its step
+ *     and a stable alternative; an exact run that stops blames the physics;
+ *   - a run that completes stays within the sim axis' error bound;
+ *   - where linear theory says an integrator is unstable fast (RK4, Euler and
+ *     semi-implicit Euler beyond their stability limits), the run is stopped
+ *     before a state past the growth bound is ever sampled;
+ *   - where the physics is bounded (no contact, undamped hand spring), the
+ *     exact integrator stays within the energy bound of the motion.
+ * "--slow" adds the one-hour runs (3.6e6 ticks). */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "popc/axis.h"
+#include "popc/run.h"
+
+/* ---- a checking axis: wraps the sim axis, checks what crosses it ---- */
+
+typedef struct checker {
+	popc_axis *inner;
+	long long exchanges, bad_commands, bad_samples;
+	double x_min_m, x_max_m;
+} checker;
+
+static int ck_start(popc_axis *a, popc_error *err)
+{
+	checker *c = a->priv;
+	return c->inner->ops->start(c->inner, err);
+}
+
+static void ck_seen(checker *c, const popc_axis_sample *smp)
+{
+	if (!isfinite(smp->x_true_m))
+		c->bad_samples++;
+	c->x_min_m = fmin(c->x_min_m, smp->x_true_m);
+	c->x_max_m = fmax(c->x_max_m, smp->x_true_m);
+}
+
+static int ck_sample(popc_axis *a, popc_axis_sample *out, popc_error *err)
+{
+	checker *c = a->priv;
+	int st = c->inner->ops->sample(c->inner, out, err);
+	if (!st)
+		ck_seen(c, out);
+	return st;
+}
+
+static int ck_exchange(popc_axis *a, double f_c_N, popc_axis_sample *next, popc_error *err)
+{
+	checker *c = a->priv;
+	c->exchanges++;
+	if (!isfinite(f_c_N))
+		c->bad_commands++;
+	int st = c->inner->ops->exchange(c->inner, f_c_N, next, err);
+	if (!st) /* only a sample that the loop goes on with is logged */
+		ck_seen(c, next);
+	return st;
+}
+
+static int ck_stop(popc_axis *a, popc_error *err)
+{
+	checker *c = a->priv;
+	return c->inner->ops->stop(c->inner, err);
+}
+
+static void ck_destroy(popc_axis *a)
+{
+	(void)a;
+}
+
+static const popc_axis_ops checker_ops = {
+	.name = "sim",
+	.log_columns = POPC_LOG_COL_X_TRUE,
+	.start = ck_start,
+	.sample = ck_sample,
+	.exchange = ck_exchange,
+	.stop = ck_stop,
+	.report = NULL,
+	.destroy = ck_destroy,
+};
+
+typedef struct hard_case {
+	double wall_Npm, mass_kg, resolution_m, rate_Hz, plant_stiffness_Npm;
+	popc_variant variant;
+	popc_integrator method;
+	int substeps;
+	double duration_s;
+} hard_case;
+
+typedef struct outcome {
+	int status;
+	popc_run_summary sum;
+	popc_error err;
+	checker ck;
+} outcome;
+
+static void scene_for(const hard_case *h, popc_scene *s)
+{
+	popc_scene_defaults(s);
+	s->duration_s = h->duration_s;
+	s->rate_Hz = h->rate_Hz;
+	/* the hand and the device share the mass; zero damping everywhere */
+	s->op_mass_kg = s->dev_mass_kg = h->mass_kg / 2;
+	s->op_damping_Nspm = s->dev_damping_Nspm = s->env_damping_Nspm = 0.0;
+	s->dev_stiffness_Npm = h->plant_stiffness_Npm;
+	s->env_stiffness_Npm = h->wall_Npm;
+	s->enc_resolution_m = h->resolution_m;
+	s->variant = h->variant;
+	s->integrator = h->method;
+	s->substeps = h->substeps;
+}
+
+static void run_case(const hard_case *h, outcome *o)
+{
+	popc_scene s;
+	scene_for(h, &s);
+	popc_error err;
+	if (popc_scene_validate(&s, &err) != 0)
+		fail_msg("scene invalid: %s", err.msg);
+	memset(o, 0, sizeof *o);
+	o->ck.x_min_m = INFINITY;
+	o->ck.x_max_m = -INFINITY;
+	assert_int_equal(popc_sim_axis_create(&o->ck.inner, &s, &err), 0);
+	popc_axis ax = {.ops = &checker_ops, .priv = &o->ck};
+	o->status = popc_run(&s, &ax, NULL, &o->sum, &o->err);
+	/* the summary asked the wrapper; the error lives in the sim axis */
+	o->sum.integrator_error_m = popc_sim_axis_max_error(o->ck.inner);
+	popc_axis_destroy(&o->ck.inner);
+}
+
+static void describe(const hard_case *h, char *buf, size_t cap)
+{
+	snprintf(buf, cap, "K_e %g, M %g, delta %g, %g Hz, K_plant %g, %s, %s x %d", h->wall_Npm,
+		 h->mass_kg, h->resolution_m, h->rate_Hz, h->plant_stiffness_Npm,
+		 popc_variant_name(h->variant), popc_integrator_name(h->method), h->substeps);
+}
+
+/* The scene defaults' PC bound (the grid leaves it at its default). */
+static double default_pc_bound(void)
+{
+	popc_scene s;
+	popc_scene_defaults(&s);
+	return s.pc_bound_N;
+}
+
+/* The checks that hold on every run. */
+static void check_invariants(const hard_case *h, const outcome *o)
+{
+	char what[256];
+	describe(h, what, sizeof what);
+	if (o->status != 0 && o->status != POPC_ERR_NUMERIC)
+		fail_msg("%s: status %d: %s", what, o->status, o->err.msg);
+	if (o->ck.bad_commands)
+		fail_msg("%s: %lld non-finite force commands reached the axis", what, o->ck.bad_commands);
+	if (o->ck.bad_samples)
+		fail_msg("%s: %lld non-finite samples were logged", what, o->ck.bad_samples);
+	if (!(o->sum.metrics.all.pc_max_N <= default_pc_bound()))
+		fail_msg("%s: PC force %g N beyond its bound", what, o->sum.metrics.all.pc_max_N);
+	if (o->status == POPC_ERR_NUMERIC) {
+		if (h->method == POPC_INTEGRATOR_EXACT || strstr(o->err.msg, "the physics")) {
+			/* exact, or a fixed-step run that diverged with its exact shadow */
+			if (!strstr(o->err.msg, "exact integrator") || !strstr(o->err.msg, "physics"))
+				fail_msg("%s: an exact run must blame the physics: %s", what, o->err.msg);
+		} else {
+			char name[96];
+			snprintf(name, sizeof name, "integrator %s with %d substeps",
+				 popc_integrator_name(h->method), h->substeps);
+			if (!strstr(o->err.msg, name) || !strstr(o->err.msg, "step h =") ||
+			    !strstr(o->err.msg, "use integrator.method = exact"))
+				fail_msg("%s: the message must name the integrator, its step and a stable "
+					 "alternative: %s",
+					 what, o->err.msg);
+		}
+	} else if (h->method != POPC_INTEGRATOR_EXACT) {
+		/* completed: the error stays below the sim axis' stop bound,
+		 * 10 x (range + 1 count), and the range is at most what was sampled */
+		double bound = 10.0 * (o->ck.x_max_m - o->ck.x_min_m + o->sum.integrator_error_m +
+				       h->resolution_m);
+		if (!(o->sum.integrator_error_m <= bound))
+			fail_msg("%s: completed with error %g m beyond the bound %g m", what,
+				 o->sum.integrator_error_m, bound);
+	}
+}
+
+static const double walls[] = {1e2, 1e4, 1e6};
+static const double masses[] = {1e-3, 1.0, 10.0};
+static const double resolutions[] = {1e-8, 1e-5, 1e-3};
+static const double rates[] = {100.0, 1000.0, 20000.0};
+#define N(a) (sizeof(a) / sizeof((a)[0]))
+
+/* The grid: wall stiffness x mass x resolution x rate, a soft (hand only) and a
+ * stiff plant (device stiffness = wall stiffness), with PC (ref-energy) and
+ * without (none), every integrator at one substep (where fixed-step
+ * integrators are weakest) and trapezoid at the paper's 100. */
+static void test_grid(void **state)
+{
+	(void)state;
+	static const popc_integrator methods[] = {
+		POPC_INTEGRATOR_EXACT, POPC_INTEGRATOR_TRAPEZOID, POPC_INTEGRATOR_RK4,
+		POPC_INTEGRATOR_SEMI_IMPLICIT_EULER, POPC_INTEGRATOR_EULER,
+	};
+	long runs = 0, stopped_fixed = 0, stopped_exact = 0, stopped_physics = 0;
+	for (size_t a = 0; a < N(walls); a++)
+		for (size_t b = 0; b < N(masses); b++)
+			for (size_t c = 0; c < N(resolutions); c++)
+				for (size_t d = 0; d < N(rates); d++)
+					for (int stiff = 0; stiff < 2; stiff++)
+						for (int pc = 0; pc < 2; pc++)
+							for (size_t m = 0; m < N(methods); m++) {
+								hard_case h = {
+									.wall_Npm = walls[a],
+									.mass_kg = masses[b],
+									.resolution_m = resolutions[c],
+									.rate_Hz = rates[d],
+									.plant_stiffness_Npm = stiff ? walls[a] : 0.0,
+									.variant = pc ? POPC_VARIANT_REF_ENERGY
+										      : POPC_VARIANT_NONE,
+									.method = methods[m],
+									.substeps = 1,
+									/* 0.6 s: into contact (the ramp starts
+									 * at 0.5 s) at every rate, bounded cost */
+									.duration_s = 0.6,
+								};
+								outcome o;
+								run_case(&h, &o);
+								check_invariants(&h, &o);
+								runs++;
+								if (o.status && methods[m] == POPC_INTEGRATOR_EXACT)
+									stopped_exact++;
+								else if (o.status && strstr(o.err.msg, "the physics"))
+									stopped_physics++;
+								else if (o.status)
+									stopped_fixed++;
+							}
+	printf("# hard-case grid: %ld runs, %ld fixed-step runs stopped as unstable, %ld exact and "
+	       "%ld fixed-step runs stopped by unstable physics\n",
+	       runs, stopped_fixed, stopped_exact, stopped_physics);
+	/* the grid holds cases far beyond every explicit method's stability
+	 * limit (M = 1e-3 kg, K = 1e6 N/m at 100 Hz: h w = 316), so some stop */
+	assert_true(stopped_fixed > 0);
+}
+
+/* Beyond the stability limit: the run stops at once, before any state past
+ * the growth bound is sampled (only tick 0 is logged). A stiff plant (device
+ * stiffness 1e6 N/m, M = 1e-3 kg) at 100 Hz without contact (the wall beyond
+ * reach), so the physics is bounded: h w = 0.01 s x sqrt(1e6 / 1e-3) = 316,
+ * far past RK4's limit (2.83) and semi-implicit Euler's (2). */
+static void run_stiff_no_contact(popc_integrator m, outcome *o)
+{
+	hard_case h = {1e6, 1e-3, 1e-5, 100.0, 1e6, POPC_VARIANT_REF_ENERGY, m, 1, 0.6};
+	popc_scene s;
+	scene_for(&h, &s);
+	s.env_position_m = 1.0;
+	popc_error err;
+	assert_int_equal(popc_scene_validate(&s, &err), 0);
+	memset(o, 0, sizeof *o);
+	o->ck.x_min_m = INFINITY;
+	o->ck.x_max_m = -INFINITY;
+	assert_int_equal(popc_sim_axis_create(&o->ck.inner, &s, &err), 0);
+	popc_axis ax = {.ops = &checker_ops, .priv = &o->ck};
+	o->status = popc_run(&s, &ax, NULL, &o->sum, &o->err);
+	/* the summary asked the wrapper; the error lives in the sim axis */
+	o->sum.integrator_error_m = popc_sim_axis_max_error(o->ck.inner);
+	popc_axis_destroy(&o->ck.inner);
+	check_invariants(&h, o);
+}
+
+static void test_far_beyond_stability_stops_at_once(void **state)
+{
+	(void)state;
+	static const popc_integrator methods[] = {POPC_INTEGRATOR_RK4,
+						  POPC_INTEGRATOR_SEMI_IMPLICIT_EULER,
+						  POPC_INTEGRATOR_EULER};
+	for (size_t m = 0; m < N(methods); m++) {
+		outcome o;
+		run_stiff_no_contact(methods[m], &o);
+		assert_int_equal(o.status, POPC_ERR_NUMERIC);
+		assert_true(o.sum.ticks <= 1);
+		assert_non_null(strstr(o.err.msg, "is unstable for this plant"));
+		assert_true(o.ck.x_max_m - o.ck.x_min_m <= 0.0); /* nothing moved: nothing logged */
+	}
+	/* the exact step is exact for any h, and the trapezoidal rule is A-stable:
+	 * both complete the same case */
+	outcome o;
+	run_stiff_no_contact(POPC_INTEGRATOR_EXACT, &o);
+	assert_int_equal(o.status, 0);
+	run_stiff_no_contact(POPC_INTEGRATOR_TRAPEZOID, &o);
+	assert_int_equal(o.status, 0);
+}
+
+/* Bounded physics: no contact (the wall far beyond the ramp's end), an
+ * undamped hand spring. The operator's ramp does finite work, so the motion
+ * is bounded: about x_d within the ramp's speed over the natural frequency.
+ * The exact integrator must stay bounded and complete. */
+static void test_exact_bounded_where_physics_is(void **state)
+{
+	(void)state;
+	for (size_t b = 0; b < N(masses); b++)
+		for (size_t d = 0; d < N(rates); d++) {
+			hard_case h = {1e6, masses[b], 1e-8, rates[d], 0.0, POPC_VARIANT_REF_ENERGY,
+				       POPC_INTEGRATOR_EXACT, 1, 3.0};
+			popc_scene s;
+			scene_for(&h, &s);
+			s.env_position_m = 1.0; /* never reached: x_end = 0.03 m */
+			popc_error err;
+			assert_int_equal(popc_scene_validate(&s, &err), 0);
+			outcome o;
+			memset(&o, 0, sizeof o);
+			o.ck.x_min_m = INFINITY;
+			o.ck.x_max_m = -INFINITY;
+			assert_int_equal(popc_sim_axis_create(&o.ck.inner, &s, &err), 0);
+			popc_axis ax = {.ops = &checker_ops, .priv = &o.ck};
+			o.status = popc_run(&s, &ax, NULL, &o.sum, &o.err);
+			popc_axis_destroy(&o.ck.inner);
+			assert_int_equal(o.status, 0);
+			/* a ramp of speed V into an undamped spring-mass leaves an
+			 * oscillation of amplitude V / w about x_d: x stays within
+			 * [x0 - V/w, x_end + V/w] */
+			double w = sqrt(s.op_stiffness_Npm / (s.op_mass_kg + s.dev_mass_kg));
+			double slack = 2.0 * s.op_speed_mps / w * 1.01 + 1e-12;
+			if (!(o.ck.x_min_m >= s.op_x0_m - slack && o.ck.x_max_m <= s.op_x_end_m + slack))
+				fail_msg("M %g, %g Hz: x in [%g, %g] leaves [%g, %g]", masses[b], rates[d],
+					 o.ck.x_min_m, o.ck.x_max_m, s.op_x0_m - slack, s.op_x_end_m + slack);
+		}
+}
+
+/* One hour at 1 kHz (3.6e6 ticks). */
+static void one_hour(popc_integrator m, int substeps, double damping, outcome *o)
+{
+	hard_case h = {1e3, 0.3, 1e-5, 1000.0, 0.0, POPC_VARIANT_REF_ENERGY, m, substeps, 3600.0};
+	popc_scene s;
+	scene_for(&h, &s);
+	s.op_damping_Nspm = damping;
+	popc_error err;
+	assert_int_equal(popc_scene_validate(&s, &err), 0);
+	memset(o, 0, sizeof *o);
+	o->ck.x_min_m = INFINITY;
+	o->ck.x_max_m = -INFINITY;
+	assert_int_equal(popc_sim_axis_create(&o->ck.inner, &s, &err), 0);
+	popc_axis ax = {.ops = &checker_ops, .priv = &o->ck};
+	o->status = popc_run(&s, &ax, NULL, &o->sum, &o->err);
+	/* the summary asked the wrapper; the error lives in the sim axis */
+	o->sum.integrator_error_m = popc_sim_axis_max_error(o->ck.inner);
+	popc_axis_destroy(&o->ck.inner);
+	char what[256];
+	describe(&h, what, sizeof what);
+	printf("# one hour, %s, damping %g: status %d, %lld ticks, error %g m, x in [%g, %g]%s%s\n",
+	       what, damping, o->status, o->sum.ticks, o->sum.integrator_error_m, o->ck.x_min_m,
+	       o->ck.x_max_m, o->status ? ": " : "", o->status ? o->err.msg : "");
+	check_invariants(&h, o);
+}
+
+static void test_one_hour_exact_paper(void **state)
+{
+	(void)state;
+	outcome o;
+	one_hour(POPC_INTEGRATOR_EXACT, 1, 0.5, &o);
+	assert_int_equal(o.status, 0);
+	assert_int_equal(o.sum.ticks, 3600001);
+}
+
+/* Explicit Euler on an undamped plant amplifies by sqrt(1 + (h w)^2) > 1 per
+ * step: over an hour it must be stopped, never run to garbage. Two bounds
+ * guard it: the free-motion growth rho^k > 10 (at k = ln 10 / ln rho, about
+ * 27600 ticks at h w = 0.0129) and, earlier, the energy balance: measured, it
+ * stops at tick 3509 having made up as much energy as the plant held, while
+ * the logged motion is still within the physical range (|x| < 0.02 m; the
+ * stable integrators below stay within [-0.01, 0.004] m). */
+static void test_one_hour_euler_undamped_stops(void **state)
+{
+	(void)state;
+	outcome o;
+	one_hour(POPC_INTEGRATOR_EULER, 1, 0.0, &o);
+	assert_int_equal(o.status, POPC_ERR_NUMERIC);
+	assert_non_null(strstr(o.err.msg, "energy growth beyond the bound"));
+	double w = sqrt(50.0 / 0.3), hw = 1e-3 * w;
+	double k_growth = log(10.0) / log(sqrt(1.0 + hw * hw));
+	assert_true((double)o.sum.ticks <= k_growth + 1.0);
+	if (!(o.ck.x_min_m > -0.05 && o.ck.x_max_m < 0.05))
+		fail_msg("the logged motion [%g, %g] m is already garbage", o.ck.x_min_m, o.ck.x_max_m);
+}
+
+/* Stable integrators on an undamped plant for an hour: semi-implicit Euler
+ * (symplectic, |eigenvalues| = 1), trapezoid (A-stable), RK4 (slightly
+ * dissipative at h w = 0.013) complete. */
+static void test_one_hour_stable_integrators_complete(void **state)
+{
+	(void)state;
+	static const popc_integrator methods[] = {POPC_INTEGRATOR_SEMI_IMPLICIT_EULER,
+						  POPC_INTEGRATOR_TRAPEZOID, POPC_INTEGRATOR_RK4};
+	for (size_t m = 0; m < N(methods); m++) {
+		outcome o;
+		one_hour(methods[m], 1, 0.0, &o);
+		assert_int_equal(o.status, 0);
+		assert_int_equal(o.sum.ticks, 3600001);
+	}
+}
+
+int main(int argc, char **argv)
+{
+	int slow = argc > 1 && strcmp(argv[1], "--slow") == 0;
+	const struct CMUnitTest quick[] = {
+		cmocka_unit_test(test_grid),
+		cmocka_unit_test(test_far_beyond_stability_stops_at_once),
+		cmocka_unit_test(test_exact_bounded_where_physics_is),
+	};
+	const struct CMUnitTest hour[] = {
+		cmocka_unit_test(test_one_hour_exact_paper),
+		cmocka_unit_test(test_one_hour_euler_undamped_stops),
+		cmocka_unit_test(test_one_hour_stable_integrators_complete),
+	};
+	if (slow)
+		return cmocka_run_group_tests_name("hard cases, one hour", hour, NULL, NULL);
+	return cmocka_run_group_tests_name("hard cases", quick, NULL, NULL);
+}
