@@ -50,6 +50,7 @@ static void usage(FILE *f)
 	      "                           lo:hi:n:log (evenly spaced in log); e.g.\n"
 	      "                           --vary controller.variant=none,ref-energy,improved\n"
 	      "                           --vary encoder.resolution=1e-6:1e-4:5:log\n"
+	      "  --set section.key=value  a fixed override of the base scene (repeatable)\n"
 	      "  -o, --output DIR         the sweep directory (created if needed)\n"
 	      "  -j, --jobs N             parallel runs (default: SLURM_CPUS_PER_TASK, else\n"
 	      "                           every online core)\n"
@@ -74,7 +75,7 @@ static void usage(FILE *f)
 	      f);
 }
 
-enum { OPT_VARY = 256, OPT_NO_LOG, OPT_SHARD, OPT_LIST, OPT_PROGRAM };
+enum { OPT_VARY = 256, OPT_SET, OPT_NO_LOG, OPT_SHARD, OPT_LIST, OPT_PROGRAM };
 
 /* ---- progress ---------------------------------------------------------------- */
 
@@ -609,6 +610,7 @@ int popc_cmd_sweep(int argc, char **argv)
 		return cmd_merge(argc - 1, argv + 1);
 	static const struct option opts[] = {
 		{"vary", required_argument, NULL, OPT_VARY},
+		{"set", required_argument, NULL, OPT_SET},
 		{"output", required_argument, NULL, 'o'},
 		{"jobs", required_argument, NULL, 'j'},
 		{"no-log", no_argument, NULL, OPT_NO_LOG},
@@ -619,19 +621,21 @@ int popc_cmd_sweep(int argc, char **argv)
 		{"help", no_argument, NULL, 'h'},
 		{NULL, 0, NULL, 0},
 	};
-	char **vary = NULL;
-	int n_vary = 0, quiet = 0, keep_log = 1, list = 0, c;
+	char **vary = NULL, **sets = NULL;
+	int n_sets = 0, n_vary = 0, quiet = 0, keep_log = 1, list = 0, c;
 	long jobs = 0;
 	const char *dir = NULL, *shard_text = NULL, *program = NULL;
 	optind = 1;
 	while ((c = getopt_long(argc, argv, "o:j:qh", opts, NULL)) != -1) {
 		switch (c) {
 		case OPT_VARY: popc_cli_push(&vary, &n_vary, optarg); break;
+		case OPT_SET: popc_cli_push(&sets, &n_sets, optarg); break;
 		case 'o': dir = optarg; break;
 		case 'j':
 			if (popc_cli_parse_long(optarg, 1, 4096, &jobs) != 0) {
 				fprintf(stderr, "popc sweep: -j '%s': a whole number in [1, 4096]\n", optarg);
 				free(vary);
+				free(sets);
 				return 2;
 			}
 			break;
@@ -640,8 +644,8 @@ int popc_cmd_sweep(int argc, char **argv)
 		case OPT_LIST: list = 1; break;
 		case OPT_PROGRAM: program = optarg; break;
 		case 'q': quiet = 1; break;
-		case 'h': usage(stdout); free(vary); return 0;
-		default: usage(stderr); free(vary); return 2;
+		case 'h': usage(stdout); free(vary); free(sets); return 0;
+		default: usage(stderr); free(vary); free(sets); return 2;
 		}
 	}
 	const char *why = optind >= argc       ? "missing SCENE file"
@@ -653,6 +657,7 @@ int popc_cmd_sweep(int argc, char **argv)
 		fprintf(stderr, "popc sweep: %s\n", why);
 		usage(stderr);
 		free(vary);
+		free(sets);
 		return 2;
 	}
 	const char *scene_path = argv[optind];
@@ -660,7 +665,8 @@ int popc_cmd_sweep(int argc, char **argv)
 	/* plan everything, and check every run's scene, before anything runs */
 	popc_scene base;
 	popc_error err;
-	int st = popc_cli_load_scene(&base, scene_path, NULL, 0, &err);
+	int st = popc_cli_load_scene(&base, scene_path, sets, n_sets, &err);
+	free(sets);
 	if (st) {
 		free(vary);
 		return popc_cli_fail("sweep", st, &err);

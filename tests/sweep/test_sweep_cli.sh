@@ -1,0 +1,174 @@
+#!/usr/bin/env bash
+# popc sweep as a user runs it: usage errors before anything runs, a small
+# sweep with logs, its summary against popc-analyze compare, resume, failed
+# runs, shards and merge, Slurm array variables, --no-log, and SIGINT.
+set -u
+POPC=${POPC:?POPC must name the popc program}
+SRC=${POPC_SOURCE_ROOT:?}
+BUILD=${POPC_BUILD_ROOT:?}
+SCENE=$SRC/data/scenes/paper.ini
+T=$(mktemp -d /tmp/popc-sweep-cli-XXXXXX)
+pid=
+cleanup() { [ -n "$pid" ] && kill "$pid" 2>/dev/null; rm -rf "$T"; }
+trap cleanup EXIT
+fails=0 passes=0
+ok()   { passes=$((passes + 1)); echo "ok - $1"; }
+bad()  { fails=$((fails + 1)); echo "not ok - $1"; }
+check() { local what=$1; shift; if "$@"; then ok "$what"; else bad "$what"; fi; }
+expect_exit() {
+  local code=$1 what=$2; shift 2
+  "$@" >"$T/out" 2>"$T/err"; local rc=$?
+  if [ "$rc" -eq "$code" ]; then ok "$what (exit $rc)"; else bad "$what: exit $rc, expected $code: $(head -c 400 "$T/err")"; fi
+}
+err_has() { grep -qF -- "$1" "$T/err" || { echo "   stderr lacks '$1':"; sed 's/^/   | /' "$T/err" | head -5; return 1; }; }
+# a summary without its last column (wall_time_s): what must be equal
+nowall() { sed 's/,[^,]*$//' "$1"; }
+same_nowall() { cmp -s <(nowall "$1") <(nowall "$2") || { diff <(nowall "$1") <(nowall "$2") | head -5; return 1; }; }
+# every line of a CSV has as many cells as its header
+well_formed() { awk -F, 'NR == 1 { n = NF } NF != n { bad = 1 } END { exit bad }' "$1"; }
+
+VARY=(--vary operator.speed=0.02:0.08:3 --vary controller.variant=none,ref-energy,improved)
+
+# ---- usage: refused before anything runs, nothing written
+expect_exit 0 "sweep --help" "$POPC" sweep --help
+check "  --help shows the range syntax" grep -q "lo:hi:n:log" "$T/out"
+expect_exit 2 "sweep without -o" "$POPC" sweep "$SCENE" "${VARY[@]}"
+check "  says so" err_has "missing -o DIR"
+expect_exit 2 "sweep without --vary" "$POPC" sweep "$SCENE" -o "$T/x"
+expect_exit 2 "sweep without a scene" "$POPC" sweep -o "$T/x" "${VARY[@]}"
+expect_exit 2 "value out of range" "$POPC" sweep "$SCENE" --vary encoder.resolution=1e-5,2 -o "$T/bad"
+check "  names the key, the value and the range" err_has "encoder.resolution=1e-5,2, value 2 of 2 ('2')"
+check "  ... the allowed range" err_has "allowed (0, 1] m"
+check "  nothing ran: no directory" test ! -e "$T/bad"
+expect_exit 2 "unknown key" "$POPC" sweep "$SCENE" --vary operator.nosuch=1 -o "$T/bad"
+check "  names it" err_has "operator.nosuch"
+expect_exit 2 "unknown variant" "$POPC" sweep "$SCENE" --vary controller.variant=none,fastest -o "$T/bad"
+check "  names the variants" err_has "improved"
+expect_exit 2 "bad range" "$POPC" sweep "$SCENE" --vary operator.speed=0.01:0.1 -o "$T/bad"
+check "  shows the syntax" err_has "lo:hi:n or lo:hi:n:log"
+expect_exit 2 "bad log range" "$POPC" sweep "$SCENE" --vary operator.speed=0:0.1:3:log -o "$T/bad"
+expect_exit 2 "key given twice" "$POPC" sweep "$SCENE" --vary operator.speed=0.01 --vary operator.speed=0.02 -o "$T/bad"
+expect_exit 2 "bad combination (ramp ends where it starts)" "$POPC" sweep "$SCENE" --vary operator.x0=-0.01,0.03 --vary operator.x_end=0.03 -o "$T/bad"
+check "  names the run" err_has "run 0001 (operator.x0=0.03 operator.x_end=0.03)"
+expect_exit 2 "bad --shard" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/bad" --shard 2/2
+expect_exit 2 "bad -j" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/bad" -j 0
+check "nothing was written by refused sweeps" test ! -e "$T/bad"
+
+# ---- a small sweep with logs, two jobs
+expect_exit 0 "3 x 3 sweep, -j 2" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/s" -j 2
+S=$T/s/summary.csv
+check "  header" test "$(head -1 "$S")" = "run,operator.speed,controller.variant,exit_status,ticks,pc_rms,pc_max,pc_active,pc_energy,w_minus_eref_min,w_minus_eref_end,vsign_rate,pc_rms_late,vsign_rate_late,integrator_error_m,chatter_s,chatter_intervals,limit_cycle,wall_time_s"
+check "  9 rows in id order" test "$(tail -n +2 "$S" | cut -d, -f1 | tr '\n' ' ')" = "0000 0001 0002 0003 0004 0005 0006 0007 0008 "
+check "  last axis fastest" test "$(sed -n 3p "$S" | cut -d, -f2,3)" = "0.02,ref-energy"
+check "  all succeeded" test "$(tail -n +2 "$S" | cut -d, -f4 | sort -u)" = "0"
+check "  well formed" well_formed "$S"
+check "  plain progress lines (not a terminal)" err_has "9/9 runs (100%)"
+check "  run directory: log, scene, summary" test -s "$T/s/runs/0004/log.csv" -a -s "$T/s/runs/0004/scene.ini" -a -s "$T/s/runs/0004/summary.csv"
+# (0.05 or, from a %.17g formatter, 0.050000000000000003: the same double)
+check "  the run's scene holds its values" grep -q "^speed = 0\.050*[0-9]\?$" "$T/s/runs/0004/scene.ini"
+check "  ... and its variant" grep -qx "variant = ref-energy" "$T/s/runs/0004/scene.ini"
+check "  the run's summary is its row" test "$(tail -1 "$T/s/runs/0004/summary.csv")" = "$(grep '^0004,' "$S")"
+check "  the plan names the vary lists" grep -qx "vary = operator.speed=0.02:0.08:3" "$T/s/sweep.plan"
+# the seed's findings, as the sweep sees them: ref-energy chatters, improved does not
+check "  ref-energy chatters (chatter_s > 0)" awk -F, '$3 == "ref-energy" && $16 + 0 <= 0 { e = 1 } END { exit e }' "$S"
+check "  improved does not" awk -F, '$3 == "improved" && $16 + 0 != 0 { e = 1 } END { exit e }' "$S"
+
+# the sweep's metrics are popc-analyze compare's, cell for cell, from the log
+ANA=$BUILD/analysis/popc-analyze
+if [ -x "$ANA" ]; then
+  for id in 0001 0005 0006; do
+    "$ANA" compare --format csv "$T/s/runs/$id/log.csv" > "$T/cmp.csv" 2>/dev/null
+    check "  run $id: sweep row equals popc-analyze compare" awk -F, -v id="$id" '
+      FNR == 1 { for (i = 1; i <= NF; i++) col[FILENAME, $i] = i; next }
+      FILENAME == ARGV[1] { c = $0; next }
+      $1 == id { r = $0 }
+      END {
+        n = split("pc_rms pc_rms_late pc_max pc_active pc_energy w_minus_eref_min w_minus_eref_end vsign_rate vsign_rate_late chatter_s chatter_intervals limit_cycle", k, " ")
+        split(c, cc, ","); split(r, rr, ",")
+        for (i = 1; i <= n; i++) if (cc[col[ARGV[1], k[i]]] != rr[col[ARGV[2], k[i]]]) { print "   " k[i] ": compare " cc[col[ARGV[1], k[i]]] ", sweep " rr[col[ARGV[2], k[i]]]; e = 1 }
+        exit e
+      }' "$T/cmp.csv" "$S"
+  done
+else
+  echo "# popc-analyze not built: compare cross-check left out"
+fi
+
+# ---- resume: nothing runs again, the summary is unchanged
+cp "$S" "$T/s1.csv"
+expect_exit 0 "same sweep again" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/s" -j 2
+check "  every run already done" err_has "9 of 9 runs already done"
+check "  0 run now" err_has "0 run now"
+check "  summary unchanged, byte for byte" cmp -s "$S" "$T/s1.csv"
+expect_exit 2 "another sweep into the same directory" "$POPC" sweep "$SCENE" --vary operator.speed=0.01,0.02 -o "$T/s"
+check "  refused: holds another sweep" err_has "holds another sweep"
+
+# ---- --no-log: summaries only
+expect_exit 0 "--no-log sweep, -j 1" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/n" -j 1 --no-log -q
+check "  -q: nothing on stderr" test ! -s "$T/err"
+check "  no run directories" test -z "$(ls "$T/n/runs")"
+check "  same results as with logs and 2 jobs" same_nowall "$T/n/summary.csv" "$S"
+
+# ---- failed runs: the others go on, the sweep says which, resume retries them
+FAIL=(--set integrator.method=euler --set integrator.substeps=1 --vary environment.stiffness=1000,1e8,2000)
+expect_exit 1 "sweep with an unstable run" "$POPC" sweep "$SCENE" "${FAIL[@]}" -o "$T/f" --no-log -j 2
+check "  lists the failed run with its values" err_has "0001 (environment.stiffness=1e8): exit 6: integrator unstable"
+check "  the others succeeded" test "$(cut -d, -f1,3 "$T/f/summary.csv" | tr '\n' ' ')" = "run,exit_status 0000,0 0001,6 0002,0 "
+check "  well formed" well_formed "$T/f/summary.csv"
+expect_exit 1 "again: the failed run is retried, the others skipped" "$POPC" sweep "$SCENE" "${FAIL[@]}" -o "$T/f" --no-log -j 2
+check "  2 of 3 already done" err_has "2 of 3 runs already done"
+check "  1 run now" err_has "1 run now"
+check "  still one row per run" test "$(wc -l < "$T/f/summary.csv")" -eq 4
+
+# ---- shards: no overlap, together the whole sweep; merge equals one machine
+for i in 0 1 2; do
+  expect_exit 0 "shard $i/3" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/sh$i" --shard $i/3 --no-log -q
+done
+check "  shard 1 has runs 1, 4, 7" test "$(tail -n +2 "$T/sh1/summary-shard-1-of-3.csv" | cut -d, -f1 | tr '\n' ' ')" = "0001 0004 0007 "
+expect_exit 0 "merge 3 shard directories" "$POPC" sweep merge "$T/sh0" "$T/sh1" "$T/sh2" -o "$T/m"
+check "  merged summary equals the one-machine sweep (but wall time)" same_nowall "$T/m/summary.csv" "$S"
+expect_exit 1 "merge of two of three shards" "$POPC" sweep merge "$T/sh0" "$T/sh2" -o "$T/m2"
+check "  says 3 runs have no result" err_has "3 without a result"
+expect_exit 2 "merge of different sweeps" "$POPC" sweep merge "$T/sh0" "$T/f"
+# the Slurm array variables pick the shard, several shards share one directory
+for i in 0 1; do
+  expect_exit 0 "Slurm array task $i of 2" env SLURM_ARRAY_TASK_ID=$i SLURM_ARRAY_TASK_COUNT=2 SLURM_ARRAY_TASK_MIN=0 SLURM_ARRAY_TASK_STEP=1 \
+    "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/sl" --no-log -q
+done
+check "  shard summaries named after the shard" test -s "$T/sl/summary-shard-0-of-2.csv" -a -s "$T/sl/summary-shard-1-of-2.csv"
+expect_exit 0 "merge the shared directory" "$POPC" sweep merge "$T/sl"
+check "  equals the one-machine sweep" same_nowall "$T/sl/summary.csv" "$S"
+expect_exit 2 "Slurm array that is not regular" env SLURM_ARRAY_TASK_ID=7 SLURM_ARRAY_TASK_COUNT=2 \
+  "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/sl2" --no-log -q
+check "  says how to submit" err_has "--array=0-1"
+
+# ---- SIGINT: stops, keeps a whole summary, a second run completes the sweep
+BIG=(--vary operator.speed=0.01:0.1:4000 --vary controller.variant=ref-energy,improved --set run.duration=2)
+mkfifo "$T/fifo"
+"$POPC" sweep "$SCENE" "${BIG[@]}" -o "$T/i" --no-log -j 2 2>"$T/fifo" &
+pid=$!
+exec 3<"$T/fifo"
+# wait for the first progress line (10 % done): the workers are running
+got=
+while IFS= read -r -t 60 -u 3 line; do
+  case $line in *"runs ("*) got=1; break ;; esac
+done
+kill -INT "$pid"
+cat <&3 > "$T/err"   # until the sweep and its workers have closed stderr
+exec 3<&-
+wait "$pid"; rc=$?
+pid=
+check "SIGINT after the first progress line (saw it: ${got:-no})" test -n "$got"
+check "  exit 5 (got $rc)" test "$rc" -eq 5
+check "  says how to resume" err_has "run the same command again to resume"
+n_done=$(($(wc -l < "$T/i/summary.csv") - 1))
+check "  a whole summary of the finished runs ($n_done of 8000)" test "$n_done" -gt 0 -a "$n_done" -lt 8000
+check "  well formed" well_formed "$T/i/summary.csv"
+check "  no temporary files left" test -z "$(find "$T/i" -name '*.tmp.*')"
+expect_exit 0 "the same sweep again completes it" "$POPC" sweep "$SCENE" "${BIG[@]}" -o "$T/i" --no-log -j 2 -q
+check "  8000 rows" test "$(wc -l < "$T/i/summary.csv")" -eq 8001
+check "  each run once, in order" test "$(tail -n +2 "$T/i/summary.csv" | cut -d, -f1 | uniq | wc -l)" -eq 8000
+expect_exit 0 "the first 200 runs uninterrupted" "$POPC" sweep "$SCENE" --vary operator.speed=0.01:0.1:4000 --vary controller.variant=ref-energy,improved --set run.duration=2 --shard 0/40 -o "$T/ref" --no-log -q
+check "  equal rows in both" cmp -s <(nowall "$T/ref/summary-shard-0-of-40.csv" | tail -n +2) <(nowall "$T/i/summary.csv" | awk -F, 'NR > 1 && $1 % 40 == 0')
+
+echo "# $passes passed, $fails failed"
+[ "$fails" -eq 0 ]

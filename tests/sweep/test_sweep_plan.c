@@ -1,0 +1,380 @@
+/* The sweep planner (sweep.h): value lists and ranges, the product, run ids,
+ * shards (cover, no overlap), the Slurm array mapping and summary rows. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "popc/sweep.h"
+
+static void test_expand_table(void **state)
+{
+	(void)state;
+	const struct {
+		const char *spec;
+		int ok, n;
+		const char *first, *third, *last;
+	} cases[] = {
+		{"a,b,c", 1, 3, "a", "c", "c"},
+		{"none", 1, 1, "none", NULL, "none"},
+		{"0:1:11", 1, 11, "0", "0.2", "1"},          /* 12 digits: 0.2, not 0.20000000000000001 */
+		{"0.01:0.1:10", 1, 10, "0.01", "0.03", "0.1"},
+		{"1:1000:4:log", 1, 4, "1", "100", "1000"},  /* exp(log) lands off 10 and 100 by an ulp */
+		{"1e-6:1e-4:3:log", 1, 3, "1e-06", "0.0001", "0.0001"},
+		{"-1:1:3", 1, 3, "-1", "1", "1"},            /* the middle is 0, never "-0" */
+		{"5:5:1", 1, 1, "5", NULL, "5"},
+		{"3:1:3", 1, 3, "3", "1", "1"},              /* descending is fine */
+		{"0:1:0", 0, 0, NULL, NULL, NULL},           /* n >= 1 */
+		{"0:1:2.5", 0, 0, NULL, NULL, NULL},         /* n whole */
+		{"0:1", 0, 0, NULL, NULL, NULL},             /* not a range */
+		{"0:1:3:lin", 0, 0, NULL, NULL, NULL},
+		{"0:1:3:log", 0, 0, NULL, NULL, NULL},       /* log needs lo > 0 */
+		{"x:1:3", 0, 0, NULL, NULL, NULL},
+		{"0:inf:3", 0, 0, NULL, NULL, NULL},
+		{"a,,b", 0, 0, NULL, NULL, NULL},            /* empty item */
+		{"a,b,a", 0, 0, NULL, NULL, NULL},           /* duplicate */
+		{"1:1:2", 0, 0, NULL, NULL, NULL},           /* duplicate points */
+		{"1:1.0000000000001:3", 0, 0, NULL, NULL, NULL}, /* equal at 12 digits */
+		{"a\"b", 0, 0, NULL, NULL, NULL},            /* no quotes in CSV cells */
+		{"", 0, 0, NULL, NULL, NULL},
+	};
+	for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+		char **v = NULL;
+		int n = -1;
+		popc_error err;
+		int st = popc_sweep_expand(cases[k].spec, &v, &n, &err);
+		if (!cases[k].ok) {
+			if (st == 0)
+				fail_msg("'%s' accepted", cases[k].spec);
+			assert_true(strlen(err.msg) > 0);
+			assert_null(v);
+			continue;
+		}
+		if (st != 0)
+			fail_msg("'%s': %s", cases[k].spec, err.msg);
+		assert_int_equal(n, cases[k].n);
+		assert_string_equal(v[0], cases[k].first);
+		if (cases[k].third)
+			assert_string_equal(v[2], cases[k].third);
+		assert_string_equal(v[n - 1], cases[k].last);
+		popc_sweep_values_free(v, n);
+	}
+}
+
+/* A linear range's points read back within 12 significant digits of the
+ * exact lo + (hi - lo) i / (n - 1), and a log range's are geometric. */
+static void test_range_points(void **state)
+{
+	(void)state;
+	char **v;
+	int n;
+	popc_error err;
+	assert_int_equal(popc_sweep_expand("0.01:0.1:100", &v, &n, &err), 0);
+	assert_int_equal(n, 100);
+	for (int i = 0; i < n; i++) {
+		double want = 0.01 + 0.09 * i / 99.0;
+		/* 12 significant digits: at most half a unit of the 12th, 5e-12 relative */
+		assert_true(fabs(strtod(v[i], NULL) - want) <= 6e-12 * want);
+	}
+	popc_sweep_values_free(v, n);
+	assert_int_equal(popc_sweep_expand("1e-6:1e-2:9:log", &v, &n, &err), 0);
+	for (int i = 0; i + 1 < n; i++) {
+		double ratio = strtod(v[i + 1], NULL) / strtod(v[i], NULL);
+		assert_true(fabs(ratio - 3.1622776601683795) < 1e-10);
+	}
+	popc_sweep_values_free(v, n);
+}
+
+static popc_sweep_plan make_plan(const char *const *vary, int n_axes, int check)
+{
+	popc_scene base;
+	popc_scene_defaults(&base);
+	popc_sweep_axis *axes = calloc((size_t)n_axes, sizeof *axes);
+	assert_non_null(axes);
+	popc_error err;
+	for (int a = 0; a < n_axes; a++)
+		if (popc_sweep_axis_parse(vary[a], &axes[a], &err) != 0)
+			fail_msg("%s: %s", vary[a], err.msg);
+	popc_sweep_plan p;
+	if (popc_sweep_plan_init(&p, &base, axes, n_axes, check, &err) != 0)
+		fail_msg("plan: %s", err.msg);
+	return p;
+}
+
+/* Last axis fastest; every combination once; the run's scene holds it. */
+static void test_product_order(void **state)
+{
+	(void)state;
+	const char *vary[] = {"operator.speed=0.01,0.02", "controller.variant=none,hold,improved",
+			      "encoder.resolution=1e-5:1e-4:2"};
+	popc_sweep_plan p = make_plan(vary, 3, 1);
+	assert_int_equal(p.n_runs, 12);
+	assert_int_equal(p.id_width, 4);
+	int seen[2][3][2] = {{{0}}};
+	for (long long i = 0; i < p.n_runs; i++) {
+		int idx[3];
+		popc_sweep_run_values(&p, i, idx);
+		assert_int_equal(i, (idx[0] * 3 + idx[1]) * 2 + idx[2]);
+		seen[idx[0]][idx[1]][idx[2]]++;
+		popc_scene s;
+		popc_error err;
+		assert_int_equal(popc_sweep_run_scene(&p, i, &s, &err), 0);
+		assert_true(s.op_speed_mps == strtod(p.axes[0].values[idx[0]], NULL));
+		assert_string_equal(popc_variant_name(s.variant), p.axes[1].values[idx[1]]);
+		assert_true(s.enc_resolution_m == strtod(p.axes[2].values[idx[2]], NULL));
+	}
+	for (int a = 0; a < 2; a++)
+		for (int b = 0; b < 3; b++)
+			for (int c = 0; c < 2; c++)
+				assert_int_equal(seen[a][b][c], 1);
+	assert_string_equal(p.columns,
+			    "run,operator.speed,controller.variant,encoder.resolution,exit_status,ticks,"
+			    "pc_rms,pc_max,pc_active,pc_energy,w_minus_eref_min,w_minus_eref_end,"
+			    "vsign_rate,pc_rms_late,vsign_rate_late,integrator_error_m,chatter_s,"
+			    "chatter_intervals,limit_cycle,wall_time_s\n");
+	popc_sweep_plan_free(&p);
+}
+
+static void test_ids(void **state)
+{
+	(void)state;
+	const char *small[] = {"operator.speed=0.01:0.1:7"};
+	popc_sweep_plan p = make_plan(small, 1, 0);
+	char id[POPC_SWEEP_ID_MAX];
+	popc_sweep_run_id(&p, 6, id);
+	assert_string_equal(id, "0006");
+	assert_int_equal(popc_sweep_id_parse(&p, "0006"), 6);
+	assert_int_equal(popc_sweep_id_parse(&p, "0007"), -1); /* beyond the plan */
+	assert_int_equal(popc_sweep_id_parse(&p, "006"), -1);  /* wrong width */
+	assert_int_equal(popc_sweep_id_parse(&p, "00a6"), -1);
+	assert_int_equal(popc_sweep_id_parse(&p, ".."), -1);
+	popc_sweep_plan_free(&p);
+
+	/* 10001 runs need 5 digits: ids still sort as text in run order */
+	const char *big[] = {"operator.speed=0.01:0.1:10001"};
+	p = make_plan(big, 1, 0);
+	assert_int_equal(p.id_width, 5);
+	popc_sweep_run_id(&p, 10000, id);
+	assert_string_equal(id, "10000");
+	char prev[POPC_SWEEP_ID_MAX] = "";
+	for (long long i = 0; i < p.n_runs; i += 997) {
+		popc_sweep_run_id(&p, i, id);
+		assert_true(strcmp(prev, id) < 0);
+		strcpy(prev, id);
+	}
+	popc_sweep_plan_free(&p);
+}
+
+/* The plan id is a function of the base scene and the axes: the same sweep
+ * gets the same id, any change another. */
+static void test_plan_id(void **state)
+{
+	(void)state;
+	const char *a[] = {"operator.speed=0.01,0.02", "controller.variant=none,improved"};
+	const char *b[] = {"operator.speed=0.01,0.03", "controller.variant=none,improved"};
+	const char *c[] = {"controller.variant=none,improved", "operator.speed=0.01,0.02"};
+	popc_sweep_plan pa = make_plan(a, 2, 0), pa2 = make_plan(a, 2, 0);
+	popc_sweep_plan pb = make_plan(b, 2, 0), pc = make_plan(c, 2, 0);
+	assert_true(pa.plan_id == pa2.plan_id);
+	assert_true(pa.plan_id != pb.plan_id);
+	assert_true(pa.plan_id != pc.plan_id);
+	popc_sweep_plan_free(&pa);
+	popc_sweep_plan_free(&pa2);
+	popc_sweep_plan_free(&pb);
+	popc_sweep_plan_free(&pc);
+}
+
+/* Errors before anything runs: the message names the key, the value and the
+ * allowed range (from popc_scene_set). */
+static void test_plan_errors(void **state)
+{
+	(void)state;
+	const struct {
+		const char *vary[2];
+		const char *want[3];
+	} cases[] = {
+		{{"encoder.resolution=1e-5,-1", NULL}, {"encoder.resolution", "-1", "allowed"}},
+		{{"controller.variant=none,fancy", NULL}, {"controller.variant", "fancy", "improved"}},
+		{{"operator.nosuch=1,2", NULL}, {"operator.nosuch", "", ""}},
+		{{"integrator.substeps=1:10:3", NULL}, {"integrator.substeps", "5.5", "whole"}},
+		{{"operator.speed=0.01", "operator.speed=0.02"}, {"operator.speed", "twice", ""}},
+	};
+	for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+		int n_axes = cases[k].vary[1] ? 2 : 1;
+		popc_sweep_axis *axes = calloc(2, sizeof *axes);
+		popc_error err;
+		for (int a = 0; a < n_axes; a++)
+			assert_int_equal(popc_sweep_axis_parse(cases[k].vary[a], &axes[a], &err), 0);
+		popc_scene base;
+		popc_scene_defaults(&base);
+		popc_sweep_plan p;
+		int st = popc_sweep_plan_init(&p, &base, axes, n_axes, 1, &err);
+		popc_sweep_plan_free(&p);
+		assert_int_equal(st, POPC_ERR_INVALID);
+		for (int w = 0; w < 3; w++)
+			if (!strstr(err.msg, cases[k].want[w]))
+				fail_msg("case %zu: '%s' lacks '%s'", k, err.msg, cases[k].want[w]);
+	}
+	/* a combination the scene's cross-key checks refuse: a ramp that ends
+	 * where it starts (each value alone is fine) */
+	const char *bad[] = {"operator.x0=-0.01,0.03", "operator.x_end=0.03"};
+	popc_sweep_axis *axes = calloc(2, sizeof *axes);
+	popc_error err;
+	for (int a = 0; a < 2; a++)
+		assert_int_equal(popc_sweep_axis_parse(bad[a], &axes[a], &err), 0);
+	popc_scene base;
+	popc_scene_defaults(&base);
+	popc_sweep_plan p;
+	int st = popc_sweep_plan_init(&p, &base, axes, 2, 1, &err);
+	popc_sweep_plan_free(&p);
+	assert_int_equal(st, POPC_ERR_INVALID);
+	assert_non_null(strstr(err.msg, "run 0001"));
+	assert_non_null(strstr(err.msg, "operator.x_end"));
+}
+
+/* Every run in exactly one shard, shards within one of each other in size,
+ * for many sweep sizes and shard counts. */
+static void test_shards_cover(void **state)
+{
+	(void)state;
+	const long long sizes[] = {1, 2, 3, 7, 10, 100, 1001};
+	const long long counts[] = {1, 2, 3, 4, 7, 16, 1000, 2000};
+	for (size_t a = 0; a < sizeof sizes / sizeof sizes[0]; a++) {
+		for (size_t b = 0; b < sizeof counts / sizeof counts[0]; b++) {
+			long long n = sizes[a], count = counts[b];
+			long long min_share = n, max_share = 0;
+			for (long long s = 0; s < count; s++) {
+				popc_sweep_shard sh = {.index = s, .count = count};
+				long long share = 0;
+				for (long long i = 0; i < n; i++)
+					share += popc_sweep_in_shard(&sh, i);
+				min_share = share < min_share ? share : min_share;
+				max_share = share > max_share ? share : max_share;
+			}
+			for (long long i = 0; i < n; i++) {
+				int owners = 0;
+				for (long long s = 0; s < count; s++) {
+					popc_sweep_shard sh = {.index = s, .count = count};
+					owners += popc_sweep_in_shard(&sh, i);
+				}
+				assert_int_equal(owners, 1);
+			}
+			assert_true(max_share - min_share <= 1);
+		}
+	}
+}
+
+static void test_shard_parse(void **state)
+{
+	(void)state;
+	const struct {
+		const char *text;
+		int ok;
+		long long index, count;
+	} cases[] = {
+		{"0/1", 1, 0, 1},   {"3/4", 1, 3, 4},  {"4/4", 0, 0, 0}, {"-1/4", 0, 0, 0},
+		{"1/0", 0, 0, 0},   {"1", 0, 0, 0},    {"a/b", 0, 0, 0}, {"1/2x", 0, 0, 0},
+		{"1 /2", 0, 0, 0},
+	};
+	for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+		popc_sweep_shard sh;
+		popc_error err;
+		int st = popc_sweep_shard_parse(cases[k].text, &sh, &err);
+		assert_int_equal(st == 0, cases[k].ok);
+		if (cases[k].ok) {
+			assert_int_equal(sh.index, cases[k].index);
+			assert_int_equal(sh.count, cases[k].count);
+		}
+	}
+}
+
+static void test_shard_slurm(void **state)
+{
+	(void)state;
+	const struct {
+		const char *id, *count, *min, *step;
+		int ret;
+		long long index, count_out;
+	} cases[] = {
+		{NULL, NULL, NULL, NULL, 0, 0, 0},       /* not in an array job */
+		{"3", NULL, NULL, NULL, 0, 0, 0},
+		{"0", "2", "0", "1", 1, 0, 2},           /* --array=0-1 */
+		{"1", "2", "0", "1", 1, 1, 2},
+		{"5", "4", "2", "1", 1, 3, 4},           /* --array=2-5 */
+		{"6", "3", "2", "2", 1, 2, 3},           /* --array=2-6:2 */
+		{"1", "2", NULL, NULL, 1, 1, 2},         /* no MIN/STEP: 0 and 1 */
+		{"7", "2", "0", "1", POPC_ERR_INVALID, 0, 0}, /* --array=0,7: not regular */
+		{"3", "3", "2", "2", POPC_ERR_INVALID, 0, 0},
+		{"x", "2", "0", "1", POPC_ERR_INVALID, 0, 0},
+	};
+	for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+		popc_sweep_shard sh = {0, 0};
+		popc_error err;
+		int r = popc_sweep_shard_from_slurm(cases[k].id, cases[k].count, cases[k].min,
+						    cases[k].step, &sh, &err);
+		assert_int_equal(r, cases[k].ret);
+		if (r == 1) {
+			assert_int_equal(sh.index, cases[k].index);
+			assert_int_equal(sh.count, cases[k].count_out);
+		}
+	}
+}
+
+/* A sweep row takes the metric cells of a popc run summary by name, bytes
+ * unchanged; a run without a summary gets empty cells. */
+static void test_rows(void **state)
+{
+	(void)state;
+	const char *vary[] = {"operator.speed=0.01,0.02", "controller.variant=none,improved"};
+	popc_sweep_plan p = make_plan(vary, 2, 0);
+	/* the columns in another order than run.c writes them, and one more */
+	const char *header = "status,extra,pc_rms,pc_max,pc_active,pc_energy,w_minus_eref_min,"
+			     "w_minus_eref_end,vsign_rate,pc_rms_late,vsign_rate_late,"
+			     "integrator_error_m,ticks,wall_time_s\n";
+	const char *row = "-4,x,1.5,5,0.25,-0.001,-2e-05,3,12.5,1.25,13,0,5001,0.002\n";
+	popc_chatter_result chat;
+	memset(&chat, 0, sizeof chat);
+	chat.chatter_s = 0.5;
+	chat.n_intervals = 2;
+	chat.limit_cycle = 1;
+	char buf[POPC_SWEEP_ROW_MAX];
+	popc_error err;
+	int n = popc_sweep_row(&p, 3, 6, header, row, &chat, 0.25, buf, sizeof buf, &err);
+	assert_true(n > 0);
+	assert_string_equal(buf, "0003,0.02,improved,6,5001,1.5,5,0.25,-0.001,-2e-05,3,12.5,1.25,13,0,"
+				 "0.5,2,1,0.25\n");
+	assert_int_equal(popc_sweep_row_exit_status(&p, buf), 6);
+	int status;
+	assert_int_equal(popc_sweep_run_csv_status(header, row, &status), 0);
+	assert_int_equal(status, -4);
+
+	n = popc_sweep_row(&p, 0, 1, NULL, NULL, NULL, 0.0, buf, sizeof buf, &err);
+	assert_true(n > 0);
+	assert_string_equal(buf, "0000,0.01,none,1,,,,,,,,,,,,,,,0\n");
+
+	/* a run summary without a metric column is an error naming it */
+	n = popc_sweep_row(&p, 0, 0, "status,ticks\n", "0,5\n", NULL, 0.0, buf, sizeof buf, &err);
+	assert_true(n < 0);
+	assert_non_null(strstr(err.msg, "pc_rms"));
+	/* too small a buffer is an error, not a cut row */
+	n = popc_sweep_row(&p, 3, 6, header, row, &chat, 0.25, buf, 20, &err);
+	assert_true(n < 0);
+	popc_sweep_plan_free(&p);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_expand_table), cmocka_unit_test(test_range_points),
+		cmocka_unit_test(test_product_order), cmocka_unit_test(test_ids),
+		cmocka_unit_test(test_plan_id),      cmocka_unit_test(test_plan_errors),
+		cmocka_unit_test(test_shards_cover), cmocka_unit_test(test_shard_parse),
+		cmocka_unit_test(test_shard_slurm),  cmocka_unit_test(test_rows),
+	};
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}
