@@ -764,6 +764,8 @@ static int bench_log(const popc_scene *s, const bench_opts *o)
 	/* exactness: the recompute from the log equals the online W and E_ref bitwise */
 	int exact = !st && a.rows == n && a.obs.W_J == rows[n - 1].tick.W_J &&
 		    a.obs.E_ref_J == rows[n - 1].tick.E_ref_J;
+	free(rows); /* before the children fork: their peak memory is the reader's */
+	rows = NULL;
 	/* memory: the same reader on a log four times longer */
 	long rss_small = -1, rss_big = -1;
 	if (!st)
@@ -776,7 +778,6 @@ static int bench_log(const popc_scene *s, const bench_opts *o)
 	remove(p_popc);
 	remove(p_printf);
 	remove(p_big);
-	free(rows);
 	if (st)
 		return popc_cli_fail("bench", st, &err);
 	double mb = 1e-6 * (double)bytes_popc;
@@ -793,11 +794,11 @@ static int bench_log(const popc_scene *s, const bench_opts *o)
 	printf("popc bench log: %ld rows of the scene's run (%.1f MB as popc writes them), one "
 	       "core, fastest of %d, files in %s\n",
 	       n, mb, o->repeats, dir);
-	printf("%-36s %12s %12s %8s\n", "", "popc", "C library", "ratio");
-	printf("%-36s %12.1f %12.1f %8.2f   (targets: >= 300 MB/s, >= 3 x)\n",
+	printf("%-44s %10s %10s %7s\n", "", "popc", "C library", "ratio");
+	printf("%-44s %10.1f %10.1f %7.2f   (targets: >= 300 MB/s, >= 3 x)\n",
 	       "write MB/s (vs printf %.17g)", mb / w_popc, 1e-6 * (double)bytes_printf / w_printf,
 	       w_printf / w_popc);
-	printf("%-36s %12.1f %12.1f %8.2f   (targets: >= 500 MB/s, >= 2 x)\n",
+	printf("%-44s %10.1f %10.1f %7.2f   (targets: >= 500 MB/s, >= 2 x)\n",
 	       "read + W/E_ref recompute MB/s (vs strtod)", mb / r_popc, mb / r_strtod,
 	       r_strtod / r_popc);
 	printf("write: %.1f ns per row popc, %.1f ns per row printf\n", 1e9 * w_popc / (double)n,

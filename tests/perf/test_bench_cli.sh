@@ -1,0 +1,63 @@
+#!/usr/bin/env bash
+# popc bench as a user runs it: help and usage errors, the work-precision CSV
+# (every integrator, the orders the theory gives), the loop and log benchmarks'
+# shape, and the log recompute's bitwise check. Timings are printed, never
+# asserted (shared machine); --min-time 0 --repeat 1 keeps this quick.
+set -u
+POPC=${POPC:?POPC must name the popc program}
+SRC=${POPC_SOURCE_ROOT:?}
+T=$(mktemp -d /tmp/popc-bench-XXXXXX)
+trap 'rm -rf "$T"' EXIT
+fails=0 passes=0
+ok()   { passes=$((passes + 1)); echo "ok - $1"; }
+bad()  { fails=$((fails + 1)); echo "not ok - $1"; }
+check() { local what=$1; shift; if "$@"; then ok "$what"; else bad "$what"; fi; }
+expect_exit() {
+  local code=$1 what=$2; shift 2
+  "$@" >"$T/out" 2>"$T/err"; local rc=$?
+  if [ "$rc" -eq "$code" ]; then ok "$what (exit $rc)"; else bad "$what: exit $rc, expected $code: $(head -c 300 "$T/err")"; fi
+}
+
+expect_exit 0 "bench --help" "$POPC" bench --help
+check "  help names the three benchmarks" grep -q "integrators|loop|log" "$T/out"
+expect_exit 2 "bench without what" "$POPC" bench
+expect_exit 2 "bench of an unknown thing" "$POPC" bench everything
+expect_exit 2 "bench with a bad format" "$POPC" bench loop --format xml
+expect_exit 2 "bench with a bad repeat" "$POPC" bench loop --repeat 0
+expect_exit 2 "bench with a bad scene key" "$POPC" bench loop --set run.rate=-1
+
+expect_exit 0 "bench integrators, CSV" "$POPC" bench integrators --scene "$SRC/data/scenes/paper.ini" \
+  --format csv --min-time 0 --repeat 1
+cp "$T/out" "$T/wp.csv"
+check "  CSV header" grep -qx "integrator,substeps,h_s,max_error_m,ns_per_step,status" "$T/wp.csv"
+for m in exact trapezoid rk4 semi-implicit-euler euler; do
+  check "  has $m" grep -q "^$m," "$T/wp.csv"
+done
+# measured order from the CSV: log2(error(n) / error(2n)) between n = 4 and 8
+order() { awk -F, -v m="$1" '$1 == m && $2 == 4 {a = $4} $1 == m && $2 == 8 {b = $4}
+  END { if (a > 0 && b > 0) printf "%.2f", log(a / b) / log(2); else print "nan" }' "$T/wp.csv"; }
+in_range() { awk -v x="$1" -v lo="$2" -v hi="$3" 'BEGIN { exit !(x >= lo && x <= hi) }'; }
+# the theory: trapezoid 2, RK4 4, both Euler methods 1 (measured 2.00, 4.02, 1.00, 1.00)
+check "  trapezoid converges at order 2 ($(order trapezoid))" in_range "$(order trapezoid)" 1.9 2.1
+check "  rk4 converges at order 4 ($(order rk4))" in_range "$(order rk4)" 3.8 4.2
+check "  semi-implicit-euler converges at order 1 ($(order semi-implicit-euler))" in_range "$(order semi-implicit-euler)" 0.9 1.1
+check "  euler converges at order 1 ($(order euler))" in_range "$(order euler)" 0.9 1.1
+# the paper's scheme: trapezoid at 100 substeps, error of order 1e-11 m here (measured 1.93e-11)
+tr100=$(awk -F, '$1 == "trapezoid" && $2 == 100 {print $4}' "$T/wp.csv")
+check "  trapezoid x100 error $tr100 m in [1e-12, 1e-9]" in_range "$tr100" 1e-12 1e-9
+
+expect_exit 0 "bench integrators, text and plot" "$POPC" bench integrators --min-time 0 --repeat 1 --plot "$T"
+check "  prints measured orders" grep -q "measured order" "$T/out"
+check "  the gnuplot script" test -s "$T/integrators.gp"
+check "  the figure" test -s "$T/integrators.png"
+
+expect_exit 0 "bench loop, CSV" "$POPC" bench loop --format csv --min-time 0 --repeat 1
+check "  loop rows" grep -q "^loop_ns_per_tick," "$T/out"
+check "  exact's ticks per second" grep -q "^exact_ticks_per_s," "$T/out"
+
+expect_exit 0 "bench log, CSV" "$POPC" bench log --format csv --rows 5000 --repeat 1 --dir "$T"
+check "  recompute from the log is bitwise" grep -qx "recompute_bitwise,1,," "$T/out"
+check "  leaves no scratch files" bash -c "! ls '$T'/popc-bench-* 2>/dev/null | grep -q ."
+
+echo "# $passes passed, $fails failed"
+[ "$fails" -eq 0 ]
