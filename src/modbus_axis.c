@@ -634,6 +634,12 @@ int popc_modbus_axis_create(popc_axis **out, const popc_scene *s, const popc_mod
 	}
 	a->delta_m = s->enc_resolution_m;
 	a->passthrough = popc_register_map_counts_are_scene_counts(&a->map, a->delta_m);
+	if (!a->passthrough && a->opt.notes)
+		fprintf(a->opt.notes,
+			"popc: modbus: the drive's resolution 1/counts_per_m = %g m is not encoder.resolution = "
+			"%g m: positions are re-quantized to encoder.resolution (set it to %g to see the "
+			"drive's own counts)\n",
+			1.0 / a->map.pos.counts_per_m, a->delta_m, 1.0 / a->map.pos.counts_per_m);
 	a->period_ns = (int64_t)llround(1e9 * popc_scene_period_s(s));
 	if (a->period_ns < 1)
 		a->period_ns = 1;
