@@ -1,0 +1,122 @@
+#!/usr/bin/env bash
+# A real single-node Slurm cluster, started here without systemd (munged with
+# a generated key, slurmctld and slurmd with a generated slurm.conf, all in a
+# temporary directory, on free loopback ports, with known pids), runs a popc
+# sweep as a job array of two shards with data/slurm/popc-sweep.sbatch. The
+# merged summary must equal the one-machine sweep's but for wall time.
+# Exit 77 (skip) only when the daemons cannot start on this machine.
+set -u
+POPC=${POPC:?POPC must name the popc program}
+SRC=${POPC_SOURCE_ROOT:?}
+SCENE=$SRC/data/scenes/paper.ini
+SBATCH_SCRIPT=$SRC/data/slurm/popc-sweep.sbatch
+T=$(mktemp -d /tmp/popc-slurm-XXXXXX)
+chmod 755 "$T"
+pids=()
+cleanup() {
+  for p in "${pids[@]}"; do kill "$p" 2>/dev/null; done
+  for p in "${pids[@]}"; do wait "$p" 2>/dev/null; done
+  rm -rf "$T"
+}
+trap cleanup EXIT
+skip() { echo "SKIP: $*"; for f in "$T"/*.log; do [ -f "$f" ] && { echo "--- $f"; tail -5 "$f"; }; done; exit 77; }
+fail() { echo "not ok - $*"; for f in "$T"/*.log "$T"/job-*.out; do [ -f "$f" ] && { echo "--- $f"; tail -15 "$f"; }; done; exit 1; }
+ok() { echo "ok - $*"; }
+
+for prog in munged slurmctld slurmd sbatch sinfo scontrol; do
+  command -v "$prog" >/dev/null || PATH=$PATH:/usr/sbin:/sbin
+  command -v "$prog" >/dev/null || skip "$prog is not installed (Debian packages slurm-wlm and munge)"
+done
+[ "$(id -u)" -eq 0 ] || skip "a test cluster with SlurmUser=root needs root"
+
+# two free TCP ports: not in /proc/net/tcp{,6} as a local port
+used=$(awk 'NR > 1 { split($2, a, ":"); print strtonum("0x" a[2]) }' /proc/net/tcp /proc/net/tcp6 2>/dev/null | sort -u)
+free_port() {
+  local p
+  for p in $(seq $((20000 + RANDOM % 20000)) 60000); do
+    if ! grep -qx "$p" <<<"$used" && [ "$p" != "${1:-}" ]; then echo "$p"; return; fi
+  done
+}
+P1=$(free_port); P2=$(free_port "$P1")
+
+# munge with its own key and socket
+dd if=/dev/urandom of="$T/munge.key" bs=1024 count=1 status=none
+chmod 400 "$T/munge.key"
+mkdir -m 700 "$T/munge"
+munged -F --force --key-file="$T/munge.key" --socket="$T/munge/munge.sock" \
+  --pid-file="$T/munge/munged.pid" --log-file="$T/munged.log" --seed-file="$T/munge/seed" \
+  >>"$T/munged.log" 2>&1 &
+pids+=($!)
+for _ in $(seq 100); do [ -S "$T/munge/munge.sock" ] && break; kill -0 "${pids[0]}" 2>/dev/null || break; sleep 0.1; done
+[ -S "$T/munge/munge.sock" ] || skip "munged did not start"
+
+host=$(hostname -s)
+mkdir "$T/state" "$T/spool"
+cat > "$T/slurm.conf" <<CONF
+ClusterName=popctest
+SlurmctldHost=$host(127.0.0.1)
+SlurmUser=root
+SlurmdUser=root
+SlurmctldPort=$P1
+SlurmdPort=$P2
+AuthType=auth/munge
+AuthInfo=socket=$T/munge/munge.sock
+CredType=cred/munge
+StateSaveLocation=$T/state
+SlurmdSpoolDir=$T/spool
+SlurmctldPidFile=$T/slurmctld.pid
+SlurmdPidFile=$T/slurmd.pid
+SlurmctldLogFile=$T/slurmctld.log
+SlurmdLogFile=$T/slurmd.log
+ProctrackType=proctrack/linuxproc
+TaskPlugin=task/none
+SelectType=select/cons_tres
+SelectTypeParameters=CR_CPU
+SchedulerType=sched/builtin
+ReturnToService=2
+MpiDefault=none
+JobCompType=jobcomp/none
+AccountingStorageType=accounting_storage/none
+JobAcctGatherType=jobacct_gather/none
+SlurmdTimeout=30
+InactiveLimit=0
+NodeName=localhost NodeAddr=127.0.0.1 CPUs=2 State=UNKNOWN
+PartitionName=test Nodes=localhost Default=YES MaxTime=10 State=UP
+CONF
+export SLURM_CONF=$T/slurm.conf
+slurmctld -D -i -f "$SLURM_CONF" >>"$T/slurmctld.log" 2>&1 &
+pids+=($!)
+slurmd -D -N localhost -f "$SLURM_CONF" >>"$T/slurmd.log" 2>&1 &
+pids+=($!)
+# readiness: the controller answers and the node is idle (bounded: 30 s)
+ready=
+for _ in $(seq 150); do
+  for p in "${pids[@]}"; do kill -0 "$p" 2>/dev/null || skip "a daemon exited at start"; done
+  if scontrol ping 2>/dev/null | grep -q "UP" && [ "$(sinfo -h -n localhost -o %T 2>/dev/null)" = "idle" ]; then ready=1; break; fi
+  sleep 0.2
+done
+[ -n "$ready" ] || skip "slurmctld/slurmd did not become ready in 30 s"
+ok "single-node Slurm up (ports $P1, $P2)"
+
+VARY=(--vary operator.speed=0.02:0.08:4 --vary controller.variant=none,ref-energy,improved)
+# the array: two shards, one CPU each, side by side on the 2-CPU node
+timeout 90 sbatch --wait --array=0-1 --cpus-per-task=1 --output="$T/job-%a.out" \
+  --chdir="$T" --export=ALL,POPC="$POPC" \
+  "$SBATCH_SCRIPT" "$SCENE" "${VARY[@]}" -o "$T/out" --no-log >"$T/sbatch.txt" 2>&1
+rc=$?
+[ "$rc" -eq 0 ] || fail "sbatch --wait --array=0-1: exit $rc: $(cat "$T/sbatch.txt")"
+ok "array job done: $(head -1 "$T/sbatch.txt")"
+[ -s "$T/out/summary-shard-0-of-2.csv" ] && [ -s "$T/out/summary-shard-1-of-2.csv" ] || fail "the two shard summaries are missing"
+ok "both array tasks wrote their shard"
+"$POPC" sweep merge "$T/out" >"$T/merge.txt" 2>&1 || fail "merge: $(cat "$T/merge.txt")"
+ok "merged"
+"$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/one" --no-log -q -j 2 || fail "the one-machine sweep failed"
+nowall() { sed 's/,[^,]*$//' "$1"; }
+if cmp -s <(nowall "$T/out/summary.csv") <(nowall "$T/one/summary.csv"); then
+  ok "merged summary of the array equals the one-machine sweep's (12 runs, but wall time)"
+else
+  diff <(nowall "$T/out/summary.csv") <(nowall "$T/one/summary.csv") | head
+  fail "merged summary differs from the one-machine sweep's"
+fi
+[ "$(wc -l < "$T/out/summary.csv")" -eq 13 ] || fail "expected 12 rows"
+ok "12 rows"
