@@ -15,6 +15,10 @@
 
 /* Writes the shortest round-trip decimal form of v to buf (at least
  * POPC_DOUBLE_TEXT_MAX + 1 bytes), NUL-terminated; returns the length.
+ * Layout as printf("%.17g") but with the fewest digits (the nearest to v
+ * among them): plain when the decimal exponent is in [-4, 17), otherwise
+ * d.ddde+XX or d.ddde-XX; e.g. "0", "-0", "0.001", "-1.5", "1e-05", "123456", "1e+17",
+ * "5e-324". Where 17 digits are needed the text equals "%.17g"'s.
  * Finite values only are round-tripped; NaN is written as "nan" and infinities
  * as "inf" / "-inf" (popc never logs them, but the writer must not crash). */
 size_t popc_format_double(double v, char *buf);
