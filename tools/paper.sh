@@ -8,13 +8,11 @@ tools/install-deps.sh
 [ -d build ] || meson setup build --buildtype=release >/dev/null
 ninja -C build >/dev/null
 out=out/paper
-mkdir -p "$out"
+rm -rf "$out"
+mkdir -p "$out/logs"
 for v in none po-pc ref-energy filtered-velocity ignore hold improved; do
-  build/src/popc run data/scenes/paper.ini --variant "$v" --log "$out/$v.csv" --summary "$out/summary.csv" -q
+  build/src/popc run data/scenes/paper.ini --variant "$v" --log "$out/logs/$v.csv" --summary "$out/summary.csv" -q
 done
-echo "logs: $out/*.csv, run summaries: $out/summary.csv"
-if [ -x build/analysis/popc-analyze ]; then
-  build/analysis/popc-analyze report "$out"/*.csv -o "$out/report"
-  build/analysis/popc-analyze compare "$out"/*.csv --format markdown | tee "$out/compare.md"
-  echo "report: $out/report/index.html"
-fi
+build/analysis/popc-analyze report "$out"/logs/*.csv -o "$out/report"
+build/analysis/popc-analyze compare "$out"/logs/*.csv --format markdown | tee "$out/compare.md"
+echo "logs: $out/logs/, run summaries: $out/summary.csv, report: $out/report/index.html"
