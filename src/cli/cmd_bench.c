@@ -236,8 +236,9 @@ static const int sweep[] = {1, 2, 4, 8, 16, 32, 64, 100, 128, 256, 512, 1024};
 typedef struct wp_point {
 	int substeps;
 	double error_m, ns;
-	int unstable;
+	int unstable;              /* stopped by the sim axis' stability guards */
 	long long tick;
+	char why[24];              /* which guard */
 } wp_point;
 
 /* Least-squares slope of -log(error) against log(substeps) over the points
@@ -364,6 +365,11 @@ static int bench_integrators(const popc_scene *s, const bench_opts *o)
 			popc_error e2;
 			int rst = replay_error(s, methods[m], sweep[i], &rec, &p->error_m, &p->tick, &e2);
 			p->unstable = rst == POPC_ERR_NUMERIC;
+			snprintf(p->why, sizeof p->why, "%s",
+				 strstr(e2.msg, "made up") ? "made-up energy"
+				 : strstr(e2.msg, "free motion would grow") ? "growth bound"
+				 : strstr(e2.msg, "position error") ? "error bound"
+									 : "diverged");
 			if (rst && !p->unstable) {
 				free(rec.f_c);
 				return popc_cli_fail("bench", rst, &e2);
@@ -387,7 +393,7 @@ static int bench_integrators(const popc_scene *s, const bench_opts *o)
 				const wp_point *p = &pts[m][i];
 				printf("%s,%d,%.6g,%.6g,%.6g,%s\n", popc_integrator_name(methods[m]),
 				       p->substeps, popc_scene_period_s(s) / p->substeps, p->error_m, p->ns,
-				       p->unstable ? "unstable" : "ok");
+				       p->unstable ? "stopped" : "ok");
 			}
 	} else {
 		printf("popc bench integrators: %s, %lld control steps at %g Hz, variant %s\n",
@@ -403,9 +409,9 @@ static int bench_integrators(const popc_scene *s, const bench_opts *o)
 			for (int i = 0; i < npts[m]; i++) {
 				const wp_point *p = &pts[m][i];
 				if (p->unstable)
-					printf("%-20s %9d %12s %14s  (stopped at tick %lld)\n",
-					       popc_integrator_name(methods[m]), p->substeps, "unstable", "-",
-					       p->tick);
+					printf("%-20s %9d %12s %14s  (at tick %lld: %s)\n",
+					       popc_integrator_name(methods[m]), p->substeps, "stopped", "-",
+					       p->tick, p->why);
 				else
 					printf("%-20s %9d %12.3g %14.1f\n", popc_integrator_name(methods[m]),
 					       p->substeps, p->error_m, p->ns);

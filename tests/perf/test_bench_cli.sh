@@ -33,15 +33,19 @@ check "  CSV header" grep -qx "integrator,substeps,h_s,max_error_m,ns_per_step,s
 for m in exact trapezoid rk4 semi-implicit-euler euler; do
   check "  has $m" grep -q "^$m," "$T/wp.csv"
 done
-# measured order from the CSV: log2(error(n) / error(2n)) between n = 4 and 8
-order() { awk -F, -v m="$1" '$1 == m && $2 == 4 {a = $4} $1 == m && $2 == 8 {b = $4}
+# measured order from the CSV: log2(error(n) / error(2n)) between n = 8 and 16
+# for the first-order methods (explicit Euler is stopped below 8 substeps on
+# this scene: it makes up more energy than the plant holds), 2 and 4 for the
+# others (RK4 reaches the rounding floor by 8)
+order() { awk -F, -v m="$1" -v n="$2" '$1 == m && $2 == n {a = $4} $1 == m && $2 == 2 * n {b = $4}
   END { if (a > 0 && b > 0) printf "%.2f", log(a / b) / log(2); else print "nan" }' "$T/wp.csv"; }
 in_range() { awk -v x="$1" -v lo="$2" -v hi="$3" 'BEGIN { exit !(x >= lo && x <= hi) }'; }
 # the theory: trapezoid 2, RK4 4, both Euler methods 1 (measured 2.00, 4.02, 1.00, 1.00)
-check "  trapezoid converges at order 2 ($(order trapezoid))" in_range "$(order trapezoid)" 1.9 2.1
-check "  rk4 converges at order 4 ($(order rk4))" in_range "$(order rk4)" 3.8 4.2
-check "  semi-implicit-euler converges at order 1 ($(order semi-implicit-euler))" in_range "$(order semi-implicit-euler)" 0.9 1.1
-check "  euler converges at order 1 ($(order euler))" in_range "$(order euler)" 0.9 1.1
+check "  trapezoid converges at order 2 ($(order trapezoid 2))" in_range "$(order trapezoid 2)" 1.9 2.1
+check "  rk4 converges at order 4 ($(order rk4 2))" in_range "$(order rk4 2)" 3.8 4.2
+check "  semi-implicit-euler converges at order 1 ($(order semi-implicit-euler 8))" in_range "$(order semi-implicit-euler 8)" 0.9 1.1
+check "  euler converges at order 1 ($(order euler 8))" in_range "$(order euler 8)" 0.9 1.1
+check "  euler at 1 substep is stopped, not logged as garbage" grep -q "^euler,1,.*,stopped$" "$T/wp.csv"
 # the paper's scheme: trapezoid at 100 substeps, error of order 1e-11 m here (measured 1.93e-11)
 tr100=$(awk -F, '$1 == "trapezoid" && $2 == 100 {print $4}' "$T/wp.csv")
 check "  trapezoid x100 error $tr100 m in [1e-12, 1e-9]" in_range "$tr100" 1e-12 1e-9
