@@ -31,8 +31,11 @@ static int uses_ignore(popc_variant v)
 	return v == POPC_VARIANT_IGNORE || v == POPC_VARIANT_IMPROVED;
 }
 
-void popc_observer_update(popc_observer *o, double x_m, long long count, double v_mps,
-			  double period_s, double f_e_N, popc_observation *obs)
+/* The observer step; static so that popc_controller_step gets it inlined
+ * (the library is built position-independent, where a call to an exported
+ * function is never inlined), public through popc_observer_update below. */
+static inline void observer_update(popc_observer *o, double x_m, long long count, double v_mps,
+				   double period_s, double f_e_N, popc_observation *obs)
 {
 	obs->flags = 0;
 	if (!o->started) {
@@ -73,8 +76,14 @@ void popc_observer_update(popc_observer *o, double x_m, long long count, double 
 	o->f_e_prev_N = f_e_N;
 }
 
-void popc_observer_commit(popc_observer *o, const popc_observation *obs, double f_e_N,
-			  double f_c_N)
+void popc_observer_update(popc_observer *o, double x_m, long long count, double v_mps,
+			  double period_s, double f_e_N, popc_observation *obs)
+{
+	observer_update(o, x_m, count, v_mps, period_s, f_e_N, obs);
+}
+
+static inline void observer_commit(popc_observer *o, const popc_observation *obs, double f_e_N,
+				   double f_c_N)
 {
 	if (uses_ignore(o->variant) && obs->dcount != 0) {
 		/* Table I: Prev_dx = dx(k); Prev_fc = f_c(k) before the PC is added
@@ -84,6 +93,12 @@ void popc_observer_commit(popc_observer *o, const popc_observation *obs, double 
 		o->prev_dcount = obs->dcount;
 	}
 	o->f_c_prev_N = f_c_N;
+}
+
+void popc_observer_commit(popc_observer *o, const popc_observation *obs, double f_e_N,
+			  double f_c_N)
+{
+	observer_commit(o, obs, f_e_N, f_c_N);
 }
 
 void popc_controller_config_from_scene(popc_controller_config *c, const popc_scene *s)
@@ -128,7 +143,7 @@ void popc_controller_step(popc_controller *c, long long count, double x_m, popc_
 
 	double f_e = popc_environment_force(&cfg->env, x_m, v);
 	popc_observation ob;
-	popc_observer_update(&c->obs, x_m, count, v, cfg->period_s, f_e, &ob);
+	observer_update(&c->obs, x_m, count, v, cfg->period_s, f_e, &ob);
 	const double W = c->obs.W_J, E_ref = c->obs.E_ref_J;
 	unsigned flags = ob.flags;
 
@@ -176,7 +191,7 @@ void popc_controller_step(popc_controller *c, long long count, double x_m, popc_
 		f_c = 0.0;
 		flags |= POPC_FLAG_GUARD;
 	}
-	popc_observer_commit(&c->obs, &ob, f_e, f_c);
+	observer_commit(&c->obs, &ob, f_e, f_c);
 	c->f_pc_prev_N = f_pc;
 
 	out->x_m = x_m;
