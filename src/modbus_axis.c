@@ -441,6 +441,9 @@ static int mb_start(popc_axis *ax, popc_error *err)
 			return popc_error_set(err, POPC_ERR_SAFETY,
 					      "drive not ready %d ms after enable: status 0x%04x, ready_mask 0x%04x",
 					      m->enable_timeout_ms, status, m->status.ready_mask);
+		/* poll every 2 ms, not back to back: a drive's bus is not ours alone */
+		struct timespec pause = {0, 2000000};
+		nanosleep(&pause, NULL);
 	}
 	realtime_on(a);
 	return 0;
