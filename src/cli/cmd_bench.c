@@ -304,7 +304,7 @@ static int write_plot(const char *dir, const wp_point pts[N_METHODS][N_SWEEP], c
 		   "set label 'exact (the reference, error 0)' at %.6g, graph 0.05 rotate by 90 "
 		   "offset -1,0\n",
 		"5", exact_ns, exact_ns, exact_ns);
-	fprintf(f, "set label 'rounding floor %.2g m' at graph 0.02, first %.6g offset 0,0.6\n"
+	fprintf(f, "set label 'rounding floor %.2g m' at graph 0.6, first %.6g offset 0,0.6\n"
 		   "set arrow from graph 0, first %.6g to graph 1, first %.6g nohead dt 3 lc rgb "
 		   "'gray'\n",
 		floor_m, floor_m, floor_m, floor_m);
