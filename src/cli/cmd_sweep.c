@@ -385,8 +385,15 @@ static int run_pool(sweep_ctx *c, int jobs)
 						strerror(errno));
 					trouble = 1;
 				}
-			} else if (!WIFEXITED(wstatus) || WEXITSTATUS(wstatus) != 0) {
-				trouble |= !stopping;
+			} else if ((!WIFEXITED(wstatus) || WEXITSTATUS(wstatus) != 0) && !stopping) {
+				/* between runs: no run lost, but say so, and replace it */
+				if (WIFSIGNALED(wstatus))
+					fprintf(stderr, "popc sweep: a worker process died of signal %d (%s) between runs\n",
+						WTERMSIG(wstatus), strsignal(WTERMSIG(wstatus)));
+				trouble = 1;
+				if (atomic_load(&c->sh->next) < c->n_todo && spawn_worker(c, slot_of[m]) != 0)
+					fprintf(stderr, "popc sweep: cannot start a worker: %s\n",
+						strerror(errno));
 			}
 		}
 	}

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # popc sweep as a user runs it: usage errors before anything runs, a small
 # sweep with logs, its summary against popc-analyze compare, resume, failed
-# runs, shards and merge, Slurm array variables, --no-log, and SIGINT.
+# runs, shards and merge, Slurm array variables, --no-log, SIGINT and a
+# worker that dies.
 set -u
 POPC=${POPC:?POPC must name the popc program}
 SRC=${POPC_SOURCE_ROOT:?}
@@ -169,6 +170,31 @@ check "  8000 rows" test "$(wc -l < "$T/i/summary.csv")" -eq 8001
 check "  each run once, in order" test "$(tail -n +2 "$T/i/summary.csv" | cut -d, -f1 | uniq | wc -l)" -eq 8000
 expect_exit 0 "the first 200 runs uninterrupted" "$POPC" sweep "$SCENE" --vary operator.speed=0.01:0.1:4000 --vary controller.variant=ref-energy,improved --set run.duration=2 --shard 0/40 -o "$T/ref" --no-log -q
 check "  equal rows in both" cmp -s <(nowall "$T/ref/summary-shard-0-of-40.csv" | tail -n +2) <(nowall "$T/i/summary.csv" | awk -F, 'NR > 1 && $1 % 40 == 0')
+
+# ---- a worker that dies: its run is recorded as failed, the sweep goes on
+mkfifo "$T/fifo2"
+"$POPC" sweep "$SCENE" "${BIG[@]}" -o "$T/k" --no-log -j 2 2>"$T/fifo2" &
+pid=$!
+exec 3<"$T/fifo2"
+got=
+while IFS= read -r -t 60 -u 3 line; do
+  case $line in *"runs ("*) got=1; break ;; esac
+done
+# a worker is a child of the sweep (by parent pid, not by name)
+worker=$(cut -d' ' -f1 "/proc/$pid/task/$pid/children" 2>/dev/null)
+# SIGKILL (as the OOM killer): a sanitizer build turns SIGSEGV into exit 1
+[ -n "$worker" ] && kill -KILL "$worker"
+cat <&3 > "$T/err"
+exec 3<&-
+wait "$pid"; rc=$?
+pid=
+check "a worker killed by SIGKILL (pid ${worker:-none})" test -n "$worker"
+check "  the sweep goes on and exits 1 (got $rc)" test "$rc" -eq 1
+check "  names the signal" err_has "died of signal 9"
+# (the run it had in hand failed; or none, when the signal fell between runs)
+check "  at most one failed run, every run has a row" test "$(tail -n +2 "$T/k/summary.csv" | awk -F, '$4 != 0' | wc -l)" -le 1 -a "$(wc -l < "$T/k/summary.csv")" -eq 8001
+expect_exit 0 "again: the crashed run is retried" "$POPC" sweep "$SCENE" "${BIG[@]}" -o "$T/k" --no-log -j 2 -q
+check "  all 8000 succeeded" test "$(tail -n +2 "$T/k/summary.csv" | awk -F, '$4 == 0' | wc -l)" -eq 8000
 
 echo "# $passes passed, $fails failed"
 [ "$fails" -eq 0 ]
