@@ -173,10 +173,25 @@ int popc_sweep_run_csv_status(const char *run_header, const char *run_row, int *
 
 /* ---- files ----------------------------------------------------------------- */
 
+/* A temporary name next to path, unique to this process on this host: shards
+ * on several nodes may write the same file (sweep.plan) into a shared
+ * directory at once, and pids repeat across nodes. */
+static int temp_name(char *tmp, size_t cap, const char *path)
+{
+	char host[64];
+	if (gethostname(host, sizeof host) != 0)
+		strcpy(host, "host");
+	host[sizeof host - 1] = '\0';
+	for (char *c = host; *c; c++)
+		if (*c == '/')
+			*c = '_';
+	return (size_t)snprintf(tmp, cap, "%s.tmp.%s.%ld", path, host, (long)getpid()) < cap ? 0 : -1;
+}
+
 int popc_sweep_write_atomic(const char *path, const char *data, size_t n, popc_error *err)
 {
-	char tmp[POPC_PATH_MAX + 32];
-	if ((size_t)snprintf(tmp, sizeof tmp, "%s.tmp.%ld", path, (long)getpid()) >= sizeof tmp)
+	char tmp[POPC_PATH_MAX + 96];
+	if (temp_name(tmp, sizeof tmp, path) != 0)
 		return popc_error_set(err, POPC_ERR_IO, "%s: path too long", path);
 	int fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC, 0666);
 	if (fd < 0)
@@ -755,8 +770,8 @@ int popc_sweep_results_write(const popc_sweep_results *r, const popc_sweep_plan 
 			     popc_error *err)
 {
 	memset(t, 0, sizeof *t);
-	char tmp[POPC_PATH_MAX + 32];
-	if ((size_t)snprintf(tmp, sizeof tmp, "%s.tmp.%ld", out_path, (long)getpid()) >= sizeof tmp)
+	char tmp[POPC_PATH_MAX + 96];
+	if (temp_name(tmp, sizeof tmp, out_path) != 0)
 		return popc_error_set(err, POPC_ERR_IO, "%s: path too long", out_path);
 	FILE *f = fopen(tmp, "w");
 	if (!f)
