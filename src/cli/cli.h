@@ -27,5 +27,6 @@ int popc_cli_parse_long(const char *text, long lo, long hi, long *out);
 int popc_cmd_run(int argc, char **argv);
 int popc_cmd_scene(int argc, char **argv);
 int popc_cmd_bench(int argc, char **argv);
+int popc_cmd_sweep(int argc, char **argv);
 
 #endif

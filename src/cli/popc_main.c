@@ -16,6 +16,7 @@ static void usage(FILE *f)
 	      "  run SCENE       run one experiment\n"
 	      "  scene show|keys print a resolved scene, or every scene key\n"
 	      "  bench integrators|loop|log  speed against error (docs/BENCHMARKS.md)\n"
+	      "  sweep SCENE     run a parameter sweep in parallel (Slurm, GNU parallel)\n"
 	      "\n"
 	      "'popc VERB --help' describes a verb. popc-analyze reads the logs.\n",
 	      f);
@@ -42,6 +43,8 @@ int main(int argc, char **argv)
 		return popc_cmd_scene(argc - 1, argv + 1);
 	if (strcmp(verb, "bench") == 0)
 		return popc_cmd_bench(argc - 1, argv + 1);
+	if (strcmp(verb, "sweep") == 0)
+		return popc_cmd_sweep(argc - 1, argv + 1);
 	fprintf(stderr, "popc: unknown verb '%s'\n", verb);
 	usage(stderr);
 	return 2;
