@@ -191,6 +191,12 @@ void popc_controller_step(popc_controller *c, long long count, double x_m, popc_
 		f_c = 0.0;
 		flags |= POPC_FLAG_GUARD;
 	}
+	/* The axis clamps what it sends; clamping here keeps the log and the PO
+	 * (W(k+1) uses f_c(k)) on the force the device really received. */
+	if (cfg->force_limit_N > 0.0 && fabs(f_c) > cfg->force_limit_N) {
+		f_c = f_c > 0.0 ? cfg->force_limit_N : -cfg->force_limit_N;
+		flags |= POPC_FLAG_LIMIT;
+	}
 	observer_commit(&c->obs, &ob, f_e, f_c);
 	c->f_pc_prev_N = f_pc;
 

@@ -664,6 +664,7 @@ int popc_modbus_axis_create(popc_axis **out, const popc_scene *s, const popc_mod
 	popc_histogram_init(&a->rtt_hist);
 	ax->ops = &modbus_ops;
 	ax->priv = a;
+	ax->force_limit_N = a->map.cmd.limit_N;
 	*out = ax;
 	return 0;
 }

@@ -27,6 +27,7 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 
 	popc_controller_config ccfg;
 	popc_controller_config_from_scene(&ccfg, s);
+	ccfg.force_limit_N = axis->force_limit_N;
 	popc_controller ctl;
 	popc_controller_init(&ctl, &ccfg);
 	/* the "late" window: the second half of the run, the seed's low-velocity phase */

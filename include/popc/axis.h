@@ -35,6 +35,8 @@ typedef struct popc_axis_ops {
 struct popc_axis {
 	const popc_axis_ops *ops;
 	void *priv;
+	double force_limit_N; /* the largest |f_c| the axis sends (0: none); the
+				 runner clamps and flags the command to it */
 };
 
 /* The simulated axis: plant, operator intent and encoder of the scene. */

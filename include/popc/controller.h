@@ -19,6 +19,7 @@ enum popc_flag {
 	POPC_FLAG_IGNORE = 4,    /* one-count reversal: produced energy ignored (Table I) */
 	POPC_FLAG_CLAMP = 8,     /* f_pc clamped to +-pc_bound */
 	POPC_FLAG_GUARD = 16,    /* a non-finite PC force was replaced by 0 */
+	POPC_FLAG_LIMIT = 32,    /* f_c clamped to the axis' force limit: f_c != f_e + f_pc */
 };
 
 /* One control tick as logged. */
@@ -75,6 +76,7 @@ void popc_observer_commit(popc_observer *o, const popc_observation *obs, double 
 typedef struct popc_controller_config {
 	popc_variant variant;
 	double pc_bound_N;
+	double force_limit_N;  /* the axis' command limit |f_c| <= limit; 0: none */
 	popc_ignore_mode ignore_mode;
 	double resolution_m;
 	double period_s;

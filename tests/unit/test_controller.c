@@ -174,6 +174,27 @@ static void test_bound_and_guards(void **state)
 	assert_true(isfinite(t.f_c_N));
 }
 
+/* The axis' command limit: f_c is clamped and flagged, and the PO uses the
+ * clamped command (the force really sent) in the next step. */
+static void test_axis_force_limit(void **state)
+{
+	(void)state;
+	popc_controller_config cfg = {
+		.variant = POPC_VARIANT_NONE, .pc_bound_N = 5.0, .force_limit_N = 0.015,
+		.resolution_m = 1e-5, .period_s = 1e-3, .foaw_window = 16, .foaw_noise_m = 1e-5,
+		.env = {.kind = POPC_ENV_WALL, .stiffness_Npm = 1000.0, .position_m = 0.0},
+	};
+	popc_controller c;
+	popc_controller_init(&c, &cfg);
+	popc_tick t = step(&c, 0);
+	t = step(&c, 1); /* f_e = 0.01: below the limit */
+	assert_true(t.f_c_N == t.f_e_N && !(t.flags & POPC_FLAG_LIMIT));
+	t = step(&c, 2); /* f_e = 0.02 > 0.015 */
+	assert_true(t.f_c_N == 0.015 && (t.flags & POPC_FLAG_LIMIT));
+	t = step(&c, 3); /* W(3) = W(2) + f_c(2) dx = 0.01e-5 + 0.015e-5 */
+	assert_true(fabs(t.W_J - 0.025e-5) < E_TOL);
+}
+
 /* FOAW: a constant-velocity count ramp is estimated exactly once the window
  * has filled; the plain backward difference would alternate 0 and delta/T. */
 static void test_foaw_slow_ramp(void **state)
@@ -203,6 +224,7 @@ int main(void)
 		cmocka_unit_test(test_zero_displacement),
 		cmocka_unit_test(test_po_pc_zero_threshold),
 		cmocka_unit_test(test_bound_and_guards),
+		cmocka_unit_test(test_axis_force_limit),
 		cmocka_unit_test(test_foaw_slow_ramp),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
