@@ -62,6 +62,8 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 		row.dt_s = smp.dt_s;
 		row.rtt_s = smp.rtt_s;
 		popc_metrics_add(&sum->metrics, &row.tick);
+		if (opt && opt->on_tick)
+			opt->on_tick(opt->tick_user, &row.tick);
 		if (log && (st = popc_log_write_row(log, &row, err)) != 0) {
 			why = "log write failed";
 			break;

@@ -11,99 +11,17 @@
 
 #include "popc/axis.h"
 #include "popc/controller.h"
-#include "popc/encoder.h"
 #include "popc/log.h"
 #include "popc/log_reader.h"
 #include "popc/run.h"
 
 /* ---- the chatter detector ----------------------------------------------------- *
  *
- * popc_run offers no per-tick hook, and its summary has no chatter metrics.
- * So the run's axis is wrapped: the wrapper sees every sample (the encoder
- * count of tick k) and every command f_c(k), runs a second controller on the
- * same counts (the same function with the same inputs, so the same ticks,
- * bit for bit) and feeds the ticks to the detector. It checks each f_c(k)
- * popc_run sends against its own, bitwise, and a run where they differ (the
- * loop changed in run.c) fails rather than report numbers of another run.
- * A tick hook in popc_run_options would make the second controller
- * unnecessary. */
+ * The chatter detector sees every tick through popc_run's on_tick hook. */
 
-typedef struct tee_axis {
-	popc_axis self;
-	popc_axis *inner;
-	popc_controller ctl;
-	popc_chatter det;
-	double period_s, resolution_m;
-	long long k;
-	double f_c_N;       /* the mirror's command of the last tick */
-	int diverged;
-} tee_axis;
-
-static void tee_tick(tee_axis *t, const popc_axis_sample *smp)
+static void feed_chatter(void *user, const popc_tick *tick)
 {
-	popc_tick tick;
-	tick.t_s = (double)t->k * t->period_s; /* as popc_run: t = k T */
-	popc_controller_step(&t->ctl, smp->count, popc_encoder_position(smp->count, t->resolution_m),
-			     &tick);
-	popc_chatter_add(&t->det, &tick);
-	t->f_c_N = tick.f_c_N;
-	t->k++;
-}
-
-static int tee_start(popc_axis *a, popc_error *err)
-{
-	tee_axis *t = a->priv;
-	return t->inner->ops->start(t->inner, err);
-}
-
-static int tee_sample(popc_axis *a, popc_axis_sample *out, popc_error *err)
-{
-	tee_axis *t = a->priv;
-	int st = t->inner->ops->sample(t->inner, out, err);
-	if (!st)
-		tee_tick(t, out);
-	return st;
-}
-
-static int tee_exchange(popc_axis *a, double f_c_N, popc_axis_sample *next, popc_error *err)
-{
-	tee_axis *t = a->priv;
-	if (memcmp(&f_c_N, &t->f_c_N, sizeof f_c_N) != 0 && !t->diverged) {
-		t->diverged = 1;
-		return popc_error_set(err, POPC_ERR_INVALID,
-				      "sweep: the chatter detector's controller disagrees with the run's "
-				      "at t = %g s (f_c %.17g against %.17g N)",
-				      (double)(t->k - 1) * t->period_s, t->f_c_N, f_c_N);
-	}
-	int st = t->inner->ops->exchange(t->inner, f_c_N, next, err);
-	if (!st)
-		tee_tick(t, next);
-	return st;
-}
-
-static int tee_stop(popc_axis *a, popc_error *err)
-{
-	tee_axis *t = a->priv;
-	return t->inner->ops->stop(t->inner, err);
-}
-
-static void tee_destroy(popc_axis *a)
-{
-	(void)a; /* lives on the stack of popc_sweep_run_one */
-}
-
-static popc_axis_ops tee_ops(const popc_axis *inner)
-{
-	return (popc_axis_ops){
-		.name = inner->ops->name,
-		.log_columns = inner->ops->log_columns,
-		.start = tee_start,
-		.sample = tee_sample,
-		.exchange = tee_exchange,
-		.stop = tee_stop,
-		.report = NULL,
-		.destroy = tee_destroy,
-	};
+	popc_chatter_add(user, tick);
 }
 
 static int chatter_init(popc_chatter *det, const popc_scene *s, const popc_controller_config *ccfg,
@@ -236,32 +154,21 @@ int popc_sweep_run_one(const popc_sweep_plan *p, long long i, const char *dir, i
 			st = popc_log_write_header(&log, axis->ops->name, &s, NULL, &rerr);
 		}
 	}
-	tee_axis tee;
-	popc_axis_ops tops;
+	popc_chatter det;
 	popc_chatter_result chat;
 	int have_chat = 0;
 	if (!st) {
-		memset(&tee, 0, sizeof tee);
-		tops = tee_ops(axis);
-		tee.self = (popc_axis){.ops = &tops, .priv = &tee};
-		tee.inner = axis;
-		tee.period_s = popc_scene_period_s(&s);
-		tee.resolution_m = s.enc_resolution_m;
 		popc_controller_config ccfg;
 		popc_controller_config_from_scene(&ccfg, &s);
-		popc_controller_init(&tee.ctl, &ccfg);
-		st = chatter_init(&tee.det, &s, &ccfg, &rerr);
+		st = chatter_init(&det, &s, &ccfg, &rerr);
 	}
 	if (!st) {
-		popc_run_options ro = {.log = log_open ? &log : NULL, .stop_flag = stop_flag};
-		st = popc_run(&s, &tee.self, &ro, &sum, &rerr);
-		/* popc_run asked the wrapper, which is not the sim axis */
-		sum.integrator_error_m = popc_sim_axis_max_error(axis);
+		popc_run_options ro = {.log = log_open ? &log : NULL, .stop_flag = stop_flag,
+				       .on_tick = feed_chatter, .tick_user = &det};
+		st = popc_run(&s, axis, &ro, &sum, &rerr);
 		have_sum = 1;
-		if (!tee.diverged) {
-			popc_chatter_finish(&tee.det, &chat);
-			have_chat = 1;
-		}
+		popc_chatter_finish(&det, &chat);
+		have_chat = 1;
 	}
 	if (log_open) {
 		popc_error cerr;

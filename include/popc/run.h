@@ -24,6 +24,10 @@ typedef struct popc_run_summary {
 typedef struct popc_run_options {
 	popc_log_writer *log;              /* NULL: no log */
 	volatile sig_atomic_t *stop_flag;  /* set by a signal handler: stop safely */
+	/* called with every tick after it is logged (NULL: none); for streaming
+	 * analyses such as the chatter detector of a sweep */
+	void (*on_tick)(void *user, const popc_tick *tick);
+	void *tick_user;
 } popc_run_options;
 
 /* Runs the scene on the axis. Always calls the axis' stop() and writes the
