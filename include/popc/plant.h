@@ -59,11 +59,16 @@ typedef struct popc_plant {
 static inline void popc_plant_step_exact(const popc_plant_step_coeffs *c, popc_plant_state *st,
 					 const popc_plant_input *u)
 {
+	/* The input terms first, as two independent pairs, then the state terms:
+	 * the next state waits for two products and two additions once x and v
+	 * are known (not five additions), which is what bounds a chain of steps. */
+	double in_x = (c->gam[0][0] * u->u0_N + c->gam[0][1] * u->u1_Nps) +
+		      (c->gam[0][2] * u->uc_N + c->gam[0][3] * u->us_N);
+	double in_v = (c->gam[1][0] * u->u0_N + c->gam[1][1] * u->u1_Nps) +
+		      (c->gam[1][2] * u->uc_N + c->gam[1][3] * u->us_N);
 	double x = st->x_m, v = st->v_mps;
-	st->x_m = c->phi[0][0] * x + c->phi[0][1] * v + c->gam[0][0] * u->u0_N +
-		  c->gam[0][1] * u->u1_Nps + c->gam[0][2] * u->uc_N + c->gam[0][3] * u->us_N;
-	st->v_mps = c->phi[1][0] * x + c->phi[1][1] * v + c->gam[1][0] * u->u0_N +
-		    c->gam[1][1] * u->u1_Nps + c->gam[1][2] * u->uc_N + c->gam[1][3] * u->us_N;
+	st->x_m = (c->phi[0][0] * x + c->phi[0][1] * v) + in_x;
+	st->v_mps = (c->phi[1][0] * x + c->phi[1][1] * v) + in_v;
 }
 
 /* Validates the configuration (M > 0, B >= 0, K >= 0, finite, substeps >= 1)

@@ -2,7 +2,7 @@
 # Benchmark, not a test: achieved control rate and period jitter of popc run on
 # the Modbus axis against popc-servo-sim, over TCP loopback and over RTU on a
 # socat pseudo-terminal pair, with and without pacing the pty at 115200 baud.
-# Prints a Markdown table (docs/BENCHMARKS-modbus.md holds a run of it).
+# Prints a Markdown table (docs/BENCHMARKS.md, section 7 holds a run of it).
 #
 #   POPC=build/src/popc POPC_SOURCE_ROOT=. \
 #     bash tests/modbus/bench_modbus.sh build/src/servo_sim/popc-servo-sim [SECONDS]
