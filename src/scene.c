@@ -412,6 +412,22 @@ void popc_scene_write(const popc_scene *s, FILE *f, const char *prefix)
 	}
 }
 
+int popc_scene_to_text(const popc_scene *s, char **text, size_t *len, popc_error *err)
+{
+	*text = NULL;
+	*len = 0;
+	FILE *f = open_memstream(text, len);
+	if (!f)
+		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+	popc_scene_write(s, f, "");
+	if (fclose(f) != 0) {
+		free(*text);
+		*text = NULL;
+		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+	}
+	return 0;
+}
+
 void popc_scene_print_keys(FILE *f)
 {
 	popc_scene d;

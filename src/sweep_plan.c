@@ -270,16 +270,11 @@ long long popc_sweep_id_parse(const popc_sweep_plan *p, const char *text)
 /* Hashes the base scene as popc_scene_write writes it. */
 static int hash_scene(const popc_scene *s, uint64_t *h, popc_error *err)
 {
-	char *text = NULL;
-	size_t len = 0;
-	FILE *f = open_memstream(&text, &len);
-	if (!f)
-		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
-	popc_scene_write(s, f, "");
-	if (fclose(f) != 0) {
-		free(text);
-		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
-	}
+	char *text;
+	size_t len;
+	int st = popc_scene_to_text(s, &text, &len, err);
+	if (st)
+		return st;
 	*h = popc_sweep_fnv1a(*h, text, len);
 	free(text);
 	return 0;

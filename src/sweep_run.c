@@ -99,17 +99,12 @@ static int summary_text(const popc_run_summary *sum, const popc_scene *s, char *
 
 static int write_scene(const char *path, const popc_scene *s, popc_error *err)
 {
-	char *text = NULL;
-	size_t len = 0;
-	FILE *f = open_memstream(&text, &len);
-	if (!f)
-		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
-	popc_scene_write(s, f, "");
-	if (fclose(f) != 0) {
-		free(text);
-		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
-	}
-	int st = popc_sweep_write_atomic(path, text, len, err);
+	char *text;
+	size_t len;
+	int st = popc_scene_to_text(s, &text, &len, err);
+	if (st)
+		return st;
+	st = popc_sweep_write_atomic(path, text, len, err);
 	free(text);
 	return st;
 }

@@ -114,6 +114,9 @@ int popc_scene_validate(const popc_scene *s, popc_error *err);
  * back to the same double. */
 void popc_scene_write(const popc_scene *s, FILE *f, const char *prefix);
 
+/* The same text as popc_scene_write(s, f, ""), in a buffer the caller frees. */
+int popc_scene_to_text(const popc_scene *s, char **text, size_t *len, popc_error *err);
+
 /* Names used in files and on the command line. */
 const char *popc_variant_name(popc_variant v);
 int popc_variant_from_name(const char *name, popc_variant *out);
