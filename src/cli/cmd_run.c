@@ -40,16 +40,36 @@ static void usage(FILE *f)
 enum { OPT_SET = 256, OPT_VARIANT, OPT_LOG, OPT_SUMMARY, OPT_AXIS, OPT_MAP, OPT_CONNECT,
        OPT_FREE_RUN, OPT_RT };
 
-static int write_summary_file(const char *path, const popc_run_summary *sum, const popc_scene *s)
+/* Appends the run's summary row, and the axis' own columns (a real axis:
+ * period and latency percentiles) after the run's, to path; a new file gets
+ * the header first. */
+static int write_summary_file(const char *path, const popc_run_summary *sum, const popc_scene *s,
+			      const char *axis_names, const char *axis_values)
 {
-	FILE *f = fopen(path, "a+");
-	if (!f)
-		return -1;
-	fseek(f, 0, SEEK_END);
-	if (ftell(f) == 0)
-		popc_run_summary_csv_header(f);
-	popc_run_summary_csv_row(sum, s, f);
-	return fclose(f);
+	char *header = NULL, *row = NULL;
+	size_t hl = 0, rl = 0;
+	FILE *m = open_memstream(&header, &hl);
+	if (m) {
+		popc_run_summary_csv_header(m);
+		fclose(m);
+	}
+	m = open_memstream(&row, &rl);
+	if (m) {
+		popc_run_summary_csv_row(sum, s, m);
+		fclose(m);
+	}
+	int st = -1;
+	FILE *f = header && row && hl && rl ? fopen(path, "a+") : NULL;
+	if (f) {
+		fseek(f, 0, SEEK_END);
+		if (ftell(f) == 0)
+			fprintf(f, "%.*s%s\n", (int)hl - 1, header, axis_names); /* drop the '\n' */
+		fprintf(f, "%.*s%s\n", (int)rl - 1, row, axis_values);
+		st = fclose(f);
+	}
+	free(header);
+	free(row);
+	return st;
 }
 
 int popc_cmd_run(int argc, char **argv)
@@ -151,10 +171,13 @@ int popc_cmd_run(int argc, char **argv)
 	int close_st = log_path ? popc_log_close(&log, &cerr) : 0;
 	if (!quiet)
 		popc_run_summary_print(&sum, &s, stderr);
-	if (!quiet && axis->ops->report) /* period and latency percentiles of a real axis */
-		axis->ops->report(axis, stderr, NULL, NULL, 0);
+	char axis_names[1024] = "", axis_values[1024] = "";
+	if (axis->ops->report) /* period and latency percentiles of a real axis */
+		axis->ops->report(axis, quiet ? NULL : stderr, axis_names, axis_values,
+				  sizeof axis_names);
 	popc_axis_destroy(&axis);
-	if (summary_path && write_summary_file(summary_path, &sum, &s) != 0) {
+	if (summary_path &&
+	    write_summary_file(summary_path, &sum, &s, axis_names, axis_values) != 0) {
 		fprintf(stderr, "popc run: %s: cannot write the summary\n", summary_path);
 		if (!run_st)
 			return 1;

@@ -11,7 +11,7 @@ start_server --map "$DRIVES/generic.ini" --listen tcp:127.0.0.1:0 --scene "$SCEN
 	--record "$WORK/rec.txt"
 rc=0
 "$POPC" run "$SCENE" --set run.duration=10 --axis modbus --map "$DRIVES/generic.ini" \
-	--connect "$SRV_URI" --rt --log "$WORK/rt.csv" 2>"$WORK/rt.err" || rc=$?
+	--connect "$SRV_URI" --rt --log "$WORK/rt.csv" --summary "$WORK/sum.csv" 2>"$WORK/rt.err" || rc=$?
 stop_server
 expect_rc realtime $rc 0
 check_log "$WORK/rt.csv" '^# stop = completed$'
@@ -31,6 +31,11 @@ done
 grep -q 'over 10001 samples' "$WORK/rt.err" || fail "exchange count"
 grep -Eq 'overruns [0-9]+ \(skipped periods [0-9]+\)' "$WORK/rt.err" || fail "overrun count missing"
 grep -q 'real-time: ' "$WORK/rt.err" || fail "no note on real-time scheduling"
+# the --summary row carries the axis' percentiles after the run's columns
+awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+	NR == 2 { ok = c["dt_p50_s"] && c["rtt_p999_s"] && c["overruns"] && NF == length(c) &&
+		  $c["dt_p50_s"] > 0 && $c["dt_p50_s"] <= $c["dt_max_s"] && $c["ticks"] == 10001 }
+	END { exit !(NR == 2 && ok) }' "$WORK/sum.csv" || fail "summary CSV lacks the period columns: $(cat "$WORK/sum.csv")"
 # dt and rtt in every row after tick 0, positive
 awk -F, '/^#/ { next } !h { for (i = 1; i <= NF; i++) c[$i] = i; h = 1; next }
 	n++ > 0 && !($c["dt"] > 0 && $c["rtt"] > 0) { bad = 1 } END { exit bad }' "$WORK/rt.csv" ||
