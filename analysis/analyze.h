@@ -23,7 +23,25 @@ typedef struct ana_input_options {
 	popc_log_reader_options reader;
 	char **sets;
 	int n_sets;
+	const char *verb;   /* for the notes ana_log_open prints ("popc-analyze VERB: ...") */
+	int quiet;          /* -q: no notes */
+	unsigned uses;      /* ANA_USES_*: scene parameters the verb reads beyond the columns */
+	unsigned ignores;   /* ANA_USES_*: derived columns the verb does not read (replay: W) */
 } ana_input_options;
+
+/* Scene parameters a verb depends on besides those the derived columns need
+ * (ana_log_open adds the encoder always, the environment when f_e is missing,
+ * the variant when W or E_ref is missing, the rate when the time column does
+ * not give the period). A foreign log's parameter that neither the header nor
+ * --set gives comes from the paper scene's defaults, and ana_log_open says so
+ * on stderr once per log (docs/ANALYSIS.md). */
+enum {
+	ANA_USES_ENVIRONMENT = 1u << 0, /* contact share: chatter, compare, report */
+	ANA_USES_VARIANT = 1u << 1,     /* the observer that ran online: energy */
+	ANA_USES_CONTROLLER = 1u << 2,  /* PC bound, Table I mode, FOAW: replay */
+	ANA_USES_ENCODER = 1u << 3,
+	ANA_USES_RATE = 1u << 4,
+};
 
 /* The long options of ana_input_options, to splice into a verb's table. */
 enum {
@@ -63,6 +81,12 @@ typedef struct ana_log {
 	/* column indices, -1 when the file lacks them */
 	int c_t, c_x, c_count, c_x_true, c_v, c_f_e, c_f_pc, c_f_c, c_W, c_E_ref, c_flags;
 	int c_dt, c_rtt;
+	/* the PC force is logged (f_pc) or follows from the command (f_pc = f_c - f_e);
+	 * without either, ana_log_next's f_pc is 0 and f_c = f_e, which is no
+	 * measurement: a verb must not base a verdict on it (ana_no_pc_force) */
+	int has_pc_force;
+	/* W is known: logged with E_ref, or recomputable from f_c */
+	int has_w;
 	/* look-ahead: the first two rows are read at open to find the period */
 	double ahead[2][POPC_LOG_MAX_COLUMNS];
 	int n_ahead, ahead_pos, ahead_st;
@@ -79,6 +103,7 @@ typedef struct ana_row {
 	double x_true_m;          /* NAN when absent */
 	double dt_s, rtt_s;       /* NAN when absent */
 	double W_logged_J, E_ref_logged_J; /* NAN when absent */
+	int pc_force_known, w_known;       /* the ana_log's has_pc_force, has_w */
 } ana_row;
 
 /* Opens a log: reader, scene (defaults, header, --set; validated), columns.
@@ -89,6 +114,10 @@ int ana_log_open(ana_log *l, const char *path, const ana_input_options *o, popc_
 int ana_log_next(ana_log *l, ana_row *row, popc_error *err);
 
 void ana_log_close(ana_log *l);
+
+/* The error for a log without a PC-force source: names the file, the columns
+ * looked for and the --column mapping. Returns POPC_ERR_INVALID. */
+int ana_no_pc_force(popc_error *err, const char *path);
 
 /* The observer that ran online for a variant (Table I for ignore/improved). */
 void ana_online_observer(const popc_scene *s, popc_variant *variant, popc_ignore_mode *mode);
@@ -119,6 +148,7 @@ typedef struct ana_summary {
 	popc_chatter_result chatter;
 	double duration_s;
 	long long ticks;
+	int has_pc_force, has_w; /* 0: the PC (W) columns are n/a */
 } ana_summary;
 
 /* Streams a log through popc_metrics and the chatter detector (and on_row,

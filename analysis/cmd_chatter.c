@@ -19,7 +19,8 @@ static void usage(FILE *f)
 	      "\n"
 	      "  --format text|csv        text (default), or CSV rows log,kind,start_s,end_s,value\n"
 	      "                           (kind chatter: value = largest window PC RMS, N;\n"
-	      "                           kind limit_cycle: value = amplitude, m)\n"
+	      "                           kind limit_cycle: value = amplitude, m;\n"
+	      "                           kind chatter_not_checked: the log has no PC force)\n"
 	      "  --threshold NAME=VALUE   change a threshold (repeatable); names and defaults:\n"
 	      "                           window=0.1 s, pc_rms=0.5 N, pc_flip_rate=100 /s,\n"
 	      "                           vsign_rate=100 /s, contact=0.5 (share of window),\n"
@@ -30,16 +31,21 @@ static void usage(FILE *f)
 	      "  -h, --help               this help\n"
 	      "\n"
 	      "Exit status (like diff): 0 nothing flagged, 1 chatter or a limit cycle flagged,\n"
-	      "2 trouble (bad usage or input).\n",
+	      "2 trouble (bad usage or input). A log without a PC force (no f_pc or f_c\n"
+	      "column, none mapped with --column) cannot be checked for chatter: its limit\n"
+	      "cycle is still reported (it needs only positions), and the exit status is 2.\n",
 	      f);
 }
 
 enum { OPT_FORMAT = 256, OPT_THRESHOLD };
 
-static void print_text(const char *log, const popc_chatter_result *r)
+static void print_text(const ana_summary *s)
 {
-	printf("%s: ", log);
-	if (r->n_intervals)
+	const popc_chatter_result *r = &s->chatter;
+	printf("%s: ", s->log);
+	if (!s->has_pc_force)
+		printf("chatter not checked (no PC force)");
+	else if (r->n_intervals)
 		printf("chatter %.3f s in %d interval%s:", r->chatter_s, r->n_intervals,
 		       r->n_intervals == 1 ? "" : "s");
 	else
@@ -51,17 +57,31 @@ static void print_text(const char *log, const popc_chatter_result *r)
 	if (r->n_stored < r->n_intervals)
 		printf(" ... (%d more)", r->n_intervals - r->n_stored);
 	printf("; %s\n", r->limit_cycle ? "LIMIT CYCLE" : "no limit cycle");
-	printf("  windows: max PC RMS %.3g N, max PC sign flips %.4g /s, max velocity sign changes "
-	       "%.4g /s in contact\n",
-	       r->max_pc_rms_N, r->max_pc_flip_rate_Hz, r->max_vsign_rate_Hz);
-	printf("  last %.3g s: amplitude %.3g m at %.3g Hz, %.0f %% in contact, sustain %.3g, "
-	       "PC RMS %.3g N, W - E_ref drift %.3g J\n",
+	if (s->has_pc_force)
+		printf("  windows: max PC RMS %.3g N, max PC sign flips %.4g /s, ", r->max_pc_rms_N,
+		       r->max_pc_flip_rate_Hz);
+	else
+		printf("  windows: max PC RMS n/a, max PC sign flips n/a, ");
+	printf("max velocity sign changes %.4g /s in contact\n", r->max_vsign_rate_Hz);
+	printf("  last %.3g s: amplitude %.3g m at %.3g Hz, %.0f %% in contact, sustain %.3g, ",
 	       r->lc_span_s, r->lc_amplitude_m, r->lc_frequency_Hz, 100.0 * r->lc_contact,
-	       r->lc_sustain, r->lc_pc_rms_N, r->lc_w_drift_J);
+	       r->lc_sustain);
+	if (s->has_pc_force)
+		printf("PC RMS %.3g N, ", r->lc_pc_rms_N);
+	else
+		printf("PC RMS n/a, ");
+	if (s->has_w)
+		printf("W - E_ref drift %.3g J\n", r->lc_w_drift_J);
+	else
+		printf("W - E_ref drift n/a\n");
 }
 
-static void print_csv(const char *log, const popc_chatter_result *r)
+static void print_csv(const ana_summary *s)
 {
+	const char *log = s->log;
+	const popc_chatter_result *r = &s->chatter;
+	if (!s->has_pc_force)
+		printf("%s,chatter_not_checked,,,\n", log);
 	for (int i = 0; i < r->n_stored; i++) {
 		printf("%s,chatter,", log);
 		ana_put_double(stdout, r->intervals[i].start_s);
@@ -94,6 +114,7 @@ int ana_cmd_chatter(int argc, char **argv)
 	};
 	ana_input_options in;
 	memset(&in, 0, sizeof in);
+	in.verb = "chatter";
 	popc_chatter_config cc;
 	popc_chatter_config_defaults(&cc);
 	ana_format fmt = ANA_TEXT;
@@ -112,7 +133,7 @@ int ana_cmd_chatter(int argc, char **argv)
 			if ((rc = ana_threshold_option(&cc, optarg, "chatter")) != 0)
 				goto out;
 			break;
-		case 'q': quiet = 1; break;
+		case 'q': quiet = in.quiet = 1; break;
 		case 'h': usage(stdout); goto out;
 		case ANA_OPT_COLUMN:
 		case ANA_OPT_DELIMITER:
@@ -143,12 +164,22 @@ int ana_cmd_chatter(int argc, char **argv)
 		}
 		if (s.chatter.n_intervals || s.chatter.limit_cycle)
 			flagged = 1;
+		if (!s.has_pc_force) {
+			/* "no chatter" would be a verdict without data: trouble, like a
+			 * missing required column; the limit cycle needs only positions,
+			 * so it is still reported */
+			ana_no_pc_force(&err, argv[i]);
+			fprintf(stderr, "popc-analyze chatter: %s; chatter not checked, only the limit "
+					"cycle\n",
+				err.msg);
+			rc = 2;
+		}
 		if (quiet)
 			continue;
 		if (fmt == ANA_CSV)
-			print_csv(s.log, &s.chatter);
+			print_csv(&s);
 		else
-			print_text(s.log, &s.chatter);
+			print_text(&s);
 	}
 	if (rc == 0 && flagged)
 		rc = 1;

@@ -14,9 +14,14 @@ int ana_summarize(const char *path, const ana_input_options *o, const popc_chatt
 {
 	memset(s, 0, sizeof *s);
 	ana_log l;
-	int st = ana_log_open(&l, path, o, err);
+	/* the detector's and the metrics' contact share read the environment */
+	ana_input_options oe = *o;
+	oe.uses |= ANA_USES_ENVIRONMENT;
+	int st = ana_log_open(&l, path, &oe, err);
 	if (st)
 		return st;
+	s->has_pc_force = l.has_pc_force;
+	s->has_w = l.has_w;
 	snprintf(s->log, sizeof s->log, "%s", l.name);
 	snprintf(s->variant, sizeof s->variant, "%s", l.variant);
 	if (late_from_s < 0.0) {
@@ -103,25 +108,52 @@ void ana_summary_print_row(FILE *f, ana_format fmt, const ana_summary *s)
 		      s->w_minus_eref_min_J, s->w_minus_eref_end_J, s->vsign_rate_Hz,
 		      s->vsign_rate_late_Hz, c->chatter_s};
 	const int nv = (int)(sizeof v / sizeof v[0]);
+	/* which cells have data behind them: without a PC force the PC metrics and
+	 * the chatter verdict are n/a (empty in CSV), without W also W - E_ref;
+	 * never a 0 that reads as "the PC was idle" */
+	int known[sizeof v / sizeof v[0]];
+	for (int i = 0; i < nv; i++)
+		known[i] = 1;
+	known[1] = known[2] = known[3] = known[4] = known[5] = known[10] = s->has_pc_force;
+	known[6] = known[7] = s->has_w;
 	if (fmt == ANA_TEXT) {
-		fprintf(f, "%-20s %-18s %7lld %8.4g %8.4g %8.4g %8.4g %8.4g %10.3e %10.3e %10.3e %8.4g %8.4g %8.4g %4d %3d %10.3e %8.4g\n",
-			s->log, s->variant, s->ticks, v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7],
-			v[8], v[9], v[10], c->n_intervals, c->limit_cycle, c->lc_amplitude_m,
-			c->lc_frequency_Hz);
+		static const int width[] = {8, 8, 8, 8, 8, 10, 10, 10, 8, 8, 8};
+		fprintf(f, "%-20s %-18s %7lld", s->log, s->variant, s->ticks);
+		for (int i = 0; i < nv; i++) {
+			if (!known[i])
+				fprintf(f, " %*s", width[i], "n/a");
+			else if (width[i] == 10)
+				fprintf(f, " %10.3e", v[i]);
+			else
+				fprintf(f, " %8.4g", v[i]);
+		}
+		if (s->has_pc_force)
+			fprintf(f, " %4d", c->n_intervals);
+		else
+			fprintf(f, " %4s", "n/a");
+		fprintf(f, " %3d %10.3e %8.4g\n", c->limit_cycle, c->lc_amplitude_m, c->lc_frequency_Hz);
 		return;
 	}
 	const char *sep = fmt == ANA_CSV ? "," : " | ";
+	const char *na = fmt == ANA_CSV ? "" : "n/a";
 	if (fmt == ANA_MARKDOWN)
 		fputs("| ", f);
 	fprintf(f, "%s%s%s%s%lld", s->log, sep, s->variant, sep, s->ticks);
 	for (int i = 0; i < nv; i++) {
 		fputs(sep, f);
-		if (fmt == ANA_MARKDOWN)
+		if (!known[i])
+			fputs(na, f);
+		else if (fmt == ANA_MARKDOWN)
 			fprintf(f, "%.4g", v[i]);
 		else
 			ana_put_double(f, v[i]);
 	}
-	fprintf(f, "%s%d%s%d%s", sep, c->n_intervals, sep, c->limit_cycle, sep);
+	fputs(sep, f);
+	if (s->has_pc_force)
+		fprintf(f, "%d", c->n_intervals);
+	else
+		fputs(na, f);
+	fprintf(f, "%s%d%s", sep, c->limit_cycle, sep);
 	if (fmt == ANA_MARKDOWN) {
 		fprintf(f, "%.4g | %.4g |\n", c->lc_amplitude_m, c->lc_frequency_Hz);
 	} else {
@@ -144,6 +176,8 @@ static void usage(FILE *f)
 	      "  sign changes per second in contact); chatter_s, chatter_intervals, limit_cycle,\n"
 	      "  lc_amplitude (m), lc_frequency (Hz) from the chatter detector.\n"
 	      "The late window is the second half of run.duration (popc logs), else --late-from.\n"
+	      "A log without a PC force (no f_pc or f_c column) gets n/a (empty in CSV) for the\n"
+	      "PC and chatter columns, and for W - E_ref unless W and E_ref are logged.\n"
 	      "\n"
 	      "  --format text|csv|markdown  output format (default text)\n"
 	      "  --late-from T            start of the late window (s)\n"
@@ -168,6 +202,7 @@ int ana_cmd_compare(int argc, char **argv)
 	};
 	ana_input_options in;
 	memset(&in, 0, sizeof in);
+	in.verb = "compare";
 	popc_chatter_config cc;
 	popc_chatter_config_defaults(&cc);
 	ana_format fmt = ANA_TEXT;
@@ -224,6 +259,12 @@ int ana_cmd_compare(int argc, char **argv)
 		if (st) {
 			rc = ana_fail("compare", st, &err);
 			continue;
+		}
+		if (!s.has_pc_force) {
+			popc_error why;
+			ana_no_pc_force(&why, argv[i]);
+			fprintf(stderr, "popc-analyze compare: note: %s; its PC and chatter columns%s are n/a\n",
+				why.msg, s.has_w ? "" : " and W - E_ref");
 		}
 		ana_summary_print_row(stdout, fmt, &s);
 	}

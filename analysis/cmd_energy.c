@@ -39,7 +39,8 @@ static void usage(FILE *f)
 	      "library's observer, for each observer definition, and reports the largest\n"
 	      "difference from the logged W and E_ref (0 for popc's own logs with 'online').\n"
 	      "Missing columns are derived: v as the backward difference, f_e from the\n"
-	      "environment (--set environment.*), f_c as f_e + f_pc.\n"
+	      "environment (--set environment.*), f_c as f_e + f_pc. W needs the command\n"
+	      "force: a log with neither f_c nor f_pc is an error (map one with --column).\n"
 	      "\n"
 	      "observer definitions (E_ref is always the trapezoid of f_e over dx):\n",
 	      f);
@@ -116,6 +117,13 @@ static int energy_one(const char *path, const ana_input_options *in, const int *
 	int st = ana_log_open(&l, path, in, &err);
 	if (st)
 		return ana_fail("energy", st, &err);
+	if (!l.has_pc_force) {
+		/* W is the sum of the command force over the motion: with neither f_c
+		 * nor f_pc it would be the environment's energy, E_ref, relabelled */
+		ana_log_close(&l);
+		ana_no_pc_force(&err, path);
+		return ana_fail("energy", POPC_ERR_INVALID, &err);
+	}
 	energy_state s[DEF_COUNT];
 	for (int i = 0; i < n_want; i++) {
 		memset(&s[i], 0, sizeof s[i]);
@@ -265,6 +273,7 @@ int ana_cmd_energy(int argc, char **argv)
 	};
 	ana_input_options in;
 	memset(&in, 0, sizeof in);
+	in.verb = "energy";
 	int want[DEF_COUNT], n_want = 0, check = 0, c, rc = 0;
 	ana_format fmt = ANA_TEXT;
 	const char *out_path = NULL;
@@ -330,6 +339,9 @@ int ana_cmd_energy(int argc, char **argv)
 		if (!has_online)
 			want[n_want++] = DEF_ONLINE;
 	}
+	for (int i = 0; i < n_want; i++)
+		if (want[i] == DEF_ONLINE) /* 'online' is the scene's variant's observer */
+			in.uses |= ANA_USES_VARIANT;
 	if (fmt == ANA_CSV)
 		puts("log,observer,rows,W_end,E_ref_end,w_minus_eref_end,w_minus_eref_min,max_abs_dW,"
 		     "max_abs_dE_ref,rows_differing");

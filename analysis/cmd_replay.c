@@ -58,6 +58,9 @@ int ana_cmd_replay(int argc, char **argv)
 	};
 	ana_input_options in;
 	memset(&in, 0, sizeof in);
+	in.verb = "replay";
+	in.uses = ANA_USES_ENVIRONMENT | ANA_USES_CONTROLLER; /* the controllers read them */
+	in.ignores = ANA_USES_VARIANT; /* --variant; the log's recomputed W is not used */
 	popc_variant variants[MAX_VARIANTS];
 	int n_var = 0, c, rc = 0, quiet = 0;
 	const char *dir = NULL, *prefix = NULL;
@@ -92,7 +95,7 @@ int ana_cmd_replay(int argc, char **argv)
 		}
 		case 'o': dir = optarg; break;
 		case OPT_PREFIX: prefix = optarg; break;
-		case 'q': quiet = 1; break;
+		case 'q': quiet = in.quiet = 1; break;
 		case 'h': usage(stdout); goto out;
 		case ANA_OPT_COLUMN:
 		case ANA_OPT_DELIMITER:

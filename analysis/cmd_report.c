@@ -60,11 +60,13 @@ static void on_row(void *ctx, const ana_row *r)
 	v[D_X_TRUE] = r->x_true_m;
 	v[D_V] = t->v_mps;
 	v[D_F_E] = t->f_e_N;
-	v[D_F_PC] = t->f_pc_N;
-	v[D_F_C] = t->f_c_N;
-	v[D_W] = t->W_J;
+	/* without a PC-force source f_pc, f_c and W are no measurement: NaN, which
+	 * the data file carries as a gap and the script does not plot */
+	v[D_F_PC] = r->pc_force_known ? t->f_pc_N : (double)NAN;
+	v[D_F_C] = r->pc_force_known ? t->f_c_N : (double)NAN;
+	v[D_W] = r->w_known ? t->W_J : (double)NAN;
 	v[D_E_REF] = t->E_ref_J;
-	v[D_WME] = t->W_J - t->E_ref_J;
+	v[D_WME] = r->w_known ? t->W_J - t->E_ref_J : (double)NAN;
 	ana_decim_add(d, t->t_s, v);
 }
 
@@ -135,7 +137,7 @@ static int write_log_script(const char *dir, const report_log *lg)
 		lg->name, lg->sum.variant, lg->name, lg->name, lg->name);
 	write_terminal_block(f, lg->name, "1000,1100", "7in,8in");
 	fprintf(f,
-		"  set multiplot layout 4,1 title \"%s: variant %s\"\n"
+		"  set multiplot layout %d,1 title \"%s: variant %s\"\n"
 		"  set grid\n"
 		"  set key top right\n"
 		"  set lmargin 12\n"
@@ -145,12 +147,22 @@ static int write_log_script(const char *dir, const report_log *lg)
 		"  set ylabel \"velocity (m/s)\"\n"
 		"  plot data using 1:4 with lines lw 1 title \"v (controller)\"\n"
 		"  set ylabel \"energy (J)\"\n"
-		"  plot data using 1:8 with lines lw 1 title \"W (PO)\", "
-		"data using 1:9 with lines lw 1 dt 2 title \"E_ref\"\n"
-		"  set ylabel \"PC force (N)\"\n"
-		"  set xlabel \"t (s)\"\n",
-		lg->name, lg->sum.variant,
-		lg->has_x_true ? ", data using 1:3 with lines lw 1 dt 2 title \"true x_true\"" : "");
+		"  plot %sdata using 1:9 with lines lw 1 dt 2 title \"E_ref%s\"\n",
+		lg->sum.has_pc_force ? 4 : 3, lg->name, lg->sum.variant,
+		lg->has_x_true ? ", data using 1:3 with lines lw 1 dt 2 title \"true x_true\"" : "",
+		lg->sum.has_w ? "data using 1:8 with lines lw 1 title \"W (PO)\", " : "",
+		lg->sum.has_w ? "" : " (W n/a: no PC force in the log)");
+	if (!lg->sum.has_pc_force) {
+		/* no PC force in the log: no panel for it, rather than a flat 0 */
+		fputs("  unset multiplot\n"
+		      "  set output\n"
+		      "}\n",
+		      f);
+		return fclose(f) == 0 ? 0 : -1;
+	}
+	fputs("  set ylabel \"PC force (N)\"\n"
+	      "  set xlabel \"t (s)\"\n",
+	      f);
 	for (int i = 0; i < c->n_stored; i++)
 		fprintf(f,
 			"  set object %d rect from first %.9g, graph 0 to first %.9g, graph 1 "
@@ -166,6 +178,12 @@ static int write_log_script(const char *dir, const report_log *lg)
 		   "}\n",
 		c->n_intervals ? " (shaded: chatter flagged)" : "");
 	return fclose(f) == 0 ? 0 : -1;
+}
+
+/* Panel p of variants.gp: 0 position, 1 W - E_ref, 2 PC force. */
+static int has_panel(const report_log *lg, int p)
+{
+	return p == 0 || (p == 1 ? lg->sum.has_w : lg->sum.has_pc_force);
 }
 
 static int write_variants_script(const char *dir, const report_log *logs, int n)
@@ -188,11 +206,29 @@ static int write_variants_script(const char *dir, const report_log *logs, int n)
 		const char *label;
 	} panels[3] = {{2, "position x (m)"}, {10, "W - E_ref (J)"}, {6, "PC force (N)"}};
 	for (int p = 0; p < 3; p++) {
-		fprintf(f, "  set ylabel \"%s\"\n  set xlabel \"%s\"\n  plot ", panels[p].label,
-			p == 2 ? "t (s)" : "");
+		/* a log without a PC force has no W - E_ref (unless logged) and no PC
+		 * force: it is left out of those panels; a panel nobody has is empty */
+		int any = 0;
 		for (int i = 0; i < n; i++)
+			any |= has_panel(&logs[i], p);
+		fprintf(f, "  set ylabel \"%s\"\n  set xlabel \"%s\"\n", panels[p].label,
+			p == 2 ? "t (s)" : "");
+		if (!any) {
+			fputs("  set yrange [-1:1]\n"
+			      "  set label 1 \"n/a: no log has a PC force\" at graph 0.5, 0.5 center\n"
+			      "  plot 0 with lines lc rgb \"gray\" notitle\n"
+			      "  unset label 1\n"
+			      "  set autoscale y\n",
+			      f);
+			continue;
+		}
+		fputs("  plot ", f);
+		for (int i = 0, k = 0; i < n; i++) {
+			if (!has_panel(&logs[i], p))
+				continue;
 			fprintf(f, "%s\"%s.dat\" using 1:%d with lines lw 1 title \"%s\"",
-				i ? ", \\\n       " : "", logs[i].name, panels[p].col, logs[i].name);
+				k++ ? ", \\\n       " : "", logs[i].name, panels[p].col, logs[i].name);
+		}
 		fputc('\n', f);
 	}
 	fputs("  unset multiplot\n  set output\n}\n", f);
@@ -387,6 +423,7 @@ int ana_cmd_report(int argc, char **argv)
 	};
 	ana_input_options in;
 	memset(&in, 0, sizeof in);
+	in.verb = "report";
 	popc_chatter_config cc;
 	popc_chatter_config_defaults(&cc);
 	const char *dir = NULL, *title = "popc report", *gnuplot = "gnuplot";
@@ -456,6 +493,12 @@ int ana_cmd_report(int argc, char **argv)
 			ana_decim_free(&dec);
 			rc = ana_fail("report", st, &err);
 			continue;
+		}
+		if (!lg->sum.has_pc_force) {
+			ana_no_pc_force(&err, argv[i]);
+			fprintf(stderr, "popc-analyze report: note: %s; no PC force panel, its PC and "
+					"chatter columns%s are n/a\n",
+				err.msg, lg->sum.has_w ? "" : " and W - E_ref");
 		}
 		/* a unique, file-name-safe name */
 		char base[256];

@@ -144,6 +144,93 @@ static int set_given(const ana_input_options *o, const char *key)
 	return 0;
 }
 
+/* The scene parameters a foreign log may lack, and which use needs them. */
+static const struct {
+	const char *key;
+	unsigned use;
+} param_keys[] = {
+	{"encoder.resolution", ANA_USES_ENCODER},
+	{"run.rate", ANA_USES_RATE},
+	{"environment.kind", ANA_USES_ENVIRONMENT},
+	{"environment.stiffness", ANA_USES_ENVIRONMENT},
+	{"environment.damping", ANA_USES_ENVIRONMENT},
+	{"environment.position", ANA_USES_ENVIRONMENT},
+	{"controller.variant", ANA_USES_VARIANT},
+	{"controller.ignore_mode", ANA_USES_VARIANT | ANA_USES_CONTROLLER},
+	{"controller.pc_bound", ANA_USES_CONTROLLER},
+	{"controller.foaw_window", ANA_USES_CONTROLLER},
+	{"controller.foaw_noise", ANA_USES_CONTROLLER},
+};
+
+static void param_value(const popc_scene *s, const char *key, char *out, size_t cap)
+{
+	if (strcmp(key, "encoder.resolution") == 0)
+		snprintf(out, cap, "%.15g", s->enc_resolution_m);
+	else if (strcmp(key, "run.rate") == 0)
+		snprintf(out, cap, "%.15g", s->rate_Hz);
+	else if (strcmp(key, "environment.kind") == 0)
+		snprintf(out, cap, "%s", s->env_kind == POPC_ENV_SPRING ? "spring" : "wall");
+	else if (strcmp(key, "environment.stiffness") == 0)
+		snprintf(out, cap, "%.15g", s->env_stiffness_Npm);
+	else if (strcmp(key, "environment.damping") == 0)
+		snprintf(out, cap, "%.15g", s->env_damping_Nspm);
+	else if (strcmp(key, "environment.position") == 0)
+		snprintf(out, cap, "%.15g", s->env_position_m);
+	else if (strcmp(key, "controller.variant") == 0)
+		snprintf(out, cap, "%s", popc_variant_name(s->variant));
+	else if (strcmp(key, "controller.ignore_mode") == 0)
+		snprintf(out, cap, "%s", s->ignore_mode == POPC_IGNORE_UNDO ? "undo" : "literal");
+	else if (strcmp(key, "controller.pc_bound") == 0)
+		snprintf(out, cap, "%.15g", s->pc_bound_N);
+	else if (strcmp(key, "controller.foaw_window") == 0)
+		snprintf(out, cap, "%d", s->foaw_window);
+	else
+		snprintf(out, cap, "%.15g", s->foaw_noise_m);
+}
+
+/* One line per log naming every parameter the analysis took from the paper
+ * scene's defaults because neither a popc header nor --set gave it: a foreign
+ * log analysed with the wrong resolution or stiffness gives plausible numbers
+ * that are wrong, so the assumption must be visible. */
+static void note_defaults(const ana_log *l, const ana_input_options *o, unsigned uses)
+{
+	if (o->quiet)
+		return;
+	char list[1024] = "";
+	size_t n = 0;
+	int count = 0;
+	for (size_t i = 0; i < sizeof param_keys / sizeof param_keys[0]; i++) {
+		const char *key = param_keys[i].key;
+		if (!(param_keys[i].use & uses) || set_given(o, key) ||
+		    (l->is_popc && popc_log_reader_header(&l->r, key)))
+			continue;
+		if (strcmp(key, "controller.ignore_mode") == 0 &&
+		    l->scene.variant != POPC_VARIANT_IGNORE && l->scene.variant != POPC_VARIANT_IMPROVED &&
+		    !(uses & ANA_USES_CONTROLLER))
+			continue; /* only Table I's variants read it */
+		char v[64];
+		param_value(&l->scene, key, v, sizeof v);
+		int w = snprintf(list + n, sizeof list - n, "%s%s = %s", count ? ", " : "", key, v);
+		if (w > 0 && (size_t)w < sizeof list - n)
+			n += (size_t)w;
+		count++;
+	}
+	if (count)
+		fprintf(stderr,
+			"popc-analyze %s: note: %s: the log does not give %s; assumed the paper "
+			"scene's default%s: %s (override with --set section.key=value)\n",
+			o->verb ? o->verb : "analyze", l->r.path,
+			count == 1 ? "this parameter" : "these parameters", count == 1 ? "" : "s", list);
+}
+
+int ana_no_pc_force(popc_error *err, const char *path)
+{
+	return popc_error_set(err, POPC_ERR_INVALID,
+			      "%s: no PC force: the file has no column 'f_pc' or 'f_c' (map one "
+			      "with --column f_pc=HEADER or --column f_c=HEADER)",
+			      path);
+}
+
 int ana_log_open(ana_log *l, const char *path, const ana_input_options *o, popc_error *err)
 {
 	memset(l, 0, sizeof *l);
@@ -185,6 +272,8 @@ int ana_log_open(ana_log *l, const char *path, const ana_input_options *o, popc_
 	l->c_flags = popc_log_reader_column(r, "flags");
 	l->c_dt = popc_log_reader_column(r, "dt");
 	l->c_rtt = popc_log_reader_column(r, "rtt");
+	l->has_pc_force = l->c_f_pc >= 0 || l->c_f_c >= 0;
+	l->has_w = l->has_pc_force || (l->c_W >= 0 && l->c_E_ref >= 0);
 	if ((st = popc_log_reader_require(r, "t", &l->c_t, err)) != 0)
 		goto fail;
 	if (l->c_x < 0 && l->c_count < 0) {
@@ -221,6 +310,14 @@ int ana_log_open(ana_log *l, const char *path, const ana_input_options *o, popc_
 	popc_ignore_mode m;
 	ana_online_observer(&l->scene, &v, &m);
 	popc_observer_init(&l->obs, v, m);
+	unsigned uses = o->uses | ANA_USES_ENCODER;
+	if (l->c_f_e < 0)
+		uses |= ANA_USES_ENVIRONMENT;
+	if ((l->c_W < 0 || l->c_E_ref < 0) && l->has_pc_force)
+		uses |= ANA_USES_VARIANT; /* W's observer (without a PC force W is n/a) */
+	if (!l->period_from_time)
+		uses |= ANA_USES_RATE;
+	note_defaults(l, o, (uses & ~o->ignores) | o->uses);
 	return 0;
 fail:
 	popc_log_reader_close(r);
@@ -293,6 +390,8 @@ int ana_log_next(ana_log *l, ana_row *out, popc_error *err)
 	} else {
 		t->flags = t->f_pc_N != 0.0 ? POPC_FLAG_ACTIVE : 0u;
 	}
+	out->pc_force_known = l->has_pc_force;
+	out->w_known = l->has_w;
 	out->x_true_m = l->c_x_true >= 0 ? row[l->c_x_true] : (double)NAN;
 	out->dt_s = l->c_dt >= 0 ? row[l->c_dt] : (double)NAN;
 	out->rtt_s = l->c_rtt >= 0 ? row[l->c_rtt] : (double)NAN;

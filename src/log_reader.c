@@ -206,6 +206,12 @@ int popc_log_reader_open(popc_log_reader *r, const char *path, const popc_log_re
 					      "%s: %s: no column names line", path,
 					      r->lineno ? "only comments" : "empty file");
 		}
+		/* a UTF-8 byte order mark before the first line (a CSV saved by
+		 * Excel as "CSV UTF-8") is no part of the first name */
+		if (r->lineno == 1 && len >= 3 && memcmp(line, "\xEF\xBB\xBF", 3) == 0) {
+			line += 3;
+			len -= 3;
+		}
 		const char *s = line;
 		while (*s == ' ' || *s == '\t')
 			s++;
@@ -238,6 +244,17 @@ int popc_log_reader_open(popc_log_reader *r, const char *path, const popc_log_re
 		}
 		r->n_cols = i + 1;
 	}
+	/* a repeated name would make a column lookup pick one of two silently */
+	for (int i = 1; i < r->n_cols; i++)
+		for (int j = 0; j < i; j++)
+			if (strcmp(r->col_name[i], r->col_name[j]) == 0) {
+				popc_error_set(err, POPC_ERR_INVALID,
+					       "%s:%lld: column %d (%s) repeats the name of column %d "
+					       "(line %lld): column names must be unique",
+					       path, r->lineno, i + 1, r->col_name[i], j + 1, r->lineno);
+				popc_log_reader_close(r);
+				return POPC_ERR_INVALID;
+			}
 	for (int i = 0; i < r->opt.n_map; i++)
 		if (popc_log_reader_column(r, r->opt.map_name[i]) < 0) {
 			popc_error_set(err, POPC_ERR_INVALID,

@@ -6,8 +6,11 @@
  * non-comment line holds the column names; every later line is one row of
  * numbers, parsed exactly (popc_parse_double), so values read back bitwise.
  *
- * Errors name the file, line and column: an empty file, a row with too few or
- * too many cells, a cell that is not a finite number, a missing column. */
+ * A UTF-8 byte order mark at the start of the file is skipped.
+ *
+ * Errors name the file, line and column: an empty file, a repeated column name,
+ * a row with too few or too many cells, a cell that is not a finite number, a
+ * missing column. */
 #ifndef POPC_LOG_READER_H
 #define POPC_LOG_READER_H
 

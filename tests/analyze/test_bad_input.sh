@@ -14,6 +14,10 @@ awk -F, 'BEGIN { OFS = "," } NR == '$((names + 9))' { $1 = "0.001" } { print }' 
 grep -v '^#' "$W/good.csv" | cut -d, -f1,5- >"$W/noposition.csv"
 awk -F, '/^#/ || /^t,/ { print; next } NR == '$((names + 3))' { print $1 "," $2; next } { print }' \
 	"$W/good.csv" >"$W/short.csv"
+# a repeated column name (t,x,x): rejected, naming the line and both columns
+cnames=$(grep -n '^t,' "$W/good.csv" | cut -d: -f1)   # ($names also counts the "# stop" line)
+sed "${cnames}s/^t,x,/t,x,x,/; $((cnames + 1)),\$ s/^\([^,#]*\),\([^,]*\),/\1,\2,\2,/" \
+	"$W/good.csv" >"$W/dupname.csv"
 
 # case file expected-message-fragment
 check() {
@@ -34,6 +38,7 @@ check nan.csv "$W/nan.csv:$((names + 7)): column 9 (W): NaN is not allowed"
 check time.csv "$W/time.csv:$((names + 9)): column 1 (t): time .* does not increase"
 check noposition.csv "missing column 'x'"
 check short.csv "$W/short.csv:$((names + 3)): 2 cells, expected 11"
+check dupname.csv "$W/dupname.csv:$cnames: column 3 (x) repeats the name of column 2"
 check does-not-exist.csv "cannot open"
 
 # a mapping to a header the file lacks
@@ -43,6 +48,63 @@ expect_rc 2 "$A" energy --set encoder.resolution=-1 "$W/good.csv" && ok "bad --s
 expect_rc 2 "$A" energy --delimiter 12 "$W/good.csv" && ok "bad --delimiter: exit 2"
 expect_rc 2 "$A" bogus-verb && ok "unknown verb: exit 2"
 expect_rc 2 "$A" && ok "no verb: exit 2"
+
+# A UTF-8 byte order mark (CSV saved by Excel) before the first line is skipped:
+# before a popc header (the scene still read back, so --check holds) and
+# before the column names of a foreign log.
+printf '\357\273\277' | cat - "$W/good.csv" >"$W/bom.csv"
+expect_rc 0 "$A" energy --check "$W/bom.csv" && ok "BOM before a popc header: energy --check passes"
+grep -v '^#' "$W/good.csv" | cut -d, -f1,2,8 >"$W/foreign.csv"
+printf '\357\273\277' | cat - "$W/foreign.csv" >"$W/bom-foreign.csv"
+expect_rc 0 "$A" compare --format csv "$W/foreign.csv" && cp "$W/out" "$W/foreign.out"
+expect_rc 0 "$A" compare --format csv "$W/bom-foreign.csv" &&
+	[ "$(tail -n 1 "$W/out" | cut -d, -f2-)" = "$(tail -n 1 "$W/foreign.out" | cut -d, -f2-)" ] &&
+	ok "BOM before the column names: same row as without" || fail "BOM foreign: $(cat "$W/out" "$W/err")"
+
+# No PC-force source (neither f_pc nor f_c): chatter cannot say "no chatter".
+printf 't,x\n0,0\n0.001,1e-6\n' >"$W/nofc.csv"
+if expect_rc 2 "$A" chatter "$W/nofc.csv"; then
+	grep -q "$W/nofc.csv: no PC force: the file has no column 'f_pc' or 'f_c' (map one with --column f_pc=HEADER" "$W/err" &&
+		grep -q "^nofc: chatter not checked (no PC force); no limit cycle" "$W/out" &&
+		! grep -q "no chatter" "$W/out" &&
+		ok "chatter without a PC force: exit 2, limit cycle still reported" ||
+		fail "chatter nofc: $(cat "$W/out" "$W/err")"
+fi
+expect_rc 2 "$A" chatter --format csv "$W/nofc.csv" && grep -qx "nofc,chatter_not_checked,,," "$W/out" &&
+	ok "chatter csv: chatter_not_checked row" || fail "chatter csv nofc: $(cat "$W/out")"
+expect_rc 2 "$A" chatter -q "$W/nofc.csv" && grep -q "no PC force" "$W/err" && ok "chatter -q: still an error"
+expect_rc 2 "$A" energy "$W/nofc.csv" && grep -q "no PC force" "$W/err" && ok "energy without a PC force: exit 2" ||
+	fail "energy nofc: $(cat "$W/err")"
+# compare: PC, chatter and W - E_ref cells empty (CSV) or n/a, never 0; the
+# position-only columns (limit cycle) still filled; a note on stderr
+if expect_rc 0 "$A" compare --format csv "$W/nofc.csv"; then
+	awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+		{ if ($c["pc_rms"] != "" || $c["pc_max"] != "" || $c["pc_active"] != "" ||
+		      $c["chatter_s"] != "" || $c["chatter_intervals"] != "" ||
+		      $c["w_minus_eref_end"] != "" || $c["limit_cycle"] != "0" || $c["ticks"] != "2") exit 1 }' \
+		"$W/out" && grep -q "compare: note: .*no PC force.* are n/a" "$W/err" &&
+		ok "compare without a PC force: empty PC cells, note" ||
+		fail "compare nofc: $(cat "$W/out" "$W/err")"
+fi
+expect_rc 0 "$A" compare "$W/nofc.csv" && grep -q "^nofc .* n/a " "$W/out" && ok "compare text: n/a" ||
+	fail "compare text nofc: $(cat "$W/out")"
+expect_rc 0 "$A" report --no-draw -o "$W/rep-nofc" "$W/nofc.csv" && ! grep -q "using 1:6" "$W/rep-nofc/nofc.gp" &&
+	ok "report without a PC force: no PC force panel" || fail "report nofc"
+# with f_c mapped, chatter has data again
+sed '1s/x$/x,force/; 2,$ s/$/,0/' "$W/nofc.csv" >"$W/mapped.csv"
+expect_rc 0 "$A" chatter --column f_c=force "$W/mapped.csv" && ok "--column f_c=force: chatter checked"
+
+# Parameters a foreign log lacks: one note per log naming each default taken
+expect_rc 0 "$A" compare "$W/foreign.csv" "$W/foreign.csv" &&
+	[ "$(grep -c "note: .*foreign.csv: the log does not give these parameters; assumed the paper scene's defaults: encoder.resolution = 1e-05, .*environment.stiffness = 1000" "$W/err")" -eq 2 ] &&
+	ok "defaults note: once per log" || fail "defaults note: $(cat "$W/err")"
+expect_rc 0 "$A" compare --set encoder.resolution=1e-6 "$W/foreign.csv" &&
+	grep -q "environment.stiffness = 1000" "$W/err" && ! grep -q "encoder.resolution" "$W/err" &&
+	ok "defaults note: a --set parameter is not named" || fail "defaults note with --set: $(cat "$W/err")"
+expect_rc 0 "$A" chatter -q "$W/foreign.csv" && [ ! -s "$W/err" ] && ok "defaults note: -q suppresses it" ||
+	fail "chatter -q printed: $(cat "$W/err")"
+expect_rc 0 "$A" compare "$W/good.csv" && [ ! -s "$W/err" ] && ok "a popc log: no defaults note" ||
+	fail "popc log note: $(cat "$W/err")"
 # chatter's exit status must not be 1 ("flagged") when the input is bad
 expect_rc 2 "$A" chatter "$W/good.csv" "$W/empty.csv" && ok "chatter: trouble wins over flagged"
 finish

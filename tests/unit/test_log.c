@@ -177,6 +177,11 @@ static void test_reader_errors(void **state)
 		{"t,x\n0,1\n0.001,2,3\n", NULL, {":3:", "more than 2 cells"}},
 		{"t,x\n0,1\n0,2\n", NULL, {":3: column 1 (t)", "does not increase"}},
 		{"t,x\n0,1\n", "f_c", {"missing column 'f_c'", "--column f_c=HEADER"}},
+		/* a repeated column name: both columns and the line named */
+		{"t,x,x\n0,1,2\n", NULL, {":1: column 3 (x)", "repeats the name of column 2 (line 1)"}},
+		{"# a = 1\n\"t\";x;f_c;x\n0;1;2;3\n", NULL, {":2: column 4 (x)", "column 2 (line 2)"}},
+		/* a byte order mark is skipped only at the very start of the file */
+		{"t,x\n\xEF\xBB\xBF" "0,1\n", NULL, {":2: column 1 (t)", "not a finite number"}},
 	};
 	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
 		const char *path = write_file("bad.csv", cases[i].text);
@@ -190,6 +195,32 @@ static void test_reader_errors(void **state)
 	}
 	popc_error err;
 	assert_int_equal(read_all("/nonexistent.csv", NULL, NULL, &err), POPC_ERR_IO);
+}
+
+/* A UTF-8 byte order mark (Excel's "CSV UTF-8") before the first line is
+ * skipped: before the column names, and before a header comment. */
+static void test_reader_bom(void **state)
+{
+	(void)state;
+	const char *texts[] = {"\xEF\xBB\xBFt,x\r\n0,1e-5\r\n0.001,2e-5\r\n",
+			       "\xEF\xBB\xBF# variant = none\nt,x\n0,1e-5\n0.001,2e-5\n"};
+	for (int i = 0; i < 2; i++) {
+		const char *path = write_file("bom.csv", texts[i]);
+		popc_log_reader r;
+		popc_error err;
+		assert_int_equal(popc_log_reader_open(&r, path, NULL, &err), 0);
+		assert_int_equal(r.n_cols, 2);
+		assert_string_equal(r.col_name[0], "t");
+		assert_int_equal(popc_log_reader_column(&r, "t"), 0);
+		if (i == 1)
+			assert_string_equal(popc_log_reader_header(&r, "variant"), "none");
+		double v[POPC_LOG_MAX_COLUMNS];
+		assert_int_equal(popc_log_reader_next(&r, v, &err), 1);
+		assert_true(v[0] == 0.0 && v[1] == 1e-5);
+		assert_int_equal(popc_log_reader_next(&r, v, &err), 1);
+		assert_int_equal(popc_log_reader_next(&r, v, &err), 0);
+		popc_log_reader_close(&r);
+	}
 }
 
 /* A foreign log: other names, another order, ';' and CRLF, a header comment. */
@@ -236,6 +267,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_round_trip_bitwise),
 		cmocka_unit_test(test_reader_errors),
+		cmocka_unit_test(test_reader_bom),
 		cmocka_unit_test(test_foreign_log_mapping),
 	};
 	return cmocka_run_group_tests(tests, setup, teardown);
