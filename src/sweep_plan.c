@@ -280,6 +280,59 @@ static int hash_scene(const popc_scene *s, uint64_t *h, popc_error *err)
 	return 0;
 }
 
+/* A list, as opposed to a range (popc_sweep_expand's rule). */
+static int axis_is_list(const popc_sweep_axis *ax)
+{
+	return strchr(ax->spec, ',') || !strchr(ax->spec, ':');
+}
+
+/* Two items of a list that make the same run: "0.01,0.010" or "1e-2,0.01"
+ * (one double), "2,2.0" for a whole-number key, or two spellings of one enum
+ * name, which the text check in popc_sweep_expand cannot see. Two values are
+ * the same when they give the same resolved scene (the scene writes every
+ * number so that it reads back to the same double, so equal text is equal
+ * value, key by key, and an enum is written by its name), or when both are
+ * zeros (-0 and 0 are one value: the scene writes them apart). Ranges need no
+ * such check: their points are written canonically ("%.12g", no "-0"), and
+ * distinct 12-digit decimals are distinct doubles (DBL_DIG = 15). */
+static int check_same_values(const popc_scene *base, const popc_sweep_axis *ax, popc_error *err)
+{
+	if (ax->n_values < 2 || !axis_is_list(ax))
+		return 0;
+	int n = ax->n_values;
+	char **text = calloc((size_t)n, sizeof *text);
+	uint64_t *hash = calloc((size_t)n, sizeof *hash);
+	int st = text && hash ? 0 : popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+	for (int v = 0; v < n && !st; v++) {
+		popc_scene s = *base;
+		size_t len;
+		st = popc_scene_set(&s, ax->section, ax->key, ax->values[v], err);
+		if (!st)
+			st = popc_scene_to_text(&s, &text[v], &len, err);
+		if (!st)
+			hash[v] = popc_sweep_fnv1a(POPC_SWEEP_FNV_OFFSET, text[v], len);
+	}
+	/* at most POPC_SWEEP_VALUE_MAX items fit in a spec: n^2 is small */
+	for (int a = 0; a < n && !st; a++) {
+		double xa, xb;
+		int za = parse_finite(ax->values[a], &xa) == 0 && xa == 0.0;
+		for (int b = a + 1; b < n && !st; b++) {
+			int zb = parse_finite(ax->values[b], &xb) == 0 && xb == 0.0;
+			if ((hash[a] == hash[b] && strcmp(text[a], text[b]) == 0) || (za && zb))
+				st = popc_error_set(err, POPC_ERR_INVALID,
+						    "--vary %s.%s=%s: items %d ('%s') and %d ('%s') are the "
+						    "same value: give each value once",
+						    ax->section, ax->key, ax->spec, a + 1, ax->values[a],
+						    b + 1, ax->values[b]);
+		}
+	}
+	for (int v = 0; text && v < n; v++)
+		free(text[v]);
+	free(text);
+	free(hash);
+	return st;
+}
+
 static int describe_run(const popc_sweep_plan *p, long long i, char *buf, size_t cap)
 {
 	int idx[64];
@@ -302,6 +355,7 @@ int popc_sweep_plan_init(popc_sweep_plan *p, const popc_scene *base, popc_sweep_
 	if (n_axes > 64)
 		return popc_error_set(err, POPC_ERR_INVALID, "more than 64 --vary axes");
 	p->n_runs = 1;
+	int st = 0;
 	for (int a = 0; a < n_axes; a++) {
 		const popc_sweep_axis *ax = &axes[a];
 		for (int b = 0; b < a; b++)
@@ -315,12 +369,15 @@ int popc_sweep_plan_init(popc_sweep_plan *p, const popc_scene *base, popc_sweep_
 		for (int v = 0; v < ax->n_values; v++) {
 			popc_scene scratch = *base;
 			popc_error e;
-			int st = popc_scene_set(&scratch, ax->section, ax->key, ax->values[v], &e);
+			st = popc_scene_set(&scratch, ax->section, ax->key, ax->values[v], &e);
 			if (st)
 				return popc_error_set(err, st, "--vary %s.%s=%s, value %d of %d ('%s'): %s",
 						      ax->section, ax->key, ax->spec, v + 1,
 						      ax->n_values, ax->values[v], e.msg);
 		}
+		st = check_same_values(base, ax, err);
+		if (st)
+			return st;
 		if (p->n_runs > POPC_SWEEP_RUNS_MAX / ax->n_values)
 			return popc_error_set(err, POPC_ERR_INVALID,
 					      "the sweep has more than %lld runs: split it",
@@ -337,7 +394,7 @@ int popc_sweep_plan_init(popc_sweep_plan *p, const popc_scene *base, popc_sweep_
 	uint64_t h = POPC_SWEEP_FNV_OFFSET;
 	static const char magic[] = "popc sweep plan 1\n";
 	h = popc_sweep_fnv1a(h, magic, sizeof magic - 1);
-	int st = hash_scene(base, &h, err);
+	st = hash_scene(base, &h, err);
 	if (st)
 		return st;
 	for (int a = 0; a < n_axes; a++) {
@@ -368,12 +425,19 @@ int popc_sweep_plan_init(popc_sweep_plan *p, const popc_scene *base, popc_sweep_
 
 /* ---- shards ---------------------------------------------------------------- */
 
+/* A whole number written as decimal digits only: strtoll alone would take
+ * " 1", "+1" and "-0" (it skips leading space and takes a sign), and a shard
+ * index is no place for those. At most 18 digits: no overflow. */
 static int parse_count(const char *text, long long lo, long long hi, long long *out)
 {
-	char *end;
-	errno = 0;
-	long long v = strtoll(text, &end, 10);
-	if (end == text || *end || errno || v < lo || v > hi)
+	long long v = 0;
+	int n = 0;
+	for (; text[n]; n++) {
+		if (text[n] < '0' || text[n] > '9' || n >= 18)
+			return -1;
+		v = v * 10 + (text[n] - '0');
+	}
+	if (n == 0 || v < lo || v > hi)
 		return -1;
 	*out = v;
 	return 0;

@@ -203,18 +203,31 @@ static void test_plan_errors(void **state)
 		{{"operator.nosuch=1,2", NULL}, {"operator.nosuch", "", ""}},
 		{{"integrator.substeps=1:10:3", NULL}, {"integrator.substeps", "5.5", "whole"}},
 		{{"operator.speed=0.01", "operator.speed=0.02"}, {"operator.speed", "twice", ""}},
+		/* one value in two spellings: compared by value, not as text */
+		{{"operator.speed=0.01,0.010", NULL}, {"operator.speed", "'0.01'", "'0.010'"}},
+		{{"operator.speed=0.02,1e-2,0.01", NULL}, {"items 2 ('1e-2') and 3 ('0.01')", "", ""}},
+		{{"integrator.substeps=2,2.0", NULL}, {"integrator.substeps", "'2'", "'2.0'"}},
+		{{"operator.x0=0,-0.0", NULL}, {"operator.x0", "'0'", "'-0.0'"}},
+		{{"controller.variant=none,none", NULL}, {"controller.variant", "none", "twice"}},
 	};
 	for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
 		int n_axes = cases[k].vary[1] ? 2 : 1;
 		popc_sweep_axis *axes = calloc(2, sizeof *axes);
 		popc_error err;
-		for (int a = 0; a < n_axes; a++)
-			assert_int_equal(popc_sweep_axis_parse(cases[k].vary[a], &axes[a], &err), 0);
-		popc_scene base;
-		popc_scene_defaults(&base);
-		popc_sweep_plan p;
-		int st = popc_sweep_plan_init(&p, &base, axes, n_axes, 1, &err);
-		popc_sweep_plan_free(&p);
+		int st = 0;
+		for (int a = 0; a < n_axes && !st; a++)
+			st = popc_sweep_axis_parse(cases[k].vary[a], &axes[a], &err);
+		if (st) { /* the same text twice: refused by the list itself */
+			for (int a = 0; a < n_axes; a++)
+				popc_sweep_axis_free(&axes[a]);
+			free(axes);
+		} else {
+			popc_scene base;
+			popc_scene_defaults(&base);
+			popc_sweep_plan p;
+			st = popc_sweep_plan_init(&p, &base, axes, n_axes, 1, &err);
+			popc_sweep_plan_free(&p);
+		}
 		assert_int_equal(st, POPC_ERR_INVALID);
 		for (int w = 0; w < 3; w++)
 			if (!strstr(err.msg, cases[k].want[w]))
@@ -235,6 +248,14 @@ static void test_plan_errors(void **state)
 	assert_int_equal(st, POPC_ERR_INVALID);
 	assert_non_null(strstr(err.msg, "run 0001"));
 	assert_non_null(strstr(err.msg, "operator.x_end"));
+
+	/* values that differ, however little, are kept: the value check is
+	 * not a tolerance */
+	const char *near[] = {"operator.speed=0.01,0.0100000000000001",
+			      "operator.x0=-0.01,0,-1e-300"};
+	p = make_plan(near, 2, 0);
+	assert_int_equal(p.n_runs, 6);
+	popc_sweep_plan_free(&p);
 }
 
 /* Every run in exactly one shard, shards within one of each other in size,
@@ -280,6 +301,10 @@ static void test_shard_parse(void **state)
 		{"0/1", 1, 0, 1},   {"3/4", 1, 3, 4},  {"4/4", 0, 0, 0}, {"-1/4", 0, 0, 0},
 		{"1/0", 0, 0, 0},   {"1", 0, 0, 0},    {"a/b", 0, 0, 0}, {"1/2x", 0, 0, 0},
 		{"1 /2", 0, 0, 0},
+		/* strict: strtoll alone skips leading space and takes a sign */
+		{" 1/2", 0, 0, 0},  {"1/ 2", 0, 0, 0}, {"+1/2", 0, 0, 0}, {"1/+2", 0, 0, 0},
+		{"-0/2", 0, 0, 0},  {"/2", 0, 0, 0},   {"1/", 0, 0, 0},   {"1/2 ", 0, 0, 0},
+		{"\t0/2", 0, 0, 0}, {"10/20", 1, 10, 20},
 	};
 	for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
 		popc_sweep_shard sh;
@@ -311,6 +336,8 @@ static void test_shard_slurm(void **state)
 		{"7", "2", "0", "1", POPC_ERR_INVALID, 0, 0}, /* --array=0,7: not regular */
 		{"3", "3", "2", "2", POPC_ERR_INVALID, 0, 0},
 		{"x", "2", "0", "1", POPC_ERR_INVALID, 0, 0},
+		{" 1", "2", "0", "1", POPC_ERR_INVALID, 0, 0},  /* digits only */
+		{"1", "+2", "0", "1", POPC_ERR_INVALID, 0, 0},
 	};
 	for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
 		popc_sweep_shard sh = {0, 0};
