@@ -46,6 +46,7 @@ typedef struct mb_axis {
 
 	/* supervisor state */
 	int enabled;               /* the link was opened: stop() must zero and disable */
+	int stopping;              /* inside stop(): after a signal, one attempt per write */
 	int failures_in_row;
 	int last_errno;
 	double last_cmd_N;
@@ -69,6 +70,12 @@ static void note(mb_axis *a, const char *what, const char *detail)
 {
 	if (a->opt.notes)
 		fprintf(a->opt.notes, "popc: modbus: %s %s\n", what, detail);
+}
+
+/* A signal asked the run to stop (the runner's flag, set by the handler). */
+static int interrupted(const mb_axis *a)
+{
+	return a->opt.stop_flag && *a->opt.stop_flag;
 }
 
 /* ---- link ----------------------------------------------------------------- */
@@ -216,7 +223,14 @@ static const char *op_name(int kind)
 }
 
 /* One transaction, retried until it succeeds or max_failures transactions in
- * a row have failed. A failed read is never replaced by an older value. */
+ * a row have failed. A failed read is never replaced by an older value.
+ *
+ * Signals do not interrupt libmodbus (it resumes its select() after EINTR),
+ * so the stop flag is looked at after every failed attempt: a signal ends
+ * the retries at once (POPC_ERR_INTERRUPTED) instead of after up to
+ * max_failures timeouts, and inside stop() a signal leaves one attempt per
+ * write. The link is repaired after every failure, the last one included, so
+ * that whatever comes next (stop()'s zero force) starts on a clean link. */
 static int transact(mb_axis *a, const mb_op *op, popc_error *err)
 {
 	for (;;) {
@@ -236,13 +250,25 @@ static int transact(mb_axis *a, const mb_op *op, popc_error *err)
 					      a->map.path, a->uri_text, op_name(op->kind), modbus_strerror(e),
 					      op->kind == OP_WRITE_AND_READ ? "; a drive without FC23 needs fc23 = no"
 									    : "");
+		const char *why = st ? link_err.msg : modbus_strerror(e);
+		char last[POPC_ERROR_MSG_MAX];
+		snprintf(last, sizeof last, "%s", why); /* recover() may reuse errno's text */
+		if (a->connected)
+			recover(a, e);
 		if (a->failures_in_row >= a->map.max_failures)
 			return popc_error_set(err, POPC_ERR_COMM,
 					      "%s: %d failed transactions in a row (last: %s: %s)", a->uri_text,
-					      a->failures_in_row, op_name(op->kind),
-					      st ? link_err.msg : modbus_strerror(e));
-		if (a->connected)
-			recover(a, e);
+					      a->failures_in_row, op_name(op->kind), last);
+		if (interrupted(a) && a->stopping)
+			return popc_error_set(err, POPC_ERR_COMM,
+					      "%s: %s failed (%s); not retried after a signal", a->uri_text,
+					      op_name(op->kind), last);
+		if (interrupted(a))
+			return popc_error_set(err, POPC_ERR_INTERRUPTED,
+					      "interrupted by a signal while retrying the %s (%s: %d failed "
+					      "attempt%s, last: %s)",
+					      op_name(op->kind), a->uri_text, a->failures_in_row,
+					      a->failures_in_row == 1 ? "" : "s", last);
 	}
 }
 
@@ -346,8 +372,9 @@ static void wait_deadline(mb_axis *a)
 	}
 	struct timespec ts = {(time_t)(a->next_deadline_ns / 1000000000),
 			      (long)(a->next_deadline_ns % 1000000000)};
-	/* EINTR: a signal; the runner polls its flag after this tick */
-	while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL) == EINTR)
+	/* EINTR: a signal; the runner polls its flag after this tick, so the rest
+	 * of the period is not slept when the flag is set */
+	while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL) == EINTR && !interrupted(a))
 		;
 }
 
@@ -424,12 +451,14 @@ static int mb_start(popc_axis *ax, popc_error *err)
 	mb_op cop = {.kind = OP_WRITE_CMD, .words = zero};
 	if ((st = transact(a, &cop, err)))
 		return st;
+	if (interrupted(a))
+		return popc_error_set(err, POPC_ERR_INTERRUPTED, "interrupted by a signal before enabling");
 	for (int i = 0; i < m->enable.n_on; i++) {
 		mb_op eop = {.kind = OP_WRITE_ENABLE, .words = &m->enable.on[i]};
 		if ((st = transact(a, &eop, err)))
 			return st;
 	}
-	int64_t until = now_ns() + (int64_t)m->enable_timeout_ms * 1000000;
+	int64_t t_enable = now_ns(), until = t_enable + (int64_t)m->enable_timeout_ms * 1000000;
 	for (;;) {
 		if ((st = transact(a, &sop, err)))
 			return st;
@@ -437,6 +466,12 @@ static int mb_start(popc_axis *ax, popc_error *err)
 			return check_status(a, status, 0, err);
 		if ((status & m->status.ready_mask) == m->status.ready_mask)
 			break;
+		/* enable_timeout_ms may be up to a minute: a signal must not wait for it */
+		if (interrupted(a))
+			return popc_error_set(err, POPC_ERR_INTERRUPTED,
+					      "interrupted by a signal while waiting for the ready bits "
+					      "(status 0x%04x, ready_mask 0x%04x, %.0f ms after enable)",
+					      status, m->status.ready_mask, 1e-6 * (double)(now_ns() - t_enable));
 		if (now_ns() > until)
 			return popc_error_set(err, POPC_ERR_SAFETY,
 					      "drive not ready %d ms after enable: status 0x%04x, ready_mask 0x%04x",
@@ -500,7 +535,10 @@ static int mb_exchange(popc_axis *ax, double f_c_N, popc_axis_sample *next, popc
 	return decode_sample(a, blk, status, next, err);
 }
 
-/* Zero force, then disable: each attempted even when the other failed. */
+/* Zero force, then disable: each attempted even when the other failed; after
+ * a signal (before or during stop) one attempt each, not max_failures. A
+ * safe stop that is not confirmed is said on the notes stream as well: the
+ * runner keeps its own reason for the exit code and the log's stop line. */
 static int mb_stop(popc_axis *ax, popc_error *err)
 {
 	mb_axis *a = ax->priv;
@@ -508,6 +546,7 @@ static int mb_stop(popc_axis *ax, popc_error *err)
 	realtime_off(a);
 	if (!a->enabled)
 		return 0;
+	a->stopping = 1;
 	a->failures_in_row = 0;
 	uint16_t zero[4];
 	encode_device_force(a, 0.0, zero);
@@ -518,10 +557,15 @@ static int mb_stop(popc_axis *ax, popc_error *err)
 	mb_op eop = {.kind = OP_WRITE_ENABLE, .words = &m->enable.off};
 	int st2 = transact(a, &eop, &e2);
 	a->enabled = 0;
-	if (st1 || st2)
-		return popc_error_set(err, POPC_ERR_COMM, "safe stop incomplete:%s%s%s%s",
-				      st1 ? " zero force not confirmed: " : "", st1 ? e1.msg : "",
-				      st2 ? " disable not confirmed: " : "", st2 ? e2.msg : "");
+	a->stopping = 0;
+	if (st1 || st2) {
+		char msg[2 * POPC_ERROR_MSG_MAX + 64];
+		snprintf(msg, sizeof msg, "%s%s%s%s%s", st1 ? "zero force not confirmed: " : "",
+			 st1 ? e1.msg : "", st1 && st2 ? "; " : "", st2 ? "disable not confirmed: " : "",
+			 st2 ? e2.msg : "");
+		note(a, "safe stop incomplete:", msg);
+		return popc_error_set(err, POPC_ERR_COMM, "safe stop incomplete: %s", msg);
+	}
 	return 0;
 }
 
@@ -597,6 +641,7 @@ void popc_modbus_options_defaults(popc_modbus_options *o)
 	o->realtime = 0;
 	o->rt_priority = 50;
 	o->notes = NULL;
+	o->stop_flag = NULL;
 }
 
 int popc_modbus_axis_create(popc_axis **out, const popc_scene *s, const popc_modbus_options *o,

@@ -184,13 +184,30 @@ typedef struct load_ctx {
 	popc_error *err;
 } load_ctx;
 
+/* libinih's reader: one call per line. A line that does not fit the buffer
+ * (num - 1 characters) would come back in pieces, each counted as a line by
+ * libinih and by us (every later message would name the wrong line) and the
+ * tail parsed as a line of its own; so it is refused here, with its real
+ * number. */
 static char *read_line(char *str, int num, void *stream)
 {
 	load_ctx *c = stream;
+	if (c->status)
+		return NULL;
 	char *r = fgets(str, num, c->f);
-	if (r)
-		c->line++;
-	return r;
+	if (!r)
+		return NULL;
+	c->line++;
+	size_t n = strlen(r);
+	if (n > 0 && r[n - 1] == '\n')
+		return r;
+	int next = getc(c->f);
+	if (next == EOF || next == '\n')
+		return r; /* the last line has no newline, or the line fits exactly */
+	c->status = popc_error_set(c->err, POPC_ERR_INVALID,
+				   "%s:%d: line longer than %d characters (shorten the comment or value)",
+				   c->path, c->line, num - 1);
+	return NULL;
 }
 
 static int map_handler(void *user, const char *section, const char *name, const char *value)
@@ -424,6 +441,20 @@ static int validate(load_ctx *c, popc_register_map *m)
 	if ((st = get_int(c, K_DRIVE_FAILURES, 1, 100, 1, 3, &v)))
 		return st;
 	m->max_failures = (int)v;
+	if ((long)m->timeout_ms * m->max_failures > POPC_MAP_SILENCE_MAX_MS) {
+		/* the error's line: the later of the two keys (a default has none) */
+		int at_t = c->at[K_DRIVE_TIMEOUT], at_f = c->at[K_DRIVE_FAILURES];
+		char lt[24] = "default", lf[24] = "default";
+		if (at_t)
+			snprintf(lt, sizeof lt, "line %d", at_t);
+		if (at_f)
+			snprintf(lf, sizeof lf, "line %d", at_f);
+		return popc_error_set(c->err, POPC_ERR_INVALID,
+				      "%s:%d: drive.timeout_ms = %d (%s) x drive.max_failures = %d (%s) = %ld ms: "
+				      "a silent drive must be declared lost within %d ms; lower one of them",
+				      c->path, at_t > at_f ? at_t : at_f, m->timeout_ms, lt, m->max_failures, lf,
+				      (long)m->timeout_ms * m->max_failures, POPC_MAP_SILENCE_MAX_MS);
+	}
 	if ((st = get_int(c, K_DRIVE_ENABLE_TIMEOUT, 0, 60000, 1, 500, &v)))
 		return st;
 	m->enable_timeout_ms = (int)v;
@@ -445,12 +476,20 @@ static int validate(load_ctx *c, popc_register_map *m)
 	m->pos.order = (popc_word_order)e;
 	if ((st = position_scale(c, &m->pos.counts_per_m)))
 		return st;
-	if ((st = get_num(c, K_POS_MIN, -1e3, 1e3, 0, -INFINITY, &m->pos.soft_min_m)) ||
-	    (st = get_num(c, K_POS_MAX, -1e3, 1e3, 0, INFINITY, &m->pos.soft_max_m)))
+	/* soft limits are part of the always-on supervisor: no map goes without */
+	if (!c->at[K_POS_MIN] || !c->at[K_POS_MAX])
+		return missing(c, c->at[K_POS_MIN] ? K_POS_MAX : K_POS_MIN,
+			       "the position soft limits soft_min_m and soft_max_m are required "
+			       "(safety is always on)");
+	if ((st = get_num(c, K_POS_MIN, -1e3, 1e3, 0, 0, &m->pos.soft_min_m)) ||
+	    (st = get_num(c, K_POS_MAX, -1e3, 1e3, 0, 0, &m->pos.soft_max_m)))
 		return st;
-	if (m->pos.soft_min_m >= m->pos.soft_max_m)
-		return bad(c, c->at[K_POS_MAX] ? K_POS_MAX : K_POS_MIN,
-			   "soft_max_m must be above soft_min_m");
+	if (m->pos.soft_min_m >= m->pos.soft_max_m) {
+		char what[96];
+		snprintf(what, sizeof what, "soft_max_m must be above soft_min_m = %g (line %d)",
+			 m->pos.soft_min_m, c->at[K_POS_MIN]);
+		return bad(c, K_POS_MAX, what);
+	}
 
 	if ((st = get_int(c, K_CMD_REG, 0, 65535, 0, 0, &v)))
 		return st;

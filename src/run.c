@@ -40,11 +40,11 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 	popc_axis_sample smp;
 	st = axis->ops->start(axis, err);
 	if (st)
-		why = "axis start failed";
+		why = st == POPC_ERR_INTERRUPTED ? "signal" : "axis start failed";
 	if (!st) {
 		st = axis->ops->sample(axis, &smp, err);
 		if (st)
-			why = "axis sample failed";
+			why = st == POPC_ERR_INTERRUPTED ? "signal" : "axis sample failed";
 	}
 	long long k = 0;
 	for (; !st && k < n_ticks; k++) {
@@ -73,6 +73,7 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 			why = st == POPC_ERR_NUMERIC ? "integrator unstable"
 			      : st == POPC_ERR_SAFETY ? "safety stop"
 			      : st == POPC_ERR_COMM   ? "communication lost"
+			      : st == POPC_ERR_INTERRUPTED ? "signal" /* seen by the axis mid-transaction */
 						      : "axis error";
 			break;
 		}

@@ -15,8 +15,10 @@
  *   position outside soft_min_m..soft_max_m, a fault bit, or a lost ready bit
  *   stops the run (POPC_ERR_SAFETY, exit 3); a failed transaction is retried,
  *   never answered with an old position, and max_failures failures in a row
- *   stop the run (POPC_ERR_COMM, exit 4); start() refuses a drive that reports
- *   a fault; stop() writes zero force and then the disable word, on every way out.
+ *   stop the run (POPC_ERR_COMM, exit 4); a signal (the stop flag) ends the
+ *   retries (POPC_ERR_INTERRUPTED, exit 5); start() refuses a drive that
+ *   reports a fault; stop() writes zero force and then the disable word, on
+ *   every way out.
  * - link hygiene: error recovery MODBUS_ERROR_RECOVERY_NONE; after a timeout
  *   an RTU line is drained until quiet (RTU has no transaction id, a late reply
  *   would pass for the next one) and a TCP link is reconnected (so a late reply
@@ -24,6 +26,7 @@
 #ifndef POPC_MODBUS_AXIS_H
 #define POPC_MODBUS_AXIS_H
 
+#include <signal.h>
 #include <stdio.h>
 
 #include "popc/axis.h"
@@ -55,6 +58,14 @@ typedef struct popc_modbus_options {
 	int realtime;       /* 1: try SCHED_FIFO (rt_priority) and mlockall; 0 (default): don't */
 	int rt_priority;    /* SCHED_FIFO priority, 1..99 (default 50) */
 	FILE *notes;        /* where notes go (real-time granted or not, reconnects); may be NULL */
+	/* set by a signal handler (the runner's stop flag; NULL: none). libmodbus
+	 * calls are not interrupted by signals, so the axis looks at the flag
+	 * itself: between the attempts of a failing transaction (it gives up with
+	 * POPC_ERR_INTERRUPTED instead of retrying up to max_failures times), in
+	 * start() before enabling and while it waits for the ready bits; and once
+	 * it is set, stop() makes one attempt per write (zero force, disable)
+	 * instead of retrying. */
+	volatile sig_atomic_t *stop_flag;
 } popc_modbus_options;
 
 void popc_modbus_options_defaults(popc_modbus_options *o);

@@ -4,7 +4,8 @@
  *
  *   [drive]    name, slave, fc23, timeout_ms, max_failures, enable_timeout_ms, watchdog_ms
  *   [position] register, table, type, word_order, counts_per_m | counts_per_rev + lead_m
- *              (+ gear), soft_min_m, soft_max_m
+ *              (+ gear), soft_min_m, soft_max_m (required: the soft limits are
+ *              part of the always-on safety supervisor)
  *   [command]  register, type, word_order, newton_per_unit | percent_of_rated_per_unit
  *              + rated_torque_Nm + lead_m (+ gear), limit_N
  *   [enable]   register, table (holding | coil), on (up to 4 values, written in
@@ -44,6 +45,17 @@ typedef enum popc_word_order {
 
 #define POPC_MAP_ENABLE_MAX 4
 
+/* Upper bound of timeout_ms x max_failures, ms: how long a silent link may
+ * last before popc declares the communication lost. Until then the drive
+ * holds the last command unsupervised, and a failing transaction delays the
+ * safe stop (the range checks alone allowed 10 s x 100 = 1000 s). 2 s is
+ * about the time an operator waits after ^C before reaching for the
+ * emergency stop, and leaves room for slow links: the shipped maps need
+ * 60-150 ms (20-50 ms x 3), and an RTU drive at 9600 baud, whose FC23
+ * exchange takes about 40 ms on the wire, can have 500 ms x 4. (An RTU link
+ * also drains the line for up to 4 timeouts after each failure.) */
+#define POPC_MAP_SILENCE_MAX_MS 2000
+
 typedef struct popc_register_map {
 	char path[POPC_PATH_MAX];
 	char name[128];
@@ -60,7 +72,7 @@ typedef struct popc_register_map {
 		popc_reg_type type;
 		popc_word_order order;
 		double counts_per_m;   /* position value units per metre */
-		double soft_min_m, soft_max_m;
+		double soft_min_m, soft_max_m; /* required, finite, min < max */
 	} pos;
 	struct {
 		int reg;
@@ -87,8 +99,10 @@ typedef struct popc_register_map {
 /* Reads and validates a map file. Unknown or duplicate keys, bad values,
  * missing keys and inconsistent combinations (overlapping registers, two
  * scales given, a command that cannot reach limit_N, ...) are rejected with a
- * message naming the file, the line (0 when the problem is a missing key) and
- * the key. Returns 0 or a negative popc_status. */
+ * message naming the file, the line (none when the problem is a missing key)
+ * and the key. A line longer than the reader's buffer is refused with its
+ * line number (libinih would split it and count the pieces as lines).
+ * Returns 0 or a negative popc_status. */
 int popc_register_map_load(popc_register_map *m, const char *path, popc_error *err);
 
 /* Number of 16-bit registers a value of this type occupies (1, 2 or 4). */

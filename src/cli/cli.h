@@ -7,7 +7,8 @@
 #include "popc/error.h"
 #include "popc/scene.h"
 
-/* Set by SIGINT/SIGTERM; the run loop polls it every tick. */
+/* Set by SIGINT, SIGTERM, SIGHUP and SIGQUIT; the run loop polls it every
+ * tick (SIGPIPE is ignored). */
 extern volatile sig_atomic_t popc_cli_stop;
 void popc_cli_install_signals(void);
 

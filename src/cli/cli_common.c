@@ -14,14 +14,28 @@ static void on_signal(int sig)
 	popc_cli_stop = 1;
 }
 
+/* Every signal that would otherwise end the process while a drive is enabled
+ * sets the stop flag instead: the run loop (and the Modbus axis while it
+ * retries or waits for the ready bits) then stops safely: zero force,
+ * disable, the log's stop line, exit 5. SIGQUIT would dump core with the
+ * drive still enabled; SIGHUP comes when the terminal or the ssh session
+ * goes away. A SIGHUP ignored when popc starts (nohup) stays ignored: nohup
+ * asks the run to outlive the terminal. SIGKILL cannot be caught: only the
+ * drive's own watchdog covers it (docs/MODBUS.md). SIGPIPE is ignored so that
+ * a --log pipe whose reader left is a write error (EPIPE) that ends the run
+ * safely, not a death by signal. */
 void popc_cli_install_signals(void)
 {
-	struct sigaction sa;
+	struct sigaction sa, old;
 	memset(&sa, 0, sizeof sa);
 	sa.sa_handler = on_signal;
 	sigemptyset(&sa.sa_mask);
 	sigaction(SIGINT, &sa, NULL);
 	sigaction(SIGTERM, &sa, NULL);
+	sigaction(SIGQUIT, &sa, NULL);
+	if (sigaction(SIGHUP, NULL, &old) != 0 || old.sa_handler != SIG_IGN)
+		sigaction(SIGHUP, &sa, NULL);
+	signal(SIGPIPE, SIG_IGN);
 }
 
 int popc_cli_fail(const char *verb, int status, const popc_error *err)

@@ -95,6 +95,7 @@ int popc_cmd_run(int argc, char **argv)
 	popc_modbus_options mbo;
 	popc_modbus_options_defaults(&mbo);
 	mbo.notes = stderr;
+	mbo.stop_flag = &popc_cli_stop; /* a signal ends the axis' retries and waits too */
 	optind = 1;
 	while ((c = getopt_long(argc, argv, "qh", opts, NULL)) != -1) {
 		switch (c) {

@@ -35,7 +35,7 @@ static void refresh(servo_drive *d)
 		v = floor(d->smp.x_true_m * m->pos.counts_per_m); /* the drive's own encoder */
 	popc_reg_encode(v, m->pos.type, m->pos.order, table_of(d, m->pos.table) + m->pos.reg);
 	uint16_t status = 0;
-	if (d->enabled && !d->fault)
+	if (d->enabled && !d->fault && !d->never_ready)
 		status |= m->status.ready_mask;
 	if (d->fault)
 		status |= m->status.fault_mask;

@@ -38,6 +38,7 @@ typedef struct servo_drive {
 	int64_t period_ns;
 
 	int enabled;
+	int never_ready;           /* --never-ready: the ready bits never come (a stuck enable) */
 	int fault, fault_permanent;
 	char fault_why[128];
 	double force_N;            /* the command as decoded: force on the device */

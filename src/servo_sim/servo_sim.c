@@ -62,6 +62,7 @@ static void usage(FILE *f)
 	      "  --exit-after N        close the link and exit after replying to request N\n"
 	      "  --fault-at N          set the drive's fault bits at request N\n"
 	      "  --start-faulted       report a fault from the start (it never clears)\n"
+	      "  --never-ready         never show the ready bits (an enable that never completes)\n"
 	      "  -h, --help            this help\n"
 	      "\n"
 	      "Exit status: 0 stopped by a signal or --exit-after, 2 usage, 1 failure.\n",
@@ -350,7 +351,7 @@ static int run_server(server *sv)
 
 enum { OPT_MAP = 256, OPT_LISTEN, OPT_SCENE, OPT_LOCKSTEP, OPT_SET, OPT_WATCHDOG, OPT_RECORD,
        OPT_NOTIFY, OPT_PACE, OPT_DROP, OPT_DELAY, OPT_EXCEPTION, OPT_CORRUPT, OPT_CLOSE,
-       OPT_EXIT, OPT_FAULT_AT, OPT_START_FAULTED };
+       OPT_EXIT, OPT_FAULT_AT, OPT_START_FAULTED, OPT_NEVER_READY };
 
 int main(int argc, char **argv)
 {
@@ -372,13 +373,14 @@ int main(int argc, char **argv)
 		{"exit-after", required_argument, NULL, OPT_EXIT},
 		{"fault-at", required_argument, NULL, OPT_FAULT_AT},
 		{"start-faulted", no_argument, NULL, OPT_START_FAULTED},
+		{"never-ready", no_argument, NULL, OPT_NEVER_READY},
 		{"help", no_argument, NULL, 'h'},
 		{NULL, 0, NULL, 0},
 	};
 	static server sv;
 	const char *map_path = NULL, *listen = NULL, *scene_path = NULL, *record_path = NULL;
 	const char *sets[64];
-	int n_sets = 0, lockstep = 0, start_faulted = 0, c;
+	int n_sets = 0, lockstep = 0, start_faulted = 0, never_ready = 0, c;
 	long watchdog = -1;
 	while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
 		int bad = 0;
@@ -408,6 +410,7 @@ int main(int argc, char **argv)
 		case OPT_EXIT: bad = parse_count(optarg, 1, &sv.exit_after); break;
 		case OPT_FAULT_AT: bad = parse_count(optarg, 1, &sv.fault_at); break;
 		case OPT_START_FAULTED: start_faulted = 1; break;
+		case OPT_NEVER_READY: never_ready = 1; break;
 		case 'h': usage(stdout); return 0;
 		default: usage(stderr); return 2;
 		}
@@ -451,6 +454,7 @@ int main(int argc, char **argv)
 		fprintf(stderr, "popc-servo-sim: %s\n", err.msg);
 		return 1;
 	}
+	sv.drive.never_ready = never_ready;
 	if (start_faulted)
 		drive_set_fault(&sv.drive, "start-faulted", 1);
 	if (socketpair(AF_UNIX, SOCK_STREAM, 0, sv.capture) != 0) {

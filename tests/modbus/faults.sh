@@ -1,8 +1,9 @@
 #!/bin/bash
-# Injected faults and a SIGINT end in the documented state (docs/MODBUS.md):
+# Injected faults and signals end in the documented state (docs/MODBUS.md):
 # the exit code, the log's final "# stop = ..." line with every completed tick
-# before it, and, while the link is up, zero force then disable as the last
-# writes the server saw.
+# before it, and zero force then disable as the last writes the server saw
+# (applied even when their replies are dropped). Maps with FC23, with FC16 and
+# FC03, and with FC16, FC04 and a separate status read.
 #   faults.sh SERVO_SIM tcp|rtu
 #
 # Request numbering with data/drives/popc-exact.ini (FC23, status in the
@@ -105,23 +106,81 @@ expect_rc watchdog $rc 3
 [ "$(rows "$WORK/watchdog.csv")" -eq 1 ] || fail "watchdog: want tick 0 only"
 check_last_writes "$WORK/rec-watchdog.txt" 0x0000
 
-# 9. SIGINT mid-run (real-time pacing at 1 kHz, 5 s): signal after request 300
-start_server --map "$EXACT_MAP" --listen "$LISTEN" --scene "$SCENE" --lockstep \
-	--notify-at 300 --record "$WORK/rec-sigint.txt"
+# 9. a signal mid-run (real-time pacing at 1 kHz, 5 s), sent after request 300:
+#    SIGINT, SIGTERM, SIGHUP and SIGQUIT all stop safely with exit 5. (A
+#    background job of a script starts with SIGINT and SIGQUIT ignored; popc
+#    installs its handlers over that.)
+signal_case() {
+	local sig=$1 name=sig$1
+	start_server --map "$EXACT_MAP" --listen "$LISTEN" --scene "$SCENE" --lockstep \
+		--notify-at 300 --record "$WORK/rec-$name.txt"
+	[ "$TRANSPORT" = rtu ] || CONNECT=$SRV_URI
+	"$POPC" run "$SCENE" -q --axis modbus --map "$EXACT_MAP" --connect "$CONNECT" \
+		--log "$WORK/$name.csv" &
+	local pid=$! line rc=0
+	read -r -t 20 -u 3 line || fail "$name: the server never saw request 300"
+	kill -"$sig" $pid
+	wait $pid || rc=$?
+	stop_server
+	expect_rc "$name" $rc 5
+	check_log "$WORK/$name.csv" '^# stop = signal: interrupted by a signal'
+	local n
+	n=$(rows "$WORK/$name.csv")
+	[ "$n" -ge 295 ] && [ "$n" -lt 5001 ] || fail "$name: $n ticks logged"
+	check_last_writes "$WORK/rec-$name.txt" 0x0000
+}
+for sig in INT TERM HUP QUIT; do
+	signal_case $sig
+done
+
+# 9b. SIGINT while every reply is dropped (timeout_ms 1000 x max_failures 2):
+#     the retry loop sees the signal after the attempt in flight times out and
+#     stops with exit 5 (not 4: the run ends because of the signal; the stop
+#     line says which transaction was failing), and stop() makes one attempt
+#     per write. Before the stop flag reached the axis, the retries ran out
+#     first: exit 4, "communication lost".
+sed -e 's/^timeout_ms = .*/timeout_ms = 1000/' -e 's/^max_failures = .*/max_failures = 2/' \
+	"$EXACT_MAP" >"$WORK/slow.ini"
+start_server --map "$WORK/slow.ini" --listen "$LISTEN" --scene "$SCENE" --lockstep \
+	--drop $N,1000000 --notify-at $N --record "$WORK/rec-sigretry.txt"
 [ "$TRANSPORT" = rtu ] || CONNECT=$SRV_URI
-"$POPC" run "$SCENE" -q --axis modbus --map "$EXACT_MAP" --connect "$CONNECT" \
-	--log "$WORK/sigint.csv" &
+"$POPC" run "$SCENE" --set run.duration=$DUR --axis modbus --map "$WORK/slow.ini" \
+	--connect "$CONNECT" --free-run --log "$WORK/sigretry.csv" 2>"$WORK/sigretry.err" &
 POPC_PID=$!
-read -r -t 20 -u 3 line || fail "sigint: the server never saw request 300"
+read -r -t 20 -u 3 line || fail "sigretry: the server never saw request $N"
 kill -INT $POPC_PID
 rc=0
 wait $POPC_PID || rc=$?
 stop_server
-expect_rc sigint $rc 5
-check_log "$WORK/sigint.csv" '^# stop = signal: interrupted by a signal'
-n=$(rows "$WORK/sigint.csv")
-[ "$n" -ge 295 ] && [ "$n" -lt 5001 ] || fail "sigint: $n ticks logged"
-check_last_writes "$WORK/rec-sigint.txt" 0x0000
+expect_rc sigretry $rc 5
+check_log "$WORK/sigretry.csv" \
+	'^# stop = signal: interrupted by a signal while retrying the command write \+ position read \(FC23\)'
+[ "$(rows "$WORK/sigretry.csv")" -eq $((N - 5)) ] || fail "sigretry: $(rows "$WORK/sigretry.csv") ticks"
+grep -q 'safe stop incomplete' "$WORK/sigretry.err" ||
+	fail "sigretry: an unconfirmed safe stop is not said: $(cat "$WORK/sigretry.err")"
+check_last_writes "$WORK/rec-sigretry.txt" 0x0000
+
+# 9c. SIGINT while start waits for ready bits that never come (enable timeout
+#     60 s): start gives up at once, zero force and disable, exit 5, no tick.
+#     Requests: 1 status, 2 zero force, 3 enable, 4... ready polls.
+sed 's/^enable_timeout_ms = .*/enable_timeout_ms = 60000/' "$EXACT_MAP" >"$WORK/stuck.ini"
+start_server --map "$WORK/stuck.ini" --listen "$LISTEN" --scene "$SCENE" --lockstep \
+	--never-ready --notify-at 10 --record "$WORK/rec-sigenable.txt"
+[ "$TRANSPORT" = rtu ] || CONNECT=$SRV_URI
+"$POPC" run "$SCENE" -q --axis modbus --map "$WORK/stuck.ini" --connect "$CONNECT" \
+	--log "$WORK/sigenable.csv" &
+POPC_PID=$!
+read -r -t 20 -u 3 line || fail "sigenable: the server never saw request 10"
+kill -INT $POPC_PID
+rc=0
+wait $POPC_PID || rc=$?
+stop_server
+expect_rc sigenable $rc 5
+tail -n 1 "$WORK/sigenable.csv" |
+	grep -q '^# stop = signal: interrupted by a signal while waiting for the ready bits' ||
+	fail "sigenable: $(tail -n 1 "$WORK/sigenable.csv")"
+[ "$(rows "$WORK/sigenable.csv")" -eq 0 ] || fail "sigenable: ticks logged"
+check_last_writes "$WORK/rec-sigenable.txt" 0x0000
 
 if [ "$TRANSPORT" = tcp ]; then
 	# 10. the server closes the connection after request N: reconnect, completes
@@ -144,6 +203,51 @@ else
 		"$EXACT_MAP" "--corrupt-crc $N,3"
 	stop_server
 	check_last_writes "$WORK/rec-crc.txt" 0x0000
-	stop_socat
 fi
+
+# 12. maps without FC23 (the command written with FC16, then the position read)
+#     and with the status read on its own: drop once (completes), drop three
+#     times (exit 4), the fault bit (exit 3). Requests: 1 status, 2 zero force,
+#     3 enable, 4 ready poll, then RS reads for tick 0 and R requests per
+#     exchange after it; the exchange that brings tick j starts at request
+#     5 + RS + (j - 1) R. The faults hit the exchange that starts at request
+#     $N (tick j is the first one not logged); the three drops hit its last
+#     request (a read).
+# map_cases MAP RS R
+map_cases() {
+	local map=$1 rs=$2 r=$3 tag
+	tag=$(basename "$map" .ini)
+	[ $(((N - 5 - rs) % r)) -eq 0 ] || { fail "$tag: request $N does not start an exchange"; return; }
+	local j=$(((N - 5 - rs) / r + 1))
+	run_case "$tag-drop1" 0 '^# stop = completed$' all "$map" "--drop $N,1"
+	stop_server
+	grep -q '1 failed transactions' "$WORK/$tag-drop1.err" || fail "$tag-drop1: the failure is not reported"
+	check_last_writes "$WORK/rec-$tag-drop1.txt" 0x0000
+	run_case "$tag-drop" 4 '^# stop = communication lost: .*3 failed transactions in a row' $j \
+		"$map" "--drop $((N + r - 1)),3"
+	stop_server
+	check_last_writes "$WORK/rec-$tag-drop.txt" 0x0000
+	run_case "$tag-fault" 3 '^# stop = safety stop: drive fault: status 0x0008' $j "$map" "--fault-at $N"
+	stop_server
+	check_last_writes "$WORK/rec-$tag-fault.txt" 0x0000
+}
+HERE=$POPC_SOURCE_ROOT/tests/modbus
+map_cases "$HERE/exact-fc16.ini" 1 2
+map_cases "$HERE/exact-fc16-sep.ini" 2 3
+
+# 13. the log is a pipe whose reader goes away (SIGPIPE ignored): a write
+#     error ends the run (exit 1), not death by SIGPIPE (141), and the drive is
+#     still zeroed and disabled. 10 s of ticks are far more than a pipe holds.
+start_server --map "$EXACT_MAP" --listen "$LISTEN" --scene "$SCENE" --lockstep \
+	--record "$WORK/rec-pipe.txt"
+[ "$TRANSPORT" = rtu ] || CONNECT=$SRV_URI
+"$POPC" run "$SCENE" -q --set run.duration=10 --axis modbus --map "$EXACT_MAP" \
+	--connect "$CONNECT" --free-run --log - 2>"$WORK/pipe.err" | head -n 1 >/dev/null
+rc=${PIPESTATUS[0]}
+stop_server
+expect_rc pipe "$rc" 1
+grep -q 'write failed' "$WORK/pipe.err" || fail "pipe: $(cat "$WORK/pipe.err")"
+check_last_writes "$WORK/rec-pipe.txt" 0x0000
+
+[ "$TRANSPORT" = rtu ] && stop_socat
 finish

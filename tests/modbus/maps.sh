@@ -1,8 +1,9 @@
 #!/bin/bash
 # Every register map shipped in data/drives/ dry-runs against popc-servo-sim
 # (lockstep, TCP): the run completes (exit 0) and the server's last writes are
-# zero force and the map's disable word. A bad map and a bad URI are usage
-# errors (exit 2) naming the file, line and key.
+# zero force and the map's disable word. A bad map (among them: no soft
+# limits, a silent link allowed too long) and a bad URI are usage errors
+# (exit 2) naming the file, line and key.
 #   maps.sh SERVO_SIM
 . "$(dirname "$0")/lib.sh"
 
@@ -31,6 +32,22 @@ rc=0
 expect_rc bad-map $rc 2
 grep -q "$WORK/bad.ini:[0-9]*: position.type = int24: expected one of" "$WORK/bad.err" ||
 	fail "bad map message: $(cat "$WORK/bad.err")"
+# soft limits are required in every map (safety is always on), min < max, and
+# timeout_ms x max_failures is bounded: exit 2 with file, line and key(s)
+map_error() { # NAME SED_SCRIPT MESSAGE_PATTERN
+	sed "$2" "$DRIVES/generic.ini" >"$WORK/$1.ini"
+	local rc=0
+	"$POPC" run "$SCENE" -q --axis modbus --map "$WORK/$1.ini" --connect tcp:127.0.0.1:1 \
+		2>"$WORK/$1.err" || rc=$?
+	expect_rc "$1" $rc 2
+	grep -q "$WORK/$1.ini$3" "$WORK/$1.err" || fail "$1 message: $(cat "$WORK/$1.err")"
+}
+map_error no-soft-min '/^soft_min_m/d' ': missing position.soft_min_m: the position soft limits .* are required'
+map_error no-soft-max '/^soft_max_m/d' ': missing position.soft_max_m: the position soft limits .* are required'
+map_error soft-order 's/^soft_max_m = .*/soft_max_m = -0.06/' \
+	':[0-9]*: position.soft_max_m = -0.06: soft_max_m must be above soft_min_m = -0.05 (line [0-9]*)'
+map_error silence 's/^timeout_ms = .*/timeout_ms = 1000/' \
+	':[0-9]*: drive.timeout_ms = 1000 (line [0-9]*) x drive.max_failures = 3 (line [0-9]*) = 3000 ms'
 rc=0
 "$POPC" run "$SCENE" -q --axis modbus --map "$DRIVES/generic.ini" --connect serial:x \
 	2>"$WORK/uri.err" || rc=$?

@@ -97,7 +97,7 @@ static void test_float64_exact(void **state)
 static const char *const good_map =
 	"[drive]\nslave = 3\nfc23 = yes\n"
 	"[position]\nregister = 100\ntype = int32\nword_order = lo-hi\ncounts_per_rev = 10000\n"
-	"lead_m = 0.01\ngear = 2\n"
+	"lead_m = 0.01\ngear = 2\nsoft_min_m = -0.05\nsoft_max_m = 0.05\n"
 	"[command]\nregister = 200\ntype = int16\npercent_of_rated_per_unit = 0.1\n"
 	"rated_torque_Nm = 0.5\nlead_m = 0.01\nlimit_N = 20\n"
 	"[enable]\nregister = 300\non = 6, 7, 0x0F\noff = 6\n"
@@ -136,9 +136,16 @@ static void test_good_map(void **state)
 	assert_int_equal(m.status.ready_mask, 0x27);
 	assert_int_equal(m.timeout_ms, 20); /* defaults */
 	assert_int_equal(m.max_failures, 3);
-	assert_true(isinf(m.pos.soft_max_m));
+	assert_true(m.pos.soft_min_m == -0.05 && m.pos.soft_max_m == 0.05);
 	unlink(path);
 }
+
+/* 600 characters: longer than libinih's line buffer (INI_MAX_LINE, 200 by
+ * default) and than any value a map accepts */
+#define LONG_COMMENT_60 "a comment line that goes on and on and on and on and on ....."
+#define LONG_COMMENT                                                                            \
+	LONG_COMMENT_60 LONG_COMMENT_60 LONG_COMMENT_60 LONG_COMMENT_60 LONG_COMMENT_60             \
+		LONG_COMMENT_60 LONG_COMMENT_60 LONG_COMMENT_60 LONG_COMMENT_60 LONG_COMMENT_60
 
 /* A bad map: replace the line starting with `from` by `to`; the message must
  * hold `want` (file:line and key). */
@@ -153,14 +160,28 @@ static const bad_case bad_cases[] = {
 	{"type = int32", "type = int24", ":6: position.type = int24"},
 	{"lead_m = 0.01\ngear", "gear", "missing position.lead_m"},
 	{"counts_per_rev = 10000", "counts_per_rev = 10000\ncounts_per_m = 5", "not both"},
-	{"limit_N = 20", "limit_N = 20000", ":17: command.limit_N = 20000: limit_N in command units does not fit"},
+	{"limit_N = 20", "limit_N = 20000", ":19: command.limit_N = 20000: limit_N in command units does not fit"},
 	{"limit_N = 20", "", "missing command.limit_N: the force clamp is not optional"},
-	{"register = 200", "register = 101", ":12: command.register = 101: overlaps the position registers"},
-	{"register = 102", "register = 101", ":23: status.register = 101: overlaps the position registers"},
-	{"off = 6", "off = 15", ":21: enable.off = 15: off must differ from the last on word"},
-	{"fault_mask = 0x08", "fault_mask = 0x21", ":25: status.fault_mask = 0x21: shares bits with ready_mask"},
+	{"register = 200", "register = 101", ":14: command.register = 101: overlaps the position registers"},
+	{"register = 102", "register = 101", ":25: status.register = 101: overlaps the position registers"},
+	{"off = 6", "off = 15", ":23: enable.off = 15: off must differ from the last on word"},
+	{"fault_mask = 0x08", "fault_mask = 0x21", ":27: status.fault_mask = 0x21: shares bits with ready_mask"},
 	{"[status]", "[statuss]", "unknown section [statuss]"},
 	{"gear = 2", "gearing = 2", ":10: unknown key position.gearing"},
+	/* soft limits are required, and min < max */
+	{"soft_min_m = -0.05\n", "", "missing position.soft_min_m: the position soft limits"},
+	{"soft_max_m = 0.05\n", "", "missing position.soft_max_m: the position soft limits"},
+	{"soft_max_m = 0.05", "soft_max_m = -0.05",
+	 ":12: position.soft_max_m = -0.05: soft_max_m must be above soft_min_m = -0.05 (line 11)"},
+	/* a silent link is declared lost within POPC_MAP_SILENCE_MAX_MS */
+	{"fc23 = yes", "fc23 = yes\ntimeout_ms = 1000\nmax_failures = 3",
+	 ":5: drive.timeout_ms = 1000 (line 4) x drive.max_failures = 3 (line 5) = 3000 ms"},
+	{"fc23 = yes", "fc23 = yes\ntimeout_ms = 1000", ":4: drive.timeout_ms = 1000 (line 4) x "
+							  "drive.max_failures = 3 (default) = 3000 ms"},
+	/* a line longer than libinih's buffer is refused with its own number; the
+	 * numbers of later lines do not drift (before: the pieces were counted) */
+	{"slave = 3\n", "slave = 3\n; " LONG_COMMENT "\n", ":3: line longer than"},
+	{"[drive]\n", "[drive]\n; " LONG_COMMENT "\n; " LONG_COMMENT "\n", ":2: line longer than"},
 };
 
 static char *replace(const char *text, const char *from, const char *to)
