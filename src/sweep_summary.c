@@ -6,6 +6,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <inttypes.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -464,7 +465,26 @@ int popc_sweep_run_dir(const popc_sweep_plan *p, const char *dir, long long i, c
 	return (size_t)snprintf(buf, cap, "%s/runs/%s", dir, id) < cap ? 0 : -1;
 }
 
-int popc_sweep_rows_open(const popc_sweep_plan *p, const char *dir, popc_error *err)
+/* Writes all of data, or fails (EINTR retried). */
+static int write_all(int fd, const char *data, size_t n)
+{
+	size_t done = 0;
+	while (done < n) {
+		ssize_t w = write(fd, data + done, n - done);
+		if (w < 0 && errno == EINTR)
+			continue;
+		if (w <= 0)
+			return -1;
+		done += (size_t)w;
+	}
+	return 0;
+}
+
+/* The most names tried: HOST.PID.csv, then HOST.PID.1.csv ... .999. More
+ * than a few means something else is wrong (a full directory, a loop). */
+enum { ROWS_NAMES_MAX = 1000 };
+
+int popc_sweep_rows_open(const popc_sweep_plan *p, const char *dir, long name_pid, popc_error *err)
 {
 	char host[256], path[POPC_PATH_MAX + 300];
 	if (gethostname(host, sizeof host) != 0)
@@ -473,21 +493,31 @@ int popc_sweep_rows_open(const popc_sweep_plan *p, const char *dir, popc_error *
 	for (char *c = host; *c; c++)
 		if (*c == '/')
 			*c = '_';
-	snprintf(path, sizeof path, "%s/rows/%s.%ld.csv", dir, host, (long)getpid());
-	int fd = open(path, O_WRONLY | O_CREAT | O_EXCL | O_APPEND, 0666);
-	if (fd >= 0) {
-		size_t n = strlen(p->columns);
-		if (write(fd, p->columns, n) != (ssize_t)n) {
-			int e = errno;
-			close(fd);
-			return popc_error_set(err, POPC_ERR_IO, "%s: %s", path, strerror(e));
-		}
-		return fd;
+	/* A name of our own, created with O_EXCL: never append to a file an
+	 * earlier process of the same pid left (pids repeat across containers,
+	 * Slurm nodes and reboots). Such a file may end in a line cut by a kill,
+	 * which our first row would join and lose, or in a cut header, which
+	 * would make the whole file unreadable. */
+	int fd = -1;
+	for (int n = 0; n < ROWS_NAMES_MAX && fd < 0; n++) {
+		if (n == 0)
+			snprintf(path, sizeof path, "%s/rows/%s.%ld.csv", dir, host, name_pid);
+		else
+			snprintf(path, sizeof path, "%s/rows/%s.%ld.%d.csv", dir, host, name_pid, n);
+		fd = open(path, O_WRONLY | O_CREAT | O_EXCL | O_APPEND, 0666);
+		if (fd < 0 && errno != EEXIST)
+			return popc_error_set(err, POPC_ERR_IO, "%s: %s", path, strerror(errno));
 	}
-	if (errno == EEXIST) /* an earlier process of the same pid: its header is there */
-		fd = open(path, O_WRONLY | O_APPEND);
 	if (fd < 0)
-		return popc_error_set(err, POPC_ERR_IO, "%s: %s", path, strerror(errno));
+		return popc_error_set(err, POPC_ERR_IO,
+				      "%s: %d rows files of %s.%ld exist already: clean DIR/rows", path,
+				      ROWS_NAMES_MAX, host, name_pid);
+	if (write_all(fd, p->columns, strlen(p->columns)) != 0) {
+		int e = errno;
+		close(fd);
+		unlink(path);
+		return popc_error_set(err, POPC_ERR_IO, "%s: %s", path, strerror(e));
+	}
 	return fd;
 }
 
@@ -554,6 +584,18 @@ static void offer(popc_sweep_results *r, long long i, const char *row, int len, 
 				       .reason = reason, .reason_len = reason_len};
 }
 
+/* A rows file read with something to say (not an error): counted, the
+ * first one kept for the caller to show. */
+__attribute__((format(printf, 2, 3))) static void note(popc_sweep_results *r, const char *fmt, ...)
+{
+	if (r->n_notes++ == 0) {
+		va_list ap;
+		va_start(ap, fmt);
+		vsnprintf(r->note, sizeof r->note, fmt, ap);
+		va_end(ap);
+	}
+}
+
 static int load_rows_file(popc_sweep_results *r, const popc_sweep_plan *p, const char *path,
 			  popc_error *err)
 {
@@ -566,17 +608,33 @@ static int load_rows_file(popc_sweep_results *r, const popc_sweep_plan *p, const
 	if (st)
 		return st;
 	size_t lc = strlen(p->columns);
+	char *body = text + lc;
 	if (len < lc || memcmp(text, p->columns, lc) != 0) {
-		if (len < lc && memcmp(text, p->columns, len) == 0)
-			return 0; /* its header was being written */
-		return popc_error_set(err, POPC_ERR_INVALID,
-				      "%s: not a rows file of this sweep (its header differs)", path);
+		/* a header cut by a kill: the start of ours, nothing after it */
+		if (len < lc && memcmp(text, p->columns, len) == 0) {
+			note(r, "%s: a rows file whose header was cut (its worker was stopped "
+				"while writing it): no rows, ignored", path);
+			return 0;
+		}
+		/* popc before rows files had names of their own appended to such a
+		 * file: a cut header (k bytes of ours) and then the whole one */
+		size_t k = 1;
+		while (k < lc && k + lc <= len &&
+		       !(memcmp(text + k, p->columns, lc) == 0 && memcmp(text, p->columns, k) == 0))
+			k++;
+		if (k >= lc || k + lc > len)
+			return popc_error_set(err, POPC_ERR_INVALID,
+					      "%s: not a rows file of this sweep (its header differs)",
+					      path);
+		note(r, "%s: a header cut by a kill and a whole one after it: rows read from "
+			"the second", path);
+		body = text + k + lc;
 	}
 	int want_cells = p->n_axes + (int)N_METRICS + 6; /* run, exit, 3 chatter, wall */
 	const char *reason = NULL;
 	int reason_len = 0;
 	long long reason_id = -1;
-	for (char *line = text + lc; *line;) {
+	for (char *line = body; *line;) {
 		char *nl = strchr(line, '\n');
 		if (!nl)
 			break; /* an incomplete last line: a writer was stopped mid-write */

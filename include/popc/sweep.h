@@ -155,6 +155,11 @@ int popc_sweep_run_csv_status(const char *run_header, const char *run_row, int *
  *                         two processes (nor two machines on NFS) ever append
  *                         to the same file; a worker killed mid-write leaves
  *                         at most an incomplete last line, which readers skip.
+ *                         When the name is taken (a pid used again: containers,
+ *                         Slurm nodes), HOST.PID.1.csv, HOST.PID.2.csv, ...: a
+ *                         file is written by one process lifetime only, so a
+ *                         row never joins a line an earlier process left cut.
+ *                         A file whose header was cut (no rows) is skipped.
  *   DIR/runs/<id>/        scene.ini, log.csv and summary.csv (unless --no-log);
  *                         run.csv when made by a --list `popc run` line
  *   DIR/summary.csv       every row in id order (summary-shard-I-of-N.csv for
@@ -178,9 +183,12 @@ int popc_sweep_plan_from_dir(popc_sweep_plan *p, const char *dir, popc_error *er
 int popc_sweep_run_dir(const popc_sweep_plan *p, const char *dir, long long i, char *buf,
 		       size_t cap);
 
-/* Creates this process' rows file in DIR/rows and writes the header; returns
- * its descriptor (>= 0) or a negative popc_status. */
-int popc_sweep_rows_open(const popc_sweep_plan *p, const char *dir, popc_error *err);
+/* Creates a new rows file for this process in DIR/rows, named after the host
+ * and name_pid (getpid(), or a test's stand-in), with O_CREAT | O_EXCL: the
+ * first free one of HOST.PID.csv, HOST.PID.1.csv, HOST.PID.2.csv, ...; writes
+ * the header; returns its descriptor (>= 0) or a negative popc_status. */
+int popc_sweep_rows_open(const popc_sweep_plan *p, const char *dir, long name_pid,
+			 popc_error *err);
 
 /* Appends run i's row (and, for a failed run, its reason) with one write(). */
 int popc_sweep_rows_append(const popc_sweep_plan *p, int fd, long long i, const char *row,
@@ -201,11 +209,16 @@ typedef struct popc_sweep_results {
 	popc_sweep_result_entry *run;
 	int n_texts;
 	char **texts;              /* loaded files */
+	int n_notes;               /* rows files read with a note (a cut header) */
+	char note[POPC_ERROR_MSG_MAX]; /* the first note, naming the file */
 } popc_sweep_results;
 
 /* Loads every rows file of dirs (in name order, dirs in order) and, for runs
  * still without a successful row, DIR/runs/<id>/run.csv. check_run_csv = 0
- * skips the latter (a sweep directory made without --list has none). */
+ * skips the latter (a sweep directory made without --list has none). A rows
+ * file whose header was cut by a kill (a start of the header and nothing
+ * else) is skipped and counted in n_notes, not an error; one whose header
+ * differs otherwise is an error. */
 int popc_sweep_results_load(popc_sweep_results *r, const popc_sweep_plan *p,
 			    const char *const *dirs, int n_dirs, int check_run_csv, popc_error *err);
 void popc_sweep_results_free(popc_sweep_results *r);

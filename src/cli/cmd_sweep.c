@@ -3,8 +3,8 @@
  *
  * The planner, ids, shards and summary rows are in the library (sweep.h).
  * This file runs the plan: a pool of forked worker processes, each running
- * scenes in-process through the library (popc_sweep_run_one), fed run
- * indices over a pipe and answering with one fixed-size message per run.
+ * scenes in-process through the library (popc_sweep_run_one), taking run
+ * indices from a counter in shared memory ("worker pool" below).
  *
  * Why forked workers and not fork/exec of `popc run` per run: a paper-scene
  * run takes about 1 ms; exec, dynamic loading and re-reading the scene cost
@@ -152,17 +152,30 @@ static void progress_show(progress *p, int final)
  * context switches cost a few percent of a paper-scene run), run it and
  * append its row to their own rows file. The parent only watches: each worker
  * holds the write end of a "life" pipe, whose EOF tells the parent the worker
- * is gone; the worker's slot says which run it had in hand, if any. */
+ * is gone; the worker's slot says which run it had in hand, if any.
+ *
+ * No run that a worker took may be lost. Taking a run (the fetch-add on the
+ * counter) and saying so in the slot are two steps, and a worker can die
+ * between them; a worker sent SIGTERM or SIGINT alone drops its run unrecorded
+ * (as the whole sweep does on ^C). So each entry of the list also has a
+ * "recorded" flag in shared memory, set once its row is written (by the
+ * worker, or by the parent for a run whose worker died). When the workers are
+ * done, the parent runs the taken-but-unrecorded entries again, in up to
+ * RETRY_ROUNDS more rounds, and records what is still left as failed. A worker
+ * that ends while runs remain and the sweep is not stopping is replaced. */
 
-#if ATOMIC_LLONG_LOCK_FREE != 2
-#error "the worker pool needs lock-free atomic long long in shared memory"
+#if ATOMIC_LLONG_LOCK_FREE != 2 || ATOMIC_CHAR_LOCK_FREE != 2
+#error "the worker pool needs lock-free atomics in shared memory"
 #endif
 
+enum { RETRY_ROUNDS = 3 };
+
 typedef struct pool_shared {
-	atomic_llong next;            /* next index into the todo list */
+	atomic_llong next;            /* next index into the todo list; those below are taken */
 	atomic_llong done, failed;    /* runs recorded by workers */
 	atomic_int trouble;           /* a row could not be written */
-	atomic_llong current[];       /* per worker slot: run in hand, -1 none */
+	atomic_int hook_fired;        /* the claim test hook fired (once per sweep) */
+	atomic_llong current[];       /* per worker slot: todo index in hand, -1 none */
 } pool_shared;
 
 typedef struct worker {
@@ -179,7 +192,11 @@ typedef struct sweep_ctx {
 	worker *w;
 	int n_workers;
 	pool_shared *sh;
-	int crash_fd;                 /* the parent's rows file, for crashed runs */
+	atomic_uchar *recorded;       /* per todo entry: its row is written */
+	int crash_fd;                 /* the parent's rows file, for lost runs */
+	long rows_pid;                /* the pid in rows file names: 0 the process' own (test hook) */
+	long long die_after_claim;    /* test hook: run index, -1 off */
+	long long parent_recorded;    /* runs the parent recorded as failed (record_lost) */
 	progress prog;
 } sweep_ctx;
 
@@ -213,7 +230,7 @@ static void say_failure(const sweep_ctx *c, long long i, int exit_status, const 
 static void worker_main(sweep_ctx *c, int slot)
 {
 	popc_error err;
-	int fd = popc_sweep_rows_open(c->plan, c->dir, &err);
+	int fd = popc_sweep_rows_open(c->plan, c->dir, c->rows_pid ? c->rows_pid : (long)getpid(), &err);
 	if (fd < 0) {
 		fprintf(stderr, "popc sweep: %s\n", err.msg);
 		atomic_store(&c->sh->trouble, 1);
@@ -224,23 +241,31 @@ static void worker_main(sweep_ctx *c, int slot)
 		if (k >= c->n_todo)
 			break;
 		long long i = c->todo[k];
-		atomic_store(&c->sh->current[slot], i);
+		/* test hook: die in the window between taking a run and saying so */
+		if (i == c->die_after_claim && atomic_exchange(&c->sh->hook_fired, 1) == 0)
+			raise(SIGKILL);
+		atomic_store(&c->sh->current[slot], k);
 		popc_sweep_result res;
 		if (popc_sweep_run_one(c->plan, i, c->dir, c->keep_log, fd, &popc_cli_stop, &res, &err) != 0) {
+			/* its row could not be written: said here, and the sweep
+			 * exits 1 listing it as without a result; no retry */
 			fprintf(stderr, "popc sweep: %s\n", err.msg);
 			atomic_store(&c->sh->trouble, 1);
 		} else if (res.interrupted) {
 			atomic_store(&c->sh->current[slot], -1);
-			break; /* not recorded: a resumed sweep runs it again */
+			break; /* not recorded: run again (next round, or a resumed sweep) */
 		} else if (res.exit_status != 0) {
 			atomic_fetch_add(&c->sh->failed, 1);
 			say_failure(c, i, res.exit_status, res.reason);
 		}
+		atomic_store(&c->recorded[k], 1);
 		atomic_fetch_add(&c->sh->done, 1);
 		atomic_store(&c->sh->current[slot], -1);
 	}
 	close(fd);
-	_exit(0); /* no atexit handlers, no second flush of the parent's stdio */
+	/* no atexit handlers, no second flush of the parent's stdio; 5 tells the
+	 * parent a signal stopped this worker */
+	_exit(popc_cli_stop ? POPC_EXIT_INTERRUPTED : 0);
 }
 
 static int spawn_worker(sweep_ctx *c, int slot)
@@ -272,61 +297,111 @@ static int spawn_worker(sweep_ctx *c, int slot)
 	return 0;
 }
 
-/* A worker died with run i in hand: record the run as failed. */
-static void record_crash(sweep_ctx *c, long long i, int wstatus)
+/* Run i has no result of this sweep and will get none: record it as failed
+ * in the parent's rows file, with the reason. Returns 1 on trouble. */
+static int record_lost(sweep_ctx *c, long long i, const char *reason)
 {
-	char row[POPC_SWEEP_ROW_MAX], reason[POPC_ERROR_MSG_MAX];
+	char row[POPC_SWEEP_ROW_MAX];
 	popc_error err;
-	if (WIFSIGNALED(wstatus))
-		snprintf(reason, sizeof reason, "the worker process died of signal %d (%s)",
-			 WTERMSIG(wstatus), strsignal(WTERMSIG(wstatus)));
-	else
-		snprintf(reason, sizeof reason, "the worker process exited (status %d) during the run",
-			 WIFEXITED(wstatus) ? WEXITSTATUS(wstatus) : -1);
 	if (c->crash_fd < 0)
-		c->crash_fd = popc_sweep_rows_open(c->plan, c->dir, &err);
+		c->crash_fd = popc_sweep_rows_open(c->plan, c->dir,
+						   c->rows_pid ? c->rows_pid : (long)getpid(), &err);
 	int n = c->crash_fd < 0 ? c->crash_fd
 				: popc_sweep_row(c->plan, i, POPC_EXIT_RUN_FAILED, NULL, NULL, NULL, 0.0, row,
 						 sizeof row, &err);
 	if (n < 0 || popc_sweep_rows_append(c->plan, c->crash_fd, i, row, POPC_EXIT_RUN_FAILED, reason,
 					    &err) != 0) {
 		fprintf(stderr, "popc sweep: %s\n", err.msg);
-		atomic_store(&c->sh->trouble, 1);
+		return 1;
 	}
-	atomic_fetch_add(&c->sh->failed, 1);
-	atomic_fetch_add(&c->sh->done, 1);
+	c->parent_recorded++;
 	say_failure(c, i, POPC_EXIT_RUN_FAILED, reason);
+	return 0;
 }
 
-/* Makes the runs of the todo list; returns 0, or 1 when a row could not be
- * written or a worker could not be started. */
-static int run_pool(sweep_ctx *c, int jobs)
+/* A worker died with run i in hand: the run is what killed it (or it was
+ * killed while making it); recorded as failed, not run again. */
+static int record_crash(sweep_ctx *c, long long i, int wstatus)
 {
+	char reason[POPC_ERROR_MSG_MAX];
+	if (WIFSIGNALED(wstatus))
+		snprintf(reason, sizeof reason, "the worker process died of signal %d (%s)",
+			 WTERMSIG(wstatus), strsignal(WTERMSIG(wstatus)));
+	else
+		snprintf(reason, sizeof reason, "the worker process exited (status %d) during the run",
+			 WIFEXITED(wstatus) ? WEXITSTATUS(wstatus) : -1);
+	return record_lost(c, i, reason);
+}
+
+/* A worker has ended (wstatus from waitpid) while the sweep is not stopping:
+ * record the run it had in hand, say what happened, replace it when runs
+ * remain. Returns 1 on trouble. */
+static int worker_ended(sweep_ctx *c, int slot, int wstatus, int *respawns)
+{
+	int trouble = 0;
+	long long k = atomic_load(&c->sh->current[slot]);
+	if (k >= 0 && !atomic_load(&c->recorded[k])) {
+		trouble = record_crash(c, c->todo[k], wstatus);
+		atomic_store(&c->recorded[k], 1);
+	} else if (WIFSIGNALED(wstatus)) {
+		fprintf(stderr, "popc sweep: a worker process died of signal %d (%s) between runs; "
+				"a new one takes over\n",
+			WTERMSIG(wstatus), strsignal(WTERMSIG(wstatus)));
+	} else if (WIFEXITED(wstatus) && WEXITSTATUS(wstatus) == POPC_EXIT_INTERRUPTED) {
+		fprintf(stderr, "popc sweep: a worker process was stopped by a signal sent to it "
+				"alone; a new one takes over\n");
+	} else if (!WIFEXITED(wstatus) || WEXITSTATUS(wstatus) != 0) {
+		return 1; /* it could not open its rows file: said, and not replaced */
+	}
+	/* every replacement follows a death from outside or one that cost a
+	 * run: the cap only stops a loop nothing else would */
+	if (atomic_load(&c->sh->next) < c->n_todo && (*respawns)++ < c->n_todo + c->n_workers) {
+		if (spawn_worker(c, slot) != 0) {
+			fprintf(stderr, "popc sweep: cannot start a worker: %s\n", strerror(errno));
+			trouble = 1;
+		}
+	}
+	return trouble;
+}
+
+/* One round: makes the runs of the todo list. Sets *lost (malloc'd) to the
+ * runs taken but not recorded (none when interrupted). Returns 0, or 1 when a
+ * row could not be written or a worker could not be started. */
+static int run_pool(sweep_ctx *c, int jobs, long long **lost, long long *n_lost)
+{
+	*lost = NULL;
+	*n_lost = 0;
 	c->n_workers = (int)(c->n_todo < jobs ? c->n_todo : jobs);
 	size_t sh_size = sizeof(pool_shared) + (size_t)c->n_workers * sizeof(atomic_llong);
+	size_t rec_size = (size_t)c->n_todo * sizeof(atomic_uchar);
 	void *mem = mmap(NULL, sh_size, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
+	void *rec = mmap(NULL, rec_size, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
 	c->w = calloc((size_t)c->n_workers, sizeof *c->w);
 	struct pollfd *pfd = calloc((size_t)c->n_workers, sizeof *pfd);
 	int *slot_of = calloc((size_t)c->n_workers, sizeof *slot_of);
-	if (mem == MAP_FAILED || !c->w || !pfd || !slot_of) {
+	if (mem == MAP_FAILED || rec == MAP_FAILED || !c->w || !pfd || !slot_of) {
 		fprintf(stderr, "popc sweep: out of memory\n");
 		if (mem != MAP_FAILED)
 			munmap(mem, sh_size);
+		if (rec != MAP_FAILED)
+			munmap(rec, rec_size);
 		free(c->w);
 		free(pfd);
 		free(slot_of);
 		return 1;
 	}
 	c->sh = mem;
+	c->recorded = rec; /* an anonymous mapping is zero: nothing recorded */
 	atomic_init(&c->sh->next, 0);
 	atomic_init(&c->sh->done, 0);
 	atomic_init(&c->sh->failed, 0);
 	atomic_init(&c->sh->trouble, 0);
-	c->crash_fd = -1;
+	atomic_init(&c->sh->hook_fired, c->die_after_claim < 0);
 	for (int k = 0; k < c->n_workers; k++)
 		c->w[k] = (worker){.pid = 0, .life_fd = -1};
-	int trouble = 0, stopping = 0;
-	long long done0 = c->prog.done;
+	int trouble = 0, stopping = 0, respawns = 0;
+	long long done0 = c->prog.done, done_now0 = c->prog.done_now, failed_now0 = c->prog.failed_now;
+	long long parent0 = c->parent_recorded;
 	for (int k = 0; k < c->n_workers && !trouble; k++) {
 		if (spawn_worker(c, k) != 0) {
 			fprintf(stderr, "popc sweep: cannot start a worker: %s\n", strerror(errno));
@@ -350,9 +425,10 @@ static int run_pool(sweep_ctx *c, int jobs)
 			pfd[alive] = (struct pollfd){.fd = c->w[k].life_fd, .events = POLLIN};
 			slot_of[alive++] = k;
 		}
-		c->prog.done = done0 + atomic_load(&c->sh->done);
-		c->prog.done_now = atomic_load(&c->sh->done);
-		c->prog.failed_now = atomic_load(&c->sh->failed);
+		long long d = atomic_load(&c->sh->done), pr = c->parent_recorded - parent0;
+		c->prog.done = done0 + d + pr;
+		c->prog.done_now = done_now0 + d + pr;
+		c->prog.failed_now = failed_now0 + atomic_load(&c->sh->failed) + pr;
 		if (alive == 0)
 			break;
 		progress_show(&c->prog, 0);
@@ -376,35 +452,80 @@ static int run_pool(sweep_ctx *c, int jobs)
 			close(w->life_fd);
 			w->pid = 0;
 			w->life_fd = -1;
-			long long lost = atomic_load(&c->sh->current[slot_of[m]]);
-			if (lost >= 0 && !stopping) {
-				record_crash(c, lost, wstatus);
-				if (atomic_load(&c->sh->next) < c->n_todo &&
-				    spawn_worker(c, slot_of[m]) != 0) {
-					fprintf(stderr, "popc sweep: cannot start a worker: %s\n",
-						strerror(errno));
-					trouble = 1;
-				}
-			} else if ((!WIFEXITED(wstatus) || WEXITSTATUS(wstatus) != 0) && !stopping) {
-				/* between runs: no run lost, but say so, and replace it */
-				if (WIFSIGNALED(wstatus))
-					fprintf(stderr, "popc sweep: a worker process died of signal %d (%s) between runs\n",
-						WTERMSIG(wstatus), strsignal(WTERMSIG(wstatus)));
-				trouble = 1;
-				if (atomic_load(&c->sh->next) < c->n_todo && spawn_worker(c, slot_of[m]) != 0)
-					fprintf(stderr, "popc sweep: cannot start a worker: %s\n",
-						strerror(errno));
-			}
+			if (!stopping && !popc_cli_stop)
+				trouble |= worker_ended(c, slot_of[m], wstatus, &respawns);
 		}
 	}
 	trouble |= atomic_load(&c->sh->trouble);
-	if (c->crash_fd >= 0)
-		close(c->crash_fd);
+	/* the reconciliation: taken (below next), never recorded */
+	long long taken = atomic_load(&c->sh->next);
+	if (taken > c->n_todo)
+		taken = c->n_todo;
+	if (!popc_cli_stop) {
+		for (long long k = 0; k < taken; k++)
+			*n_lost += !atomic_load(&c->recorded[k]);
+		if (*n_lost > 0 && !(*lost = malloc((size_t)*n_lost * sizeof **lost))) {
+			fprintf(stderr, "popc sweep: out of memory\n");
+			*n_lost = 0;
+			trouble = 1;
+		}
+		for (long long k = 0, m = 0; *lost && k < taken; k++)
+			if (!atomic_load(&c->recorded[k]))
+				(*lost)[m++] = c->todo[k];
+	}
 	munmap(mem, sh_size);
+	munmap(rec, rec_size);
+	c->sh = NULL;
+	c->recorded = NULL;
 	free(pfd);
 	free(slot_of);
 	free(c->w);
 	c->w = NULL;
+	return trouble;
+}
+
+/* Makes the runs of c->todo: a round, then rounds for the runs that workers
+ * took and dropped (killed in the window, or stopped by a signal of their
+ * own), then records what is still left as failed. Returns 0 or 1 (trouble). */
+static int run_sweep(sweep_ctx *c, int jobs)
+{
+	const long long *todo0 = c->todo;
+	long long n_todo0 = c->n_todo;
+	long long *lost = NULL, n_lost = 0;
+	c->crash_fd = -1;
+	int trouble = run_pool(c, jobs, &lost, &n_lost);
+	c->die_after_claim = -1; /* the test hook fires in the first round only */
+	for (int round = 1; round <= RETRY_ROUNDS && n_lost > 0 && !popc_cli_stop; round++) {
+		fprintf(stderr, "popc sweep: %lld run%s taken by a worker that stopped before recording "
+				"%s: running %s again\n",
+			n_lost, n_lost == 1 ? "" : "s", n_lost == 1 ? "it" : "them",
+			n_lost == 1 ? "it" : "them");
+		c->todo = lost;
+		c->n_todo = n_lost;
+		long long *again = NULL, n_again = 0;
+		trouble |= run_pool(c, jobs, &again, &n_again);
+		free(lost);
+		lost = again;
+		n_lost = n_again;
+	}
+	if (n_lost > 0 && !popc_cli_stop) {
+		char reason[200];
+		snprintf(reason, sizeof reason,
+			 "no result: each of %d workers that took it stopped before recording it",
+			 RETRY_ROUNDS + 1);
+		long long before = c->parent_recorded;
+		for (long long m = 0; m < n_lost; m++)
+			trouble |= record_lost(c, lost[m], reason);
+		c->prog.done += c->parent_recorded - before;
+		c->prog.done_now += c->parent_recorded - before;
+		c->prog.failed_now += c->parent_recorded - before;
+	}
+	free(lost);
+	c->todo = todo0;
+	c->n_todo = n_todo0;
+	if (c->crash_fd >= 0)
+		close(c->crash_fd);
+	c->crash_fd = -1;
 	progress_show(&c->prog, 1);
 	return trouble;
 }
@@ -413,6 +534,7 @@ static int run_pool(sweep_ctx *c, int jobs)
 
 typedef struct failure_list {
 	const popc_sweep_plan *plan;
+	int list_missing;             /* name runs without a result too */
 	long long shown, failed, missing;
 } failure_list;
 
@@ -425,7 +547,7 @@ static void list_failure(void *user, long long i, int exit_status, const char *r
 		fl->missing++;
 	else
 		fl->failed++;
-	if (exit_status < 0 || fl->shown >= FAILURES_SHOWN)
+	if ((exit_status < 0 && !fl->list_missing) || fl->shown >= FAILURES_SHOWN)
 		return;
 	if (fl->shown == 0)
 		fprintf(stderr, "popc sweep: failed runs:\n");
@@ -433,8 +555,40 @@ static void list_failure(void *user, long long i, int exit_status, const char *r
 	char id[POPC_SWEEP_ID_MAX], what[512];
 	popc_sweep_run_id(fl->plan, i, id);
 	describe(fl->plan, i, what, sizeof what);
-	fprintf(stderr, "  %s (%s): exit %d: %s\n", id, what, exit_status,
-		reason[0] ? reason : "(no reason recorded)");
+	if (exit_status < 0)
+		fprintf(stderr, "  %s (%s): no result\n", id, what);
+	else
+		fprintf(stderr, "  %s (%s): exit %d: %s\n", id, what, exit_status,
+			reason[0] ? reason : "(no reason recorded)");
+}
+
+/* Notes from reading rows files (a header cut by a kill): not errors. */
+static void show_notes(const char *verb, const popc_sweep_results *r, int quiet)
+{
+	if (quiet || r->n_notes == 0)
+		return;
+	fprintf(stderr, "popc %s: note: %s\n", verb, r->note);
+	if (r->n_notes > 1)
+		fprintf(stderr, "popc %s: note: and %d more rows files with a note\n", verb,
+			r->n_notes - 1);
+}
+
+/* Test hooks (docs/SWEEPS.md, "Test hooks"), for tests that must make a rare
+ * event happen; unset in normal use:
+ *   POPC_SWEEP_TEST_ROWS_PID=N     name rows files after pid N instead of the
+ *                                  process' own (a pid used again)
+ *   POPC_SWEEP_TEST_DIE_AFTER_CLAIM=I  the worker that takes run I dies by
+ *                                  SIGKILL before saying so in its slot
+ *                                  (once per invocation) */
+static void test_hooks(sweep_ctx *c)
+{
+	const char *v = getenv("POPC_SWEEP_TEST_ROWS_PID");
+	long n;
+	if (v && popc_cli_parse_long(v, 1, LONG_MAX, &n) == 0)
+		c->rows_pid = n;
+	v = getenv("POPC_SWEEP_TEST_DIE_AFTER_CLAIM");
+	if (v && popc_cli_parse_long(v, 0, LONG_MAX, &n) == 0)
+		c->die_after_claim = n;
 }
 
 /* ---- --list ---------------------------------------------------------------------- */
@@ -599,6 +753,7 @@ static int cmd_merge(int argc, char **argv)
 	popc_sweep_results res;
 	int st = popc_sweep_results_load(&res, &plan, dirs, n_dirs, 1, &err);
 	if (!st) {
+		show_notes("sweep merge", &res, quiet);
 		st = popc_sweep_results_write(&res, &plan, NULL, path, &t, list_failure, &fl, &err);
 		popc_sweep_results_free(&res);
 	}
@@ -756,7 +911,8 @@ int popc_cmd_sweep(int argc, char **argv)
 	popc_sweep_results_free(&res);
 
 	sweep_ctx ctx = {.plan = &plan, .dir = dir, .keep_log = keep_log, .todo = todo,
-			 .n_todo = n_todo};
+			 .n_todo = n_todo, .rows_pid = 0, .die_after_claim = -1};
+	test_hooks(&ctx);
 	ctx.prog = (progress){.quiet = quiet, .tty = isatty(STDERR_FILENO), .total = n_shard,
 			      .done = n_shard - n_todo, .t_start = now_s()};
 	ctx.prog.last_decile = (int)(10 * ctx.prog.done / (n_shard ? n_shard : 1));
@@ -765,7 +921,7 @@ int popc_cmd_sweep(int argc, char **argv)
 		fprintf(stderr, "popc sweep: %lld of %lld runs already done in %s\n", n_shard - n_todo,
 			n_shard, dir);
 	popc_cli_install_signals();
-	int trouble = n_todo > 0 ? run_pool(&ctx, jobs > 0 ? (int)jobs : default_jobs()) : 0;
+	int trouble = n_todo > 0 ? run_sweep(&ctx, jobs > 0 ? (int)jobs : default_jobs()) : 0;
 	free(todo);
 	double elapsed = now_s() - ctx.prog.t_start;
 
@@ -778,17 +934,22 @@ int popc_cmd_sweep(int argc, char **argv)
 	else
 		snprintf(path, sizeof path, "%s/summary.csv", dir);
 	popc_sweep_tally t;
-	failure_list fl = {.plan = &plan};
+	/* not interrupted, every run of the shard should have a result: name
+	 * any that has none (a row that could not be written, a worker that
+	 * could not be started) */
+	failure_list fl = {.plan = &plan, .list_missing = !popc_cli_stop};
 	st = popc_sweep_results_load(&res, &plan, dirs, 1, 1, &err);
 	if (!st) {
+		show_notes("sweep", &res, quiet);
 		st = popc_sweep_results_write(&res, &plan, &shard, path, &t, list_failure, &fl, &err);
 		popc_sweep_results_free(&res);
 	}
 	popc_sweep_plan_free(&plan);
 	if (st)
 		return popc_cli_fail("sweep", st, &err);
-	if (fl.shown < fl.failed)
-		fprintf(stderr, "  ... and %lld more (exit_status in %s)\n", fl.failed - fl.shown, path);
+	long long listed = fl.failed + (fl.list_missing ? fl.missing : 0);
+	if (fl.shown < listed)
+		fprintf(stderr, "  ... and %lld more (exit_status in %s)\n", listed - fl.shown, path);
 	if (!quiet || t.failed || t.missing)
 		fprintf(stderr,
 			"popc sweep: %s: %lld runs, %lld succeeded, %lld failed, %lld not run; "

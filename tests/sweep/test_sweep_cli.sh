@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # popc sweep as a user runs it: usage errors before anything runs, a small
 # sweep with logs, its summary against popc-analyze compare, resume, failed
-# runs, shards and merge, Slurm array variables, --no-log, SIGINT and a
-# worker that dies.
+# runs, shards and merge, Slurm array variables, --no-log, SIGINT, rows files
+# of a reused pid, and workers that die or are stopped alone.
 set -u
 POPC=${POPC:?POPC must name the popc program}
 SRC=${POPC_SOURCE_ROOT:?}
@@ -103,6 +103,30 @@ check "  summary unchanged, byte for byte" cmp -s "$S" "$T/s1.csv"
 expect_exit 2 "another sweep into the same directory" "$POPC" sweep "$SCENE" --vary operator.speed=0.01,0.02 -o "$T/s"
 check "  refused: holds another sweep" err_has "holds another sweep"
 
+# ---- rows files left by an earlier process of the same pid (pids repeat in
+# containers and across Slurm nodes): one killed mid-row, one killed
+# mid-header. The hook names the new rows files after that pid; both workers
+# (-j 2) get it, so they collide with each other too. Each must write a file
+# of its own: a row appended to the cut line would be lost, rows appended to
+# the cut header would make the file unreadable.
+expect_exit 0 "shard 0/3 of the sweep, to resume" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/p" --shard 0/3 --no-log -q
+H=$(hostname | tr / _)
+{ head -1 "$S"; printf '0004,0.05,ref-en'; } > "$T/p/rows/$H.4242.csv"
+head -c 20 "$S" > "$T/p/rows/$H.4242.1.csv"
+# what popc before this fix made of a cut header: the whole header glued to it
+{ head -c 25 "$S"; head -1 "$S"; grep '^0007,' "$S"; } > "$T/p/rows/$H.777.csv"
+cp "$T/p/rows/$H.4242.csv" "$T/cut-row.csv"; cp "$T/p/rows/$H.4242.1.csv" "$T/cut-header.csv"
+expect_exit 0 "resume with rows files of the same pid left cut" env POPC_SWEEP_TEST_ROWS_PID=4242 "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/p" -j 2 --no-log
+check "  every run once, in order" test "$(tail -n +2 "$T/p/summary.csv" | cut -d, -f1 | tr '\n' ' ')" = "0000 0001 0002 0003 0004 0005 0006 0007 0008 "
+check "  the same results as the one-machine sweep" same_nowall "$T/p/summary.csv" "$S"
+check "  the cut files are left as they were" cmp -s "$T/p/rows/$H.4242.csv" "$T/cut-row.csv"
+check "  ... both" cmp -s "$T/p/rows/$H.4242.1.csv" "$T/cut-header.csv"
+check "  the workers wrote files of their own" test -s "$T/p/rows/$H.4242.2.csv" -a -s "$T/p/rows/$H.4242.3.csv"
+check "  a note names the cut header" err_has "$H.4242.1.csv: a rows file whose header was cut"
+check "  the glued header is read" err_has "and 1 more rows files with a note"
+expect_exit 0 "merge reads the directory too" "$POPC" sweep merge "$T/p" -o "$T/pm"
+check "  equal" same_nowall "$T/pm/summary.csv" "$S"
+
 # ---- --no-log: summaries only
 expect_exit 0 "--no-log sweep, -j 1" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/n" -j 1 --no-log -q
 check "  -q: nothing on stderr" test ! -s "$T/err"
@@ -172,29 +196,59 @@ expect_exit 0 "the first 200 runs uninterrupted" "$POPC" sweep "$SCENE" --vary o
 check "  equal rows in both" cmp -s <(nowall "$T/ref/summary-shard-0-of-40.csv" | tail -n +2) <(nowall "$T/i/summary.csv" | awk -F, 'NR > 1 && $1 % 40 == 0')
 
 # ---- a worker that dies: its run is recorded as failed, the sweep goes on
-mkfifo "$T/fifo2"
-"$POPC" sweep "$SCENE" "${BIG[@]}" -o "$T/k" --no-log -j 2 2>"$T/fifo2" &
-pid=$!
-exec 3<"$T/fifo2"
-got=
-while IFS= read -r -t 60 -u 3 line; do
-  case $line in *"runs ("*) got=1; break ;; esac
-done
-# a worker is a child of the sweep (by parent pid, not by name)
-worker=$(cut -d' ' -f1 "/proc/$pid/task/$pid/children" 2>/dev/null)
+# Starts the BIG sweep into $1 with -j $2, sends signal $3 to one worker (a
+# child of the sweep, found by parent pid, not by name) after the first
+# progress line, and waits for the sweep: sets rc, worker, and $T/err.
+kill_a_worker() {
+  local dir=$1 jobs=$2 sig=$3 line
+  rm -f "$T/fifo2"; mkfifo "$T/fifo2"
+  "$POPC" sweep "$SCENE" "${BIG[@]}" -o "$dir" --no-log -j "$jobs" 2>"$T/fifo2" &
+  pid=$!
+  exec 3<"$T/fifo2"
+  got=
+  while IFS= read -r -t 60 -u 3 line; do
+    case $line in *"runs ("*) got=1; break ;; esac
+  done
+  worker=$(cut -d' ' -f1 "/proc/$pid/task/$pid/children" 2>/dev/null)
+  [ -n "$worker" ] && kill "-$sig" "$worker"
+  cat <&3 > "$T/err"
+  exec 3<&-
+  wait "$pid"; rc=$?
+  pid=
+}
+n_failed() { tail -n +2 "$1" | awk -F, '$4 != 0' | wc -l; }
 # SIGKILL (as the OOM killer): a sanitizer build turns SIGSEGV into exit 1
-[ -n "$worker" ] && kill -KILL "$worker"
-cat <&3 > "$T/err"
-exec 3<&-
-wait "$pid"; rc=$?
-pid=
+kill_a_worker "$T/k" 2 KILL
 check "a worker killed by SIGKILL (pid ${worker:-none})" test -n "$worker"
-check "  the sweep goes on and exits 1 (got $rc)" test "$rc" -eq 1
 check "  names the signal" err_has "died of signal 9"
-# (the run it had in hand failed; or none, when the signal fell between runs)
-check "  at most one failed run, every run has a row" test "$(tail -n +2 "$T/k/summary.csv" | awk -F, '$4 != 0' | wc -l)" -le 1 -a "$(wc -l < "$T/k/summary.csv")" -eq 8001
+# the run it had in hand failed (exit 1), or none when the signal fell between
+# runs: then a run it had just taken runs again and all succeed (exit 0)
+nf=$(n_failed "$T/k/summary.csv")
+check "  at most one failed run ($nf), every run has a row" test "$nf" -le 1 -a "$(wc -l < "$T/k/summary.csv")" -eq 8001
+check "  exit 1 with the failed run, else 0 (got $rc)" test "$rc" -eq "$((nf > 0 ? 1 : 0))"
 expect_exit 0 "again: the crashed run is retried" "$POPC" sweep "$SCENE" "${BIG[@]}" -o "$T/k" --no-log -j 2 -q
 check "  all 8000 succeeded" test "$(tail -n +2 "$T/k/summary.csv" | awk -F, '$4 == 0' | wc -l)" -eq 8000
+
+# SIGTERM to one worker, not the sweep: it stops its run unrecorded and ends;
+# a new worker takes over, and the dropped run runs again. With -j 1 the
+# sweep would otherwise have no worker left.
+for j in 1 2; do
+  kill_a_worker "$T/t$j" $j TERM
+  check "-j $j: a worker sent SIGTERM alone (pid ${worker:-none})" test -n "$worker"
+  check "  the sweep completes, exit 0 (got $rc)" test "$rc" -eq 0
+  check "  says a new worker took over" err_has "stopped by a signal sent to it alone"
+  check "  every run has a row, once" test "$(tail -n +2 "$T/t$j/summary.csv" | cut -d, -f1 | uniq | wc -l)" -eq 8000
+  check "  all succeeded" test "$(n_failed "$T/t$j/summary.csv")" -eq 0
+done
+
+# A worker that dies between taking a run and saying so in its slot (the test
+# hook makes the narrow window certain): the parent finds the taken run
+# without a row at the end and runs it again.
+for j in 1 2; do
+  expect_exit 0 "-j $j: a worker dies just after taking run 0004" env POPC_SWEEP_TEST_DIE_AFTER_CLAIM=4 "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/c$j" -j $j --no-log
+  check "  runs it again" err_has "1 run taken by a worker that stopped before recording it: running it again"
+  check "  every run once, all as in the one-machine sweep" same_nowall "$T/c$j/summary.csv" "$S"
+done
 
 echo "# $passes passed, $fails failed"
 [ "$fails" -eq 0 ]
