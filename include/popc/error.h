@@ -13,7 +13,7 @@ enum popc_exit {
 	POPC_EXIT_USAGE = 2,       /* bad command line, scene, map or input file */
 	POPC_EXIT_SAFETY = 3,      /* safety stop on a real axis (fault bit, soft limit) */
 	POPC_EXIT_COMM_LOST = 4,   /* communication with the axis lost */
-	POPC_EXIT_INTERRUPTED = 5, /* stopped by SIGINT or SIGTERM, safe state reached */
+	POPC_EXIT_INTERRUPTED = 5, /* stopped by SIGINT/TERM/HUP/QUIT, safe state reached */
 	POPC_EXIT_UNSTABLE = 6,    /* the integrator went unstable; the log says where */
 };
 

@@ -326,9 +326,19 @@ static int write_plot(const char *dir, const wp_point pts[N_METHODS][N_SWEEP], c
 			m > 1 ? ", \\\n     " : "", m - 1, m, popc_integrator_name(methods[m]));
 	fputs("\n", f);
 	fclose(f);
-	char cmd[2 * POPC_PATH_MAX + 64];
-	snprintf(cmd, sizeof cmd, "cd '%s' && gnuplot integrators.gp", dir);
-	if (system(cmd) != 0) {
+	/* gnuplot runs in DIR (the script names its files relatively); no shell,
+	 * so a directory name needs no quoting */
+	int status = -1;
+	pid_t pid = fork();
+	if (pid == 0) {
+		if (chdir(dir) == 0)
+			execlp("gnuplot", "gnuplot", "integrators.gp", (char *)NULL);
+		_exit(127);
+	}
+	if (pid > 0)
+		while (waitpid(pid, &status, 0) < 0 && errno == EINTR)
+			;
+	if (pid < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
 		fprintf(stderr, "popc bench: gnuplot failed on %s/integrators.gp\n", dir);
 		return -1;
 	}
@@ -507,10 +517,11 @@ static int bench_loop(const popc_scene *s0, const bench_opts *o)
 	printf("%-34s %14.2f %16.2f %8.1f\n", "plant step alone, ns per period", pex, ptr, ptr / pex);
 	printf("%-34s %14s %16.3g\n", "max position error vs exact (m)", "0 (ref)", tr_err);
 	printf("exact loop: %.3g million ticks per second (target >= 20: %s)\n"
-	       "exact integration %.1f x faster than the paper's scheme (target >= 50: %s); "
-	       "whole control loop %.1f x (the controller, not the plant, costs the rest)\n",
-	       ticks_per_s / 1e6, ticks_per_s >= 20e6 ? "met" : "NOT met", ptr / pex,
-	       ptr / pex >= 50 ? "met" : "NOT met", tr_ns / ex_ns);
+	       "control loop %.1f x faster than the paper's scheme (target >= 50: %s)\n"
+	       "plant step alone %.1f x faster (the controller, not the plant, costs the rest of "
+	       "the loop)\n",
+	       ticks_per_s / 1e6, ticks_per_s >= 20e6 ? "met" : "NOT met", tr_ns / ex_ns,
+	       tr_ns / ex_ns >= 50 ? "met" : "NOT met", ptr / pex);
 	return 0;
 }
 
