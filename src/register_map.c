@@ -9,6 +9,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "ini_lines.h"
+
 #define TWO_PI 6.283185307179586476925286766559
 
 /* ---- word conversion ----------------------------------------------------- */
@@ -188,26 +190,19 @@ typedef struct load_ctx {
  * (num - 1 characters) would come back in pieces, each counted as a line by
  * libinih and by us (every later message would name the wrong line) and the
  * tail parsed as a line of its own; so it is refused here, with its real
- * number. */
+ * number (ini_lines.h). */
 static char *read_line(char *str, int num, void *stream)
 {
 	load_ctx *c = stream;
 	if (c->status)
 		return NULL;
-	char *r = fgets(str, num, c->f);
-	if (!r)
-		return NULL;
-	c->line++;
-	size_t n = strlen(r);
-	if (n > 0 && r[n - 1] == '\n')
-		return r;
-	int next = getc(c->f);
-	if (next == EOF || next == '\n')
-		return r; /* the last line has no newline, or the line fits exactly */
-	c->status = popc_error_set(c->err, POPC_ERR_INVALID,
-				   "%s:%d: line longer than %d characters (shorten the comment or value)",
-				   c->path, c->line, num - 1);
-	return NULL;
+	int too_long = 0;
+	char *r = popc_ini_read_line(str, num, c->f, &c->line, &too_long);
+	if (too_long)
+		c->status = popc_error_set(c->err, POPC_ERR_INVALID,
+					   "%s:%d: line longer than %d characters (shorten the comment or value)",
+					   c->path, c->line, num - 1);
+	return r;
 }
 
 static int map_handler(void *user, const char *section, const char *name, const char *value)

@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "ini_lines.h"
 #include "popc/numfmt.h"
 #include "popc/velocity.h"
 
@@ -160,18 +161,33 @@ static void describe_range(const scene_key *k, char *buf, size_t cap)
 	}
 }
 
-/* Strict number: the whole text, C locale (popc never calls setlocale), finite. */
-static int parse_number(const char *text, double *out)
+typedef enum {
+	NUMBER_OK,
+	NUMBER_INVALID,   /* not a decimal number (also nan, inf, hex) */
+	NUMBER_OVERFLOW,  /* beyond the largest double */
+	NUMBER_UNDERFLOW, /* nonzero text that rounds to 0: below the smallest double */
+} number_status;
+
+/* Strict number: the whole text, a decimal in the C locale (popc_parse_double,
+ * no hex, nan or inf), finite. Subnormals are numbers like any other; text that
+ * rounds to zero although a digit is not zero (1e-400) is refused rather than
+ * read as 0. Blanks around the value are the caller's (inih trims file values,
+ * popc_scene_set trims --set values). */
+static number_status parse_number(const char *text, double *out)
 {
-	if (!text[0] || strpbrk(text, "xXnN"))  /* no hex floats, nan, inf */
-		return -1;
-	char *end;
-	errno = 0;
-	double v = strtod(text, &end);
-	if (end == text || *end != '\0' || !isfinite(v) || errno == ERANGE)
-		return -1;
+	const char *end = text + strlen(text);
+	double v;
+	size_t used = popc_parse_double(text, end, &v);
+	if (used == 0 || text + used != end)
+		return NUMBER_INVALID;
+	if (!isfinite(v))
+		return NUMBER_OVERFLOW;
+	if (v == 0.0)
+		for (const char *p = text; p < end && *p != 'e' && *p != 'E'; p++)
+			if (*p >= '1' && *p <= '9')
+				return NUMBER_UNDERFLOW;
 	*out = v;
-	return 0;
+	return NUMBER_OK;
 }
 
 static int set_key(popc_scene *s, const scene_key *k, const char *value, const char *where,
@@ -183,11 +199,16 @@ static int set_key(popc_scene *s, const scene_key *k, const char *value, const c
 	switch (k->type) {
 	case KEY_DOUBLE:
 	case KEY_INT: {
-		double v;
-		if (parse_number(value, &v) != 0)
-			return popc_error_set(err, POPC_ERR_INVALID,
-					      "%s%s.%s = '%s': not a finite number; allowed %s", where,
-					      k->section, k->key, value, range);
+		double v = 0.0;
+		static const char *const why[] = {
+			[NUMBER_INVALID] = "not a finite number",
+			[NUMBER_OVERFLOW] = "not a finite number (above the largest double, 1.8e308)",
+			[NUMBER_UNDERFLOW] = "below the smallest double (4.9e-324): it would read as 0",
+		};
+		number_status ns = parse_number(value, &v);
+		if (ns != NUMBER_OK)
+			return popc_error_set(err, POPC_ERR_INVALID, "%s%s.%s = '%s': %s; allowed %s",
+					      where, k->section, k->key, value, why[ns], range);
 		int below = k->min_open ? !(v > k->min) : !(v >= k->min);
 		if (below || !(v <= k->max))
 			return popc_error_set(err, POPC_ERR_INVALID,
@@ -245,14 +266,39 @@ static int unknown_key(const char *section, const char *key, int section_known, 
 			      key, section, keys);
 }
 
+/* Copies text without the blanks around it, as inih reads a file's names and
+ * values; -1 if it does not fit out. */
+static int trimmed(const char *text, size_t len, char *out, size_t cap)
+{
+	while (len > 0 && (*text == ' ' || *text == '\t')) {
+		text++;
+		len--;
+	}
+	while (len > 0 && (text[len - 1] == ' ' || text[len - 1] == '\t'))
+		len--;
+	if (len >= cap)
+		return -1;
+	memcpy(out, text, len);
+	out[len] = '\0';
+	return 0;
+}
+
 int popc_scene_set(popc_scene *s, const char *section, const char *key, const char *value,
 		   popc_error *err)
 {
+	/* blanks around a name or value count as in a file: " 5" and "5 " are 5 */
+	char sec[64], name[64], val[POPC_PATH_MAX];
+	if (trimmed(section, strlen(section), sec, sizeof sec) ||
+	    trimmed(key, strlen(key), name, sizeof name))
+		return popc_error_set(err, POPC_ERR_INVALID, "--set %s.%s: name too long", section, key);
+	if (trimmed(value, strlen(value), val, sizeof val))
+		return popc_error_set(err, POPC_ERR_INVALID, "--set %s.%s: value longer than %d characters",
+				      sec, name, POPC_PATH_MAX - 1);
 	int section_known;
-	const scene_key *k = find_key(section, key, &section_known);
+	const scene_key *k = find_key(sec, name, &section_known);
 	if (!k)
-		return unknown_key(section, key, section_known, "--set: ", err);
-	return set_key(s, k, value, "--set ", err);
+		return unknown_key(sec, name, section_known, "--set: ", err);
+	return set_key(s, k, val, "--set ", err);
 }
 
 int popc_scene_set_assignment(popc_scene *s, const char *assignment, popc_error *err)
@@ -282,7 +328,23 @@ typedef struct load_ctx {
 	popc_error *err;
 	int status;
 	unsigned char seen[N_KEYS];
+	FILE *f;
+	int line;     /* lines read so far: the real line number (ini_lines.h) */
+	int too_long; /* line `line` does not fit libinih's buffer */
+	int max_chars; /* the longest line that fits */
 } load_ctx;
+
+/* libinih's reader: stops at the first handler error (inih reports that
+ * line) and at a line too long for libinih's buffer (a longer line would be
+ * parsed in pieces: the tail of a comment could set a key). */
+static char *scene_read_line(char *str, int num, void *stream)
+{
+	load_ctx *c = stream;
+	if (c->status)
+		return NULL;
+	c->max_chars = num - 1;
+	return popc_ini_read_line(str, num, c->f, &c->line, &c->too_long);
+}
 
 static int scene_ini_handler(void *user, const char *section, const char *name, const char *value)
 {
@@ -328,11 +390,19 @@ int popc_scene_load(popc_scene *s, const char *path, popc_error *err)
 	char table_before[POPC_PATH_MAX], map_before[POPC_PATH_MAX];
 	memcpy(table_before, s->op_table, sizeof table_before);
 	memcpy(map_before, s->axis_map, sizeof map_before);
-	load_ctx c = {.s = s, .path = path, .err = err};
-	int line = ini_parse_file(f, scene_ini_handler, &c);
+	load_ctx c = {.s = s, .path = path, .err = err, .f = f};
+	int line = ini_parse_stream(scene_read_line, &c, scene_ini_handler, &c);
+	int read_failed = ferror(f), read_errno = errno;
 	fclose(f);
 	if (line < 0)
 		return popc_error_set(err, POPC_ERR_IO, "%s: cannot read", path);
+	if (read_failed && !c.status) /* e.g. a directory: fopen succeeds, reading fails */
+		return popc_error_set(err, POPC_ERR_INVALID, "%s: cannot read scene: %s", path,
+				      strerror(read_errno));
+	if (c.too_long && line == 0) /* an earlier error (line > 0) is named first */
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s:%d: line longer than %d characters (libinih's limit)", path,
+				      c.line, c.max_chars);
 	if (line > 0) {
 		char msg[POPC_ERROR_MSG_MAX];
 		if (c.status)

@@ -24,20 +24,18 @@ int popc_cmd_scene(int argc, char **argv)
 		usage(argc < 2 ? stderr : stdout);
 		return argc < 2 ? 2 : 0;
 	}
-	if (strcmp(argv[1], "keys") == 0) {
-		popc_scene_print_keys(stdout);
-		return 0;
-	}
-	if (strcmp(argv[1], "show") != 0) {
+	int keys = strcmp(argv[1], "keys") == 0;
+	if (!keys && strcmp(argv[1], "show") != 0) {
 		fprintf(stderr, "popc scene: unknown action '%s'\n", argv[1]);
 		usage(stderr);
 		return 2;
 	}
-	static const struct option opts[] = {
+	static const struct option show_opts[] = {
 		{"set", required_argument, NULL, 's'},
 		{"help", no_argument, NULL, 'h'},
 		{NULL, 0, NULL, 0},
 	};
+	const struct option *opts = show_opts + (keys ? 1 : 0); /* keys: --help only */
 	char **sets = NULL;
 	int n_sets = 0, c;
 	optind = 1;
@@ -49,6 +47,15 @@ int popc_cmd_scene(int argc, char **argv)
 		case 'h': usage(stdout); free(sets); return 0;
 		default: usage(stderr); free(sets); return 2;
 		}
+	}
+	if (keys) {
+		if (optind < argc) {
+			fprintf(stderr, "popc scene keys: unexpected argument '%s'\n", argv[optind]);
+			usage(stderr);
+			return 2;
+		}
+		popc_scene_print_keys(stdout);
+		return 0;
 	}
 	const char *path = NULL;
 	if (optind < argc)

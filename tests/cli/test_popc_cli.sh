@@ -70,6 +70,10 @@ check "  defaults explicit" grep -qx "ignore_mode = literal" "$T/resolved.ini"
 check "  the resolved scene reproduces the run's rows" cmp -s <(grep -v '^#' "$T/a.csv") <(grep -v '^#' "$T/b.csv")
 expect_exit 0 "scene keys" "$POPC" scene keys
 check "  lists controller.pc_bound with its range" grep -q "controller.pc_bound .*allowed (0, 1e+06\] N" "$T/out"
+expect_exit 0 "scene keys --help" "$POPC" scene keys --help
+check "  prints the usage, not the keys" grep -q "^usage: popc scene" "$T/out"
+expect_exit 2 "scene keys with an extra argument" "$POPC" scene keys paper.ini
+check "  names the argument" err_has "unexpected argument 'paper.ini'"
 
 # a fixed-step integrator reports its error against the exact discretization
 expect_exit 0 "trapezoid run" "$POPC" run "$SRC/data/scenes/paper.ini" --set integrator.method=trapezoid --set integrator.substeps=100 --set run.duration=1

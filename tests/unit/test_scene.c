@@ -135,6 +135,132 @@ static void test_bad_scenes(void **state)
 	assert_non_null(strstr(err.msg, "/nonexistent/x.ini"));
 }
 
+/* libinih reads at most 199 characters of a line (INI_MAX_LINE 200 in Debian's
+ * build) and parses the rest as a line of its own: the tail of a long comment
+ * set a key, and every later message named the wrong line. A longer line is
+ * refused with its real number; a line of exactly 199 characters is read. */
+static void test_long_lines(void **state)
+{
+	(void)state;
+	char x197[198], x200[201], text[1024];
+	memset(x197, 'x', 197);
+	x197[197] = '\0';
+	memset(x200, 'x', 200);
+	x200[200] = '\0';
+	const char *expect = "line longer than 199 characters (libinih's limit)";
+	struct {
+		int line;
+	} bad[4];
+	char texts[4][1024];
+	/* a comment whose tail is a key */
+	snprintf(texts[0], sizeof texts[0], "[run]\n; %srate = 2000\n", x197);
+	bad[0].line = 2;
+	/* a long trailing comment after a good value */
+	snprintf(texts[1], sizeof texts[1], "[run]\nrate = 2000\nduration = 5 ; %s\n", x200);
+	bad[1].line = 3;
+	/* a long table path: refused, not cut */
+	snprintf(texts[2], sizeof texts[2], "[operator]\ntable = /tmp/%s%s.csv\n", x200, x200);
+	bad[2].line = 2;
+	/* 200 characters on the last line, no newline */
+	snprintf(texts[3], sizeof texts[3], "[run]\nrate = 2000\n\n;%.199s", x200);
+	bad[3].line = 4;
+	for (int i = 0; i < 4; i++) {
+		const char *path = write_scene("long.ini", texts[i]);
+		popc_scene s;
+		popc_error err = {{0}};
+		popc_scene_defaults(&s);
+		int st = popc_scene_load(&s, path, &err);
+		char where[600];
+		snprintf(where, sizeof where, "%s:%d: %s", path, bad[i].line, expect);
+		if (st != POPC_ERR_INVALID || strcmp(err.msg, where) != 0)
+			fail_msg("case %d: status %d, '%s'; expected '%s'", i, st, err.msg, where);
+		assert_true(s.rate_Hz == 1000.0 || i == 1 || i == 3);
+	}
+	/* exactly 199 characters, with and without a newline after them */
+	snprintf(text, sizeof text, "[run]\n;%.198s\nrate = 2000\nduration = 2 ;%.185s\n", x200, x200);
+	popc_scene s;
+	popc_error err = {{0}};
+	popc_scene_defaults(&s);
+	if (popc_scene_load(&s, write_scene("fits.ini", text), &err) != 0)
+		fail_msg("%s", err.msg);
+	assert_true(s.rate_Hz == 2000.0 && s.duration_s == 2.0);
+	snprintf(text, sizeof text, "[run]\nrate = 3000\n;%.198s", x200);
+	popc_scene_defaults(&s);
+	if (popc_scene_load(&s, write_scene("fits.ini", text), &err) != 0)
+		fail_msg("%s", err.msg);
+	assert_true(s.rate_Hz == 3000.0);
+	/* an error before a long line is named first */
+	snprintf(text, sizeof text, "[run]\nrate 2000\n;%s\n", x200);
+	popc_scene_defaults(&s);
+	assert_int_equal(popc_scene_load(&s, write_scene("both.ini", text), &err), POPC_ERR_INVALID);
+	assert_non_null(strstr(err.msg, ":2: malformed line"));
+	/* a directory is not an empty scene */
+	popc_scene_defaults(&s);
+	assert_int_equal(popc_scene_load(&s, tmpdir, &err), POPC_ERR_INVALID);
+	assert_non_null(strstr(err.msg, "cannot read scene"));
+}
+
+/* Numbers: subnormals are finite numbers (then the range decides); text that
+ * rounds to 0 or to infinity is refused, saying which; blanks around a --set
+ * value count as in a file (inih trims them there). */
+static void test_number_text(void **state)
+{
+	(void)state;
+	const struct {
+		const char *assignment;
+		double value;         /* when ok */
+		const char *message;  /* NULL: accepted */
+	} cases[] = {
+		{"run.duration=5e-324", 5e-324, NULL},
+		{"run.duration=2.5e-320", 2.5e-320, NULL},
+		{"environment.position=-4.9e-324", -4.9e-324, NULL},
+		{"run.duration=1e-400", 0, "below the smallest double"},
+		{"run.duration=0.000000000000000000001e-310", 0, "below the smallest double"},
+		{"environment.position=-1e-400", 0, "below the smallest double"},
+		{"run.duration=1e400", 0, "above the largest double"},
+		{"run.duration=0e-999", 0, "out of range"}, /* a true zero */
+		{"environment.position=0e-999", 0.0, NULL},
+		{"run.duration= 5", 5, NULL},
+		{"run.duration=5 ", 5, NULL},
+		{"run.duration=\t5\t ", 5, NULL},
+		{"run.duration= ", 0, "not a finite number"},
+		{"run.duration=5 5", 0, "not a finite number"},
+		{"run.duration=inf", 0, "not a finite number"},
+		{"run.duration=0x10", 0, "not a finite number"},
+		{"controller.variant= hold ", POPC_VARIANT_HOLD, NULL},
+		{" run . duration =7", 7, NULL},
+	};
+	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+		popc_scene s;
+		popc_error err = {{0}};
+		popc_scene_defaults(&s);
+		int st = popc_scene_set_assignment(&s, cases[i].assignment, &err);
+		if (cases[i].message) {
+			if (st != POPC_ERR_INVALID || !strstr(err.msg, cases[i].message))
+				fail_msg("'%s': status %d '%s'; expected '%s'", cases[i].assignment, st,
+					 err.msg, cases[i].message);
+			continue;
+		}
+		if (st != 0)
+			fail_msg("'%s': %s", cases[i].assignment, err.msg);
+		double got = strstr(cases[i].assignment, "variant") ? (double)s.variant
+			   : strstr(cases[i].assignment, "position") ? s.env_position_m
+								      : s.duration_s;
+		if (memcmp(&got, &cases[i].value, sizeof got) != 0)
+			fail_msg("'%s': %.17g, expected %.17g", cases[i].assignment, got, cases[i].value);
+	}
+	/* the same rules in a file */
+	popc_scene s;
+	popc_error err = {{0}};
+	popc_scene_defaults(&s);
+	assert_int_equal(popc_scene_load(&s, write_scene("sub.ini", "[run]\nduration = 5e-324 \n"),
+					 &err), 0);
+	assert_true(s.duration_s == 5e-324);
+	assert_int_equal(popc_scene_load(&s, write_scene("uf.ini", "[operator]\nx0 = 1e-400\n"), &err),
+			 POPC_ERR_INVALID);
+	assert_non_null(strstr(err.msg, ":2: operator.x0 = '1e-400': below the smallest double"));
+}
+
 static void test_bad_overrides(void **state)
 {
 	(void)state;
@@ -208,6 +334,8 @@ int main(void)
 		cmocka_unit_test(test_defaults_are_the_paper_scene),
 		cmocka_unit_test(test_good_scene_and_overrides),
 		cmocka_unit_test(test_bad_scenes),
+		cmocka_unit_test(test_long_lines),
+		cmocka_unit_test(test_number_text),
 		cmocka_unit_test(test_bad_overrides),
 		cmocka_unit_test(test_cross_key_validation),
 		cmocka_unit_test(test_dump_round_trip),
