@@ -5,6 +5,9 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/types.h>
+
+#include "popc/numfmt.h"
 
 #define POPC_TWO_PI 6.283185307179586476925286766559
 
@@ -20,8 +23,18 @@ static int set_points(popc_intent *in, size_t n, const double *t, const double *
 	return 0;
 }
 
-/* Reads "t,value" rows; '#' comments and one header line are skipped. Times
- * must increase strictly. */
+static const char *skip_blanks(const char *p)
+{
+	while (*p == ' ' || *p == '\t')
+		p++;
+	return p;
+}
+
+/* Reads "t,value" rows: columns separated by ',', ';' or a tab (blanks around
+ * them allowed), '#' comments and blank lines skipped, one header line allowed
+ * before the first row, CRLF or LF. Numbers are decimal, C locale
+ * (popc_parse_double), finite; times increase strictly. Lines have any length
+ * (getline), so every message names the real line. */
 static int load_table(popc_intent *in, const char *path, popc_error *err)
 {
 	FILE *f = fopen(path, "r");
@@ -30,38 +43,50 @@ static int load_table(popc_intent *in, const char *path, popc_error *err)
 				      strerror(errno));
 	size_t cap = 64, n = 0;
 	double *t = malloc(cap * sizeof *t), *q = malloc(cap * sizeof *q);
-	char line[512];
-	int lineno = 0, status = 0;
-	while (t && q && fgets(line, sizeof line, f)) {
+	char *line = NULL;
+	size_t line_cap = 0;
+	ssize_t len;
+	int lineno = 0, status = 0, header_seen = 0, oom = 0;
+	while (t && q && (len = getline(&line, &line_cap, f)) >= 0) {
 		lineno++;
-		char *p = line;
-		while (*p == ' ' || *p == '\t')
-			p++;
-		if (*p == '#' || *p == '\n' || *p == '\r' || *p == '\0')
+		while (len > 0 && (line[len - 1] == '\n' || line[len - 1] == '\r'))
+			line[--len] = '\0';
+		const char *p = line, *end = line + len;
+		if (lineno == 1 && strncmp(p, "\xEF\xBB\xBF", 3) == 0)
+			p += 3; /* a UTF-8 byte order mark */
+		p = skip_blanks(p);
+		if (*p == '#' || *p == '\0')
 			continue;
-		char *end;
-		double tv = strtod(p, &end);
-		if (end == p) {
-			if (n == 0 && lineno == 1)
-				continue; /* header line */
+		double tv, qv;
+		size_t used = popc_parse_double(p, end, &tv);
+		if (used == 0) {
+			if (n == 0 && !header_seen) {
+				header_seen = 1; /* the header: the first line that is not a row */
+				continue;
+			}
 			status = popc_error_set(err, POPC_ERR_INVALID,
 						"%s:%d: column 1: expected a time in seconds", path, lineno);
 			break;
 		}
-		while (*end == ' ' || *end == '\t')
-			end++;
-		if (*end != ',' && *end != ';' && *end != '\t') {
+		/* the delimiter: ',' or ';' (blanks around it), or blanks holding a tab */
+		const char *d = p + used;
+		int tab = 0;
+		while (*d == ' ' || *d == '\t')
+			tab |= *d++ == '\t';
+		if (*d == ',' || *d == ';')
+			d++;
+		else if (!tab || *d == '\0') {
 			status = popc_error_set(err, POPC_ERR_INVALID,
-						"%s:%d: expected two columns t,value", path, lineno);
+						"%s:%d: expected two columns t,value (separated by ',', ';' "
+						"or a tab)", path, lineno);
 			break;
 		}
-		p = end + 1;
-		double qv = strtod(p, &end);
-		while (*end == ' ' || *end == '\t' || *end == '\r' || *end == '\n')
-			end++;
-		if (end == p || *end != '\0' || !isfinite(tv) || !isfinite(qv)) {
+		p = skip_blanks(d);
+		used = popc_parse_double(p, end, &qv);
+		if (used == 0 || *skip_blanks(p + used) != '\0' || !isfinite(tv) || !isfinite(qv)) {
 			status = popc_error_set(err, POPC_ERR_INVALID,
-						"%s:%d: column 2: expected a finite number", path, lineno);
+						"%s:%d: %s: expected a finite number", path, lineno,
+						isfinite(tv) ? "column 2" : "column 1");
 			break;
 		}
 		if (n > 0 && !(tv > t[n - 1])) {
@@ -77,15 +102,24 @@ static int load_table(popc_intent *in, const char *path, popc_error *err)
 				t = nt;
 			if (nq)
 				q = nq;
-			if (!nt || !nq)
+			if (!nt || !nq) {
+				oom = 1;
 				break;
+			}
 		}
 		t[n] = tv;
 		q[n] = qv;
 		n++;
 	}
+	/* getline ends at the end of the file and on a read error (a directory:
+	 * EISDIR), which must not read as an empty table */
+	int read_failed = ferror(f), read_errno = errno;
+	free(line);
 	fclose(f);
-	if (!status && (!t || !q))
+	if (!status && read_failed)
+		status = popc_error_set(err, POPC_ERR_IO, "%s: cannot read table: %s", path,
+					strerror(read_errno));
+	if (!status && (!t || !q || oom))
 		status = popc_error_set(err, POPC_ERR_NOMEM, "%s: out of memory", path);
 	if (!status && n == 0)
 		status = popc_error_set(err, POPC_ERR_INVALID, "%s: the table has no rows", path);

@@ -162,30 +162,103 @@ static void test_force_and_sine_intents(void **state)
 	assert_true(moved > 1e-3);
 }
 
+static const char *write_table(const char *name, const char *text)
+{
+	static char path[512];
+	snprintf(path, sizeof path, "%s/%s", tmpdir, name);
+	FILE *f = fopen(path, "w");
+	assert_non_null(f);
+	fputs(text, f);
+	fclose(f);
+	return path;
+}
+
+static int load_table(const char *path, popc_intent *in, popc_error *err)
+{
+	popc_scene s;
+	popc_scene_defaults(&s);
+	s.intent = POPC_INTENT_TABLE;
+	snprintf(s.op_table, sizeof s.op_table, "%s", path);
+	return popc_intent_init(in, &s, err);
+}
+
+/* A 600-character number: fgets into 512 bytes used to read it as two lines. */
+static char long_zeros[601];
+
 static void test_bad_tables(void **state)
 {
 	(void)state;
-	const char *bad[] = {
-		"t,x\n0,0\n0,1\n",          /* time does not increase */
-		"t,x\n0,0\n1,abc\n",        /* not a number */
-		"t,x\n0\n",                 /* one column */
-		"t,x\n",                    /* no rows */
+	memset(long_zeros, '0', 600);
+	char long_bad[800];
+	snprintf(long_bad, sizeof long_bad, "t,x\n0,0\n2,0.01%sx\n3,1\n", long_zeros);
+	const struct {
+		const char *text;
+		const char *must_contain[2];
+	} bad[] = {
+		{"t,x\n0,0\n0,1\n", {":3:", "does not increase"}},
+		{"t,x\n0,0\n1,abc\n", {":3:", "column 2"}},
+		{"t,x\n0\n", {":2:", "two columns"}},
+		{"t,x\n", {"the table has no rows", NULL}},
+		{"t,x\n0 1\n", {":2:", "two columns"}},          /* blanks alone do not separate */
+		{"t,x\n0,1,2\n", {":2:", "column 2"}},           /* a third column */
+		{"t,x\n0,1\nt,x\n", {":3:", "column 1"}},       /* a header after a row */
+		{"t,x\n\nt,x\n0,1\n", {":3:", "column 1"}},    /* two headers */
+		{"t,x\n0,1\n1e400,2\n", {":3:", "column 1"}},
+		{"t,x\n0\t\n", {":2:", "two columns"}},
+		{long_bad, {":3:", "column 2"}},                /* the real line, not ":4:" */
 	};
 	for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
-		char path[512];
-		snprintf(path, sizeof path, "%s/bad%zu.csv", tmpdir, i);
-		FILE *f = fopen(path, "w");
-		assert_non_null(f);
-		fputs(bad[i], f);
-		fclose(f);
-		popc_scene s;
-		popc_scene_defaults(&s);
-		s.intent = POPC_INTENT_TABLE;
-		snprintf(s.op_table, sizeof s.op_table, "%s", path);
+		char name[32];
+		snprintf(name, sizeof name, "bad%zu.csv", i);
+		const char *path = write_table(name, bad[i].text);
 		popc_intent in;
-		popc_error err;
-		assert_int_equal(popc_intent_init(&in, &s, &err), POPC_ERR_INVALID);
-		assert_non_null(strstr(err.msg, path));
+		popc_error err = {{0}};
+		assert_int_equal(load_table(path, &in, &err), POPC_ERR_INVALID);
+		if (strncmp(err.msg, path, strlen(path)) != 0)
+			fail_msg("case %zu: '%s' does not start with the table", i, err.msg);
+		for (int j = 0; j < 2 && bad[i].must_contain[j]; j++)
+			if (!strstr(err.msg, bad[i].must_contain[j]))
+				fail_msg("case %zu: '%s' lacks '%s'", i, err.msg, bad[i].must_contain[j]);
+		popc_intent_free(&in);
+	}
+	/* a directory opens but cannot be read: not "no rows" */
+	popc_intent in;
+	popc_error err = {{0}};
+	assert_int_equal(load_table(tmpdir, &in, &err), POPC_ERR_IO);
+	assert_non_null(strstr(err.msg, "cannot read table"));
+	popc_intent_free(&in);
+}
+
+/* Tab, ';' and ',' delimiters, comments and blank lines before the header,
+ * CRLF, a byte order mark, and a number longer than any line buffer. */
+static void test_good_tables(void **state)
+{
+	(void)state;
+	memset(long_zeros, '0', 600);
+	char long_good[800];
+	snprintf(long_good, sizeof long_good, "t,x\n0,0.01%s\n1,2\n", long_zeros);
+	const struct {
+		const char *text;
+		double t1, q0, q1;
+	} good[] = {
+		{"0\t-0.01\n1\t0.02\n", 1, -0.01, 0.02},
+		{"t\tx_d\n0 \t -0.01\n1\t\t0.02\n", 1, -0.01, 0.02},
+		{"# made by hand\n\nt,x_d\n0,1\n2,3\n", 2, 1, 3},
+		{"t,x\r\n0,1\r\n1.5,2\r\n", 1.5, 1, 2},
+		{"\xEF\xBB\xBFt;x\r\n 0 ; 1 \r\n# note\r\n1 ;2", 1, 1, 2},
+		{long_good, 1, 0.01, 2},
+	};
+	for (size_t i = 0; i < sizeof good / sizeof good[0]; i++) {
+		char name[32];
+		snprintf(name, sizeof name, "good%zu.csv", i);
+		popc_intent in;
+		popc_error err = {{0}};
+		if (load_table(write_table(name, good[i].text), &in, &err) != 0)
+			fail_msg("case %zu: %s", i, err.msg);
+		if (in.n != 2 || in.t[0] != 0.0 || in.t[1] != good[i].t1 || in.q[0] != good[i].q0 ||
+		    in.q[1] != good[i].q1)
+			fail_msg("case %zu: %zu rows, (%g, %g) (%g, %g)", i, in.n, in.t[0], in.q[0],
+				 in.n > 1 ? in.t[1] : (double)NAN, in.n > 1 ? in.q[1] : (double)NAN);
 		popc_intent_free(&in);
 	}
 }
@@ -198,6 +271,7 @@ int main(void)
 		cmocka_unit_test(test_breakpoint_inside_period),
 		cmocka_unit_test(test_force_and_sine_intents),
 		cmocka_unit_test(test_bad_tables),
+		cmocka_unit_test(test_good_tables),
 	};
 	return cmocka_run_group_tests(tests, setup, teardown);
 }
