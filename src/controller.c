@@ -119,7 +119,8 @@ void popc_controller_init(popc_controller *c, const popc_controller_config *cfg)
 	memset(c, 0, sizeof *c);
 	c->cfg = *cfg;
 	popc_observer_init(&c->obs, cfg->variant, cfg->ignore_mode);
-	popc_foaw_init(&c->foaw, cfg->foaw_window, cfg->foaw_noise_m, cfg->period_s);
+	popc_foaw_init(&c->foaw, cfg->foaw_window, cfg->foaw_noise_m, cfg->resolution_m,
+		       cfg->period_s);
 }
 
 /* f_pc = (E_ref - W) / dx when the PO is below its threshold; never divides by
@@ -136,7 +137,7 @@ void popc_controller_step(popc_controller *c, long long count, double x_m, popc_
 	const popc_controller_config *cfg = &c->cfg;
 	double v;
 	if (cfg->variant == POPC_VARIANT_FILTERED_VELOCITY)
-		v = popc_foaw_update(&c->foaw, x_m);
+		v = popc_foaw_update(&c->foaw, count, x_m);
 	else
 		v = c->started ? (x_m - c->obs.x_prev_m) / cfg->period_s : 0.0;
 	c->started = 1;

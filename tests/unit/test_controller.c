@@ -6,6 +6,7 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <string.h>
 
 #include <cmocka.h>
 
@@ -164,14 +165,129 @@ static void test_bound_and_guards(void **state)
 		popc_controller_step(&c, 0, INFINITY, &t);
 		assert_true(isfinite(t.f_c_N));
 	}
-	/* an energy gap over a tiny displacement: +-inf is clamped to the bound */
-	popc_controller c = make(POPC_VARIANT_REF_ENERGY, POPC_IGNORE_LITERAL, 5.0);
-	popc_tick t;
-	popc_controller_step(&c, 0, 0.0, &t);
-	popc_controller_step(&c, 1000, 0.01, &t);   /* E_ref - W = 0.05 J */
-	popc_controller_step(&c, 1000, 0.01 + 1e-310, &t);
-	assert_true(t.f_pc_N == 0.0 || fabs(t.f_pc_N) == 5.0);
-	assert_true(isfinite(t.f_c_N));
+}
+
+/* (E_ref - W) / dx overflows to +-inf: the sign is kept, the bound applies
+ * and CLAMP (not GUARD) is flagged. The observer is driven to a huge energy
+ * deficit, W = -1e305 J, so that over one count (1e-5 m) the quotient is
+ * 1e310 > DBL_MAX. */
+static void test_infinite_pc_force_is_clamped(void **state)
+{
+	(void)state;
+	for (int dir = -1; dir <= 1; dir += 2) {
+		popc_controller c = make(POPC_VARIANT_REF_ENERGY, POPC_IGNORE_LITERAL, 5.0);
+		popc_tick t = step(&c, 10);
+		t = step(&c, 11);
+		c.obs.W_sum_J = -1e305; /* W(k) = W_sum + W_comp (controller.h) */
+		c.obs.W_comp_J = 0.0;
+		t = step(&c, 11 + dir);
+		double dx = dir * 1e-5, quotient = (t.E_ref_J - t.W_J) / dx;
+		assert_true(t.W_J < -9e304);
+		assert_true(isinf(quotient) && (quotient > 0) == (dir > 0)); /* a real overflow */
+		assert_true(t.f_pc_N == dir * 5.0);
+		assert_true(t.flags == (POPC_FLAG_CLAMP | POPC_FLAG_ACTIVE));
+		assert_true(t.f_c_N == t.f_e_N + t.f_pc_N && isfinite(t.f_c_N));
+	}
+}
+
+/* filtered-velocity, one step at a time. FOAW with N = 16, d = delta = 1e-5 m,
+ * T = 1 ms; counts 0, 2, 2, 1:
+ * k1: window 1: v = 2e-5 / 1e-3 = 0.02; f_e = 0.02; E_ref = 0.02 2e-5 / 2 = 2e-7;
+ *     W = f_c(0) v T = 0; f_pc = 2e-7 / (v T = 2e-5) = 0.01, f_c = 0.03
+ * k2: window 2, the middle sample exactly on the band edge
+ *     (|2 (2 - 2) - 1 (2 - 0)| = 2 <= n m = 2): v = 2e-5 / 2 / 1e-3 = 0.01;
+ *     E_ref = 2e-7 (dx = 0); W = 0.03 1e-5 = 3e-7 >= E_ref: f_pc = 0, f_c = 0.02
+ *     (ref-energy would see dx = 0 and W = 0 here)
+ * k3: window 2 (|2 (1 - 2) - 1 (1 - 2)| = 1 <= 2; window 3: |3 (1 - 2) - 1 (1 - 0)| = 4 > 3):
+ *     v = -1e-5 / 2 / 1e-3 = -0.005; f_e = 0.01; E_ref = 2e-7 + 0.03 (-1e-5) / 2 = 5e-8;
+ *     W = 3e-7 + 0.02 (-5e-6) = 2e-7 (W uses v T = -5e-6, E_ref dx = -1e-5);
+ *     W >= E_ref: f_pc = 0, f_c = 0.01.
+ * ref-energy on the same counts: k2 dx = 0, W = 0, f_pc = 0, f_c = 0.02; k3 W = 0.02 (-1e-5)
+ * = -2e-7, f_pc = (5e-8 + 2e-7) / -1e-5 = -0.025, f_c = -0.015. */
+static void test_filtered_velocity_one_step(void **state)
+{
+	(void)state;
+	const long long counts[] = {0, 2, 2, 1};
+	const double v[] = {0, 0.02, 0.01, -0.005};
+	const expect ex[] = {
+		{0, 0, 0, 0, 0},
+		{0, 2e-7, 0.01, 0.03, POPC_FLAG_ACTIVE},
+		{3e-7, 2e-7, 0, 0.02, 0},
+		{2e-7, 5e-8, 0, 0.01, 0},
+	};
+	run_case(POPC_VARIANT_FILTERED_VELOCITY, POPC_IGNORE_LITERAL, counts, ex, 4);
+	const expect ref[] = {
+		{0, 0, 0, 0, 0},
+		{0, 2e-7, 0.01, 0.03, POPC_FLAG_ACTIVE},
+		{0, 2e-7, 0, 0.02, 0},
+		{-2e-7, 5e-8, -0.025, -0.015, POPC_FLAG_ACTIVE},
+	};
+	run_case(POPC_VARIANT_REF_ENERGY, POPC_IGNORE_LITERAL, counts, ref, 4);
+	popc_controller c = make(POPC_VARIANT_FILTERED_VELOCITY, POPC_IGNORE_LITERAL, 5.0);
+	for (int k = 0; k < 4; k++) {
+		popc_tick t = step(&c, counts[k]);
+		if (fabs(t.v_mps - v[k]) > 1e-15)
+			fail_msg("k=%d: v %.17g, expected %.17g", k, t.v_mps, v[k]);
+	}
+}
+
+/* Environments: the bilateral spring pulls as well as pushes; the wall's
+ * damping adds while in contact, and the wall never pulls: moving out fast
+ * enough, K pen + B v < 0 is clamped to 0. K = 1000 N/m, B = 2 N s/m. */
+static void test_environments(void **state)
+{
+	(void)state;
+	popc_environment spring = {.kind = POPC_ENV_SPRING, .stiffness_Npm = 1000.0,
+				   .damping_Nspm = 2.0, .position_m = 0.01};
+	popc_environment wall = {.kind = POPC_ENV_WALL, .stiffness_Npm = 1000.0,
+				 .damping_Nspm = 2.0, .position_m = 0.0};
+	const struct {
+		const popc_environment *e;
+		double x, v, f;
+		int contact;
+	} cases[] = {
+		{&spring, 0.005, -0.1, -5.2, 1},   /* 1000 (-0.005) + 2 (-0.1): pulls */
+		{&spring, 0.02, 0.1, 10.2, 1},
+		{&spring, -1.0, 0.0, -1010.0, 1},  /* far from the rest position: still attached */
+		{&wall, -1e-3, 1.0, 0.0, 0},       /* free space, whatever the velocity */
+		{&wall, 1e-3, 0.5, 2.0, 1},        /* 1 + 2 0.5 */
+		{&wall, 1e-3, -0.2, 0.6, 1},       /* 1 - 0.4: damping on the way out */
+		{&wall, 1e-3, -1.0, 0.0, 1},       /* 1 - 2 < 0: never pulls */
+		{&wall, 0.0, 0.5, 1.0, 1},         /* on the surface: in contact */
+		{&wall, 0.0, -0.5, 0.0, 1},
+	};
+	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+		double f = popc_environment_force(cases[i].e, cases[i].x, cases[i].v);
+		if (fabs(f - cases[i].f) > 1e-12 ||
+		    popc_environment_in_contact(cases[i].e, cases[i].x) != cases[i].contact)
+			fail_msg("case %zu: f_e %.17g, expected %.17g", i, f, cases[i].f);
+	}
+	/* an undamped wall ignores the velocity, even an infinite one (0 inf is NaN) */
+	wall.damping_Nspm = 0.0;
+	assert_true(popc_environment_force(&wall, 1e-3, INFINITY) == 1000.0 * 1e-3);
+	assert_true(popc_environment_force(&wall, 1e-3, -INFINITY) == 1000.0 * 1e-3);
+	/* in the controller: the backward-difference velocity feeds the damping;
+	 * 100 counts in, then back 1 and 49 counts: 1 + 2 1 = 3 N, 0.99 - 2 0.01 = 0.97 N,
+	 * 0.5 - 2 0.49 < 0: 0 N */
+	popc_controller_config cfg = {
+		.variant = POPC_VARIANT_NONE, .pc_bound_N = 5.0, .resolution_m = 1e-5,
+		.period_s = 1e-3, .foaw_window = 16, .foaw_noise_m = 1e-5,
+		.env = {.kind = POPC_ENV_WALL, .stiffness_Npm = 1000.0, .damping_Nspm = 2.0},
+	};
+	popc_controller c;
+	popc_controller_init(&c, &cfg);
+	const long long counts[] = {0, 100, 99, 50};
+	const double f_e[] = {0.0, 3.0, 0.97, 0.0};
+	for (int k = 0; k < 4; k++) {
+		popc_tick t = step(&c, counts[k]);
+		if (fabs(t.f_e_N - f_e[k]) > 1e-12 || t.f_c_N != t.f_e_N)
+			fail_msg("k=%d: f_e %.17g, expected %.17g", k, t.f_e_N, f_e[k]);
+	}
+	cfg.env.kind = POPC_ENV_SPRING;
+	popc_controller_init(&c, &cfg);
+	(void)step(&c, 0);
+	popc_tick t = step(&c, -100); /* -1 + 2 (-1) = -3 N: the spring pulls back */
+	assert_true(fabs(t.f_e_N + 3.0) < 1e-12 && t.f_c_N == t.f_e_N);
 }
 
 /* The axis' command limit: f_c is clamped and flagged, and the PO uses the
@@ -200,19 +316,82 @@ static void test_axis_force_limit(void **state)
 static void test_foaw_slow_ramp(void **state)
 {
 	(void)state;
+	for (int mode = 0; mode < 2; mode++) {
+		/* the band in counts (d = delta) and in metres (d = 1.5 delta) */
+		popc_foaw f;
+		popc_foaw_init(&f, 16, mode ? 1.5e-5 : 1e-5, 1e-5, 1e-3);
+		assert_true(f.noise_counts == (mode ? 0 : 1));
+		double v = 0;
+		for (int k = 0; k < 40; k++)
+			v = popc_foaw_update(&f, k / 4, (double)(k / 4) * 1e-5); /* a count every 4 ms */
+		/* true slope 2.5e-3 m/s; the end-fit line through quantized samples lies within
+		 * +-d of all of them, its slope is within d / (N T) of the truth */
+		assert_true(fabs(v - 2.5e-3) <= f.noise_m / (16 * 1e-3) + 1e-12);
+		assert_true(v > 0);
+	}
 	popc_foaw f;
-	popc_foaw_init(&f, 16, 1e-5, 1e-3);
-	double v = 0;
-	for (int k = 0; k < 40; k++)
-		v = popc_foaw_update(&f, (double)(k / 4) * 1e-5); /* one count every 4 ms */
-	/* true slope 2.5e-3 m/s; the end-fit line through quantized samples lies within
-	 * +-delta of all of them, its slope is within delta / (N T) of the truth */
-	assert_true(fabs(v - 2.5e-3) <= 1e-5 / (16 * 1e-3) + 1e-12);
-	assert_true(v > 0);
-	popc_foaw_init(&f, 16, 1e-5, 1e-3);
-	assert_true(popc_foaw_update(&f, 0.5) == 0.0); /* first sample */
-	/* a jump beyond the band: the one-step slope, 1 m/s up to rounding of 0.5 + 1e-3 */
-	assert_true(fabs(popc_foaw_update(&f, 0.5 + 1e-3) - 1.0) < 1e-12);
+	popc_foaw_init(&f, 16, 1e-5, 1e-5, 1e-3);
+	assert_true(popc_foaw_update(&f, 50000, 0.5) == 0.0); /* first sample */
+	/* a jump beyond the band: the one-step slope, 100 counts in 1 ms = 1 m/s */
+	assert_true(fabs(popc_foaw_update(&f, 50100, 0.501) - 1.0) < 1e-12);
+	/* a band of a whole number of counts given as text: 3e-5 / 1e-5 = 2.9999999999999996 */
+	popc_foaw_init(&f, 16, 3e-5, 1e-5, 1e-3);
+	assert_true(f.noise_counts == 3);
+	popc_foaw_init(&f, 16, 1e-5, 0.0, 1e-3); /* positions that are not counts */
+	assert_true(f.noise_counts == 0);
+}
+
+/* The window choice depends on counts only, not on where they happen: a slow
+ * ramp with one-count dips, replayed at every offset from -2000 to 2000
+ * counts, gives bitwise the velocities it gives at 0. In metres, a sample on
+ * the band edge (|deviation| = d) rounds in or out depending on the absolute
+ * position: with the test in metres this pattern chose another window (v off
+ * by more than 1e-9 m/s) at 3975 of the 4001 offsets. Counts near the 2^55
+ * limit of the integer test and a huge jump too. */
+static void test_foaw_offset_invariant(void **state)
+{
+	(void)state;
+	/* 1 count every 3 ticks, with a one-count dip and a two-tick stall */
+	static const int pattern[] = {0, 0, 0, 1, 1, 1, 2, 2, 1, 2, 3, 3, 3, 4, 4, 4, 5,
+				      5, 4, 5, 6, 6, 6, 6, 7, 7, 7, 8, 8, 8, 9, 8, 9, 10,
+				      10, 10, 11, 11, 11, 12, 12, 11, 12, 13, 13, 13};
+	enum { LEN = sizeof pattern / sizeof pattern[0] };
+	double ref[LEN];
+	popc_foaw f;
+	popc_foaw_init(&f, 16, 1e-5, 1e-5, 1e-3);
+	for (int k = 0; k < LEN; k++)
+		ref[k] = popc_foaw_update(&f, pattern[k], pattern[k] * 1e-5);
+	int differ = 0;
+	for (long long off = -2000; off <= 2000; off++) {
+		popc_foaw_init(&f, 16, 1e-5, 1e-5, 1e-3);
+		for (int k = 0; k < LEN; k++) {
+			long long c = off + pattern[k];
+			double v = popc_foaw_update(&f, c, (double)c * 1e-5);
+			if (memcmp(&v, &ref[k], sizeof v) != 0) {
+				if (!differ)
+					print_message("offset %lld k %d: v %.17g, at 0 %.17g\n", off, k, v,
+						      ref[k]);
+				differ++;
+				break;
+			}
+		}
+	}
+	assert_int_equal(differ, 0);
+	/* far from 0 the counts still decide (the metres there are 1e13 m: no matter) */
+	const long long far[] = {(1LL << 55) - 20, -(1LL << 55), 4000000000000000000LL - 100};
+	for (size_t i = 0; i < sizeof far / sizeof far[0]; i++) {
+		popc_foaw_init(&f, 16, 1e-5, 1e-5, 1e-3);
+		for (int k = 0; k < LEN; k++) {
+			double v = popc_foaw_update(&f, far[i] + pattern[k], 0.0);
+			assert_true(v == ref[k]);
+		}
+	}
+	/* a jump of more than 2^55 counts ends the window: the one-step slope */
+	popc_foaw_init(&f, 16, 1e-5, 1e-5, 1e-3);
+	(void)popc_foaw_update(&f, -(1LL << 60), 0.0);
+	(void)popc_foaw_update(&f, -(1LL << 60), 0.0);
+	double v = popc_foaw_update(&f, 1LL << 60, 0.0);
+	assert_true(v == (double)(1LL << 61) * 1e-5 / 1e-3);
 }
 
 int main(void)
@@ -225,7 +404,11 @@ int main(void)
 		cmocka_unit_test(test_po_pc_zero_threshold),
 		cmocka_unit_test(test_bound_and_guards),
 		cmocka_unit_test(test_axis_force_limit),
+		cmocka_unit_test(test_infinite_pc_force_is_clamped),
+		cmocka_unit_test(test_filtered_velocity_one_step),
+		cmocka_unit_test(test_environments),
 		cmocka_unit_test(test_foaw_slow_ramp),
+		cmocka_unit_test(test_foaw_offset_invariant),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }
