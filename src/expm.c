@@ -107,5 +107,11 @@ int popc_expm(int n, const double *a, double *out)
 	for (int i = 0; i < s; i++)
 		matmul(n, num, num, num);
 	memcpy(out, num, sizeof(double) * (size_t)nn);
+	/* the squarings overflow when ||A|| is far beyond what double precision
+	 * can exponentiate (e^||A|| past 1e308, or cancellation between huge
+	 * entries): report it rather than hand back inf or NaN */
+	for (int i = 0; i < nn; i++)
+		if (!isfinite(out[i]))
+			return POPC_ERR_NUMERIC;
 	return 0;
 }

@@ -24,7 +24,7 @@ void popc_plant_config_from_scene(popc_plant_config *cfg, const popc_scene *s)
  * p = uc cos(w tau) + us sin(w tau)); u = y1 + p drives v. expm(A_aug h) holds
  * Phi in its top-left block and the input columns beside it. The sine states
  * exist only when the scene has a sine (model only what the scene needs). */
-static void exact_coeffs(const popc_plant_config *cfg, double h, popc_plant_step_coeffs *c)
+static int exact_coeffs(const popc_plant_config *cfg, double h, popc_plant_step_coeffs *c)
 {
 	int n = cfg->omega_radps != 0.0 ? 6 : 4;
 	double a[36] = {0}, e[36];
@@ -41,7 +41,9 @@ static void exact_coeffs(const popc_plant_config *cfg, double h, popc_plant_step
 	}
 	for (int i = 0; i < n * n; i++)
 		a[i] *= h;
-	popc_expm(n, a, e);
+	int st = popc_expm(n, a, e);
+	if (st)
+		return st;
 	for (int i = 0; i < 2; i++) {
 		c->phi[i][0] = e[i * n + 0];
 		c->phi[i][1] = e[i * n + 1];
@@ -50,6 +52,7 @@ static void exact_coeffs(const popc_plant_config *cfg, double h, popc_plant_step
 		c->gam[i][2] = n == 6 ? e[i * n + 4] : 0.0;
 		c->gam[i][3] = n == 6 ? e[i * n + 5] : 0.0;
 	}
+	return 0;
 }
 
 /* Trapezoidal rule for the linear system z' = A z + b u, one substep of length
@@ -70,14 +73,35 @@ static void trapezoid_coeffs(const popc_plant_config *cfg, double hs, popc_plant
 	c->trap_in[1] = i11 * (hs / 2 / m);
 }
 
-void popc_plant_coeffs(const popc_plant_config *cfg, double h_s, popc_plant_step_coeffs *c)
+int popc_plant_coeffs(const popc_plant_config *cfg, double h_s, popc_plant_step_coeffs *c)
 {
 	memset(c, 0, sizeof *c);
 	c->h_s = h_s;
+	int st = 0;
 	if (cfg->method == POPC_INTEGRATOR_EXACT)
-		exact_coeffs(cfg, h_s, c);
+		st = exact_coeffs(cfg, h_s, c);
 	else if (cfg->method == POPC_INTEGRATOR_TRAPEZOID)
 		trapezoid_coeffs(cfg, h_s / cfg->substeps, c);
+	if (st)
+		return st;
+	/* scaling and squaring can overflow for a plant far too stiff for the
+	 * step: a non-finite coefficient would turn every later state into
+	 * garbage (and an uninitialised-looking encoder count) */
+	const double *v = &c->phi[0][0];
+	for (size_t i = 0; i < 4; i++)
+		if (!isfinite(v[i]))
+			return POPC_ERR_NUMERIC;
+	v = &c->gam[0][0];
+	for (size_t i = 0; i < 8; i++)
+		if (!isfinite(v[i]))
+			return POPC_ERR_NUMERIC;
+	v = &c->trap[0][0];
+	for (size_t i = 0; i < 4; i++)
+		if (!isfinite(v[i]))
+			return POPC_ERR_NUMERIC;
+	if (!isfinite(c->trap_in[0]) || !isfinite(c->trap_in[1]))
+		return POPC_ERR_NUMERIC;
+	return 0;
 }
 
 int popc_plant_init(popc_plant *p, const popc_plant_config *cfg, popc_error *err)
@@ -89,11 +113,39 @@ int popc_plant_init(popc_plant *p, const popc_plant_config *cfg, popc_error *err
 	    !isfinite(cfg->stiffness_Npm))
 		return popc_error_set(err, POPC_ERR_INVALID,
 				      "plant: damping and stiffness must be finite and >= 0");
-	if (cfg->substeps < 1 || !(cfg->period_s > 0))
+	if (cfg->substeps < 1 || !(cfg->period_s > 0) || !isfinite(cfg->period_s))
 		return popc_error_set(err, POPC_ERR_INVALID,
 				      "plant: substeps must be >= 1 and the period > 0");
+	/* Every method divides by M and the exact one scales A h; a ratio that
+	 * overflows is no plant double precision can step (e.g. K = 1e9 N/m on
+	 * M = 2.3e-308 kg: K/M = inf). The scene keys behind each quantity are
+	 * named, since popc_plant_config_from_scene sums them. */
+	double m = cfg->mass_kg, h = cfg->period_s;
+	double k_m = cfg->stiffness_Npm / m, b_m = cfg->damping_Nspm / m;
+	if (!isfinite(1.0 / m))
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "plant: 1/M is not finite for M = operator.mass + device.mass = "
+				      "%g kg; raise operator.mass + device.mass",
+				      m);
+	if (!isfinite(k_m) || !isfinite(k_m * h * h))
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "plant: K/M = (operator.stiffness + device.stiffness) / (operator.mass "
+				      "+ device.mass) = %g N/m / %g kg%s is not finite; raise operator.mass + "
+				      "device.mass or lower operator.stiffness + device.stiffness",
+				      cfg->stiffness_Npm, m, isfinite(k_m) ? " times T^2 (1 / run.rate)^2" : "");
+	if (!isfinite(b_m))
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "plant: B/M = (operator.damping + device.damping) / (operator.mass + "
+				      "device.mass) = %g N s/m / %g kg is not finite; raise operator.mass + "
+				      "device.mass or lower operator.damping + device.damping",
+				      cfg->damping_Nspm, m);
 	p->cfg = *cfg;
-	popc_plant_coeffs(cfg, cfg->period_s, &p->full);
+	if (popc_plant_coeffs(cfg, cfg->period_s, &p->full) != 0)
+		return popc_error_set(err, POPC_ERR_NUMERIC,
+				      "plant: the %s step matrices for T = %g s are not finite (K/M = %g "
+				      "1/s^2, B/M = %g 1/s): the plant (operator.* + device.* mass, damping, "
+				      "stiffness) is too stiff for double precision at this run.rate",
+				      popc_integrator_name(cfg->method), h, k_m, b_m);
 	return 0;
 }
 
@@ -169,17 +221,20 @@ void popc_plant_step(const popc_plant *p, popc_plant_state *st, const popc_plant
 		fixed_step(&p->cfg, &p->full, st, u);
 }
 
-void popc_plant_step_h(const popc_plant *p, popc_plant_state *st, const popc_plant_input *u,
-		       double h_s)
+int popc_plant_step_h(const popc_plant *p, popc_plant_state *st, const popc_plant_input *u,
+		      double h_s)
 {
 	if (h_s == p->full.h_s) {
 		popc_plant_step(p, st, u);
-		return;
+		return 0;
 	}
 	popc_plant_step_coeffs c;
-	popc_plant_coeffs(&p->cfg, h_s, &c);
+	int status = popc_plant_coeffs(&p->cfg, h_s, &c);
+	if (status)
+		return status;
 	if (p->cfg.method == POPC_INTEGRATOR_EXACT)
 		popc_plant_step_exact(&c, st, u);
 	else
 		fixed_step(&p->cfg, &c, st, u);
+	return 0;
 }

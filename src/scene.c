@@ -443,6 +443,23 @@ int popc_scene_validate(const popc_scene *s, popc_error *err)
 	if (strcmp(s->axis, "modbus") == 0 && (!s->axis_map[0] || !s->axis_connect[0]))
 		return popc_error_set(err, POPC_ERR_INVALID,
 				      "%s: axis.kind = modbus needs axis.map and axis.connect", src);
+	/* Positions travel as integer counts in doubles (encoder.h): every
+	 * position the run may reach must be a count below 2^53. The reach is the
+	 * simulated axis' divergence bound (src/sim_axis.c): 10 x the largest
+	 * position key + 1 m. */
+	double x_keys = fmax(fabs(s->op_x0_m), fabs(s->env_position_m));
+	if (s->intent == POPC_INTENT_RAMP)
+		x_keys = fmax(x_keys, fabs(s->op_x_end_m));
+	if (s->intent == POPC_INTENT_SINE)
+		x_keys = fmax(x_keys, fabs(s->op_x0_m) + s->op_amplitude_m);
+	double reach_m = 10.0 * x_keys + 1.0, counts_max = 9007199254740992.0; /* 2^53 */
+	if (!(reach_m / s->enc_resolution_m <= counts_max))
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: encoder.resolution = %g m is too fine: positions up to %g m "
+				      "(10 x the largest of |operator.x0|, |operator.x_end|, "
+				      "|environment.position| + 1 m) would exceed 2^53 counts; use "
+				      "encoder.resolution >= %.3g m",
+				      src, s->enc_resolution_m, reach_m, reach_m / counts_max * 1.001);
 	return 0;
 }
 

@@ -11,9 +11,18 @@
 #include "popc/log.h"
 #include "popc/plant.h"
 
-/* Positions beyond this are taken as divergence: the scene keys bound every
- * position to +-1e3 m, so a plant state past 1e6 m is no physics. */
-#define DIVERGED_M 1e6
+/* Divergence bound: a position beyond 10 x the largest position the scene
+ * names (operator.x0, operator.x_end, x0 + amplitude, environment.position,
+ * a position table's values, the static equilibrium under a force input) plus
+ * 1 m is no physics. The operator's pull and the wall keep a passive loop
+ * within the scene's positions plus an oscillation of the same order (a ramp
+ * into an undamped spring overshoots by at most 2 V / w); a loop whose
+ * physics diverges passes the bound long before its numbers turn to garbage.
+ * A force input without any restoring spring can legitimately run away: then
+ * only DIVERGED_MAX_M applies (the scene keys bound positions to +-1e3 m). */
+#define DIVERGED_FACTOR 10.0
+#define DIVERGED_MARGIN_M 1.0
+#define DIVERGED_MAX_M 1e6
 
 /* A fixed-step integrator is stopped as unstable when its position error
  * against the exact shadow exceeds this many times (the exact trajectory's
@@ -23,32 +32,65 @@
  * how early it is caught, never whether a stable run is stopped. */
 #define ERROR_BOUND_FACTOR 10.0
 
-/* Energy growth bound. The plant is linear and a fixed-step integrator is a
- * fixed linear map per control period, so its free (unforced) motion grows by
- * exactly rho^k in amplitude after k periods, rho its spectral radius; the
- * exact plant is passive (B, K >= 0: its rho <= 1). An integrator with
- * rho > 1 amplifies every truncation and rounding error without bound; popc
- * lets it run while that growth stays below GROWTH_MAX in amplitude
- * (GROWTH_MAX^2 = 100 in energy) and stops the run before the period that
- * would cross it. RHO_MARGIN absorbs the rounding of rho itself (rho of an
- * undamped exact plant computes as 1 +- a few ulps). */
+/* Growth bound. The plant is linear and a fixed-step integrator is a fixed
+ * linear map per substep, so its free (unforced) motion grows by exactly
+ * rho^k in amplitude after k periods, rho = rho_1^n the spectral radius of the
+ * one-substep matrix to the power of the n substeps (computed as n ln rho_1:
+ * the product of n matrices overflows long before ln rho does); the exact
+ * plant is passive (B, K >= 0: its rho <= 1). An integrator with rho > 1
+ * amplifies every truncation and rounding error without bound; popc lets it
+ * run while that growth stays below GROWTH_MAX in amplitude (GROWTH_MAX^2 =
+ * 100 in energy) and stops the run before the period that would cross it.
+ * RHO_MARGIN absorbs the rounding of rho itself (rho of an undamped exact
+ * plant computes as 1 +- a few ulps). */
 #define GROWTH_MAX 10.0
 #define RHO_MARGIN 1e-12
 
-/* Energy balance. For M x'' = u - B x' - K x the plant's energy
+/* Energy growth. For M x'' = u - B x' - K x the plant's energy
  * E = M v^2 / 2 + K x^2 / 2 obeys dE/dt = u v - B v^2 <= u v: it can never
- * exceed E(0) plus the work of its inputs (the operator's pull and -f_c).
- * A fixed-step integrator's surplus, C = E(k) - E(0) - sum of the input work
+ * gain more than the work of its inputs (the operator's pull and -f_c). The
+ * surplus of a stretch of ticks, C = E(end) - E(start) - sum of the input work
  * (midpoint rule per period, u(t + T/2) (x(k+1) - x(k)), exact for an input
- * held over the period), is energy the integrator made up. The run stops
- * when C exceeds ENERGY_SURPLUS_MAX times the largest energy the plant held
- * (plus one count's worth): then the motion is made up, not simulated. This
- * catches the closed-loop case the shadow cannot: the exact shadow gets the
- * same commands, so an integrator whose garbage drives the PC drags its
- * shadow with it. A passive plant, a trapezoid (energy-conserving) and RK4
- * (dissipative) keep C <= 0 up to rounding and the work estimate's error;
- * semi-implicit Euler's energy error stays bounded by its modified energy. */
+ * held over the period), is energy the integrator made up. This catches the
+ * closed-loop case the shadow cannot: the exact shadow gets the same commands,
+ * so an integrator whose garbage drives the wall and the PC drags its shadow
+ * along (both energies grow together; explicit Euler on an undamped hand grows
+ * 2 x in energy every ~1500 ticks in contact while |x - x_exact| stays ~1 %).
+ *
+ * What is judged is growth, not a sum since t = 0: the surplus made up over
+ * the last ENERGY_WINDOW_BLOCKS - 1 to ENERGY_WINDOW_BLOCKS blocks of
+ * ENERGY_BLOCK_TICKS ticks against the most energy the plant held in the
+ * same length of time before that window (plus one count's worth). Crossing
+ * it means the plant more than doubled its energy within the window from
+ * energy no input supplied: geometric growth of doubling time D is caught as
+ * soon as the window is longer than D (2^(W/D) - 1 > 1); slower growth is
+ * left to the growth bound above. A sum since t = 0 instead grows linearly
+ * with the run's length even for an accurate integrator: the bookkeeping
+ * multiplies the chattering PC force (+-5 N every tick) by position errors of
+ * 1e-8 m, a bias of 1e-7 J a tick, so explicit Euler x 100 on the paper scene
+ * (max error 1.2e-6 m, 0.12 counts) was stopped at t = 27.6 s of a 600 s run.
+ * The same bias makes the windowed surplus of accurate runs exceed their
+ * small contact energy too (measured: 1.9 x for Euler x 100, 24 x for x 8),
+ * so the guard applies only where growth is possible and visible:
+ *   - the integrator amplifies free motion for this plant (rho above the
+ *     exact plant's): with rho <= 1 a fixed linear map cannot create energy
+ *     over a window beyond its bias, and a closed loop that diverges anyway is
+ *     caught by the error bound (the integrator leaves the shadow) or by the
+ *     divergence bound (it is the physics: the shadow diverges too);
+ *   - and, with the exact shadow on, the position error against it has passed
+ *     one encoder count: below that, the integrator's run is the exact run as
+ *     far as the controller can see, whatever the bookkeeping says.
+ * So a run with rho < 1, or with an error below one count, is never stopped
+ * as unstable by this guard. */
 #define ENERGY_SURPLUS_MAX 1.0
+#define ENERGY_BLOCK_TICKS 500
+#define ENERGY_WINDOW_BLOCKS 4
+#define ENERGY_RING (2 * ENERGY_WINDOW_BLOCKS)
+
+typedef struct energy_block {
+	double surplus_start_J;    /* C since t = 0 at the block's first tick */
+	double peak_J;             /* most energy held in the block */
+} energy_block;
 
 typedef struct sim_axis {
 	popc_scene scene;
@@ -57,40 +99,75 @@ typedef struct sim_axis {
 	popc_intent intent;
 	popc_plant_state st, st_exact;
 	double period_s, delta_m, tol_s;
+	double diverged_m;         /* divergence bound of this scene (DIVERGED_FACTOR) */
 	long long k;               /* index of the current tick */
 	double max_error_m;
 	double x_exact_min_m, x_exact_max_m; /* range of the exact trajectory so far */
-	double rho;                /* integrator's free-motion growth per period (1 if exact) */
+	double log_rho;            /* ln of the free-motion growth per period (0 if exact; inf: overflow) */
+	double log_rho_exact;      /* ln of the exact plant's growth per period */
+	double log_rho_limit;      /* ln of max(1, exact growth) x (1 + RHO_MARGIN) */
 	double energy_J, energy_peak_J, surplus_J, energy_floor_J; /* energy balance */
+	energy_block blocks[ENERGY_RING]; /* per block of ENERGY_BLOCK_TICKS, by block index mod ring */
 	long long k_unstable;      /* first tick whose growth rho^k passes GROWTH_MAX */
 	popc_intent_segment seg;   /* the intent segment of the current tick (fast path) */
 } sim_axis;
 
-/* Spectral radius of a real 2 x 2 matrix: the growth factor of its free motion. */
+/* Spectral radius of a real 2 x 2 matrix: the growth factor of its free
+ * motion. Scaled by its largest entry first, so that entries near the
+ * overflow threshold still give a finite radius (or +inf, never NaN, for a
+ * matrix with a non-finite entry). */
 static double spectral_radius(double a, double b, double c, double d)
 {
+	if (!isfinite(a) || !isfinite(b) || !isfinite(c) || !isfinite(d))
+		return HUGE_VAL;
+	double sc = fmax(fmax(fabs(a), fabs(b)), fmax(fabs(c), fabs(d)));
+	if (sc == 0.0)
+		return 0.0;
+	a /= sc;
+	b /= sc;
+	c /= sc;
+	d /= sc;
 	double half_tr = 0.5 * (a + d), det = a * d - b * c, disc = half_tr * half_tr - det;
 	if (disc < 0.0)
-		return sqrt(det); /* complex pair: |lambda|^2 = det */
+		return sc * sqrt(det); /* complex pair: |lambda|^2 = det */
 	double r = sqrt(disc);
-	return fmax(fabs(half_tr + r), fabs(half_tr - r));
+	return sc * fmax(fabs(half_tr + r), fabs(half_tr - r));
 }
 
-/* Growth factor per control period of the free (unforced) plant as the
- * configured integrator steps it with n substeps: the spectral radius of its
- * one-period transition matrix, built column by column from unit states. */
-static double amplification(const popc_plant_config *cfg0, int n)
+/* ln of the growth factor per control period of the free (unforced) plant as
+ * the configured integrator steps it with n substeps: n ln rho_1, rho_1 the
+ * spectral radius of the one-substep transition matrix (built column by
+ * column from unit states), since rho(M^n) = rho(M)^n. +inf when that matrix
+ * overflows or cannot be built: unstable, never NaN. */
+static double log_amplification(const popc_plant_config *cfg0, int n)
 {
 	popc_plant_config cfg = *cfg0;
-	cfg.substeps = n;
+	cfg.substeps = 1;
+	cfg.period_s = cfg0->period_s / n;
 	popc_plant p;
 	if (popc_plant_init(&p, &cfg, NULL) != 0)
-		return NAN;
+		return HUGE_VAL;
 	popc_plant_input zero = {0.0, 0.0, 0.0, 0.0};
 	popc_plant_state c0 = {1.0, 0.0}, c1 = {0.0, 1.0};
 	popc_plant_step(&p, &c0, &zero);
 	popc_plant_step(&p, &c1, &zero);
-	return spectral_radius(c0.x_m, c1.x_m, c0.v_mps, c1.v_mps);
+	double rho1 = spectral_radius(c0.x_m, c1.x_m, c0.v_mps, c1.v_mps);
+	if (!(rho1 < HUGE_VAL))
+		return HUGE_VAL;
+	if (rho1 == 0.0)
+		return -HUGE_VAL;
+	return (double)n * log(rho1);
+}
+
+/* rho = e^log_rho for a message: "%.6g" of it, or "e^%.6g" past overflow. */
+static void format_growth(double log_rho, char *buf, size_t cap)
+{
+	if (log_rho < 700.0)
+		snprintf(buf, cap, "%.6g", exp(log_rho));
+	else if (log_rho < HUGE_VAL)
+		snprintf(buf, cap, "e^%.6g", log_rho);
+	else
+		snprintf(buf, cap, "more than 1e308 (its one-substep matrix overflows)");
 }
 
 /* The error for an integrator that left the exact trajectory: names the
@@ -101,26 +178,25 @@ static int integrator_failed(const sim_axis *s, const char *what, popc_error *er
 	popc_plant_config cfg = s->plant.cfg;
 	const char *name = popc_integrator_name(cfg.method);
 	int n = cfg.substeps;
-	const double (*phi)[2] = s->exact.full.phi;
-	double rho_exact = spectral_radius(phi[0][0], phi[0][1], phi[1][0], phi[1][1]);
-	double limit = fmax(1.0, rho_exact) * (1.0 + RHO_MARGIN);
-	double rho = s->rho;
-	char verdict[160], alt[200];
-	if (rho > limit)
+	int unstable = !(s->log_rho <= s->log_rho_limit); /* NaN or inf: unstable */
+	char verdict[320], alt[200], rho_txt[64], rho_ex_txt[64];
+	format_growth(s->log_rho, rho_txt, sizeof rho_txt);
+	format_growth(s->log_rho_exact, rho_ex_txt, sizeof rho_ex_txt);
+	if (unstable)
 		snprintf(verdict, sizeof verdict,
-			 "is unstable for this plant: it amplifies free motion by %.6g per period, "
-			 "the exact plant by %.6g",
-			 rho, rho_exact);
+			 "is unstable for this plant: it amplifies free motion by %s per period, "
+			 "the exact plant by %s",
+			 rho_txt, rho_ex_txt);
 	else
 		snprintf(verdict, sizeof verdict, "is stable but too inaccurate for this scene");
 	int n_ok = 0;
 	for (long m = 2L * n; m <= 1000000L && !n_ok; m *= 2)
-		if (amplification(&cfg, (int)m) <= limit)
+		if (log_amplification(&cfg, (int)m) <= s->log_rho_limit)
 			n_ok = (int)m;
-	if (rho > limit && n_ok)
+	if (unstable && n_ok)
 		snprintf(alt, sizeof alt, "integrator.method = exact (stable for any step), or "
 			 "integrator.substeps >= %d", n_ok);
-	else if (rho > limit)
+	else if (unstable)
 		snprintf(alt, sizeof alt, "integrator.method = exact (stable for any step); no substep "
 			 "count up to 1e6 makes %s stable here", name);
 	else
@@ -141,10 +217,12 @@ static int sim_sample(popc_axis *a, popc_axis_sample *out, popc_error *err)
 	out->x_true_m = s->st.x_m;
 	out->dt_s = 0.0;
 	out->rtt_s = 0.0;
-	if (!ok || !isfinite(s->st.v_mps) || fabs(s->st.x_m) > DIVERGED_M) {
-		char what[96];
-		snprintf(what, sizeof what, "the plant diverged (x = %g m, v = %g m/s)", s->st.x_m,
-			 s->st.v_mps);
+	if (!isfinite(s->st.x_m) || !isfinite(s->st.v_mps) || fabs(s->st.x_m) > s->diverged_m) {
+		char what[200];
+		snprintf(what, sizeof what,
+			 "the plant diverged (x = %g m, v = %g m/s; the bound is %g m, %g x the scene's "
+			 "largest position + %g m)",
+			 s->st.x_m, s->st.v_mps, s->diverged_m, DIVERGED_FACTOR, DIVERGED_MARGIN_M);
 		/* an integrator that diverges together with its exact shadow (fed the
 		 * same commands) only follows the physics */
 		int with_shadow = s->shadow && isfinite(s->st.x_m) &&
@@ -153,8 +231,8 @@ static int sim_sample(popc_axis *a, popc_axis_sample *out, popc_error *err)
 			return integrator_failed(s, what, err);
 		return popc_error_set(
 			err, POPC_ERR_NUMERIC,
-			"%s at t = %.9g s (tick %lld) %s: the closed loop of this scene is unstable "
-			"(the physics, not the integrator); add damping, lower the wall stiffness or "
+			"%s at t = %.9g s (tick %lld) %s: the closed loop of this scene diverged (the "
+			"physics, not the integrator); add damping, lower the wall stiffness or "
 			"raise the control rate (a sampled wall is passive for b > K_e T / 2), or use a "
 			"PC variant",
 			what, (double)s->k * s->period_s, s->k,
@@ -162,33 +240,60 @@ static int sim_sample(popc_axis *a, popc_axis_sample *out, popc_error *err)
 				? "with the exact integrator, which is exact for any step"
 				: "and so does the exact integrator fed the same commands");
 	}
+	if (!ok)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "encoder count overflow at t = %.9g s (tick %lld): x = %g m is %g "
+				      "counts of encoder.resolution = %g m, beyond the 62-bit count; raise "
+				      "encoder.resolution",
+				      (double)s->k * s->period_s, s->k, s->st.x_m,
+				      s->st.x_m / s->delta_m, s->delta_m);
 	return 0;
 }
 
 /* Advances plant (and the exact shadow) over one control period with f_c held,
  * splitting the period at breakpoints of the operator's profile so that the
- * exact discretization stays exact. */
-static void advance(sim_axis *s, popc_plant *p, popc_plant_state *st, double f_c)
+ * exact discretization stays exact. Returns 0 or the status of a partial step
+ * whose matrices could not be computed (*h_failed_s: its length). */
+static int advance(sim_axis *s, popc_plant *p, popc_plant_state *st, double f_c, double *h_failed_s)
 {
 	double t = (double)s->k * s->period_s, t_end = (double)(s->k + 1) * s->period_s;
-	int whole = 1;
+	int whole = 1, status;
 	for (;;) {
 		popc_plant_input u;
 		double next;
 		popc_intent_input(&s->intent, t, &u, &next);
 		u.u0_N -= f_c;
 		if (next < t_end - s->tol_s && next > t + s->tol_s) {
-			popc_plant_step_h(p, st, &u, next - t);
+			if ((status = popc_plant_step_h(p, st, &u, next - t)) != 0) {
+				*h_failed_s = next - t;
+				return status;
+			}
 			t = next;
 			whole = 0;
 			continue;
 		}
-		if (whole)
+		if (whole) {
 			popc_plant_step(p, st, &u);
-		else
-			popc_plant_step_h(p, st, &u, t_end - t);
-		return;
+		} else if ((status = popc_plant_step_h(p, st, &u, t_end - t)) != 0) {
+			*h_failed_s = t_end - t;
+			return status;
+		}
+		return 0;
 	}
+}
+
+/* The run cannot go on: a step split at a breakpoint of the operator's
+ * profile has no finite matrices (popc_plant_init checked the full period). */
+static int partial_step_failed(const sim_axis *s, double h_s, popc_error *err)
+{
+	const popc_plant_config *c = &s->plant.cfg;
+	return popc_error_set(err, POPC_ERR_NUMERIC,
+			      "the plant step of h = %g s at a breakpoint of the operator's profile "
+			      "(t = %.9g s, tick %lld) has non-finite %s matrices (K/M = %g 1/s^2, "
+			      "B/M = %g 1/s): the plant (operator.* + device.* mass, damping, "
+			      "stiffness) is too stiff for double precision",
+			      h_s, (double)s->k * s->period_s, s->k, popc_integrator_name(c->method),
+			      c->stiffness_Npm / c->mass_kg, c->damping_Nspm / c->mass_kg);
 }
 
 /* The operator input for the whole period [t, t_end) from the cached intent
@@ -207,9 +312,58 @@ static int whole_period_input(sim_axis *s, double t, double t_end, popc_plant_in
 	return 1;
 }
 
+/* The energy-growth guard (ENERGY_SURPLUS_MAX) after the step to tick j:
+ * books the period's surplus and judges the current window. Returns 1 when
+ * the window's made-up energy passes the bound (*made_J, *held_J: the two,
+ * over the last *window_ticks ticks). */
+static int energy_growth(sim_axis *s, long long j, double x_before, double f_c_N, double *made_J,
+			 double *held_J, long long *window_ticks)
+{
+	const popc_plant_config *c = &s->plant.cfg;
+	popc_plant_input um;
+	double nb, t_mid = ((double)s->k + 0.5) * s->period_s;
+	popc_intent_input(&s->intent, t_mid, &um, &nb);
+	double work = (um.u0_N + um.uc_N - f_c_N) * (s->st.x_m - x_before);
+	double e = 0.5 * c->mass_kg * s->st.v_mps * s->st.v_mps +
+		   0.5 * c->stiffness_Npm * s->st.x_m * s->st.x_m;
+	s->surplus_J += (e - s->energy_J) - work;
+	s->energy_J = e;
+	s->energy_peak_J = fmax(s->energy_peak_J, e);
+	long long b = j / ENERGY_BLOCK_TICKS;
+	energy_block *blk = &s->blocks[b % ENERGY_RING];
+	if (j % ENERGY_BLOCK_TICKS == 0) {
+		blk->surplus_start_J = s->surplus_J;
+		blk->peak_J = e;
+	} else {
+		blk->peak_J = fmax(blk->peak_J, e);
+	}
+	/* the guard's gate (see ENERGY_SURPLUS_MAX): growth possible and visible */
+	if (!(s->log_rho > s->log_rho_limit) || (s->shadow && !(s->max_error_m > s->delta_m)))
+		return 0;
+	long long w0 = b - (ENERGY_WINDOW_BLOCKS - 1); /* first block of the window */
+	double made, held;
+	if (w0 <= 0) {
+		/* the first window starts at t = 0: what the plant held so far */
+		made = s->surplus_J;
+		held = s->energy_peak_J;
+		*window_ticks = j;
+	} else {
+		*window_ticks = j - w0 * ENERGY_BLOCK_TICKS;
+		made = s->surplus_J - s->blocks[w0 % ENERGY_RING].surplus_start_J;
+		held = 0.0;
+		for (long long i = w0 - ENERGY_WINDOW_BLOCKS; i < w0; i++)
+			if (i >= 0)
+				held = fmax(held, s->blocks[i % ENERGY_RING].peak_J);
+	}
+	*made_J = made;
+	*held_J = held;
+	return made > ENERGY_SURPLUS_MAX * (held + s->energy_floor_J) && isfinite(made);
+}
+
 static int sim_exchange(popc_axis *a, double f_c_N, popc_axis_sample *next, popc_error *err)
 {
 	sim_axis *s = a->priv;
+	double h_failed = 0.0;
 	if (!s->shadow && s->scene.integrator == POPC_INTEGRATOR_EXACT) {
 		/* the hot path of a long exact run: no lookup, no call, no shadow */
 		double t = (double)s->k * s->period_s, t_end = (double)(s->k + 1) * s->period_s;
@@ -217,49 +371,29 @@ static int sim_exchange(popc_axis *a, double f_c_N, popc_axis_sample *next, popc
 		if (whole_period_input(s, t, t_end, &u)) {
 			u.u0_N -= f_c_N;
 			popc_plant_step_exact(&s->plant.full, &s->st, &u);
-		} else {
-			advance(s, &s->plant, &s->st, f_c_N);
+		} else if (advance(s, &s->plant, &s->st, f_c_N, &h_failed) != 0) {
+			return partial_step_failed(s, h_failed, err);
 		}
 		s->k++;
 		return sim_sample(a, next, err);
 	}
 	if (s->k + 1 >= s->k_unstable) {
 		/* stop before computing a state past the growth bound */
-		char what[160];
-		double g = pow(s->rho, (double)(s->k + 1));
+		char what[320], g_txt[64], g2_txt[64];
+		format_growth(s->log_rho * (double)(s->k + 1), g_txt, sizeof g_txt);
+		format_growth(2.0 * s->log_rho * (double)(s->k + 1), g2_txt, sizeof g2_txt);
 		snprintf(what, sizeof what,
-			 "energy growth beyond the bound: its free motion would grow %.3g x in "
-			 "amplitude (%.3g x in energy; the bound is %g x)",
-			 g, g * g, GROWTH_MAX);
+			 "energy growth beyond the bound: its free motion would grow %s x in "
+			 "amplitude (%s x in energy; the bound is %g x)",
+			 g_txt, g2_txt, GROWTH_MAX);
 		return integrator_failed(s, what, err);
 	}
 	double x_before = s->st.x_m;
-	advance(s, &s->plant, &s->st, f_c_N);
-	{
-		/* energy balance (ENERGY_SURPLUS_MAX) */
-		const popc_plant_config *c = &s->plant.cfg;
-		popc_plant_input um;
-		double nb, t_mid = ((double)s->k + 0.5) * s->period_s;
-		popc_intent_input(&s->intent, t_mid, &um, &nb);
-		double work = (um.u0_N + um.uc_N - f_c_N) * (s->st.x_m - x_before);
-		double e = 0.5 * c->mass_kg * s->st.v_mps * s->st.v_mps +
-			   0.5 * c->stiffness_Npm * s->st.x_m * s->st.x_m;
-		s->surplus_J += (e - s->energy_J) - work;
-		s->energy_J = e;
-		s->energy_peak_J = fmax(s->energy_peak_J, e);
-		double bound = ENERGY_SURPLUS_MAX * (s->energy_peak_J + s->energy_floor_J);
-		if (s->surplus_J > bound && isfinite(s->surplus_J)) {
-			s->k++;
-			char what[200];
-			snprintf(what, sizeof what,
-				 "energy growth beyond the bound: it made up %.3g J that no input "
-				 "supplied, more than %g x the most energy the plant held (%.3g J)",
-				 s->surplus_J, ENERGY_SURPLUS_MAX, s->energy_peak_J);
-			return integrator_failed(s, what, err);
-		}
-	}
+	if (advance(s, &s->plant, &s->st, f_c_N, &h_failed) != 0)
+		return partial_step_failed(s, h_failed, err);
 	if (s->shadow) {
-		advance(s, &s->exact, &s->st_exact, f_c_N);
+		if (advance(s, &s->exact, &s->st_exact, f_c_N, &h_failed) != 0)
+			return partial_step_failed(s, h_failed, err);
 		double x_ex = s->st_exact.x_m, e = fabs(s->st.x_m - x_ex);
 		if (e > s->max_error_m || isnan(e))
 			s->max_error_m = e;
@@ -275,6 +409,18 @@ static int sim_exchange(popc_axis *a, double f_c_N, popc_axis_sample *next, popc
 				 e, bound, ERROR_BOUND_FACTOR);
 			return integrator_failed(s, what, err);
 		}
+	}
+	double made, held;
+	long long window = 0;
+	if (energy_growth(s, s->k + 1, x_before, f_c_N, &made, &held, &window)) {
+		s->k++;
+		char what[240];
+		snprintf(what, sizeof what,
+			 "energy growth beyond the bound: within the last %g s it made up %.3g J that "
+			 "no input supplied, more than %g x the most energy the plant held %s (%.3g J)",
+			 (double)window * s->period_s, made, ENERGY_SURPLUS_MAX,
+			 window == s->k ? "so far" : "just before", held);
+		return integrator_failed(s, what, err);
 	}
 	s->k++;
 	return sim_sample(a, next, err);
@@ -313,6 +459,52 @@ static const popc_axis_ops sim_ops = {
 	.destroy = sim_destroy,
 };
 
+/* The divergence bound of a scene (DIVERGED_FACTOR): 10 x the largest
+ * position it names + 1 m, at most DIVERGED_MAX_M. */
+static double divergence_bound_m(const popc_scene *sc, const popc_intent *in)
+{
+	double x = fmax(fabs(sc->op_x0_m), fabs(sc->env_position_m));
+	if (sc->intent == POPC_INTENT_RAMP)
+		x = fmax(x, fabs(sc->op_x_end_m));
+	else if (sc->intent == POPC_INTENT_SINE)
+		x = fmax(x, fabs(sc->op_x0_m) + sc->op_amplitude_m);
+	if (in->q_is_force) {
+		/* the hand rests at x0 and pushes with f(t): the static equilibrium
+		 * (K_HO x0 + f) / K on the plant's spring, or on a bilateral spring */
+		double f = 0.0;
+		for (size_t i = 0; i < in->n; i++)
+			f = fmax(f, fabs(in->q[i]));
+		double pull = fabs(sc->op_stiffness_Npm * sc->op_x0_m) + f;
+		double k = sc->op_stiffness_Npm + sc->dev_stiffness_Npm;
+		if (k > 0.0)
+			x = fmax(x, pull / k);
+		else if (sc->env_kind == POPC_ENV_SPRING && sc->env_stiffness_Npm > 0.0)
+			x = fmax(x, fabs(sc->env_position_m) + pull / sc->env_stiffness_Npm);
+		else
+			return DIVERGED_MAX_M; /* nothing holds a pushed free mass */
+	} else if (sc->intent == POPC_INTENT_TABLE) {
+		for (size_t i = 0; i < in->n; i++)
+			x = fmax(x, fabs(in->q[i]));
+	}
+	return fmin(DIVERGED_FACTOR * x + DIVERGED_MARGIN_M, DIVERGED_MAX_M);
+}
+
+/* The plant starts at rest at its static equilibrium under the operator's
+ * initial pull: K x = K_HO x_d(0) + f_op(0) with K = K_HO + K_HI (a device
+ * spring shares the load with the hand's), so that nothing moves before the
+ * operator does. Without any spring there is no equilibrium: x_d(0) (x0 for a
+ * force intent). With K_HI = 0 and no initial force this is x_d(0) itself,
+ * returned as such so that the paper's scene keeps its bits. */
+static double initial_position_m(const popc_scene *sc, const popc_intent *in)
+{
+	double x_d0 = popc_intent_x_initial(in); /* x_d(0), or x0 for a force intent */
+	double f0 = in->q_is_force ? in->q[0] : 0.0;
+	double k = sc->op_stiffness_Npm + sc->dev_stiffness_Npm;
+	if (!(k > 0.0) || (sc->dev_stiffness_Npm == 0.0 && f0 == 0.0))
+		return x_d0;
+	return (sc->op_stiffness_Npm * x_d0 + f0) / k;
+}
+
 int popc_sim_axis_create(popc_axis **out, const popc_scene *sc, popc_error *err)
 {
 	*out = NULL;
@@ -331,17 +523,27 @@ int popc_sim_axis_create(popc_axis **out, const popc_scene *sc, popc_error *err)
 	popc_plant_config cfg;
 	popc_plant_config_from_scene(&cfg, sc);
 	int st = popc_plant_init(&s->plant, &cfg, err);
-	s->rho = 1.0;
+	s->log_rho = s->log_rho_exact = s->log_rho_limit = 0.0;
 	s->k_unstable = LLONG_MAX;
 	if (!st && cfg.method != POPC_INTEGRATOR_EXACT) {
-		s->rho = amplification(&cfg, cfg.substeps);
-		if (s->rho > 1.0 + RHO_MARGIN) {
-			double k = ceil(log(GROWTH_MAX) / log(s->rho));
-			s->k_unstable = k < 1.0 ? 1 : k < 1e18 ? (long long)k : LLONG_MAX;
-		}
 		s->shadow = 1;
-		cfg.method = POPC_INTEGRATOR_EXACT;
-		st = popc_plant_init(&s->exact, &cfg, err);
+		popc_plant_config ex = cfg;
+		ex.method = POPC_INTEGRATOR_EXACT;
+		st = popc_plant_init(&s->exact, &ex, err);
+		if (!st) {
+			const popc_plant_step_coeffs *ec = &s->exact.full;
+			double rho_exact = spectral_radius(ec->phi[0][0], ec->phi[0][1], ec->phi[1][0],
+							   ec->phi[1][1]);
+			s->log_rho_exact = log(rho_exact);
+			s->log_rho_limit = log(fmax(1.0, rho_exact)) + log1p(RHO_MARGIN);
+			s->log_rho = log_amplification(&cfg, cfg.substeps);
+			/* NaN cannot come out of log_amplification; an overflowed one-substep
+			 * matrix is +inf: stopped before the first step */
+			if (!(s->log_rho <= s->log_rho_limit)) {
+				double k = ceil(log(GROWTH_MAX) / s->log_rho);
+				s->k_unstable = !(k >= 1.0) ? 1 : k < 1e18 ? (long long)k : LLONG_MAX;
+			}
+		}
 	}
 	if (!st)
 		st = popc_intent_init(&s->intent, sc, err);
@@ -351,11 +553,16 @@ int popc_sim_axis_create(popc_axis **out, const popc_scene *sc, popc_error *err)
 		free(a);
 		return st;
 	}
-	s->st.x_m = popc_intent_x_initial(&s->intent);
+	s->diverged_m = divergence_bound_m(sc, &s->intent);
+	s->st.x_m = initial_position_m(sc, &s->intent);
+	s->st.v_mps = 0.0;
 	s->st_exact = s->st;
 	s->x_exact_min_m = s->x_exact_max_m = s->st.x_m;
-	s->energy_J = s->energy_peak_J =
-		0.5 * cfg.stiffness_Npm * s->st.x_m * s->st.x_m; /* at rest */
+	/* v(0) = 0; E counts the plant's spring from x = 0 (where K x^2 / 2 is
+	 * zero), not from the equilibrium, like the energy balance's input work */
+	s->energy_J = s->energy_peak_J = 0.5 * cfg.stiffness_Npm * s->st.x_m * s->st.x_m;
+	s->blocks[0].surplus_start_J = 0.0;
+	s->blocks[0].peak_J = s->energy_J;
 	/* one encoder count of the spring plus one count per period of motion */
 	s->energy_floor_J = 0.5 * cfg.stiffness_Npm * s->delta_m * s->delta_m +
 			    0.5 * cfg.mass_kg * (s->delta_m / s->period_s) * (s->delta_m / s->period_s);

@@ -71,8 +71,11 @@ static inline void popc_plant_step_exact(const popc_plant_step_coeffs *c, popc_p
 	st->v_mps = (c->phi[1][0] * x + c->phi[1][1] * v) + in_v;
 }
 
-/* Validates the configuration (M > 0, B >= 0, K >= 0, finite, substeps >= 1)
- * and precomputes the full-period step. */
+/* Validates the configuration (M > 0, B >= 0, K >= 0, finite, substeps >= 1;
+ * K/M, B/M, 1/M and (K/M) T^2 finite, so that no step overflows before it
+ * starts) and precomputes the full-period step. POPC_ERR_INVALID names the
+ * scene keys behind a bad value; POPC_ERR_NUMERIC when the step matrices come
+ * out non-finite (a plant too stiff for double precision). */
 int popc_plant_init(popc_plant *p, const popc_plant_config *cfg, popc_error *err);
 
 /* Builds the plant configuration for a scene. */
@@ -82,16 +85,20 @@ void popc_plant_config_from_scene(popc_plant_config *cfg, const popc_scene *s);
 void popc_plant_step(const popc_plant *p, popc_plant_state *st, const popc_plant_input *u);
 
 /* Advances the state by h in (0, T] (a period split at a profile breakpoint);
- * the exact method computes its matrices for h (a few microseconds). */
-void popc_plant_step_h(const popc_plant *p, popc_plant_state *st, const popc_plant_input *u,
-		       double h_s);
+ * the exact method computes its matrices for h (a few microseconds). Returns
+ * 0, or POPC_ERR_NUMERIC (state untouched) when those matrices are not finite. */
+int popc_plant_step_h(const popc_plant *p, popc_plant_state *st, const popc_plant_input *u,
+		      double h_s);
 
-/* Precomputes the step coefficients for h (used by popc_plant_step_h). */
-void popc_plant_coeffs(const popc_plant_config *cfg, double h_s, popc_plant_step_coeffs *c);
+/* Precomputes the step coefficients for h (used by popc_plant_step_h).
+ * Returns 0, or POPC_ERR_NUMERIC when the matrix exponential fails or a
+ * coefficient is not finite (the coefficients must then not be used). */
+int popc_plant_coeffs(const popc_plant_config *cfg, double h_s, popc_plant_step_coeffs *c);
 
 /* Dense matrix exponential of an n x n matrix (n <= 8), row major, by scaling
  * and squaring with a [6/6] Pade approximant (Higham 2005, table 2.3: backward
- * error below 2^-53 for ||A|| / 2^s <= 0.54). */
+ * error below 2^-53 for ||A|| / 2^s <= 0.54). Returns 0, POPC_ERR_INVALID
+ * for n out of range, or POPC_ERR_NUMERIC when A or the result is not finite. */
 int popc_expm(int n, const double *a, double *out);
 
 #endif

@@ -98,6 +98,7 @@ typedef struct hard_case {
 	popc_integrator method;
 	int substeps;
 	double duration_s;
+	double t0_s;               /* start of the operator's ramp; 0: the scene default (0.5 s) */
 } hard_case;
 
 typedef struct outcome {
@@ -121,6 +122,8 @@ static void scene_for(const hard_case *h, popc_scene *s)
 	s->variant = h->variant;
 	s->integrator = h->method;
 	s->substeps = h->substeps;
+	if (h->t0_s > 0.0)
+		s->op_t0_s = h->t0_s;
 }
 
 static void run_case(const hard_case *h, outcome *o)
@@ -137,6 +140,22 @@ static void run_case(const hard_case *h, outcome *o)
 	popc_axis ax = {.ops = &checker_ops, .priv = &o->ck};
 	o->status = popc_run(&s, &ax, NULL, &o->sum, &o->err);
 	/* the summary asked the wrapper; the error lives in the sim axis */
+	o->sum.integrator_error_m = popc_sim_axis_max_error(o->ck.inner);
+	popc_axis_destroy(&o->ck.inner);
+}
+
+/* Runs a validated scene through the checking axis. */
+static void run_scene(const popc_scene *s, outcome *o)
+{
+	popc_error err;
+	if (popc_scene_validate(s, &err) != 0)
+		fail_msg("scene invalid: %s", err.msg);
+	memset(o, 0, sizeof *o);
+	o->ck.x_min_m = INFINITY;
+	o->ck.x_max_m = -INFINITY;
+	assert_int_equal(popc_sim_axis_create(&o->ck.inner, s, &err), 0);
+	popc_axis ax = {.ops = &checker_ops, .priv = &o->ck};
+	o->status = popc_run(s, &ax, NULL, &o->sum, &o->err);
 	o->sum.integrator_error_m = popc_sim_axis_max_error(o->ck.inner);
 	popc_axis_destroy(&o->ck.inner);
 }
@@ -195,6 +214,30 @@ static void check_invariants(const hard_case *h, const outcome *o)
 	}
 }
 
+/* Every grid run must touch the wall (at x = 0; the ramp goes from x0 =
+ * -0.01 m to 0.03 m at 0.05 m/s, so x_d reaches the wall 0.2 s after t0).
+ * A soft plant follows x_d (the hand's spring, w = sqrt(50 / M)) but the
+ * heaviest (10 kg, w = 2.24 rad/s) lags by up to V / w = 0.022 m and reaches
+ * x = 0 about 0.64 s after t0; a stiff plant (device spring K = K_e) moves
+ * only to 50 x_d / (50 + K), which crosses 0 with x_d (0 is a count boundary
+ * for every resolution, so the measured position crosses it too). So the
+ * ramp starts at 0.1 s and the run lasts 1 s: at least 0.26 s in contact
+ * (26 ticks at 100 Hz). */
+#define GRID_T0_S 0.1
+#define GRID_DURATION_S 1.0
+
+/* Every completed grid run touched the wall, and every exact run did (an
+ * exact run can only stop by diverging physics, which needs the wall). */
+static void check_contact(const hard_case *h, const outcome *o)
+{
+	char what[256];
+	describe(h, what, sizeof what);
+	if ((o->status == 0 || h->method == POPC_INTEGRATOR_EXACT) &&
+	    !(o->sum.metrics.all.contact_ticks > 0))
+		fail_msg("%s: status %d after %lld ticks without contact (x in [%g, %g])", what,
+			 o->status, o->sum.ticks, o->ck.x_min_m, o->ck.x_max_m);
+}
+
 static const double walls[] = {1e2, 1e4, 1e6};
 static const double masses[] = {1e-3, 1.0, 10.0};
 static const double resolutions[] = {1e-8, 1e-5, 1e-3};
@@ -213,6 +256,7 @@ static void test_grid(void **state)
 		POPC_INTEGRATOR_SEMI_IMPLICIT_EULER, POPC_INTEGRATOR_EULER,
 	};
 	long runs = 0, stopped_fixed = 0, stopped_exact = 0, stopped_physics = 0;
+	double x_far = 0.0, x_far_stopped = 0.0; /* largest |x| logged by a completed, a stopped run */
 	for (size_t a = 0; a < N(walls); a++)
 		for (size_t b = 0; b < N(masses); b++)
 			for (size_t c = 0; c < N(resolutions); c++)
@@ -230,14 +274,20 @@ static void test_grid(void **state)
 										      : POPC_VARIANT_NONE,
 									.method = methods[m],
 									.substeps = 1,
-									/* 0.6 s: into contact (the ramp starts
-									 * at 0.5 s) at every rate, bounded cost */
-									.duration_s = 0.6,
+									.duration_s = GRID_DURATION_S,
+									.t0_s = GRID_T0_S,
 								};
 								outcome o;
 								run_case(&h, &o);
 								check_invariants(&h, &o);
+								check_contact(&h, &o);
 								runs++;
+								if (o.status)
+									x_far_stopped = fmax(x_far_stopped,
+											     fmax(fabs(o.ck.x_min_m), fabs(o.ck.x_max_m)));
+								else
+									x_far = fmax(x_far, fmax(fabs(o.ck.x_min_m),
+												 fabs(o.ck.x_max_m)));
 								if (o.status && methods[m] == POPC_INTEGRATOR_EXACT)
 									stopped_exact++;
 								else if (o.status && strstr(o.err.msg, "the physics"))
@@ -246,11 +296,31 @@ static void test_grid(void **state)
 									stopped_fixed++;
 							}
 	printf("# hard-case grid: %ld runs, %ld fixed-step runs stopped as unstable, %ld exact and "
-	       "%ld fixed-step runs stopped by unstable physics\n",
-	       runs, stopped_fixed, stopped_exact, stopped_physics);
+	       "%ld fixed-step runs stopped by unstable physics; largest |x| logged by a completed run %g m, "
+	       "by a stopped run %g m\n",
+	       runs, stopped_fixed, stopped_exact, stopped_physics, x_far, x_far_stopped);
 	/* the grid holds cases far beyond every explicit method's stability
 	 * limit (M = 1e-3 kg, K = 1e6 N/m at 100 Hz: h w = 316), so some stop */
 	assert_true(stopped_fixed > 0);
+	/* and sampled undamped walls of 1e6 N/m without PC that are active: the
+	 * closed loop itself diverges, with the exact integrator too */
+	assert_true(stopped_exact > 0);
+	/* No completed run is garbage: |x| stays within the scene's divergence
+	 * bound, 10 x its largest position (x_end = 0.03 m) + 1 m = 1.3 m (before
+	 * the bound was scaled to the scene, stiff-plant runs completed at 2e5 m).
+	 * Measured: 0.96 m at most, a 1 g mass thrown back by a sampled 1e6 N/m
+	 * wall without PC (semi-implicit Euler at 20 kHz; the exact integrator
+	 * 0.37 m at 1 kHz), every other completed run within 0.21 m. */
+	popc_scene d;
+	popc_scene_defaults(&d);
+	double x_bound = 10.0 * fmax(fmax(fabs(d.op_x0_m), fabs(d.op_x_end_m)), fabs(d.env_position_m)) + 1.0;
+	if (!(x_far <= x_bound))
+		fail_msg("a completed run reached |x| = %g m, beyond the physical bound %g m", x_far,
+			 x_bound);
+	/* a stopped run stops before logging a sample past the bound */
+	if (!(x_far_stopped <= x_bound))
+		fail_msg("a stopped run logged |x| = %g m, beyond the bound %g m", x_far_stopped,
+			 x_bound);
 }
 
 /* Beyond the stability limit: the run stops at once, before any state past
@@ -260,7 +330,7 @@ static void test_grid(void **state)
  * far past RK4's limit (2.83) and semi-implicit Euler's (2). */
 static void run_stiff_no_contact(popc_integrator m, outcome *o)
 {
-	hard_case h = {1e6, 1e-3, 1e-5, 100.0, 1e6, POPC_VARIANT_REF_ENERGY, m, 1, 0.6};
+	hard_case h = {1e6, 1e-3, 1e-5, 100.0, 1e6, POPC_VARIANT_REF_ENERGY, m, 1, 0.6, 0.0};
 	popc_scene s;
 	scene_for(&h, &s);
 	s.env_position_m = 1.0;
@@ -311,7 +381,7 @@ static void test_exact_bounded_where_physics_is(void **state)
 	for (size_t b = 0; b < N(masses); b++)
 		for (size_t d = 0; d < N(rates); d++) {
 			hard_case h = {1e6, masses[b], 1e-8, rates[d], 0.0, POPC_VARIANT_REF_ENERGY,
-				       POPC_INTEGRATOR_EXACT, 1, 3.0};
+				       POPC_INTEGRATOR_EXACT, 1, 3.0, 0.0};
 			popc_scene s;
 			scene_for(&h, &s);
 			s.env_position_m = 1.0; /* never reached: x_end = 0.03 m */
@@ -337,10 +407,115 @@ static void test_exact_bounded_where_physics_is(void **state)
 		}
 }
 
+/* A stable, accurate integrator is never stopped, however long it runs:
+ * explicit Euler on the paper scene (per step |1 + h lambda|^2 = 1 - h B/M +
+ * h^2 K/M < 1) at 100 substeps has a max error of 1.2e-6 m (0.12 counts), at
+ * 8 substeps 1.5e-5 m. An energy surplus summed since t = 0 stopped them at
+ * t = 27.6 s and 10.5 s (it grows with the run's length: the bookkeeping
+ * multiplies the chattering PC force by 1e-8 m position errors); 60 s is
+ * past both. */
+static void test_long_stable_runs_are_not_stopped(void **state)
+{
+	(void)state;
+	const int substeps[] = {100, 8};
+	for (size_t i = 0; i < N(substeps); i++) {
+		popc_scene s;
+		popc_scene_defaults(&s);
+		s.duration_s = 60.0;
+		s.integrator = POPC_INTEGRATOR_EULER;
+		s.substeps = substeps[i];
+		outcome o;
+		run_scene(&s, &o);
+		printf("# paper scene, euler x %d, 60 s: status %d, %lld ticks, error %g m\n",
+		       substeps[i], o.status, o.sum.ticks, o.sum.integrator_error_m);
+		if (o.status)
+			fail_msg("euler x %d stopped: %s", substeps[i], o.err.msg);
+		assert_int_equal(o.sum.ticks, 60001);
+	}
+}
+
+/* A growth factor that overflows is unstable, not "stable but too
+ * inaccurate": RK4 with 100 substeps on K = 1e9 N/m, M = 1e-3 kg (h w = 10
+ * per substep, past RK4's limit 2.83) amplifies by about 400 per substep,
+ * 400^100 per period; the product of 100 matrices overflowed to inf/NaN, whose
+ * spectral radius was NaN, and NaN > limit is false. It is stopped before the
+ * first step and told the substep count that is stable (h w = 2.5 at 400). */
+static void test_overflowing_growth_is_unstable(void **state)
+{
+	(void)state;
+	popc_scene s;
+	popc_scene_defaults(&s);
+	s.op_stiffness_Npm = 1e9;
+	s.op_mass_kg = 0.0;
+	s.dev_mass_kg = 1e-3;
+	s.integrator = POPC_INTEGRATOR_RK4;
+	s.substeps = 100;
+	outcome o;
+	run_scene(&s, &o);
+	assert_int_equal(o.status, POPC_ERR_NUMERIC);
+	if (!strstr(o.err.msg, "is unstable for this plant") ||
+	    !strstr(o.err.msg, "integrator.substeps >= 400") || strstr(o.err.msg, "stable but"))
+		fail_msg("%s", o.err.msg);
+	assert_true(o.sum.ticks <= 1);
+	assert_int_equal(o.ck.bad_samples, 0);
+	/* and at 400 substeps the same plant runs */
+	s.substeps = 400;
+	s.duration_s = 0.7;
+	run_scene(&s, &o);
+	if (o.status)
+		fail_msg("rk4 x 400: %s", o.err.msg);
+}
+
+/* The plant starts at rest at its static equilibrium under the operator's
+ * initial pull, x(0) = (K_HO x_d(0) + f_op(0)) / (K_HO + K_HI): with a device
+ * spring nothing moves before the operator does (it used to start at x_d(0),
+ * away from rest, and oscillate from tick 0). Without one, x(0) = x_d(0)
+ * bitwise (the paper's scene keeps its bits). */
+static void test_starts_at_rest_with_device_spring(void **state)
+{
+	(void)state;
+	static const popc_integrator methods[] = {POPC_INTEGRATOR_EXACT, POPC_INTEGRATOR_TRAPEZOID};
+	for (size_t m = 0; m < N(methods); m++) {
+		popc_scene s;
+		popc_scene_defaults(&s);
+		s.dev_stiffness_Npm = 200.0;
+		s.duration_s = 0.45; /* before the ramp starts (t0 = 0.5 s) */
+		s.integrator = methods[m];
+		s.substeps = 1;
+		outcome o;
+		run_scene(&s, &o);
+		assert_int_equal(o.status, 0);
+		double x_rest = s.op_stiffness_Npm * s.op_x0_m / (s.op_stiffness_Npm + s.dev_stiffness_Npm);
+		/* rounding of the steps only: 1e-15 m (the scale of x is 2e-3 m) */
+		if (!(fabs(o.ck.x_min_m - x_rest) < 1e-15 && fabs(o.ck.x_max_m - x_rest) < 1e-15))
+			fail_msg("%s: x in [%.17g, %.17g], rest at %.17g", popc_integrator_name(methods[m]),
+				 o.ck.x_min_m, o.ck.x_max_m, x_rest);
+	}
+	/* a force intent: the hand rests at x0 and pushes with f(0) = 0 */
+	popc_scene s;
+	popc_scene_defaults(&s);
+	s.intent = POPC_INTENT_FORCE;
+	s.op_force_N = 1.0;
+	s.op_force_rate_Nps = 10.0;
+	s.dev_stiffness_Npm = 150.0;
+	s.duration_s = 0.45;
+	outcome o;
+	run_scene(&s, &o);
+	assert_int_equal(o.status, 0);
+	double x_rest = s.op_stiffness_Npm * s.op_x0_m / (s.op_stiffness_Npm + s.dev_stiffness_Npm);
+	assert_true(fabs(o.ck.x_min_m - x_rest) < 1e-15 && fabs(o.ck.x_max_m - x_rest) < 1e-15);
+	/* no device spring: x_d(0) exactly */
+	popc_scene_defaults(&s);
+	s.duration_s = 0.0;
+	run_scene(&s, &o);
+	assert_int_equal(o.status, 0);
+	assert_true(o.ck.x_min_m == s.op_x0_m && o.ck.x_max_m == s.op_x0_m);
+}
+
 /* One hour at 1 kHz (3.6e6 ticks). */
 static void one_hour(popc_integrator m, int substeps, double damping, outcome *o)
 {
-	hard_case h = {1e3, 0.3, 1e-5, 1000.0, 0.0, POPC_VARIANT_REF_ENERGY, m, substeps, 3600.0};
+	hard_case h = {1e3, 0.3, 1e-5, 1000.0, 0.0, POPC_VARIANT_REF_ENERGY, m, substeps, 3600.0, 0.0};
 	popc_scene s;
 	scene_for(&h, &s);
 	s.op_damping_Nspm = damping;
@@ -375,10 +550,13 @@ static void test_one_hour_exact_paper(void **state)
 /* Explicit Euler on an undamped plant amplifies by sqrt(1 + (h w)^2) > 1 per
  * step: over an hour it must be stopped, never run to garbage. Two bounds
  * guard it: the free-motion growth rho^k > 10 (at k = ln 10 / ln rho, about
- * 27600 ticks at h w = 0.0129) and, earlier, the energy balance: measured, it
- * stops at tick 3509 having made up as much energy as the plant held, while
- * the logged motion is still within the physical range (|x| < 0.02 m; the
- * stable integrators below stay within [-0.01, 0.004] m). */
+ * 27600 ticks at h w = 0.0129) and, earlier, the energy growth: in contact
+ * with the 1000 N/m wall the closed loop doubles its energy every ~1500 ticks
+ * and drags its exact shadow along (error ~1 % of the motion). Measured, it
+ * stops at tick 2000, having made up 0.0073 J within 1.5 s against 0.0025 J
+ * held before, while the logged motion is still within the physical range
+ * (x in [-0.01, 0.006] m; the stable integrators below stay within
+ * [-0.01, 0.004] m; without the guard x reaches -10 m by tick 26000). */
 static void test_one_hour_euler_undamped_stops(void **state)
 {
 	(void)state;
@@ -416,6 +594,9 @@ int main(int argc, char **argv)
 		cmocka_unit_test(test_grid),
 		cmocka_unit_test(test_far_beyond_stability_stops_at_once),
 		cmocka_unit_test(test_exact_bounded_where_physics_is),
+		cmocka_unit_test(test_long_stable_runs_are_not_stopped),
+		cmocka_unit_test(test_overflowing_growth_is_unstable),
+		cmocka_unit_test(test_starts_at_rest_with_device_spring),
 	};
 	const struct CMUnitTest hour[] = {
 		cmocka_unit_test(test_one_hour_exact_paper),

@@ -208,6 +208,69 @@ static void test_init_rejects_bad_config(void **state)
 		assert_int_equal(popc_plant_init(&p, &bad[i], &err), POPC_ERR_INVALID);
 }
 
+/* A ratio that overflows is refused at init, naming the scene keys behind it
+ * (K = 1e9 N/m on M = 2.3e-308 kg: K/M = inf; the run used to go on with
+ * inf/NaN matrices, exit 0, and garbage encoder counts). */
+static void test_init_rejects_overflowing_ratios(void **state)
+{
+	(void)state;
+	popc_plant p;
+	popc_error err;
+	const popc_integrator methods[] = {POPC_INTEGRATOR_EXACT, POPC_INTEGRATOR_TRAPEZOID,
+					   POPC_INTEGRATOR_RK4};
+	for (size_t i = 0; i < sizeof methods / sizeof methods[0]; i++) {
+		popc_plant_config k_over = {.mass_kg = 2.3e-308, .stiffness_Npm = 1e9,
+					    .method = methods[i], .substeps = 1, .period_s = 1e-3};
+		err.msg[0] = '\0';
+		assert_int_equal(popc_plant_init(&p, &k_over, &err), POPC_ERR_INVALID);
+		assert_non_null(strstr(err.msg, "operator.mass + device.mass"));
+		assert_non_null(strstr(err.msg, "operator.stiffness + device.stiffness"));
+		popc_plant_config b_over = {.mass_kg = 2.3e-308, .damping_Nspm = 1e6,
+					    .method = methods[i], .substeps = 1, .period_s = 1e-3};
+		assert_int_equal(popc_plant_init(&p, &b_over, &err), POPC_ERR_INVALID);
+		assert_non_null(strstr(err.msg, "operator.damping + device.damping"));
+		popc_plant_config m_tiny = {.mass_kg = 1e-310, .method = methods[i], .substeps = 1,
+					    .period_s = 1e-3};
+		assert_int_equal(popc_plant_init(&p, &m_tiny, &err), POPC_ERR_INVALID);
+		assert_non_null(strstr(err.msg, "operator.mass + device.mass"));
+	}
+}
+
+/* The matrix exponential reports what it cannot compute instead of handing
+ * back inf or NaN: e^(1e300) overflows after the squarings. */
+static void test_expm_reports_overflow(void **state)
+{
+	(void)state;
+	double a[4] = {1e300, 0, 0, -1e300}, e[4];
+	assert_int_equal(popc_expm(2, a, e), POPC_ERR_NUMERIC);
+	double nan_in[4] = {NAN, 0, 0, 0};
+	assert_int_equal(popc_expm(2, nan_in, e), POPC_ERR_NUMERIC);
+	assert_int_equal(popc_expm(9, a, e), POPC_ERR_INVALID);
+}
+
+/* popc_plant_coeffs and popc_plant_step_h propagate a failed exponential
+ * (a passive plant's exponential is bounded, so the failure is provoked with
+ * a config that bypassed init: K = -1e8 N/m on 1 kg grows as e^(1e4 t),
+ * e^5000 over h = 0.5 s, past 1e308): POPC_ERR_NUMERIC, and the state is left
+ * as it was. */
+static void test_step_h_propagates_failure(void **state)
+{
+	(void)state;
+	popc_plant p = make(1.0, 0.0, 1.0, POPC_INTEGRATOR_EXACT, 1, 1.0);
+	p.cfg.stiffness_Npm = -1e8; /* as if init had let it through */
+	popc_plant_step_coeffs c;
+	assert_int_equal(popc_plant_coeffs(&p.cfg, 0.5, &c), POPC_ERR_NUMERIC);
+	popc_plant_state st = {0.25, -1.5};
+	popc_plant_input u = {.u0_N = 1.0};
+	assert_int_equal(popc_plant_step_h(&p, &st, &u, 0.5), POPC_ERR_NUMERIC);
+	assert_true(st.x_m == 0.25 && st.v_mps == -1.5);
+	/* a valid plant: 0, and the step happens */
+	popc_plant q = make(1.0, 0.0, 1.0, POPC_INTEGRATOR_EXACT, 1, 1.0);
+	assert_int_equal(popc_plant_coeffs(&q.cfg, 0.5, &c), 0);
+	assert_int_equal(popc_plant_step_h(&q, &st, &u, 0.5), 0);
+	assert_true(st.x_m != 0.25);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -219,6 +282,9 @@ int main(void)
 		cmocka_unit_test(test_exact_sine_input),
 		cmocka_unit_test(test_integrator_orders),
 		cmocka_unit_test(test_init_rejects_bad_config),
+		cmocka_unit_test(test_init_rejects_overflowing_ratios),
+		cmocka_unit_test(test_expm_reports_overflow),
+		cmocka_unit_test(test_step_h_propagates_failure),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }
