@@ -1,4 +1,5 @@
 /* The simulated axis: operator intent, plant and encoder of a scene (axis.h). */
+#include <float.h>
 #include <limits.h>
 #include <math.h>
 #include <stdio.h>
@@ -42,9 +43,13 @@
  * run while that growth stays below GROWTH_MAX in amplitude (GROWTH_MAX^2 =
  * 100 in energy) and stops the run before the period that would cross it.
  * RHO_MARGIN absorbs the rounding of rho itself (rho of an undamped exact
- * plant computes as 1 +- a few ulps). */
+ * plant computes as 1 +- a few ulps), and RHO_ULPS per substep that of
+ * n ln rho_1 (rho_1 = 1 +- a few ulps becomes n times that: semi-implicit
+ * Euler on an undamped plant, rho_1 = 1 exactly in theory, would otherwise
+ * count as growing at 1e6 substeps). */
 #define GROWTH_MAX 10.0
 #define RHO_MARGIN 1e-12
+#define RHO_ULPS 8.0
 
 /* Energy growth. For M x'' = u - B x' - K x the plant's energy
  * E = M v^2 / 2 + K x^2 / 2 obeys dE/dt = u v - B v^2 <= u v: it can never
@@ -159,6 +164,13 @@ static double log_amplification(const popc_plant_config *cfg0, int n)
 	return (double)n * log(rho1);
 }
 
+/* Whether ln rho over n substeps is growth beyond the exact plant's ln rho
+ * limit and the rounding of rho (NaN and inf: yes). */
+static int amplifies(double log_rho, double log_limit, int n)
+{
+	return !(log_rho <= log_limit + (double)n * RHO_ULPS * DBL_EPSILON);
+}
+
 /* rho = e^log_rho for a message: "%.6g" of it, or "e^%.6g" past overflow. */
 static void format_growth(double log_rho, char *buf, size_t cap)
 {
@@ -178,7 +190,7 @@ static int integrator_failed(const sim_axis *s, const char *what, popc_error *er
 	popc_plant_config cfg = s->plant.cfg;
 	const char *name = popc_integrator_name(cfg.method);
 	int n = cfg.substeps;
-	int unstable = !(s->log_rho <= s->log_rho_limit); /* NaN or inf: unstable */
+	int unstable = amplifies(s->log_rho, s->log_rho_limit, n);
 	char verdict[320], alt[200], rho_txt[64], rho_ex_txt[64];
 	format_growth(s->log_rho, rho_txt, sizeof rho_txt);
 	format_growth(s->log_rho_exact, rho_ex_txt, sizeof rho_ex_txt);
@@ -191,7 +203,7 @@ static int integrator_failed(const sim_axis *s, const char *what, popc_error *er
 		snprintf(verdict, sizeof verdict, "is stable but too inaccurate for this scene");
 	int n_ok = 0;
 	for (long m = 2L * n; m <= 1000000L && !n_ok; m *= 2)
-		if (log_amplification(&cfg, (int)m) <= s->log_rho_limit)
+		if (!amplifies(log_amplification(&cfg, (int)m), s->log_rho_limit, (int)m))
 			n_ok = (int)m;
 	if (unstable && n_ok)
 		snprintf(alt, sizeof alt, "integrator.method = exact (stable for any step), or "
@@ -338,7 +350,8 @@ static int energy_growth(sim_axis *s, long long j, double x_before, double f_c_N
 		blk->peak_J = fmax(blk->peak_J, e);
 	}
 	/* the guard's gate (see ENERGY_SURPLUS_MAX): growth possible and visible */
-	if (!(s->log_rho > s->log_rho_limit) || (s->shadow && !(s->max_error_m > s->delta_m)))
+	if (!amplifies(s->log_rho, s->log_rho_limit, s->plant.cfg.substeps) ||
+	    (s->shadow && !(s->max_error_m > s->delta_m)))
 		return 0;
 	long long w0 = b - (ENERGY_WINDOW_BLOCKS - 1); /* first block of the window */
 	double made, held;
@@ -539,7 +552,7 @@ int popc_sim_axis_create(popc_axis **out, const popc_scene *sc, popc_error *err)
 			s->log_rho = log_amplification(&cfg, cfg.substeps);
 			/* NaN cannot come out of log_amplification; an overflowed one-substep
 			 * matrix is +inf: stopped before the first step */
-			if (!(s->log_rho <= s->log_rho_limit)) {
+			if (amplifies(s->log_rho, s->log_rho_limit, cfg.substeps)) {
 				double k = ceil(log(GROWTH_MAX) / s->log_rho);
 				s->k_unstable = !(k >= 1.0) ? 1 : k < 1e18 ? (long long)k : LLONG_MAX;
 			}
