@@ -193,7 +193,7 @@ static void test_ignore_and_hold_between(void **state)
 }
 
 /* Fig. 10: on the filtered velocity the PO stays above E_ref (measured gap
- * +5.4e-3 J at the end) while the contact oscillates like without a PC. */
+ * +1.49e-2 J at the end) while the contact oscillates like without a PC. */
 static void test_filtered_velocity_limit_cycle(void **state)
 {
 	(void)state;
