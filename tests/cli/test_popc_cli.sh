@@ -6,17 +6,7 @@ POPC=${POPC:?POPC must name the popc program}
 SRC=${POPC_SOURCE_ROOT:?}
 T=$(mktemp -d /tmp/popc-cli-XXXXXX)
 trap 'rm -rf "$T"' EXIT
-fails=0 passes=0
-ok()   { passes=$((passes + 1)); echo "ok - $1"; }
-bad()  { fails=$((fails + 1)); echo "not ok - $1"; }
-check() { local what=$1; shift; if "$@"; then ok "$what"; else bad "$what"; fi; }
-# expect_exit CODE DESC CMD...: runs CMD, stderr to $T/err
-expect_exit() {
-  local code=$1 what=$2; shift 2
-  "$@" >"$T/out" 2>"$T/err"; local rc=$?
-  if [ "$rc" -eq "$code" ]; then ok "$what (exit $rc)"; else bad "$what: exit $rc, expected $code: $(head -c 300 "$T/err")"; fi
-}
-err_has() { grep -qF -- "$1" "$T/err" || { echo "   stderr lacks '$1':"; sed 's/^/   | /' "$T/err" | head -5; return 1; }; }
+. "$SRC/tests/check.sh"
 
 expect_exit 0 "popc --help" "$POPC" --help
 expect_exit 0 "popc run --help" "$POPC" run --help
@@ -102,5 +92,4 @@ last=$(grep '^[0-9]' "$T/int.csv" | tail -n 1)
 cells=$(echo "$last" | awk -F, '{print NF}')
 check "  last row is complete ($cells cells)" test "$cells" -eq 11
 
-echo "$passes passed, $fails failed"
-[ "$fails" -eq 0 ]
+check_summary

@@ -8,15 +8,7 @@ POPC=${POPC:?POPC must name the popc program}
 SRC=${POPC_SOURCE_ROOT:?}
 T=$(mktemp -d /tmp/popc-bench-XXXXXX)
 trap 'rm -rf "$T"' EXIT
-fails=0 passes=0
-ok()   { passes=$((passes + 1)); echo "ok - $1"; }
-bad()  { fails=$((fails + 1)); echo "not ok - $1"; }
-check() { local what=$1; shift; if "$@"; then ok "$what"; else bad "$what"; fi; }
-expect_exit() {
-  local code=$1 what=$2; shift 2
-  "$@" >"$T/out" 2>"$T/err"; local rc=$?
-  if [ "$rc" -eq "$code" ]; then ok "$what (exit $rc)"; else bad "$what: exit $rc, expected $code: $(head -c 300 "$T/err")"; fi
-}
+. "$SRC/tests/check.sh"
 
 expect_exit 0 "bench --help" "$POPC" bench --help
 check "  help names the three benchmarks" grep -q "integrators|loop|log" "$T/out"
@@ -68,5 +60,4 @@ expect_exit 0 "bench log, CSV" "$POPC" bench log --format csv --rows 5000 --repe
 check "  recompute from the log is bitwise" grep -qx "recompute_bitwise,1,," "$T/out"
 check "  leaves no scratch files" bash -c "! ls '$T'/popc-bench-* 2>/dev/null | grep -q ."
 
-echo "# $passes passed, $fails failed"
-[ "$fails" -eq 0 ]
+check_summary

@@ -12,16 +12,7 @@ SRC=${POPC_SOURCE_ROOT:?}
 PAPER="$SRC/data/scenes/paper.ini"
 T=$(mktemp -d /tmp/popc-guards-XXXXXX)
 trap 'rm -rf "$T"' EXIT
-fails=0 passes=0
-ok()   { passes=$((passes + 1)); echo "ok - $1"; }
-bad()  { fails=$((fails + 1)); echo "not ok - $1"; }
-check() { local what=$1; shift; if "$@"; then ok "$what"; else bad "$what"; fi; }
-expect_exit() {
-  local code=$1 what=$2; shift 2
-  "$@" >"$T/out" 2>"$T/err"; local rc=$?
-  if [ "$rc" -eq "$code" ]; then ok "$what (exit $rc)"; else bad "$what: exit $rc, expected $code: $(head -c 400 "$T/err")"; fi
-}
-err_has() { grep -qF -- "$1" "$T/err"; }
+. "$SRC/tests/check.sh"
 
 # K/M = 1e9 / 2.3e-308 = inf: the plant's matrices were inf/NaN, the run
 # printed "completed", exit 0, with uninitialised encoder counts
@@ -80,5 +71,4 @@ expect_exit 0 "a long accurate Euler run completes" "$POPC" run "$PAPER" --set r
   --set integrator.method=euler --set integrator.substeps=100
 check "  with its error below one count" err_has "max position error against exact: 1.22e-06 m"
 
-echo "# $passes passed, $fails failed"
-[ "$fails" -eq 0 ]
+check_summary

@@ -12,16 +12,7 @@ T=$(mktemp -d /tmp/popc-sweep-cli-XXXXXX)
 pid=
 cleanup() { [ -n "$pid" ] && kill "$pid" 2>/dev/null; rm -rf "$T"; }
 trap cleanup EXIT
-fails=0 passes=0
-ok()   { passes=$((passes + 1)); echo "ok - $1"; }
-bad()  { fails=$((fails + 1)); echo "not ok - $1"; }
-check() { local what=$1; shift; if "$@"; then ok "$what"; else bad "$what"; fi; }
-expect_exit() {
-  local code=$1 what=$2; shift 2
-  "$@" >"$T/out" 2>"$T/err"; local rc=$?
-  if [ "$rc" -eq "$code" ]; then ok "$what (exit $rc)"; else bad "$what: exit $rc, expected $code: $(head -c 400 "$T/err")"; fi
-}
-err_has() { grep -qF -- "$1" "$T/err" || { echo "   stderr lacks '$1':"; sed 's/^/   | /' "$T/err" | head -5; return 1; }; }
+. "$SRC/tests/check.sh"
 # a summary without its last column (wall_time_s): what must be equal
 nowall() { sed 's/,[^,]*$//' "$1"; }
 same_nowall() { cmp -s <(nowall "$1") <(nowall "$2") || { diff <(nowall "$1") <(nowall "$2") | head -5; return 1; }; }
@@ -250,5 +241,4 @@ for j in 1 2; do
   check "  every run once, all as in the one-machine sweep" same_nowall "$T/c$j/summary.csv" "$S"
 done
 
-echo "# $passes passed, $fails failed"
-[ "$fails" -eq 0 ]
+check_summary

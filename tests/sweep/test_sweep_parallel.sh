@@ -9,10 +9,7 @@ SCENE=$SRC/data/scenes/paper.ini
 command -v parallel >/dev/null || { echo "GNU parallel is not installed"; exit 77; }
 T=$(mktemp -d /tmp/popc-sweep-par-XXXXXX)
 trap 'rm -rf "$T"' EXIT
-fails=0 passes=0
-ok()   { passes=$((passes + 1)); echo "ok - $1"; }
-bad()  { fails=$((fails + 1)); echo "not ok - $1"; }
-check() { local what=$1; shift; if "$@"; then ok "$what"; else bad "$what"; fi; }
+. "$SRC/tests/check.sh"
 nowall() { sed 's/,[^,]*$//' "$1"; }
 same_nowall() { cmp -s <(nowall "$1") <(nowall "$2") || { diff <(nowall "$1") <(nowall "$2") | head -5; return 1; }; }
 
@@ -48,5 +45,4 @@ check "parallel --resume-failed reran run 0003" test -s "$T/p/runs/0003/run.csv"
 check "merge complete again" test $? -eq 0
 check "  equal to the in-process sweep" same_nowall "$T/p/summary.csv" "$T/s/summary.csv"
 
-echo "# $passes passed, $fails failed"
-[ "$fails" -eq 0 ]
+check_summary

@@ -16,21 +16,18 @@
 #include "popc/intent.h"
 #include "popc/run.h"
 
-static char tmpdir[256];
+#include "test_tmpdir.h"
 
 static int setup(void **state)
 {
 	(void)state;
-	snprintf(tmpdir, sizeof tmpdir, "/tmp/popc-test-intent-XXXXXX");
-	return mkdtemp(tmpdir) ? 0 : -1;
+	return test_tmpdir_make("intent");
 }
 
 static int teardown(void **state)
 {
 	(void)state;
-	char cmd[300];
-	snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
-	return system(cmd) == 0 ? 0 : -1;
+	return test_tmpdir_remove();
 }
 
 /* Runs a scene, returning the true positions at every tick. */

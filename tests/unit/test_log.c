@@ -13,21 +13,18 @@
 #include "popc/log.h"
 #include "popc/log_reader.h"
 
-static char tmpdir[256];
+#include "test_tmpdir.h"
 
 static int setup(void **state)
 {
 	(void)state;
-	snprintf(tmpdir, sizeof tmpdir, "/tmp/popc-test-log-XXXXXX");
-	return mkdtemp(tmpdir) ? 0 : -1;
+	return test_tmpdir_make("log");
 }
 
 static int teardown(void **state)
 {
 	(void)state;
-	char cmd[300];
-	snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
-	return system(cmd) == 0 ? 0 : -1;
+	return test_tmpdir_remove();
 }
 
 static uint64_t rng = 0x9E3779B97F4A7C15ull;

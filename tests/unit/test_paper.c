@@ -30,7 +30,7 @@ typedef struct paper_run {
 } paper_run;
 
 static paper_run runs[POPC_VARIANT_COUNT];
-static char tmpdir[256];
+#include "test_tmpdir.h"
 
 static void load_paper(popc_scene *s, popc_variant v)
 {
@@ -45,8 +45,7 @@ static void load_paper(popc_scene *s, popc_variant v)
 static int setup(void **state)
 {
 	(void)state;
-	snprintf(tmpdir, sizeof tmpdir, "/tmp/popc-test-paper-XXXXXX");
-	if (!mkdtemp(tmpdir))
+	if (test_tmpdir_make("paper") != 0)
 		return -1;
 	for (int v = 0; v < POPC_VARIANT_COUNT; v++) {
 		paper_run *r = &runs[v];
@@ -95,9 +94,7 @@ static int setup(void **state)
 static int teardown(void **state)
 {
 	(void)state;
-	char cmd[300];
-	snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
-	return system(cmd) == 0 ? 0 : -1;
+	return test_tmpdir_remove();
 }
 
 static double late_rms(popc_variant v)
