@@ -5,6 +5,7 @@
 # if anything failed.
 set -uo pipefail
 cd "$(dirname "$0")/.."
+tools/install-deps.sh || { echo "0 passed, 1 failed"; exit 1; }
 jobs=$(nproc 2>/dev/null || echo 2)
 export ASAN_OPTIONS=halt_on_error=1:abort_on_error=1:detect_leaks=1
 export UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
