@@ -126,25 +126,7 @@ static void scene_for(const hard_case *h, popc_scene *s)
 		s->op_t0_s = h->t0_s;
 }
 
-static void run_case(const hard_case *h, outcome *o)
-{
-	popc_scene s;
-	scene_for(h, &s);
-	popc_error err;
-	if (popc_scene_validate(&s, &err) != 0)
-		fail_msg("scene invalid: %s", err.msg);
-	memset(o, 0, sizeof *o);
-	o->ck.x_min_m = INFINITY;
-	o->ck.x_max_m = -INFINITY;
-	assert_int_equal(popc_sim_axis_create(&o->ck.inner, &s, &err), 0);
-	popc_axis ax = {.ops = &checker_ops, .priv = &o->ck};
-	o->status = popc_run(&s, &ax, NULL, &o->sum, &o->err);
-	/* the summary asked the wrapper; the error lives in the sim axis */
-	o->sum.integrator_error_m = popc_sim_axis_max_error(o->ck.inner);
-	popc_axis_destroy(&o->ck.inner);
-}
-
-/* Runs a validated scene through the checking axis. */
+/* Validates a scene and runs it through the checking axis. */
 static void run_scene(const popc_scene *s, outcome *o)
 {
 	popc_error err;
@@ -156,8 +138,16 @@ static void run_scene(const popc_scene *s, outcome *o)
 	assert_int_equal(popc_sim_axis_create(&o->ck.inner, s, &err), 0);
 	popc_axis ax = {.ops = &checker_ops, .priv = &o->ck};
 	o->status = popc_run(s, &ax, NULL, &o->sum, &o->err);
+	/* the summary asked the wrapper; the error lives in the sim axis */
 	o->sum.integrator_error_m = popc_sim_axis_max_error(o->ck.inner);
 	popc_axis_destroy(&o->ck.inner);
+}
+
+static void run_case(const hard_case *h, outcome *o)
+{
+	popc_scene s;
+	scene_for(h, &s);
+	run_scene(&s, o);
 }
 
 static void describe(const hard_case *h, char *buf, size_t cap)
@@ -334,17 +324,7 @@ static void run_stiff_no_contact(popc_integrator m, outcome *o)
 	popc_scene s;
 	scene_for(&h, &s);
 	s.env_position_m = 1.0;
-	popc_error err;
-	assert_int_equal(popc_scene_validate(&s, &err), 0);
-	memset(o, 0, sizeof *o);
-	o->ck.x_min_m = INFINITY;
-	o->ck.x_max_m = -INFINITY;
-	assert_int_equal(popc_sim_axis_create(&o->ck.inner, &s, &err), 0);
-	popc_axis ax = {.ops = &checker_ops, .priv = &o->ck};
-	o->status = popc_run(&s, &ax, NULL, &o->sum, &o->err);
-	/* the summary asked the wrapper; the error lives in the sim axis */
-	o->sum.integrator_error_m = popc_sim_axis_max_error(o->ck.inner);
-	popc_axis_destroy(&o->ck.inner);
+	run_scene(&s, o);
 	check_invariants(&h, o);
 }
 
@@ -519,17 +499,7 @@ static void one_hour(popc_integrator m, int substeps, double damping, outcome *o
 	popc_scene s;
 	scene_for(&h, &s);
 	s.op_damping_Nspm = damping;
-	popc_error err;
-	assert_int_equal(popc_scene_validate(&s, &err), 0);
-	memset(o, 0, sizeof *o);
-	o->ck.x_min_m = INFINITY;
-	o->ck.x_max_m = -INFINITY;
-	assert_int_equal(popc_sim_axis_create(&o->ck.inner, &s, &err), 0);
-	popc_axis ax = {.ops = &checker_ops, .priv = &o->ck};
-	o->status = popc_run(&s, &ax, NULL, &o->sum, &o->err);
-	/* the summary asked the wrapper; the error lives in the sim axis */
-	o->sum.integrator_error_m = popc_sim_axis_max_error(o->ck.inner);
-	popc_axis_destroy(&o->ck.inner);
+	run_scene(&s, o);
 	char what[256];
 	describe(&h, what, sizeof what);
 	printf("# one hour, %s, damping %g: status %d, %lld ticks, error %g m, x in [%g, %g]%s%s\n",
