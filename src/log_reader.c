@@ -5,12 +5,16 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "popc/numfmt.h"
 
 #define READ_BLOCK (1u << 20)
 #define LINE_MAX_BYTES (1u << 20)
 
+/* Reads more of the file. Returns 0, -1 when a line outgrows the buffer, or
+ * -2 on a read error (errno kept in r->read_errno): a failed read is no end of
+ * file, or a disk error would pass for a short log. */
 static int fill(popc_log_reader *r)
 {
 	if (r->start > 0) {
@@ -28,15 +32,22 @@ static int fill(popc_log_reader *r)
 		r->buf = nb;
 		r->cap = ncap;
 	}
+	errno = 0;
 	size_t n = fread(r->buf + r->end, 1, r->cap - r->end, r->f);
 	r->end += n;
-	if (n == 0)
+	if (n == 0) {
+		if (ferror(r->f)) {
+			r->read_errno = errno ? errno : EIO;
+			return -2;
+		}
 		r->eof = 1;
+	}
 	return 0;
 }
 
 /* Next line without its end-of-line; *complete = 0 if the file ended without a
- * newline. Returns 0 at the end of the file, -1 on a line too long. */
+ * newline. Returns 0 at the end of the file, -1 on a line too long, -2 on a
+ * read error. */
 static int next_line(popc_log_reader *r, char **line, size_t *len, int *complete)
 {
 	for (;;) {
@@ -57,14 +68,25 @@ static int next_line(popc_log_reader *r, char **line, size_t *len, int *complete
 			*complete = 0;
 			break;
 		}
-		if (fill(r) != 0)
-			return -1;
+		int st = fill(r);
+		if (st != 0)
+			return st;
 	}
 	if (*len && (*line)[*len - 1] == '\r')
 		(*len)--;
 	(*line)[*len] = '\0'; /* the buffer has one spare byte past cap */
 	r->lineno++;
 	return 1;
+}
+
+/* The error of a failed next_line (got < 0). */
+static int line_error(const popc_log_reader *r, int got, popc_error *err)
+{
+	if (got == -2)
+		return popc_error_set(err, POPC_ERR_IO, "%s:%lld: read error: %s", r->path,
+				      r->lineno + 1, strerror(r->read_errno));
+	return popc_error_set(err, POPC_ERR_INVALID, "%s:%lld: line longer than %u bytes", r->path,
+			      r->lineno + 1, LINE_MAX_BYTES + READ_BLOCK);
 }
 
 static char *dupn(const char *s, size_t n)
@@ -183,6 +205,13 @@ int popc_log_reader_open(popc_log_reader *r, const char *path, const popc_log_re
 					      strerror(errno));
 		r->owns_file = 1;
 	}
+	/* a directory opens for reading but is no log (and must not read as an
+	 * empty one) */
+	struct stat sb;
+	if (fstat(fileno(r->f), &sb) == 0 && S_ISDIR(sb.st_mode)) {
+		popc_log_reader_close(r);
+		return popc_error_set(err, POPC_ERR_IO, "%s: is a directory, not a log file", path);
+	}
 	r->cap = READ_BLOCK;
 	r->buf = malloc(r->cap + 1);
 	if (!r->buf) {
@@ -196,9 +225,9 @@ int popc_log_reader_open(popc_log_reader *r, const char *path, const popc_log_re
 	for (;;) {
 		int got = next_line(r, &line, &len, &complete);
 		if (got < 0) {
+			int st = line_error(r, got, err);
 			popc_log_reader_close(r);
-			return popc_error_set(err, POPC_ERR_INVALID, "%s:%lld: line too long", path,
-					      r->lineno + 1);
+			return st;
 		}
 		if (got == 0) {
 			popc_log_reader_close(r);
@@ -276,8 +305,7 @@ int popc_log_reader_next(popc_log_reader *r, double *values, popc_error *err)
 	for (;;) {
 		int got = next_line(r, &line, &len, &complete);
 		if (got < 0)
-			return popc_error_set(err, POPC_ERR_INVALID, "%s:%lld: line too long", r->path,
-					      r->lineno + 1);
+			return line_error(r, got, err);
 		if (got == 0)
 			return 0;
 		const char *s = line;

@@ -49,6 +49,7 @@ typedef struct popc_log_reader {
 	char *buf;
 	size_t cap, start, end;
 	int eof;
+	int read_errno;                 /* errno of a failed read */
 	long long lineno;               /* line number of the last line returned */
 	long long rows;
 	int t_col;                      /* index of "t", -1 if none: time must increase */

@@ -40,6 +40,15 @@ check noposition.csv "missing column 'x'"
 check short.csv "$W/short.csv:$((names + 3)): 2 cells, expected 11"
 check dupname.csv "$W/dupname.csv:$cnames: column 3 (x) repeats the name of column 2"
 check does-not-exist.csv "cannot open"
+# a directory opens for reading on Linux; it is no (empty) log
+mkdir "$W/adir"
+check adir "$W/adir: is a directory, not a log file"
+# a failed read is an error, not the end of the log (reading /proc/self/mem
+# at offset 0 fails with EIO)
+if [ -r /proc/self/mem ]; then
+	expect_rc 2 "$A" compare /proc/self/mem && grep -q "/proc/self/mem:1: read error: Input/output error" "$W/err" &&
+		ok "read error: named, exit 2" || fail "read error: $(cat "$W/err")"
+fi
 
 # a mapping to a header the file lacks
 expect_rc 2 "$A" energy --column x=position "$W/good.csv" && grep -q "no column 'position'" "$W/err" &&
@@ -72,7 +81,8 @@ if expect_rc 2 "$A" chatter "$W/nofc.csv"; then
 fi
 expect_rc 2 "$A" chatter --format csv "$W/nofc.csv" && grep -qx "nofc,chatter_not_checked,,," "$W/out" &&
 	ok "chatter csv: chatter_not_checked row" || fail "chatter csv nofc: $(cat "$W/out")"
-expect_rc 2 "$A" chatter -q "$W/nofc.csv" && grep -q "no PC force" "$W/err" && ok "chatter -q: still an error"
+expect_rc 2 "$A" chatter -q "$W/nofc.csv" && grep -q "no PC force" "$W/err" && ok "chatter -q: still an error" ||
+	fail "chatter -q nofc: $(cat "$W/err")"
 expect_rc 2 "$A" energy "$W/nofc.csv" && grep -q "no PC force" "$W/err" && ok "energy without a PC force: exit 2" ||
 	fail "energy nofc: $(cat "$W/err")"
 # compare: PC, chatter and W - E_ref cells empty (CSV) or n/a, never 0; the
