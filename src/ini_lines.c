@@ -10,13 +10,27 @@ char *popc_ini_read_line(char *str, int num, FILE *f, int *line, int *too_long)
 		return NULL;
 	(*line)++;
 	size_t n = strlen(r);
-	if (n > 0 && r[n - 1] == '\n')
-		return r;
-	/* num - 1 characters without their newline: the line either ends here
-	 * (the newline is consumed, or it is the last line of the file) or goes on */
-	int next = getc(f);
-	if (next == EOF || next == '\n')
-		return r;
-	*too_long = 1;
-	return NULL;
+	if (n == 0 || r[n - 1] != '\n') {
+		/* num - 1 characters without their newline: the line either ends
+		 * here (the newline, or CR LF, is consumed, or it is the last line
+		 * of the file) or goes on */
+		int next = getc(f);
+		if (next == '\r') {
+			int after = getc(f);
+			if (after != '\n' && after != EOF) {
+				*too_long = 1;
+				return NULL;
+			}
+		} else if (next != EOF && next != '\n') {
+			*too_long = 1;
+			return NULL;
+		}
+	}
+	/* Blanks before a key are indentation, not a continuation: libinih
+	 * (INI_ALLOW_MULTILINE in Debian's build) would read an indented
+	 * "rate = 500" after "duration = 2" as a second value of duration. */
+	size_t lead = strspn(r, " \t");
+	if (lead > 0)
+		memmove(r, r + lead, n - lead + 1);
+	return r;
 }

@@ -4,7 +4,9 @@
  * libinih reads a file in pieces of its buffer size (INI_MAX_LINE, 200 bytes
  * in Debian's build): a longer line comes back split, each piece counted and
  * parsed as a line of its own, so the tail of a comment can set a key and
- * every later message names the wrong line. */
+ * every later message names the wrong line. Blanks at the start of a line
+ * are dropped, so that an indented key is a key: libinih would otherwise
+ * take it for a continuation of the previous key's value. */
 #ifndef POPC_INI_LINES_H
 #define POPC_INI_LINES_H
 
@@ -13,7 +15,8 @@
 /* Reads one line of f into str (num bytes, as libinih asks) and counts it in
  * *line. Returns str, or NULL at the end of the file, on a read error (see
  * ferror(f)), or when the line is longer than num - 1 characters, its newline
- * excluded: then *too_long = 1 and *line is that line's number. */
+ * excluded (a CR LF ending counts as the newline): then *too_long = 1 and
+ * *line is that line's number. Leading blanks are removed from str. */
 char *popc_ini_read_line(char *str, int num, FILE *f, int *line, int *too_long);
 
 #endif

@@ -28,6 +28,23 @@ check "  names the key and range" err_has "encoder.resolution = 0: out of range;
 expect_exit 2 "bad --variant" "$POPC" run "$SRC/data/scenes/paper.ini" --variant fastest
 check "  lists the variants" err_has "none|po-pc|ref-energy|filtered-velocity|ignore|hold|improved"
 
+# scene files as users write them: indented keys, CRLF, and errors that name
+# their own line
+printf '[run]\n  duration = 2\n  rate = 500\n' > "$T/indent.ini"
+expect_exit 0 "indented keys are keys (not a continuation of the key above)" "$POPC" scene show "$T/indent.ini"
+check "  both read" grep -qx "rate = 500" "$T/out"
+printf '[run]\nduration = 2\n    5\n' > "$T/cont.ini"
+expect_exit 2 "an indented line without '=' is malformed" "$POPC" scene show "$T/cont.ini"
+check "  names the line" err_has "cont.ini:3: malformed line"
+# 199 characters is libinih's limit; CR LF is a line end, not a 200th character
+long=$(printf 'duration = 2 ;%0185d' 0)
+printf '[run]\r\n%s\r\nrate = 500\r\n' "$long" > "$T/crlf.ini"
+expect_exit 0 "CRLF scene with a 199-character line" "$POPC" scene show "$T/crlf.ini"
+check "  both keys read" bash -c "grep -qx 'duration = 2' '$T/out' && grep -qx 'rate = 500' '$T/out'"
+printf '[run]\r\n%s0\r\nrate = 500\r\n' "$long" > "$T/crlf2.ini"
+expect_exit 2 "CRLF scene with a 200-character line" "$POPC" scene show "$T/crlf2.ini"
+check "  names the line and the limit" err_has "crlf2.ini:2: line longer than 199 characters"
+
 # the paper scene, logged
 expect_exit 0 "run paper.ini" "$POPC" run "$SRC/data/scenes/paper.ini" --log "$T/paper.csv" --summary "$T/sum.csv"
 check "  summary states the integrator" err_has "integrator: exact"
