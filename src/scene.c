@@ -327,7 +327,8 @@ typedef struct load_ctx {
 	const char *path;
 	popc_error *err;
 	int status;
-	unsigned char seen[N_KEYS];
+	int status_line;      /* the line of the handler's error */
+	int seen_line[N_KEYS]; /* the line of each key given, 0: not given */
 	FILE *f;
 	int line;     /* lines read so far: the real line number (ini_lines.h) */
 	int too_long; /* line `line` does not fit libinih's buffer */
@@ -355,15 +356,20 @@ static int scene_ini_handler(void *user, const char *section, const char *name, 
 	const scene_key *k = find_key(section, name, &section_known);
 	if (!k) {
 		c->status = unknown_key(section, name, section_known, "", c->err);
+		c->status_line = c->line;
 		return 0;
 	}
 	size_t idx = (size_t)(k - scene_keys);
-	if (c->seen[idx]) {
-		c->status = popc_error_set(c->err, POPC_ERR_INVALID, "%s.%s given twice", section, name);
+	if (c->seen_line[idx]) {
+		c->status = popc_error_set(c->err, POPC_ERR_INVALID, "%s.%s given twice (first on line %d)",
+					   section, name, c->seen_line[idx]);
+		c->status_line = c->line;
 		return 0;
 	}
-	c->seen[idx] = 1;
+	c->seen_line[idx] = c->line;
 	c->status = set_key(c->s, k, value, "", c->err);
+	if (c->status)
+		c->status_line = c->line;
 	return c->status ? 0 : 1;
 }
 
@@ -404,8 +410,10 @@ int popc_scene_load(popc_scene *s, const char *path, popc_error *err)
 				      "%s:%d: line longer than %d characters (libinih's limit)", path,
 				      c.line, c.max_chars);
 	if (line > 0) {
+		/* libinih goes on after a malformed line and reports the first
+		 * error's line: the handler's message is only for its own line */
 		char msg[POPC_ERROR_MSG_MAX];
-		if (c.status)
+		if (c.status && c.status_line == line)
 			snprintf(msg, sizeof msg, "%s", err ? err->msg : "");
 		else
 			snprintf(msg, sizeof msg, "malformed line (expected [section], key = value, "

@@ -2,7 +2,7 @@
  * --set section.key=value, validated, with every default explicit.
  *
  * Keys, their units, defaults and allowed ranges live in one table
- * (src/scene_keys.c); popc_scene_defaults, popc_scene_load, popc_scene_set and
+ * (scene_keys[] in src/scene.c); popc_scene_defaults, popc_scene_load, popc_scene_set and
  * popc_scene_write all work from it, so a key is declared exactly once. */
 #ifndef POPC_SCENE_H
 #define POPC_SCENE_H

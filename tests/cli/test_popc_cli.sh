@@ -36,6 +36,12 @@ check "  both read" grep -qx "rate = 500" "$T/out"
 printf '[run]\nduration = 2\n    5\n' > "$T/cont.ini"
 expect_exit 2 "an indented line without '=' is malformed" "$POPC" scene show "$T/cont.ini"
 check "  names the line" err_has "cont.ini:3: malformed line"
+printf '[run\nduration = 1\n' > "$T/brk.ini"
+expect_exit 2 "a section header without ']'" "$POPC" scene show "$T/brk.ini"
+check "  line 1 is malformed (not a later key's error)" err_has "brk.ini:1: malformed line"
+printf '[run]\nrate = 500\nduration = 2\nrate = 600\n' > "$T/dup.ini"
+expect_exit 2 "a key given twice" "$POPC" scene show "$T/dup.ini"
+check "  names both lines" err_has "dup.ini:4: run.rate given twice (first on line 2)"
 # 199 characters is libinih's limit; CR LF is a line end, not a 200th character
 long=$(printf 'duration = 2 ;%0185d' 0)
 printf '[run]\r\n%s\r\nrate = 500\r\n' "$long" > "$T/crlf.ini"
