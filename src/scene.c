@@ -444,6 +444,15 @@ int popc_scene_validate(const popc_scene *s, popc_error *err)
 		return popc_error_set(err, POPC_ERR_INVALID,
 				      "%s: operator.frequency = %g Hz is above a quarter of run.rate",
 				      src, s->op_frequency_Hz);
+	/* a run shorter than half a control period would make no tick at all
+	 * (popc_scene_ticks rounds) and succeed having simulated nothing */
+	if (popc_scene_ticks(s) < 1)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: run.duration = %g s at run.rate = %g Hz is %g control "
+				      "periods, which rounds to no tick; allowed run.duration >= %g s "
+				      "(half a period) at this rate",
+				      src, s->duration_s, s->rate_Hz, s->duration_s * s->rate_Hz,
+				      0.5 * popc_scene_period_s(s));
 	if (popc_scene_ticks(s) > 4000000000LL)
 		return popc_error_set(err, POPC_ERR_INVALID,
 				      "%s: run.duration * run.rate = %.0f ticks; at most 4e9", src,

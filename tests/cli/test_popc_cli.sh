@@ -25,6 +25,10 @@ check "  names file:line, key and range" err_has "$T/bad.ini:4: operator.mass = 
 check "  nothing ran: no log written" test ! -e "$T/bad.csv"
 expect_exit 2 "bad --set" "$POPC" run "$SRC/data/scenes/paper.ini" --set encoder.resolution=0
 check "  names the key and range" err_has "encoder.resolution = 0: out of range; allowed (0, 1] m"
+expect_exit 2 "a run of no tick (0.4 ms at 1 kHz)" "$POPC" run "$SRC/data/scenes/paper.ini" --set run.duration=4e-4 --log "$T/notick.csv"
+check "  names the keys and the shortest duration" err_has "run.duration = 0.0004 s at run.rate = 1000 Hz is 0.4 control periods, which rounds to no tick; allowed run.duration >= 0.0005 s"
+check "  nothing ran: no log written" test ! -e "$T/notick.csv"
+expect_exit 0 "half a period rounds to one tick" "$POPC" run "$SRC/data/scenes/paper.ini" --set run.duration=5e-4 -q
 expect_exit 2 "bad --variant" "$POPC" run "$SRC/data/scenes/paper.ini" --variant fastest
 check "  lists the variants" err_has "none|po-pc|ref-energy|filtered-velocity|ignore|hold|improved"
 
