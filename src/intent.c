@@ -33,13 +33,19 @@ static const char *skip_blanks(const char *p)
 /* Reads "t,value" rows: columns separated by ',', ';' or a tab (blanks around
  * them allowed), '#' comments and blank lines skipped, one header line allowed
  * before the first row, CRLF or LF. Numbers are decimal, C locale
- * (popc_parse_double), finite; times increase strictly. Lines have any length
+ * (popc_parse_double), finite; times increase strictly; values within the
+ * range of the scene key they stand for. Call with in->q_is_force set. Lines have any length
  * (getline), so every message names the real line. */
 static int load_table(popc_intent *in, const char *path, popc_error *err)
 {
+	/* the value column has the range of the scene key it stands for
+	 * (src/scene.c): a position as operator.x0, a force as operator.force */
+	const double q_max = in->q_is_force ? 1e6 : 1e3;
+	const char *q_unit = in->q_is_force ? "N" : "m";
+	const char *q_key = in->q_is_force ? "operator.force" : "operator.x0";
 	FILE *f = fopen(path, "r");
-	if (!f)
-		return popc_error_set(err, POPC_ERR_IO, "%s: cannot open table: %s", path,
+	if (!f) /* a missing table is bad input, as a missing scene is (exit 2) */
+		return popc_error_set(err, POPC_ERR_INVALID, "%s: cannot open table: %s", path,
 				      strerror(errno));
 	size_t cap = 64, n = 0;
 	double *t = malloc(cap * sizeof *t), *q = malloc(cap * sizeof *q);
@@ -87,6 +93,14 @@ static int load_table(popc_intent *in, const char *path, popc_error *err)
 			status = popc_error_set(err, POPC_ERR_INVALID,
 						"%s:%d: %s: expected a finite number", path, lineno,
 						isfinite(tv) ? "column 2" : "column 1");
+			break;
+		}
+		if (!(fabs(qv) <= q_max)) {
+			status = popc_error_set(err, POPC_ERR_INVALID,
+						"%s:%d: column 2: %g %s is out of range; allowed [%g, %g] "
+						"%s (as %s; operator.table_quantity = %s)",
+						path, lineno, qv, q_unit, -q_max, q_max, q_unit, q_key,
+						in->q_is_force ? "force" : "position");
 			break;
 		}
 		if (n > 0 && !(tv > t[n - 1])) {

@@ -26,6 +26,11 @@ typedef struct popc_intent {
 	size_t cursor;               /* segment hint: intents are evaluated at increasing t */
 } popc_intent;
 
+/* Builds the intent of scene s; a table intent reads its CSV file here. A
+ * table that cannot be opened or holds a bad row (not two finite numbers,
+ * times not increasing, a value outside its scene key's range) is
+ * POPC_ERR_INVALID naming file:line and column; a read error is
+ * POPC_ERR_IO. Free with popc_intent_free. */
 int popc_intent_init(popc_intent *in, const popc_scene *s, popc_error *err);
 void popc_intent_free(popc_intent *in);
 

@@ -55,6 +55,26 @@ printf '[run]\r\n%s0\r\nrate = 500\r\n' "$long" > "$T/crlf2.ini"
 expect_exit 2 "CRLF scene with a 200-character line" "$POPC" scene show "$T/crlf2.ini"
 check "  names the line and the limit" err_has "crlf2.ini:2: line longer than 199 characters"
 
+# operator intent tables: relative to the scene file, CRLF; bad tables are bad
+# input (exit 2) naming file:line, column and range; nothing runs
+mkdir -p "$T/tab"
+printf '[run]\nduration = 0.2\n[operator]\nintent = table\ntable = xd.csv\n' > "$T/tab/table.ini"
+printf 't,x_d\r\n0,-0.01\r\n0.1,0.005\r\n' > "$T/tab/xd.csv"
+expect_exit 0 "table intent, path relative to the scene file" "$POPC" run "$T/tab/table.ini" -q --log "$T/tab.csv"
+check "  x_true follows the table past 0 m (contact)" awk -F, '/^[0-9]/ && $4 > 0 { e = 1 } END { exit !e }' "$T/tab.csv"
+printf 't,x_d\n0,0\n1,0.01\n0.5,0.02\n' > "$T/tab/back.csv"
+expect_exit 2 "times that go back" "$POPC" run "$T/tab/table.ini" --set "operator.table=$T/tab/back.csv" --log "$T/back.csv"
+check "  names file:line and both times" err_has "back.csv:4: time 0.5 does not increase (previous 1)"
+check "  nothing ran: no log written" test ! -e "$T/back.csv"
+printf 't,x_d\n0,0\n1,1e308\n' > "$T/tab/far.csv"
+expect_exit 2 "a position beyond operator.x0's range" "$POPC" run "$T/tab/table.ini" --set "operator.table=$T/tab/far.csv"
+check "  names file:line, column and range" err_has "far.csv:3: column 2: 1e+308 m is out of range; allowed [-1000, 1000] m"
+printf 't,f\n0,0\n1,-2e6\n' > "$T/tab/push.csv"
+expect_exit 2 "a force beyond operator.force's range" "$POPC" run "$T/tab/table.ini" --set "operator.table=$T/tab/push.csv" --set operator.table_quantity=force
+check "  names the force range" err_has "push.csv:3: column 2: -2e+06 N is out of range; allowed [-1e+06, 1e+06] N"
+expect_exit 2 "a missing table" "$POPC" run "$T/tab/table.ini" --set "operator.table=$T/tab/none.csv"
+check "  names it" err_has "none.csv: cannot open table: No such file or directory"
+
 # the paper scene, logged
 expect_exit 0 "run paper.ini" "$POPC" run "$SRC/data/scenes/paper.ini" --log "$T/paper.csv" --summary "$T/sum.csv"
 check "  summary states the integrator" err_has "integrator: exact"
