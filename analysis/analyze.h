@@ -125,6 +125,13 @@ void ana_online_observer(const popc_scene *s, popc_variant *variant, popc_ignore
 /* Prints "popc-analyze VERB: msg" and returns the exit code for status. */
 int ana_fail(const char *verb, int status, const popc_error *err);
 
+/* Index of the input (of inputs[0..n-1]) that the file out already is (same
+ * device and inode: a link or another spelling counts), or -1. Every verb
+ * checks its outputs with it before opening them for writing, so that no
+ * output replaces a log it reads (energy -o LOG LOG, a report's compare.csv
+ * beside a log named compare.csv, a replay prefix naming its own input). */
+int ana_output_is_input(const char *out, char *const *inputs, int n);
+
 /* Writes v in shortest round-trip form. */
 void ana_put_double(FILE *f, double v);
 

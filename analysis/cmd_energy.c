@@ -140,6 +140,14 @@ static int energy_one(const char *path, const ana_input_options *in, const int *
 	}
 	FILE *out = NULL;
 	if (out_path) {
+		char *self[1] = {(char *)path};
+		if (ana_output_is_input(out_path, self, 1) >= 0) {
+			ana_log_close(&l);
+			fprintf(stderr,
+				"popc-analyze energy: -o %s is the input log %s: refusing to overwrite it\n",
+				out_path, path);
+			return 2;
+		}
 		out = strcmp(out_path, "-") == 0 ? stdout : fopen(out_path, "w");
 		if (!out) {
 			ana_log_close(&l);

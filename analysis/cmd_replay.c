@@ -146,15 +146,29 @@ int ana_cmd_replay(int argc, char **argv)
 	}
 	char extra[1400];
 	snprintf(extra, sizeof extra, "# replay_of = %s\n# replay_of_variant = %s\n", path, l.variant);
+	/* every output path first: none may be the input (nothing is opened,
+	 * and so nothing truncated, before all are known to be safe) */
 	for (int i = 0; i < n_var; i++) {
 		replay_out *o = &outs[i];
-		o->scene = base;
-		o->scene.variant = variants[i];
 		const char *vn = popc_variant_name(variants[i]);
 		if (prefix)
 			snprintf(o->path, sizeof o->path, "%s%s.csv", prefix, vn);
 		else
 			snprintf(o->path, sizeof o->path, "%s/%s.%s.csv", dir ? dir : ".", l.name, vn);
+		char *self[1] = {(char *)path};
+		if (ana_output_is_input(o->path, self, 1) >= 0) {
+			fprintf(stderr,
+				"popc-analyze replay: %s is the input log %s: refusing to overwrite it "
+				"(choose another -o DIR or --prefix)\n",
+				o->path, path);
+			rc = 2;
+			goto out;
+		}
+	}
+	for (int i = 0; i < n_var; i++) {
+		replay_out *o = &outs[i];
+		o->scene = base;
+		o->scene.variant = variants[i];
 		popc_controller_config cfg;
 		popc_controller_config_from_scene(&cfg, &o->scene);
 		popc_controller_init(&o->ctl, &cfg);
@@ -189,6 +203,12 @@ int ana_cmd_replay(int argc, char **argv)
 	}
 	if (st < 0) {
 		rc = ana_fail("replay", st, &err);
+		/* the rows replayed so far stay, marked as cut short like a run's log */
+		for (int i = 0; i < n_var; i++) {
+			popc_error cerr;
+			if (outs[i].open)
+				popc_log_write_comment(&outs[i].w, "stop", "input error", &cerr);
+		}
 		goto out;
 	}
 	for (int i = 0; i < n_var; i++) {

@@ -85,9 +85,31 @@ static void safe_name(const char *in, char *out, size_t cap)
 		snprintf(out + i, cap - i, "%s", "-log");
 }
 
-static FILE *open_in(const char *dir, const char *file, char *path, size_t cap)
+/* Where the report goes, and the logs it reads: no output may replace one. */
+typedef struct report_out {
+	const char *dir;
+	char *const *inputs;
+	int n_inputs;
+} report_out;
+
+/* 0 when DIR/file is not one of the input logs; else says so. */
+static int check_not_input(const report_out *ro, const char *path)
 {
-	snprintf(path, cap, "%s/%s", dir, file);
+	int i = ana_output_is_input(path, ro->inputs, ro->n_inputs);
+	if (i < 0)
+		return 0;
+	fprintf(stderr,
+		"popc-analyze report: %s is the input log %s: refusing to overwrite it (choose "
+		"another -o DIR)\n",
+		path, ro->inputs[i]);
+	return -1;
+}
+
+static FILE *open_in(const report_out *ro, const char *file, char *path, size_t cap)
+{
+	snprintf(path, cap, "%s/%s", ro->dir, file);
+	if (check_not_input(ro, path) != 0)
+		return NULL;
 	FILE *f = fopen(path, "w");
 	if (!f)
 		fprintf(stderr, "popc-analyze report: %s: cannot open for writing: %s\n", path,
@@ -120,11 +142,11 @@ static void write_terminal_block(FILE *f, const char *name, const char *png_size
 		png_size, png_size, name, pdf_size, name, name);
 }
 
-static int write_log_script(const char *dir, const report_log *lg)
+static int write_log_script(const report_out *ro, const report_log *lg)
 {
 	char path[1400], file[300];
 	snprintf(file, sizeof file, "%s.gp", lg->name);
-	FILE *f = open_in(dir, file, path, sizeof path);
+	FILE *f = open_in(ro, file, path, sizeof path);
 	if (!f)
 		return -1;
 	const popc_chatter_result *c = &lg->sum.chatter;
@@ -186,10 +208,10 @@ static int has_panel(const report_log *lg, int p)
 	return p == 0 || (p == 1 ? lg->sum.has_w : lg->sum.has_pc_force);
 }
 
-static int write_variants_script(const char *dir, const report_log *logs, int n)
+static int write_variants_script(const report_out *ro, const report_log *logs, int n)
 {
 	char path[1400];
-	FILE *f = open_in(dir, "variants.gp", path, sizeof path);
+	FILE *f = open_in(ro, "variants.gp", path, sizeof path);
 	if (!f)
 		return -1;
 	fputs("# popc-analyze report: the logs overlaid. Rerun here: gnuplot variants.gp\n"
@@ -261,13 +283,15 @@ static const char *pdf_ext(const char *dir, const char *name)
 	return file_ok(dir, name, "pdf") ? "pdf" : "eps";
 }
 
-static int write_index(const char *dir, const char *title, const report_log *logs, int n, int drawn)
+static int write_index(const report_out *ro, const char *title, const report_log *logs, int n,
+		       int drawn)
 {
 	char path[1400];
-	FILE *md = open_in(dir, "index.md", path, sizeof path);
+	const char *dir = ro->dir;
+	FILE *md = open_in(ro, "index.md", path, sizeof path);
 	if (!md)
 		return -1;
-	FILE *html = open_in(dir, "index.html", path, sizeof path);
+	FILE *html = open_in(ro, "index.html", path, sizeof path);
 	if (!html) {
 		fclose(md);
 		return -1;
@@ -358,13 +382,13 @@ static int write_index(const char *dir, const char *title, const report_log *log
 	return bad ? -1 : 0;
 }
 
-static int write_tables(const char *dir, const report_log *logs, int n)
+static int write_tables(const report_out *ro, const report_log *logs, int n)
 {
 	char path[1400];
-	FILE *csv = open_in(dir, "compare.csv", path, sizeof path);
+	FILE *csv = open_in(ro, "compare.csv", path, sizeof path);
 	if (!csv)
 		return -1;
-	FILE *md = open_in(dir, "compare.md", path, sizeof path);
+	FILE *md = open_in(ro, "compare.md", path, sizeof path);
 	if (!md) {
 		fclose(csv);
 		return -1;
@@ -392,10 +416,26 @@ static int make_dir(const char *dir)
 	return -1;
 }
 
-static int draw(const char *gnuplot, const char *dir, const char *name)
+static int draw(const char *gnuplot, const report_out *ro, const char *name)
 {
+	const char *dir = ro->dir;
 	char script[300], why[600];
 	snprintf(script, sizeof script, "%s.gp", name);
+	/* the figures gnuplot writes: none may be an input; a figure left from an
+	 * earlier report is removed, so that a figure found afterwards is this
+	 * run's and not a stale one passing the check below */
+	static const char *const figure_ext[] = {"png", "pdf", "eps"};
+	for (size_t k = 0; k < sizeof figure_ext / sizeof figure_ext[0]; k++) {
+		char fig[1400];
+		snprintf(fig, sizeof fig, "%s/%s.%s", dir, name, figure_ext[k]);
+		if (check_not_input(ro, fig) != 0)
+			return -2;
+		if (remove(fig) != 0 && errno != ENOENT) {
+			fprintf(stderr, "popc-analyze report: %s: cannot replace: %s\n", fig,
+				strerror(errno));
+			return -1;
+		}
+	}
 	if (ana_run_gnuplot(gnuplot, dir, script, why, sizeof why) != 0) {
 		fprintf(stderr, "popc-analyze report: %s/%s: %s\n", dir, script, why);
 		return -1;
@@ -474,6 +514,7 @@ int ana_cmd_report(int argc, char **argv)
 		rc = 2;
 		goto out;
 	}
+	const report_out ro = {dir, argv + optind, argc - optind};
 	logs = calloc((size_t)(argc - optind), sizeof *logs);
 	if (!logs) {
 		rc = 2;
@@ -516,7 +557,7 @@ int ana_cmd_report(int argc, char **argv)
 			lg->has_x_true |= !isnan(dec.b[b].mn[D_X_TRUE]);
 		char path[1400], file[300];
 		snprintf(file, sizeof file, "%s.dat", lg->name);
-		FILE *f = open_in(dir, file, path, sizeof path);
+		FILE *f = open_in(&ro, file, path, sizeof path);
 		int bad = !f;
 		if (f) {
 			fprintf(f, "# %s decimated (min/max per bucket of %lld ticks)\n"
@@ -526,7 +567,7 @@ int ana_cmd_report(int argc, char **argv)
 			bad |= fclose(f) != 0;
 		}
 		ana_decim_free(&dec);
-		if (bad || write_log_script(dir, lg) != 0) {
+		if (bad || write_log_script(&ro, lg) != 0) {
 			fprintf(stderr, "popc-analyze report: %s: cannot write the data or script\n", dir);
 			rc = 2;
 			goto out;
@@ -535,21 +576,28 @@ int ana_cmd_report(int argc, char **argv)
 	}
 	if (n == 0)
 		goto out;
-	if (write_variants_script(dir, logs, n) != 0 || write_tables(dir, logs, n) != 0) {
+	if (write_variants_script(&ro, logs, n) != 0 || write_tables(&ro, logs, n) != 0) {
 		rc = 2;
 		goto out;
 	}
 	int drawn = 0;
 	if (!no_draw) {
-		int failed = 0;
-		for (int i = 0; i < n; i++)
-			failed |= draw(gnuplot, dir, logs[i].name) != 0;
-		failed |= draw(gnuplot, dir, "variants") != 0;
-		if (failed && rc == 0)
+		int failed = 0, refused = 0;
+		for (int i = 0; i < n; i++) {
+			int d = draw(gnuplot, &ro, logs[i].name);
+			failed |= d != 0;
+			refused |= d == -2;
+		}
+		int d = draw(gnuplot, &ro, "variants");
+		failed |= d != 0;
+		refused |= d == -2;
+		if (refused)
+			rc = 2;
+		else if (failed && rc == 0)
 			rc = 1;
 		drawn = !failed;
 	}
-	if (write_index(dir, title, logs, n, drawn) != 0) {
+	if (write_index(&ro, title, logs, n, drawn) != 0) {
 		rc = 2;
 		goto out;
 	}

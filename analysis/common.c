@@ -4,6 +4,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "analyze.h"
 #include "popc/encoder.h"
@@ -16,6 +17,20 @@ int ana_fail(const char *verb, int status, const popc_error *err)
 	 * every failure to read or write is trouble, 2 */
 	(void)status;
 	return POPC_EXIT_USAGE;
+}
+
+int ana_output_is_input(const char *out, char *const *inputs, int n)
+{
+	struct stat so;
+	if (strcmp(out, "-") == 0 || stat(out, &so) != 0)
+		return -1; /* standard output, or a file that does not exist yet */
+	for (int i = 0; i < n; i++) {
+		struct stat si;
+		if (strcmp(inputs[i], "-") != 0 && stat(inputs[i], &si) == 0 && si.st_dev == so.st_dev &&
+		    si.st_ino == so.st_ino)
+			return i;
+	}
+	return -1;
 }
 
 void ana_put_double(FILE *f, double v)

@@ -42,7 +42,13 @@ awk '!/^#/ { if ($6 > mx) mx = $6; if ($6 < mn) mn = $6 } END { exit !(mx == 5 &
 
 # gnuplot failing is reported (exit 1), not ignored.
 expect_rc 1 "$A" report --gnuplot /nonexistent/gnuplot -o "$W/nogp" "$W/none.csv" &&
-	grep -q 'cannot run' "$W/err" && ok "missing gnuplot: exit 1" || true
+	grep -q "cannot run '/nonexistent/gnuplot'" "$W/err" && ok "missing gnuplot: exit 1" ||
+	fail "missing gnuplot: $(cat "$W/err")"
+# A "gnuplot" that exits 0 and draws nothing, into the directory of the report
+# above: the figures of that earlier run must not pass for this run's.
+expect_rc 1 "$A" report --gnuplot true -o "$R" "$W/none.csv" &&
+	grep -q "none.gp ran but none.png or its PDF is missing" "$W/err" && [ ! -e "$R/none.png" ] &&
+	ok "stale figures are no proof of drawing: exit 1" || fail "stale figures: $(cat "$W/err")"
 expect_rc 2 "$A" report "$W/none.csv" && ok "missing -o: exit 2"
 expect_rc 0 "$A" report --help && ok "--help"
 finish
