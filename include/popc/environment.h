@@ -13,10 +13,29 @@ typedef struct popc_environment {
 void popc_environment_from_scene(popc_environment *e, const popc_scene *s);
 
 /* Wall: f_e = max(0, K_e (x - p) + B_e v) for x >= p, else 0 (unilateral, never pulls).
- * Spring: f_e = K_e (x - p) + B_e v. */
-double popc_environment_force(const popc_environment *e, double x_m, double v_mps);
+ * Spring: f_e = K_e (x - p) + B_e v. Inline: it runs every tick, in the
+ * controller and in the run's metrics. */
+static inline double popc_environment_force(const popc_environment *e, double x_m, double v_mps)
+{
+	double pen = x_m - e->position_m;
+	if (e->kind == POPC_ENV_WALL) {
+		if (!(pen >= 0.0))
+			return 0.0;
+		double f = e->stiffness_Npm * pen;
+		if (e->damping_Nspm != 0.0)
+			f += e->damping_Nspm * v_mps;
+		return f > 0.0 ? f : 0.0; /* a wall pushes, never pulls */
+	}
+	double f = e->stiffness_Npm * pen;
+	if (e->damping_Nspm != 0.0)
+		f += e->damping_Nspm * v_mps;
+	return f;
+}
 
 /* Whether x is in contact (wall: x >= p; spring: always). */
-int popc_environment_in_contact(const popc_environment *e, double x_m);
+static inline int popc_environment_in_contact(const popc_environment *e, double x_m)
+{
+	return e->kind == POPC_ENV_SPRING || x_m >= e->position_m;
+}
 
 #endif
