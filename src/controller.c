@@ -1,5 +1,6 @@
 /* PO/PC variants (controller.h; DESIGN section 4; seed eq. 3 and Table I). */
 #include "popc/controller.h"
+#include "popc/compensated.h"
 
 #include <math.h>
 #include <string.h>
@@ -9,21 +10,6 @@ void popc_observer_init(popc_observer *o, popc_variant variant, popc_ignore_mode
 	memset(o, 0, sizeof *o);
 	o->variant = variant;
 	o->ignore_mode = mode;
-}
-
-/* Adds the increment d to the compensated sum (sum, comp) and returns the
- * rounded value sum + comp. Knuth's branch-free TwoSum gives the exact
- * rounding error e of sum + d (Knuth, TAOCP vol. 2, 4.2.2, Theorem B); the
- * errors accumulate in comp (Neumaier 1974). Needs IEEE double arithmetic
- * without reassociation (no -ffast-math). */
-static inline double compensated_add(double *sum, double *comp, double d)
-{
-	double s = *sum, t = s + d;
-	double z = t - s;
-	double e = (s - (t - z)) + (d - z);
-	*sum = t;
-	*comp += e;
-	return t + *comp;
 }
 
 static int uses_ignore(popc_variant v)
@@ -53,23 +39,23 @@ static inline void observer_update(popc_observer *o, double x_m, long long count
 	long long dcount = count - o->count_prev;
 	obs->dcount = dcount;
 	/* reference energy of the ideal spring: trapezoid of f_e over dx */
-	o->E_ref_J = compensated_add(&o->E_ref_sum_J, &o->E_ref_comp_J,
+	o->E_ref_J = popc_compensated_add(&o->E_ref_sum_J, &o->E_ref_comp_J,
 				     (f_e_N + o->f_e_prev_N) * dx / 2.0);
 	if (o->variant == POPC_VARIANT_FILTERED_VELOCITY) {
 		/* seed eq. 2 with the estimated velocity: dW = f_c(k-1) v(k) T */
 		double dxv = v_mps * period_s;
 		obs->dx_m = dxv;
-		o->W_J = compensated_add(&o->W_sum_J, &o->W_comp_J, o->f_c_prev_N * dxv);
+		o->W_J = popc_compensated_add(&o->W_sum_J, &o->W_comp_J, o->f_c_prev_N * dxv);
 	} else if (uses_ignore(o->variant) && dcount != 0 && dcount == -o->prev_dcount &&
 		   (dcount == 1 || dcount == -1)) {
 		/* Table I: one-count reversal: W(k) = W(k-1) - Prev_fc Prev_dx */
 		obs->dx_m = dx;
-		o->W_J = compensated_add(&o->W_sum_J, &o->W_comp_J, -(o->prev_fc_N * o->prev_dx_m));
+		o->W_J = popc_compensated_add(&o->W_sum_J, &o->W_comp_J, -(o->prev_fc_N * o->prev_dx_m));
 		obs->flags |= POPC_FLAG_IGNORE;
 	} else {
 		/* seed eq. 3: W(k) = W(k-1) + f_c(k-1) dx(k) */
 		obs->dx_m = dx;
-		o->W_J = compensated_add(&o->W_sum_J, &o->W_comp_J, o->f_c_prev_N * dx);
+		o->W_J = popc_compensated_add(&o->W_sum_J, &o->W_comp_J, o->f_c_prev_N * dx);
 	}
 	o->x_prev_m = x_m;
 	o->count_prev = count;
