@@ -1,0 +1,195 @@
+/* The control tick stripped to its arithmetic, for `popc bench loop`.
+ *
+ * Issue 5 asks the closed loop with the exact integrator to be 50 times faster
+ * than the same loop with the paper's trapezoid at 100 substeps. Whatever the
+ * implementation, a tick cannot cost less than the arithmetic that feeds the
+ * next command from the last one: the encoder's floor(x / delta), the
+ * displacement, the two compensated energy sums, the PC division, the clamp
+ * and the plant step form one dependency chain per tick. This file runs that
+ * chain and nothing else -- no metrics, no log row, no guards (NaN, count
+ * overflow, divergence), no axis vtable -- so that `popc bench loop` can state
+ * what the loop costs at least on this machine, and so the best ratio any
+ * implementation could show.
+ *
+ * It is not a second controller: it applies to the scenes the paper's loop
+ * covers (exact integrator; variants none, po-pc, ref-energy; affine operator
+ * intents with their breakpoints on ticks; no axis force limit) and its
+ * command sequence is checked bitwise against the real loop's before it is
+ * timed (the operations are those of popc_controller_step and the sim axis'
+ * exact hot path, in the same order). */
+#include "bench_floor.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "popc/axis.h"
+#include "popc/compensated.h"
+#include "popc/encoder.h"
+#include "popc/environment.h"
+#include "popc/intent.h"
+#include "popc/plant.h"
+
+typedef struct fused_scene {
+	popc_plant plant;
+	popc_intent intent;
+	popc_environment env;
+	popc_variant variant;
+	double period_s, delta_m, pc_bound_N, tol_s, x0_m;
+	long long n_ticks;
+} fused_scene;
+
+static double now_s(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* Where the sim axis starts the plant: its first sample's true position. */
+static int initial_position(const popc_scene *s, double *x0_m, popc_error *err)
+{
+	popc_axis *ax;
+	int st = popc_sim_axis_create(&ax, s, err);
+	if (st)
+		return st;
+	popc_axis_sample smp;
+	st = ax->ops->sample(ax, &smp, err);
+	*x0_m = smp.x_true_m;
+	popc_axis_destroy(&ax);
+	return st;
+}
+
+/* Whether the chain covers the scene; *why names what it does not cover. */
+static int applies(const popc_scene *s, const char **why)
+{
+	if (s->integrator != POPC_INTEGRATOR_EXACT)
+		*why = "only the exact integrator";
+	else if (s->variant != POPC_VARIANT_NONE && s->variant != POPC_VARIANT_PO_PC &&
+		 s->variant != POPC_VARIANT_REF_ENERGY)
+		*why = "only the variants none, po-pc and ref-energy";
+	else if (s->intent == POPC_INTENT_SINE)
+		*why = "only affine operator intents (ramp, force, table)";
+	else
+		return 1;
+	return 0;
+}
+
+/* The f_c sequence of the stripped tick. ref != NULL: compares each command
+ * with ref[k] bit for bit and returns the first tick that differs (or the
+ * number of commands when all agree); ref == NULL: returns the number of
+ * commands. -1: a breakpoint of the intent inside a period (not covered). */
+static long long run_chain(fused_scene *f, const double *ref, double *x_end)
+{
+	const double T = f->period_s, delta = f->delta_m, bound = f->pc_bound_N;
+	const popc_plant_step_coeffs *c = &f->plant.full;
+	popc_intent_segment g = {0};
+	popc_plant_state st = {f->x0_m, 0.0};
+	double x_prev = 0.0, f_e_prev = 0.0, f_c_prev = 0.0;
+	double W = 0.0, W_sum = 0.0, W_comp = 0.0, E = 0.0, E_sum = 0.0, E_comp = 0.0;
+	long long k;
+	for (k = 0; k + 1 < f->n_ticks; k++) {
+		/* sample: the encoder's count and the measured position */
+		double xm = popc_encoder_position((long long)floor(st.x_m / delta), delta);
+		double f_e, f_c;
+		if (k == 0) {
+			/* tick 0: v = 0, W(0) = E_ref(0) = 0, no PC */
+			f_e = popc_environment_force(&f->env, xm, 0.0);
+			f_c = f_e;
+		} else {
+			double v = (xm - x_prev) / T;
+			f_e = popc_environment_force(&f->env, xm, v);
+			double dx = xm - x_prev;
+			E = popc_compensated_add(&E_sum, &E_comp, (f_e + f_e_prev) * dx / 2.0);
+			W = popc_compensated_add(&W_sum, &W_comp, f_c_prev * dx);
+			double thr = f->variant == POPC_VARIANT_REF_ENERGY ? E : 0.0;
+			double f_pc = 0.0;
+			if (f->variant != POPC_VARIANT_NONE && W < thr && dx != 0.0)
+				f_pc = (thr - W) / dx;
+			if (f_pc > bound)
+				f_pc = bound;
+			else if (f_pc < -bound)
+				f_pc = -bound;
+			f_c = f_e + f_pc;
+		}
+		x_prev = xm;
+		f_e_prev = f_e;
+		f_c_prev = f_c;
+		if (ref && memcmp(&ref[k], &f_c, sizeof f_c) != 0)
+			break;
+		/* the plant over the period, f_c held, from the intent's segment */
+		double t = (double)k * T, t_end = (double)(k + 1) * T;
+		if (!(t >= g.t_lo_s && t < g.t_next_s && g.t_next_s >= t_end - f->tol_s)) {
+			popc_intent_segment_at(&f->intent, t, &g);
+			if (!g.affine || !(g.t_next_s >= t_end - f->tol_s))
+				return -1;
+		}
+		popc_plant_input u;
+		popc_intent_segment_input(&g, t, &u);
+		u.u0_N -= f_c;
+		popc_plant_step_exact(c, &st, &u);
+	}
+	*x_end = st.x_m;
+	return k;
+}
+
+int popc_bench_tick_floor(const popc_scene *s, const double *f_c_ref, long long n_ref,
+			  double min_time_s, int repeats, popc_tick_floor *out, popc_error *err)
+{
+	memset(out, 0, sizeof *out);
+	out->ns_per_tick = NAN;
+	if (!applies(s, &out->not_covered))
+		return 0;
+	fused_scene f;
+	memset(&f, 0, sizeof f);
+	popc_plant_config cfg;
+	popc_plant_config_from_scene(&cfg, s);
+	int st = popc_plant_init(&f.plant, &cfg, err);
+	if (st)
+		return st;
+	if ((st = popc_intent_init(&f.intent, s, err)) != 0)
+		return st;
+	popc_environment_from_scene(&f.env, s);
+	f.variant = s->variant;
+	f.period_s = popc_scene_period_s(s);
+	f.delta_m = s->enc_resolution_m;
+	f.pc_bound_N = s->pc_bound_N;
+	f.tol_s = 1e-9 * f.period_s; /* as the sim axis: a breakpoint this close is on the tick */
+	f.n_ticks = popc_scene_ticks(s) + 1;
+	if ((st = initial_position(s, &f.x0_m, err)) != 0) {
+		popc_intent_free(&f.intent);
+		return st;
+	}
+	double x_end;
+	/* same commands as the real loop, bit for bit, or no figure */
+	long long agree = run_chain(&f, f_c_ref, &x_end);
+	if (agree < 0) {
+		out->not_covered = "only intents whose breakpoints fall on ticks";
+		popc_intent_free(&f.intent);
+		return 0;
+	}
+	out->ticks_checked = agree;
+	out->bitwise_equal = agree == n_ref && n_ref == f.n_ticks - 1;
+	if (!out->bitwise_equal) {
+		out->first_difference = agree;
+		popc_intent_free(&f.intent);
+		return 0;
+	}
+	double best = INFINITY;
+	for (int r = 0; r < repeats; r++) {
+		double wall = 0.0, sink = 0.0;
+		long long ticks = 0;
+		do {
+			double t0 = now_s();
+			ticks += run_chain(&f, NULL, &x_end) + 1;
+			wall += now_s() - t0;
+			sink += x_end;
+		} while (wall < min_time_s);
+		if (isfinite(sink) && 1e9 * wall / (double)ticks < best)
+			best = 1e9 * wall / (double)ticks;
+	}
+	out->ns_per_tick = best;
+	popc_intent_free(&f.intent);
+	return 0;
+}
