@@ -8,6 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "popc/intent.h"
+
 uint64_t popc_sweep_fnv1a(uint64_t h, const void *data, size_t n)
 {
 	const unsigned char *b = data;
@@ -333,6 +335,47 @@ static int check_same_values(const popc_scene *base, const popc_sweep_axis *ax, 
 	return st;
 }
 
+/* The operator tables that a sweep's runs read, each read once before
+ * anything runs: a missing or bad table is bad input for the whole sweep
+ * (exit 2), not a failure of every run that uses it. A table is read for its
+ * path and quantity (the value ranges differ). Runs only ever name the base
+ * scene's table or a value of an operator.table axis, so the list is short. */
+typedef struct table_check {
+	int n, cap;
+	char **path;
+	popc_table_quantity *quantity;
+} table_check;
+
+static int check_table(table_check *tc, const popc_scene *s, popc_error *err)
+{
+	if (s->intent != POPC_INTENT_TABLE)
+		return 0;
+	for (int k = 0; k < tc->n; k++)
+		if (tc->quantity[k] == s->op_table_quantity && strcmp(tc->path[k], s->op_table) == 0)
+			return 0;
+	popc_intent in;
+	int st = popc_intent_init(&in, s, err);
+	popc_intent_free(&in);
+	if (st)
+		return st;
+	if (tc->n == tc->cap) {
+		int cap = tc->cap ? 2 * tc->cap : 8;
+		char **np = realloc(tc->path, (size_t)cap * sizeof *np);
+		if (np)
+			tc->path = np;
+		popc_table_quantity *nq = realloc(tc->quantity, (size_t)cap * sizeof *nq);
+		if (nq)
+			tc->quantity = nq;
+		if (!np || !nq)
+			return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+		tc->cap = cap;
+	}
+	if (!(tc->path[tc->n] = strdup(s->op_table)))
+		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+	tc->quantity[tc->n++] = s->op_table_quantity;
+	return 0;
+}
+
 static int describe_run(const popc_sweep_plan *p, long long i, char *buf, size_t cap)
 {
 	int idx[64];
@@ -409,18 +452,25 @@ int popc_sweep_plan_init(popc_sweep_plan *p, const popc_scene *base, popc_sweep_
 
 	if (check_every_run) {
 		popc_scene s;
-		for (long long i = 0; i < p->n_runs; i++) {
+		table_check tables = {0};
+		for (long long i = 0; i < p->n_runs && !st; i++) {
 			popc_error e;
 			st = popc_sweep_run_scene(p, i, &s, &e);
+			if (!st)
+				st = check_table(&tables, &s, &e);
 			if (st) {
 				char id[POPC_SWEEP_ID_MAX], what[1024];
 				popc_sweep_run_id(p, i, id);
 				describe_run(p, i, what, sizeof what);
-				return popc_error_set(err, st, "run %s (%s): %s", id, what, e.msg);
+				st = popc_error_set(err, st, "run %s (%s): %s", id, what, e.msg);
 			}
 		}
+		for (int k = 0; k < tables.n; k++)
+			free(tables.path[k]);
+		free(tables.path);
+		free(tables.quantity);
 	}
-	return 0;
+	return st;
 }
 
 /* ---- shards ---------------------------------------------------------------- */

@@ -42,6 +42,12 @@ expect_exit 2 "bad log range" "$POPC" sweep "$SCENE" --vary operator.speed=0:0.1
 expect_exit 2 "key given twice" "$POPC" sweep "$SCENE" --vary operator.speed=0.01 --vary operator.speed=0.02 -o "$T/bad"
 expect_exit 2 "bad combination (ramp ends where it starts)" "$POPC" sweep "$SCENE" --vary operator.x0=-0.01,0.03 --vary operator.x_end=0.03 -o "$T/bad"
 check "  names the run" err_has "run 0001 (operator.x0=0.03 operator.x_end=0.03)"
+printf 't,x_d\n0,-0.01\n0.1,0.005\n' > "$T/xd.csv"
+printf 't,x_d\n0,-0.01\n0.1,0.005\n0.05,0\n' > "$T/back.csv"
+expect_exit 2 "a missing operator table" "$POPC" sweep "$SCENE" --set operator.intent=table --set "operator.table=$T/xd.csv" --vary "operator.table=$T/xd.csv,$T/none.csv" -o "$T/bad"
+check "  names the run and the file (not a failure of each run)" err_has "run 0001 (operator.table=$T/none.csv): $T/none.csv: cannot open table"
+expect_exit 2 "a bad operator table, read by the runs of one intent only" "$POPC" sweep "$SCENE" --set "operator.table=$T/back.csv" --vary operator.intent=ramp,table -o "$T/bad"
+check "  names the run, file:line and the times" err_has "run 0001 (operator.intent=table): $T/back.csv:4: time 0.05 does not increase"
 expect_exit 2 "bad --shard" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/bad" --shard 2/2
 expect_exit 2 "bad -j" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/bad" -j 0
 check "nothing was written by refused sweeps" test ! -e "$T/bad"
