@@ -105,6 +105,21 @@ static int check_not_input(const report_out *ro, const char *path)
 	return -1;
 }
 
+/* The variant comes from the log's header, text anyone can write, and goes
+ * into gnuplot scripts inside double quotes, where a '"' ends the string and a
+ * backquote runs a shell command even inside it (and into Markdown): keep the
+ * characters a variant name uses, replace the others with '_'. */
+static void script_safe(char *s)
+{
+	for (; *s; s++) {
+		char c = *s;
+		int ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+			 strchr(" -_.,:;=+()/", c) != NULL;
+		if (!ok)
+			*s = '_';
+	}
+}
+
 static FILE *open_in(const report_out *ro, const char *file, char *path, size_t cap)
 {
 	snprintf(path, cap, "%s/%s", ro->dir, file);
@@ -541,6 +556,7 @@ int ana_cmd_report(int argc, char **argv)
 					"chatter columns%s are n/a\n",
 				err.msg, lg->sum.has_w ? "" : " and W - E_ref");
 		}
+		script_safe(lg->sum.variant);
 		/* a unique, file-name-safe name */
 		char base[256];
 		safe_name(lg->sum.log, base, sizeof base);

@@ -49,6 +49,17 @@ expect_rc 1 "$A" report --gnuplot /nonexistent/gnuplot -o "$W/nogp" "$W/none.csv
 expect_rc 1 "$A" report --gnuplot true -o "$R" "$W/none.csv" &&
 	grep -q "none.gp ran but none.png or its PDF is missing" "$W/err" && [ ! -e "$R/none.png" ] &&
 	ok "stale figures are no proof of drawing: exit 1" || fail "stale figures: $(cat "$W/err")"
+# A log's header is text anyone can write; its variant goes into the scripts.
+# A quote or a backquote in it must not end the string or run a command.
+{
+	echo '# format = 1'
+	echo '# source = sim'
+	echo "# variant = x\" ; system(\"touch $W/pwned1\") ; print \"\`touch $W/pwned2\`"
+	grep -v '^#' "$W/none.csv" | head -n 1001
+} >"$W/evil.csv"
+expect_rc 0 "$A" report -o "$W/evil" "$W/evil.csv" && [ ! -e "$W/pwned1" ] && [ ! -e "$W/pwned2" ] &&
+	png_ok "$W/evil/evil.png" && ok "a quote or backquote in the header's variant runs nothing" ||
+	fail "header injection: $(ls "$W"/pwned* 2>&1) $(cat "$W/err")"
 expect_rc 2 "$A" report "$W/none.csv" && ok "missing -o: exit 2"
 expect_rc 0 "$A" report --help && ok "--help"
 finish
