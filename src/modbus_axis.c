@@ -39,6 +39,11 @@ typedef struct mb_axis {
 	int blk_reg, blk_n;
 	int status_in_block;
 
+	/* the block every command write covers: the command words at cmd_off and,
+	 * with a sequence register, its value at seq_off (-1: none) */
+	int cmd_first, cmd_n, cmd_off, seq_off;
+	uint16_t seq;              /* the sequence value of the next new command */
+
 	/* pacing */
 	int64_t next_deadline_ns;
 	int64_t last_sample_ns;
@@ -182,7 +187,7 @@ typedef struct mb_op {
 static int do_op(mb_axis *a, const mb_op *op)
 {
 	const popc_register_map *m = &a->map;
-	int ncmd = popc_reg_type_words(m->cmd.type), rc = -1;
+	int rc = -1;
 	switch (op->kind) {
 	case OP_READ_BLOCK:
 		rc = a->blk_table == POPC_TABLE_HOLDING
@@ -195,11 +200,11 @@ static int do_op(mb_axis *a, const mb_op *op)
 			     : modbus_read_input_registers(a->ctx, m->status.reg, 1, op->dest);
 		break;
 	case OP_WRITE_CMD:
-		rc = ncmd == 1 ? modbus_write_register(a->ctx, m->cmd.reg, op->words[0])
-			       : modbus_write_registers(a->ctx, m->cmd.reg, ncmd, op->words);
+		rc = a->cmd_n == 1 ? modbus_write_register(a->ctx, a->cmd_first, op->words[0])
+				   : modbus_write_registers(a->ctx, a->cmd_first, a->cmd_n, op->words);
 		break;
 	case OP_WRITE_AND_READ:
-		rc = modbus_write_and_read_registers(a->ctx, m->cmd.reg, ncmd, op->words, a->blk_reg,
+		rc = modbus_write_and_read_registers(a->ctx, a->cmd_first, a->cmd_n, op->words, a->blk_reg,
 						     a->blk_n, op->dest);
 		break;
 	case OP_WRITE_ENABLE:
@@ -332,13 +337,19 @@ static int read_state(mb_axis *a, uint16_t *blk, uint16_t *status, popc_error *e
 	return transact(a, &sop, err);
 }
 
-/* The command register holds the force on the device. The runner's f_c is
- * the force into the virtual environment and the device receives -f_c
- * (DESIGN section 3), so exchange() passes -f_c (an exact negation: a lockstep
- * server negates it back bit for bit) and start/stop pass +0. */
-static void encode_device_force(mb_axis *a, double f_N, uint16_t *words)
+/* A new command: the words of one command write (the block of
+ * popc_register_map_command_block). The command register holds the force on
+ * the device. The runner's f_c is the force into the virtual environment and
+ * the device receives -f_c (DESIGN section 3), so exchange() passes -f_c (an
+ * exact negation: a lockstep server negates it back bit for bit) and
+ * start/stop pass +0. With a sequence register, each new command carries the
+ * next sequence value; a retry resends these same words, so the drive sees
+ * the same value again and knows it for a retry. */
+static void encode_command(mb_axis *a, double f_N, uint16_t *words)
 {
 	const popc_register_map *m = &a->map;
+	if (a->seq_off >= 0)
+		words[a->seq_off] = a->seq++; /* uint16_t: wraps modulo 65536 */
 	double f = f_N;
 	if (!(f == f))
 		f = 0.0; /* NaN never reaches the drive */
@@ -350,7 +361,7 @@ static void encode_device_force(mb_axis *a, double f_N, uint16_t *words)
 		a->clamps++;
 	}
 	a->last_cmd_N = f;
-	popc_reg_encode(f / m->cmd.newton_per_unit, m->cmd.type, m->cmd.order, words);
+	popc_reg_encode(f / m->cmd.newton_per_unit, m->cmd.type, m->cmd.order, words + a->cmd_off);
 }
 
 /* Sleeps until the next deadline on the absolute grid. A deadline already
@@ -446,8 +457,8 @@ static int mb_start(popc_axis *ax, popc_error *err)
 		snprintf(msg, sizeof msg, "%s", err ? err->msg : "");
 		return popc_error_set(err, st, "%s; popc does not start a drive that reports a fault", msg);
 	}
-	uint16_t zero[4];
-	encode_device_force(a, 0.0, zero);
+	uint16_t zero[POPC_MAP_CMD_BLOCK_MAX];
+	encode_command(a, 0.0, zero);
 	mb_op cop = {.kind = OP_WRITE_CMD, .words = zero};
 	if ((st = transact(a, &cop, err)))
 		return st;
@@ -500,8 +511,8 @@ static int mb_sample(popc_axis *ax, popc_axis_sample *out, popc_error *err)
 static int mb_exchange(popc_axis *ax, double f_c_N, popc_axis_sample *next, popc_error *err)
 {
 	mb_axis *a = ax->priv;
-	uint16_t words[4], blk[BLOCK_MAX], status = 0;
-	encode_device_force(a, -f_c_N, words);
+	uint16_t words[POPC_MAP_CMD_BLOCK_MAX], blk[BLOCK_MAX], status = 0;
+	encode_command(a, -f_c_N, words);
 	int st;
 	int64_t rtt = 0, t;
 	a->exchanges++;
@@ -548,8 +559,8 @@ static int mb_stop(popc_axis *ax, popc_error *err)
 		return 0;
 	a->stopping = 1;
 	a->failures_in_row = 0;
-	uint16_t zero[4];
-	encode_device_force(a, 0.0, zero);
+	uint16_t zero[POPC_MAP_CMD_BLOCK_MAX];
+	encode_command(a, 0.0, zero);
 	mb_op cop = {.kind = OP_WRITE_CMD, .words = zero};
 	popc_error e1, e2;
 	int st1 = transact(a, &cop, &e1);
@@ -575,8 +586,11 @@ static void mb_report(popc_axis *ax, FILE *human, char *csv_names, char *csv_val
 	const popc_histogram *d = &a->dt_hist, *r = &a->rtt_hist;
 	double T = 1e-9 * (double)a->period_ns;
 	if (human) {
-		fprintf(human, "  modbus: %s, map %s (%s), %s\n", a->uri_text, a->map.path, a->map.name,
-			a->map.fc23 ? "FC23 write+read" : "FC16 write, FC03/04 read");
+		char seq[64] = "";
+		if (a->map.cmd.seq_reg >= 0)
+			snprintf(seq, sizeof seq, ", command sequence in register %d", a->map.cmd.seq_reg);
+		fprintf(human, "  modbus: %s, map %s (%s), %s%s\n", a->uri_text, a->map.path, a->map.name,
+			a->map.fc23 ? "FC23 write+read" : "FC16 write, FC03/04 read", seq);
 		fprintf(human,
 			"  period dt: target %.6g ms, mean %.6g ms, p50 %.6g ms, p99 %.6g ms, p99.9 %.6g ms, "
 			"max %.6g ms; overruns %lld (skipped periods %lld)%s\n",
@@ -705,6 +719,9 @@ int popc_modbus_axis_create(popc_axis **out, const popc_scene *s, const popc_mod
 			a->status_in_block = 1;
 		}
 	}
+	a->cmd_n = popc_register_map_command_block(m, &a->cmd_first);
+	a->cmd_off = m->cmd.reg - a->cmd_first;
+	a->seq_off = m->cmd.seq_reg < 0 ? -1 : m->cmd.seq_reg - a->cmd_first;
 	popc_histogram_init(&a->dt_hist);
 	popc_histogram_init(&a->rtt_hist);
 	ax->ops = &modbus_ops;

@@ -138,6 +138,17 @@ int popc_reg_encode(double v, popc_reg_type t, popc_word_order o, uint16_t *word
 	return sat;
 }
 
+int popc_register_map_command_block(const popc_register_map *m, int *first)
+{
+	int n = popc_reg_type_words(m->cmd.type);
+	*first = m->cmd.reg;
+	if (m->cmd.seq_reg < 0)
+		return n;
+	if (m->cmd.seq_reg < m->cmd.reg)
+		*first = m->cmd.seq_reg;
+	return n + 1;
+}
+
 int popc_register_map_counts_are_scene_counts(const popc_register_map *m, double resolution_m)
 {
 	return fabs(m->pos.counts_per_m * resolution_m - 1.0) < 1e-9;
@@ -153,7 +164,7 @@ enum {
 	K_POS_REG, K_POS_TABLE, K_POS_TYPE, K_POS_ORDER, K_POS_CPM, K_POS_CPR, K_POS_LEAD,
 	K_POS_GEAR, K_POS_MIN, K_POS_MAX,
 	K_CMD_REG, K_CMD_TABLE, K_CMD_TYPE, K_CMD_ORDER, K_CMD_NPU, K_CMD_PPU, K_CMD_RATED,
-	K_CMD_LEAD, K_CMD_GEAR, K_CMD_LIMIT,
+	K_CMD_LEAD, K_CMD_GEAR, K_CMD_LIMIT, K_CMD_SEQ,
 	K_EN_REG, K_EN_TABLE, K_EN_ON, K_EN_OFF,
 	K_ST_REG, K_ST_TABLE, K_ST_READY, K_ST_FAULT,
 	K_COUNT
@@ -171,7 +182,7 @@ static const struct {
 	{"command", "register"}, {"command", "table"}, {"command", "type"}, {"command", "word_order"},
 	{"command", "newton_per_unit"}, {"command", "percent_of_rated_per_unit"},
 	{"command", "rated_torque_Nm"}, {"command", "lead_m"}, {"command", "gear"},
-	{"command", "limit_N"},
+	{"command", "limit_N"}, {"command", "sequence_register"},
 	{"enable", "register"}, {"enable", "table"}, {"enable", "on"}, {"enable", "off"},
 	{"status", "register"}, {"status", "table"}, {"status", "ready_mask"}, {"status", "fault_mask"},
 };
@@ -419,6 +430,42 @@ static int overlap(int a, int na, int b, int nb)
 	return a < b + nb && b < a + na;
 }
 
+/* The optional command sequence register: a holding register right next to
+ * the command, so that one FC06/FC16/FC23 write carries both (a drive sees a
+ * command and its sequence value together or not at all). */
+static int sequence_register(load_ctx *c, popc_register_map *m)
+{
+	m->cmd.seq_reg = -1;
+	if (!c->at[K_CMD_SEQ])
+		return 0;
+	long v;
+	int st = get_int(c, K_CMD_SEQ, 0, 65535, 0, 0, &v);
+	if (st)
+		return st;
+	int ncmd = popc_reg_type_words(m->cmd.type), before = m->cmd.reg - 1, after = m->cmd.reg + ncmd;
+	if (v != before && v != after) {
+		char what[200], where[64];
+		if (before >= 0 && after <= 65535)
+			snprintf(where, sizeof where, "%d or %d", before, after);
+		else
+			snprintf(where, sizeof where, "%d", before >= 0 ? before : after);
+		snprintf(what, sizeof what,
+			 "must be right next to the command registers %d..%d (%s), so that one write "
+			 "carries both",
+			 m->cmd.reg, after - 1, where);
+		return bad(c, K_CMD_SEQ, what);
+	}
+	int npos = popc_reg_type_words(m->pos.type);
+	if (m->pos.table == POPC_TABLE_HOLDING && overlap((int)v, 1, m->pos.reg, npos))
+		return bad(c, K_CMD_SEQ, "overlaps the position registers");
+	if (m->enable.table == POPC_TABLE_HOLDING && v == m->enable.reg)
+		return bad(c, K_CMD_SEQ, "is the enable register");
+	if (m->status.table == POPC_TABLE_HOLDING && v == m->status.reg)
+		return bad(c, K_CMD_SEQ, "is the status register");
+	m->cmd.seq_reg = (int)v;
+	return 0;
+}
+
 static int validate(load_ctx *c, popc_register_map *m)
 {
 	long v;
@@ -568,12 +615,13 @@ static int validate(load_ctx *c, popc_register_map *m)
 		return bad(c, K_ST_REG, "overlaps the command registers");
 	if (m->fc23 && m->pos.table != POPC_TABLE_HOLDING)
 		return bad(c, K_DRIVE_FC23, "FC23 reads holding registers; the position is an input register");
-	return 0;
+	return sequence_register(c, m);
 }
 
 int popc_register_map_load(popc_register_map *m, const char *path, popc_error *err)
 {
 	memset(m, 0, sizeof *m);
+	m->cmd.seq_reg = -1;
 	load_ctx *c = calloc(1, sizeof *c);
 	if (!c)
 		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");

@@ -7,7 +7,8 @@
  *              (+ gear), soft_min_m, soft_max_m (required: the soft limits are
  *              part of the always-on safety supervisor)
  *   [command]  register, type, word_order, newton_per_unit | percent_of_rated_per_unit
- *              + rated_torque_Nm + lead_m (+ gear), limit_N
+ *              + rated_torque_Nm + lead_m (+ gear), limit_N, sequence_register
+ *              (optional: a command sequence counter next to the command)
  *   [enable]   register, table (holding | coil), on (up to 4 values, written in
  *              order), off
  *   [status]   register, table, ready_mask, fault_mask
@@ -80,6 +81,15 @@ typedef struct popc_register_map {
 		popc_word_order order;
 		double newton_per_unit;
 		double limit_N;        /* force clamp, always applied */
+		/* The command sequence register (a heartbeat / sign-of-life counter),
+		 * -1: none. A uint16 holding register right before or right after
+		 * the command, so that every command write carries it in the same
+		 * transaction. popc writes a new value (the previous one + 1, modulo
+		 * 65536) with every new command, and the same value again when it
+		 * retries a transaction whose reply was lost: a drive (popc-servo-sim
+		 * in lockstep) can tell a retry from a new command and act on each
+		 * command once. */
+		int seq_reg;
 	} cmd;
 	struct {
 		int reg;
@@ -104,6 +114,12 @@ typedef struct popc_register_map {
  * line number (libinih would split it and count the pieces as lines).
  * Returns 0 or a negative popc_status. */
 int popc_register_map_load(popc_register_map *m, const char *path, popc_error *err);
+
+/* The registers every command write covers: the command and, when the map
+ * has one, the sequence register next to it. Sets *first to the lowest
+ * address and returns the number of registers (1 to POPC_MAP_CMD_BLOCK_MAX). */
+#define POPC_MAP_CMD_BLOCK_MAX 5
+int popc_register_map_command_block(const popc_register_map *m, int *first);
 
 /* Number of 16-bit registers a value of this type occupies (1, 2 or 4). */
 int popc_reg_type_words(popc_reg_type t);

@@ -117,20 +117,34 @@ static void enable_write(servo_drive *d, uint16_t value, int64_t now_ns)
 static int register_write(servo_drive *d, int addr, int n, const uint8_t *p, int64_t now_ns)
 {
 	const popc_register_map *m = &d->map;
-	int ncmd = popc_reg_type_words(m->cmd.type), cmd_hit = 0;
+	int ncmd = popc_reg_type_words(m->cmd.type), cmd_hit = 0, seq_hit = 0;
+	uint16_t seq = 0;
 	for (int i = 0; i < n; i++) {
 		int r = addr + i;
 		uint16_t v = (uint16_t)(p[2 * i] << 8 | p[2 * i + 1]);
 		if (r >= m->cmd.reg && r < m->cmd.reg + ncmd) {
 			d->mb->tab_registers[r] = v;
 			cmd_hit = 1;
+		} else if (r == m->cmd.seq_reg) {
+			d->mb->tab_registers[r] = v;
+			seq_hit = 1;
+			seq = v;
 		} else if (m->enable.table == POPC_TABLE_HOLDING && r == m->enable.reg) {
 			d->mb->tab_registers[r] = v;
 			enable_write(d, v, now_ns);
 		}
 	}
+	/* a new command, unless its sequence value repeats the last one (a
+	 * retry); a write without the sequence register counts as new */
+	int repeat = seq_hit && d->have_seq && seq == d->last_seq;
+	if (seq_hit) {
+		d->have_seq = 1;
+		d->last_seq = seq;
+	}
 	if (!cmd_hit)
 		return 0;
+	if (repeat)
+		d->seq_repeats++;
 	/* real time: the periods before this write ran with the old command */
 	drive_tick(d, now_ns);
 	double units = popc_reg_decode(d->mb->tab_registers + m->cmd.reg, m->cmd.type, m->cmd.order);
@@ -142,7 +156,9 @@ static int register_write(servo_drive *d, int addr, int n, const uint8_t *p, int
 	snprintf(text, sizeof text, "command %s", num);
 	record(d, text);
 	int st = 0;
-	if (d->lockstep && d->enabled && !d->fault)
+	/* the force above is taken either way (a retry carries the same one); the
+	 * plant advances once per command */
+	if (d->lockstep && d->enabled && !d->fault && !repeat)
 		st = advance(d);
 	refresh(d);
 	return st;

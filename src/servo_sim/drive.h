@@ -9,8 +9,14 @@
  *   -f_c: the device receives -f_c, DESIGN section 3); it acts only while the
  *   drive is enabled and not faulted.
  * - Lockstep: each command write while enabled advances the plant exactly one
- *   control period. Real time: the plant follows the wall clock from the first
- *   enable, one period at a time with the command then in force (ZOH).
+ *   control period. With a command sequence register in the map, only a
+ *   command whose sequence value differs from the last one written does: a
+ *   repeated value is a retried transaction (its reply was lost), answered
+ *   with the current state without advancing, so a run with a transient
+ *   link fault stays equal to the simulated run. Without the register every
+ *   command write advances (a retry advances the plant again). Real time:
+ *   the plant follows the wall clock from the first enable, one period at a
+ *   time with the command then in force (ZOH); the sequence is not used.
  * - Watchdog: enabled and no command for watchdog_ms -> fault bit, zero force.
  *   A fault latches until the disable word is written (except a fault set
  *   with --start-faulted, which stays until the program ends). */
@@ -49,6 +55,9 @@ typedef struct servo_drive {
 	int watchdog_ms;
 
 	long long commands;
+	int have_seq;              /* a sequence value has been written (last_seq is valid) */
+	uint16_t last_seq;
+	long long seq_repeats;     /* command writes that repeated the last sequence value */
 	char record[DRIVE_RECORD_MAX][64]; /* the last writes of command and enable, a ring */
 	long long n_record;
 } servo_drive;

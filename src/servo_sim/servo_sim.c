@@ -43,7 +43,9 @@ static void usage(FILE *f)
 	      "on standard output when ready; stops cleanly on SIGTERM or SIGINT.\n"
 	      "\n"
 	      "  --lockstep            advance the plant one control period per force command\n"
-	      "                        written while enabled (deterministic); default: real time\n"
+	      "                        written while enabled (deterministic); default: real time;\n"
+	      "                        with the map's command.sequence_register, a command that\n"
+	      "                        repeats the last sequence value (a retry) does not advance\n"
 	      "  --set section.key=V   override a scene key (repeatable)\n"
 	      "  --watchdog-ms MS      command watchdog (default: the map's drive.watchdog_ms)\n"
 	      "  --record FILE         on exit, write the last writes of command and enable\n"
@@ -478,8 +480,12 @@ int main(int argc, char **argv)
 	sigdelset(&sv.run_mask, SIGINT);
 
 	int rc = run_server(&sv);
-	fprintf(stderr, "popc-servo-sim: stopped after %ld requests, %lld commands, %lld periods%s%s\n",
-		sv.requests, sv.drive.commands, sv.drive.k, sv.drive.fault ? "; fault: " : "",
+	char repeats[96] = "";
+	if (map.cmd.seq_reg >= 0)
+		snprintf(repeats, sizeof repeats, " (%lld repeated the sequence value: retries)",
+			 sv.drive.seq_repeats);
+	fprintf(stderr, "popc-servo-sim: stopped after %ld requests, %lld commands%s, %lld periods%s%s\n",
+		sv.requests, sv.drive.commands, repeats, sv.drive.k, sv.drive.fault ? "; fault: " : "",
 		sv.drive.fault ? sv.drive.fault_why : "");
 	if (record_path) {
 		FILE *f = fopen(record_path, "w");

@@ -182,6 +182,20 @@ static const bad_case bad_cases[] = {
 	 * numbers of later lines do not drift (before: the pieces were counted) */
 	{"slave = 3\n", "slave = 3\n; " LONG_COMMENT "\n", ":3: line longer than"},
 	{"[drive]\n", "[drive]\n; " LONG_COMMENT "\n; " LONG_COMMENT "\n", ":2: line longer than"},
+	/* the command sequence register: next to the command, clear of the others */
+	{"register = 200", "register = 200\nsequence_register = 202",
+	 ":15: command.sequence_register = 202: must be right next to the command registers 200..200 "
+	 "(199 or 201)"},
+	{"register = 200", "register = 0\nsequence_register = 2",
+	 ":15: command.sequence_register = 2: must be right next to the command registers 0..0 (1)"},
+	{"register = 200", "register = 200\nsequence_register = 70000",
+	 ":15: command.sequence_register = 70000: expected an integer in [0, 65535]"},
+	{"register = 200", "register = 99\nsequence_register = 100",
+	 ":15: command.sequence_register = 100: overlaps the position registers"},
+	{"register = 200", "register = 103\nsequence_register = 102",
+	 ":15: command.sequence_register = 102: is the status register"},
+	{"register = 200", "register = 301\nsequence_register = 300",
+	 ":15: command.sequence_register = 300: is the enable register"},
 };
 
 static char *replace(const char *text, const char *from, const char *to)
@@ -211,6 +225,39 @@ static void test_bad_maps(void **state)
 			fail_msg("case %zu (%s): status %d, want invalid", i, c->to, st);
 		if (!strstr(err.msg, c->want) || !strstr(err.msg, path))
 			fail_msg("case %zu: message '%s' lacks '%s' or the file name", i, err.msg, c->want);
+	}
+}
+
+/* The command sequence register is optional; with it, every command write
+ * covers the command and the register next to it (before or after). */
+static void test_sequence_register(void **state)
+{
+	(void)state;
+	static const struct {
+		const char *line;   /* added after the command's register line, "" for none */
+		int seq_reg, first, n;
+	} cases[] = {
+		{"", -1, 200, 1},
+		{"\nsequence_register = 201", 201, 200, 2},
+		{"\nsequence_register = 199", 199, 199, 2},
+		{"\nsequence_register = 0xC9", 201, 200, 2},
+	};
+	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+		char to[64];
+		snprintf(to, sizeof to, "register = 200%s", cases[i].line);
+		char *text = replace(good_map, "register = 200", to);
+		const char *path = write_map(text);
+		free(text);
+		popc_register_map m;
+		popc_error err;
+		int st = popc_register_map_load(&m, path, &err);
+		unlink(path);
+		if (st)
+			fail_msg("case %zu: %s", i, err.msg);
+		assert_int_equal(m.cmd.seq_reg, cases[i].seq_reg);
+		int first = -1;
+		assert_int_equal(popc_register_map_command_block(&m, &first), cases[i].n);
+		assert_int_equal(first, cases[i].first);
 	}
 }
 
@@ -314,6 +361,7 @@ int main(void)
 		cmocka_unit_test(test_float64_exact),
 		cmocka_unit_test(test_good_map),
 		cmocka_unit_test(test_bad_maps),
+		cmocka_unit_test(test_sequence_register),
 		cmocka_unit_test(test_shipped_maps),
 		cmocka_unit_test(test_uris),
 		cmocka_unit_test(test_histogram),
