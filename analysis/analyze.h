@@ -89,6 +89,7 @@ typedef struct ana_log {
 	int has_w;
 	/* look-ahead: the first two rows are read at open to find the period */
 	double ahead[2][POPC_LOG_MAX_COLUMNS];
+	long long ahead_line[2];  /* their line numbers (comments may come between) */
 	int n_ahead, ahead_pos, ahead_st;
 	double row[POPC_LOG_MAX_COLUMNS];
 	/* derived columns */

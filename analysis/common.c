@@ -69,12 +69,13 @@ int ana_input_option(ana_input_options *o, int opt, char *arg, const char *verb)
 {
 	popc_error err;
 	switch (opt) {
-	case ANA_OPT_COLUMN:
+	case ANA_OPT_COLUMN: {
 		if (popc_log_reader_add_mapping(&o->reader, arg, &err) != 0) {
 			fprintf(stderr, "popc-analyze %s: %s\n", verb, err.msg);
 			return 2;
 		}
 		return 0;
+	}
 	case ANA_OPT_DELIMITER:
 	case ANA_OPT_COMMENT: {
 		char c;
@@ -287,6 +288,16 @@ int ana_log_open(ana_log *l, const char *path, const ana_input_options *o, popc_
 	l->c_flags = popc_log_reader_column(r, "flags");
 	l->c_dt = popc_log_reader_column(r, "dt");
 	l->c_rtt = popc_log_reader_column(r, "rtt");
+	/* only the columns read here are parsed: a recorded log's other columns
+	 * (a state word as text, a date) need not be numbers */
+	const int cols[] = {l->c_t,  l->c_x,     l->c_count, l->c_x_true, l->c_v,
+			    l->c_f_e, l->c_f_pc, l->c_f_c,   l->c_W,      l->c_E_ref,
+			    l->c_flags, l->c_dt, l->c_rtt};
+	int used[sizeof cols / sizeof cols[0]], n_used = 0;
+	for (size_t i = 0; i < sizeof cols / sizeof cols[0]; i++)
+		if (cols[i] >= 0)
+			used[n_used++] = cols[i];
+	popc_log_reader_use_columns(r, used, n_used);
 	l->has_pc_force = l->c_f_pc >= 0 || l->c_f_c >= 0;
 	l->has_w = l->has_pc_force || (l->c_W >= 0 && l->c_E_ref >= 0);
 	if ((st = popc_log_reader_require(r, "t", &l->c_t, err)) != 0)
@@ -307,6 +318,7 @@ int ana_log_open(ana_log *l, const char *path, const ana_input_options *o, popc_
 		}
 		if (got == 0)
 			break;
+		l->ahead_line[l->n_ahead] = r->lineno;
 		l->n_ahead++;
 	}
 	if (l->n_ahead == 0) {
@@ -342,16 +354,17 @@ fail:
 int ana_log_next(ana_log *l, ana_row *out, popc_error *err)
 {
 	const double *row;
+	long long line; /* the row's line in the file, for messages */
 	if (l->ahead_pos < l->n_ahead) {
+		line = l->ahead_line[l->ahead_pos];
 		row = l->ahead[l->ahead_pos++];
 	} else {
 		int got = popc_log_reader_next(&l->r, l->row, err);
 		if (got <= 0)
 			return got;
+		line = l->r.lineno;
 		row = l->row;
 	}
-	/* the look-ahead rows were lines lineno-1 and lineno; name the right one */
-	long long line = l->r.lineno - (l->n_ahead - l->ahead_pos);
 	const double delta = l->scene.enc_resolution_m;
 	const double T = l->period_s;
 	popc_tick *t = &out->tick;

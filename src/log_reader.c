@@ -153,8 +153,10 @@ static char detect_delimiter(const char *line)
 	return best < 0 ? ' ' : cand[best];
 }
 
-/* Splits line at the delimiter (runs of blanks for ' '). Returns the number
- * of cells, or -1 past max. */
+/* Splits line at the delimiter (runs of blanks for ' '). A cell in double
+ * quotes (RFC 4180, as spreadsheets and pandas write text) is the text inside
+ * them and may hold the delimiter; "" inside is a quote. Returns the number of
+ * cells, or -1 past max. */
 static int split(char *line, char delim, const char **cs, const char **ce, int max)
 {
 	int n = 0;
@@ -176,10 +178,25 @@ static int split(char *line, char delim, const char **cs, const char **ce, int m
 	for (;;) {
 		if (n == max)
 			return -1;
-		cs[n] = p;
-		char *d = strchr(p, delim);
-		ce[n] = d ? d : p + strlen(p);
-		trim(&cs[n], &ce[n]);
+		while (*p == ' ' || *p == '\t')
+			p++;
+		char *q = NULL;
+		if (*p == '"') {
+			/* the closing quote: one not followed by another */
+			for (q = p + 1; (q = strchr(q, '"')) != NULL && q[1] == '"'; q += 2)
+				;
+		}
+		char *d;
+		if (q) {
+			cs[n] = p + 1;
+			ce[n] = q;
+			d = strchr(q + 1, delim);
+		} else { /* unquoted, or a quote never closed: the text as it is */
+			cs[n] = p;
+			d = strchr(p, delim);
+			ce[n] = d ? d : p + strlen(p);
+			trim(&cs[n], &ce[n]);
+		}
 		n++;
 		if (!d)
 			return n;
@@ -261,22 +278,19 @@ int popc_log_reader_open(popc_log_reader *r, const char *path, const popc_log_re
 				      n < 0 ? "more than 64 columns" : "no column names");
 	}
 	for (int i = 0; i < n; i++) {
-		const char *a = cs[i], *b = ce[i];
-		if (b - a >= 2 && *a == '"' && b[-1] == '"') {
-			a++;
-			b--;
-		}
-		r->col_name[i] = dupn(a, (size_t)(b - a));
+		r->col_name[i] = dupn(cs[i], (size_t)(ce[i] - cs[i]));
 		if (!r->col_name[i]) {
 			popc_log_reader_close(r);
 			return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
 		}
 		r->n_cols = i + 1;
 	}
-	/* a repeated name would make a column lookup pick one of two silently */
+	/* a repeated name would make a column lookup pick one of two silently; an
+	 * empty name (pandas' index column, a trailing delimiter) is never looked
+	 * up, so it may repeat */
 	for (int i = 1; i < r->n_cols; i++)
 		for (int j = 0; j < i; j++)
-			if (strcmp(r->col_name[i], r->col_name[j]) == 0) {
+			if (r->col_name[i][0] && strcmp(r->col_name[i], r->col_name[j]) == 0) {
 				popc_error_set(err, POPC_ERR_INVALID,
 					       "%s:%lld: column %d (%s) repeats the name of column %d "
 					       "(line %lld): column names must be unique",
@@ -294,6 +308,23 @@ int popc_log_reader_open(popc_log_reader *r, const char *path, const popc_log_re
 			return POPC_ERR_INVALID;
 		}
 	r->t_col = popc_log_reader_column(r, "t");
+	for (int i = 0; i < r->n_cols; i++)
+		r->parse[i] = 1;
+	r->popc_log = popc_log_reader_header(r, "format") != NULL;
+	return 0;
+}
+
+int popc_log_reader_use_columns(popc_log_reader *r, const int *cols, int n)
+{
+	for (int i = 0; i < r->n_cols; i++)
+		r->parse[i] = 0;
+	for (int i = 0; i < n; i++) {
+		if (cols[i] < 0 || cols[i] >= r->n_cols)
+			return POPC_ERR_INVALID;
+		r->parse[cols[i]] = 1;
+	}
+	if (r->t_col >= 0)
+		r->parse[r->t_col] = 1; /* time must increase, whoever reads it */
 	return 0;
 }
 
@@ -331,7 +362,18 @@ int popc_log_reader_next(popc_log_reader *r, double *values, popc_error *err)
 		return popc_error_set(err, POPC_ERR_INVALID, "%s:%lld: more than %d cells", r->path,
 				      r->lineno, r->n_cols);
 	}
+	/* popc ends every row with a newline and the log with '# stop': a last
+	 * line without one was cut, even if its cells are all there (the last
+	 * number may be cut short) */
+	if (!complete && r->popc_log)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s:%lld: truncated last line (no newline at the end of a popc log)",
+				      r->path, r->lineno);
 	for (int i = 0; i < n; i++) {
+		if (!r->parse[i]) {
+			values[i] = (double)NAN; /* a column nobody reads: text is fine */
+			continue;
+		}
 		size_t used = cs[i] < ce[i] ? popc_parse_double(cs[i], ce[i], &values[i]) : 0;
 		if (used == 0 || cs[i] + used != ce[i] || !isfinite(values[i])) {
 			int is_nan = ce[i] - cs[i] >= 3 && (strncmp(cs[i], "nan", 3) == 0 ||
@@ -364,6 +406,8 @@ int popc_log_reader_column(const popc_log_reader *r, const char *name)
 	for (int i = 0; i < r->opt.n_map; i++)
 		if (strcmp(r->opt.map_name[i], name) == 0)
 			header = r->opt.map_header[i];
+	if (!header[0])
+		return -1;
 	for (int i = 0; i < r->n_cols; i++)
 		if (strcmp(r->col_name[i], header) == 0)
 			return i;

@@ -8,9 +8,12 @@
  *
  * A UTF-8 byte order mark at the start of the file is skipped.
  *
+ * Cells may be in double quotes (RFC 4180). Column names may be empty (pandas'
+ * index column, a trailing delimiter); an empty name is never looked up.
+ *
  * Errors name the file, line and column: an empty file, a repeated column name,
  * a row with too few or too many cells, a cell that is not a finite number, a
- * missing column. */
+ * missing column, a popc log whose last line has no newline (cut short). */
 #ifndef POPC_LOG_READER_H
 #define POPC_LOG_READER_H
 
@@ -53,6 +56,8 @@ typedef struct popc_log_reader {
 	long long lineno;               /* line number of the last line returned */
 	long long rows;
 	int t_col;                      /* index of "t", -1 if none: time must increase */
+	unsigned char parse[POPC_LOG_MAX_COLUMNS]; /* 0: a column nobody reads (NaN) */
+	int popc_log;                   /* the header has "format": popc wrote it */
 	double t_prev;
 } popc_log_reader;
 
@@ -63,6 +68,13 @@ int popc_log_reader_open(popc_log_reader *r, const char *path, const popc_log_re
 /* Reads the next row into values[0 .. n_cols-1]. Returns 1 for a row, 0 at the
  * end, or a negative popc_status (message names file:line:column). */
 int popc_log_reader_next(popc_log_reader *r, double *values, popc_error *err);
+
+/* Only the columns cols[0 .. n-1] (and the time column) are parsed from now
+ * on; the others are NaN whatever they hold (text, a timestamp, an empty
+ * cell), so a recorded log's extra columns need not be numbers. The cell count
+ * of a row is still checked. Default after open: every column. Returns 0 or
+ * POPC_ERR_INVALID for an index out of range. */
+int popc_log_reader_use_columns(popc_log_reader *r, const int *cols, int n);
 
 /* Index of popc's column NAME (through the --column map), or -1. */
 int popc_log_reader_column(const popc_log_reader *r, const char *name);
