@@ -57,7 +57,7 @@ enum {
 	{"set", required_argument, NULL, ANA_OPT_SET}
 #define ANA_INPUT_HELP                                                                         \
 	"  --column NAME=HEADER     popc's column NAME is the file's column HEADER (repeatable;\n" \
-	"                           names: t x count x_true v f_e f_pc f_c W E_ref flags)\n"      \
+	"                           names: t x count x_true v f_e f_pc f_c W E_ref flags dt rtt)\n" \
 	"  --delimiter C            cell delimiter: ',' ';' tab ('\\t' or 'tab') or 'space'\n"    \
 	"                           (default: detected from the column names line)\n"             \
 	"  --comment C              comment character (default '#')\n"                            \

@@ -74,6 +74,31 @@ int ana_input_option(ana_input_options *o, int opt, char *arg, const char *verb)
 			fprintf(stderr, "popc-analyze %s: %s\n", verb, err.msg);
 			return 2;
 		}
+		/* a misspelt name (F_c, fc) would map nothing and leave the log
+		 * without that column, silently: only popc's names, each once */
+		static const char *const names[] = {"t",    "x",  "count", "x_true", "v",
+						    "f_e",  "f_pc", "f_c", "W",      "E_ref",
+						    "flags", "dt",  "rtt"};
+		const int last = o->reader.n_map - 1;
+		const char *name = o->reader.map_name[last];
+		int known = 0;
+		for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
+			known |= strcmp(names[i], name) == 0;
+		if (!known) {
+			fprintf(stderr,
+				"popc-analyze %s: --column %s=%s: '%s' is not a popc column name (t x "
+				"count x_true v f_e f_pc f_c W E_ref flags dt rtt)\n",
+				verb, name, o->reader.map_header[last], name);
+			return 2;
+		}
+		for (int i = 0; i < last; i++)
+			if (strcmp(o->reader.map_name[i], name) == 0) {
+				fprintf(stderr,
+					"popc-analyze %s: --column %s=%s: %s is already mapped to '%s'\n",
+					verb, name, o->reader.map_header[last], name,
+					o->reader.map_header[i]);
+				return 2;
+			}
 		return 0;
 	}
 	case ANA_OPT_DELIMITER:

@@ -49,51 +49,6 @@ printf 't,x,count\n0,0,1.5\n# note\n\n0.001,0,1\n' >"$W/lines.csv"
 expect_rc 2 "$A" compare "$W/lines.csv" && grep -q "lines.csv:2: column 3 (count): 1.5 is not an integer count" "$W/err" &&
 	ok "line number of a look-ahead row after comments" || fail "look-ahead line: $(cat "$W/err")"
 
-finish
-tail -n 1 "$W/out" | cut -d, -f2- >"$W/want"
-# same_as FILE [options]: FILE's compare row equals plain.csv's
-same_as() {
-	f=$1; shift
-	if expect_rc 0 "$A" compare --format csv "$@" "$W/$f"; then
-		tail -n 1 "$W/out" | cut -d, -f2- | cmp -s - "$W/want" && return 0
-		fail "$f: row differs: $(tail -n 1 "$W/out")"
-	fi
-	return 1
-}
-
-sed 's/$/\r/' "$W/plain.csv" >"$W/crlf.csv"
-same_as crlf.csv && ok "CRLF line ends"
-awk -F, '{ print "\"" $1 "\",\"" $2 "\",\"" $3 "\"" }' "$W/plain.csv" >"$W/quoted.csv"
-same_as quoted.csv && ok "every cell in double quotes (RFC 4180)"
-# pandas' to_csv: an unnamed index column first
-awk 'NR == 1 { print "," $0; next } { print NR - 2 "," $0 }' "$W/plain.csv" >"$W/pandas.csv"
-same_as pandas.csv && ok "pandas index column (empty name)"
-sed 's/$/,/' "$W/plain.csv" >"$W/trailing.csv"
-same_as trailing.csv && ok "a delimiter at the end of every line"
-# columns the analysis does not read may hold text, even with the delimiter
-awk 'NR == 1 { print $0 ",state,stamp"; next } { print $0 ",RUN,\"2024-05-01, 10:00\"" }' \
-	"$W/plain.csv" >"$W/text.csv"
-same_as text.csv && ok "text columns not read (a quoted cell holding ',')"
-# but text in a column that is read is still an error, named
-awk 'NR == 1 { print "t,x,f_c,state"; next } NR == 7 { print $0 ",RUN"; next } { print $0 ",1" }' \
-	"$W/plain.csv" | sed '7s/^\([^,]*\),[^,]*,/\1,RUN,/' >"$W/textx.csv"
-expect_rc 2 "$A" compare "$W/textx.csv" && grep -q "textx.csv:7: column 2 (x): not a finite number 'RUN'" "$W/err" &&
-	ok "text in a column that is read: named" || fail "text in x: $(cat "$W/err")"
-# a file without a newline at its end (RFC 4180 allows it) reads the same
-head -c -1 "$W/plain.csv" >"$W/nonl.csv"
-same_as nonl.csv && ok "foreign log without a final newline"
-# a popc log always ends its rows with a newline: a last row without one was
-# cut, even when every cell is there (its last number may be short)
-grep -v '^# stop' "$W/popc.csv" | head -c -1 >"$W/popc-cut.csv"
-expect_rc 2 "$A" compare "$W/popc-cut.csv" &&
-	grep -q "popc-cut.csv:$(grep -c '' "$W/popc-cut.csv"): truncated last line (no newline at the end of a popc log)" "$W/err" &&
-	ok "popc log cut after its last cell: truncated" || fail "popc cut: $(cat "$W/err")"
-# line numbers stay right when comments and blank lines come between the
-# first rows (the reader looks two rows ahead for the period)
-printf 't,x,count\n0,0,1.5\n# note\n\n0.001,0,1\n' >"$W/lines.csv"
-expect_rc 2 "$A" compare "$W/lines.csv" && grep -q "lines.csv:2: column 3 (count): 1.5 is not an integer count" "$W/err" &&
-	ok "line number of a look-ahead row after comments" || fail "look-ahead line: $(cat "$W/err")"
-
 # --column: a misspelt popc name or a name mapped twice is refused, not ignored
 awk -F, 'NR == 1 { print "t,x,force"; next } { print }' "$W/plain.csv" >"$W/force.csv"
 same_as force.csv --column f_c=force && ok "--column f_c=force"
