@@ -266,6 +266,19 @@ static int missing(load_ctx *c, int k, const char *why)
 			      map_keys[k].section, map_keys[k].key, why ? ": " : "", why ? why : "");
 }
 
+/* An integer as the docs promise it: decimal, or hexadecimal with 0x. Not
+ * strtol's base 0, which reads a leading zero as octal: "0100" copied from a
+ * manual's register table would silently become register 64. *end as for
+ * strtol. */
+static long map_strtol(const char *p, char **end)
+{
+	const char *q = p;
+	while (*q == ' ' || *q == '\t')
+		q++;
+	int hex = q[0] == '0' && (q[1] == 'x' || q[1] == 'X');
+	return strtol(p, end, hex ? 16 : 10);
+}
+
 /* Integer in [lo, hi], decimal or 0x hex. def is used when the key is absent
  * and def_ok; otherwise absence is an error. */
 static int get_int(load_ctx *c, int k, long lo, long hi, int def_ok, long def, long *out)
@@ -278,7 +291,7 @@ static int get_int(load_ctx *c, int k, long lo, long hi, int def_ok, long def, l
 	}
 	char *end;
 	errno = 0;
-	long v = strtol(c->value[k], &end, 0);
+	long v = map_strtol(c->value[k], &end);
 	if (end == c->value[k] || *end || errno || v < lo || v > hi) {
 		char what[96];
 		snprintf(what, sizeof what, "expected an integer in [%ld, %ld]", lo, hi);
@@ -412,7 +425,7 @@ static int enable_words(load_ctx *c, popc_register_map *m)
 			return bad(c, K_EN_ON, "at most 4 words");
 		char *end;
 		errno = 0;
-		long v = strtol(p, &end, 0);
+		long v = map_strtol(p, &end);
 		if (end == p || errno || v < 0 || v > 0xFFFF || (*end && *end != ' ' && *end != ',' &&
 								 *end != '\t'))
 			return bad(c, K_EN_ON, "expected words in [0, 0xFFFF] separated by commas");

@@ -209,6 +209,28 @@ static char *replace(const char *text, const char *from, const char *to)
 	return out;
 }
 
+/* Numbers are decimal or 0x hexadecimal: a leading zero is not octal (a
+ * manual's "0100" is register 100, not 64). */
+static void test_leading_zeros(void **state)
+{
+	(void)state;
+	char *t1 = replace(good_map, "register = 100", "register = 0100");
+	char *text = replace(t1, "on = 6, 7, 0x0F", "on = 06, 010, 0x0F");
+	free(t1);
+	const char *path = write_map(text);
+	free(text);
+	popc_register_map m;
+	popc_error err;
+	int st = popc_register_map_load(&m, path, &err);
+	unlink(path);
+	if (st)
+		fail_msg("%s", err.msg);
+	assert_int_equal(m.pos.reg, 100);
+	assert_int_equal(m.enable.on[0], 6);
+	assert_int_equal(m.enable.on[1], 10);
+	assert_int_equal(m.enable.on[2], 15);
+}
+
 static void test_bad_maps(void **state)
 {
 	(void)state;
@@ -360,6 +382,7 @@ int main(void)
 		cmocka_unit_test(test_saturation_and_rounding),
 		cmocka_unit_test(test_float64_exact),
 		cmocka_unit_test(test_good_map),
+		cmocka_unit_test(test_leading_zeros),
 		cmocka_unit_test(test_bad_maps),
 		cmocka_unit_test(test_sequence_register),
 		cmocka_unit_test(test_shipped_maps),
