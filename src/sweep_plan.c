@@ -456,6 +456,13 @@ int popc_sweep_plan_init(popc_sweep_plan *p, const popc_scene *base, popc_sweep_
 		for (long long i = 0; i < p->n_runs && !st; i++) {
 			popc_error e;
 			st = popc_sweep_run_scene(p, i, &s, &e);
+			/* the runs share no drive: a real axis is driven by popc run,
+			 * one experiment at a time (popc_sweep_run_one refuses it too) */
+			if (!st && strcmp(s.axis, "sim") != 0)
+				st = popc_error_set(&e, POPC_ERR_INVALID,
+						    "axis.kind = %s: a sweep runs the simulated axis "
+						    "only (drive a real axis with popc run)",
+						    s.axis);
 			if (!st)
 				st = check_table(&tables, &s, &e);
 			if (st) {

@@ -75,8 +75,9 @@ void popc_sweep_axis_free(popc_sweep_axis *axis);
  * before anything runs: keys known and given once, every value accepted by
  * popc_scene_set for its key (the message names the key, the value and the
  * allowed range), the product within POPC_SWEEP_RUNS_MAX, and, when
- * check_every_run is set, every run's scene through popc_scene_validate and
- * every operator table the runs read (each table once). */
+ * check_every_run is set, every run's scene through popc_scene_validate, its
+ * axis (the simulated one only) and every operator table the runs read (each
+ * table once). */
 int popc_sweep_plan_init(popc_sweep_plan *p, const popc_scene *base, popc_sweep_axis *axes,
 			 int n_axes, int check_every_run, popc_error *err);
 void popc_sweep_plan_free(popc_sweep_plan *p);

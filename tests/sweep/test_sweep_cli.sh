@@ -48,6 +48,8 @@ expect_exit 2 "a missing operator table" "$POPC" sweep "$SCENE" --set operator.i
 check "  names the run and the file (not a failure of each run)" err_has "run 0001 (operator.table=$T/none.csv): $T/none.csv: cannot open table"
 expect_exit 2 "a bad operator table, read by the runs of one intent only" "$POPC" sweep "$SCENE" --set "operator.table=$T/back.csv" --vary operator.intent=ramp,table -o "$T/bad"
 check "  names the run, file:line and the times" err_has "run 0001 (operator.intent=table): $T/back.csv:4: time 0.05 does not increase"
+expect_exit 2 "a sweep over a real axis" "$POPC" sweep "$SCENE" --set "axis.map=$SRC/data/drives/generic.ini" --set axis.connect=tcp:127.0.0.1:1 --vary axis.kind=sim,modbus -o "$T/bad"
+check "  names the run; nothing ran" err_has "run 0001 (axis.kind=modbus): axis.kind = modbus: a sweep runs the simulated axis only"
 expect_exit 2 "bad --shard" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/bad" --shard 2/2
 expect_exit 2 "bad -j" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/bad" -j 0
 check "nothing was written by refused sweeps" test ! -e "$T/bad"
