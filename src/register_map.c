@@ -626,6 +626,11 @@ static int validate(load_ctx *c, popc_register_map *m)
 		return bad(c, K_ST_REG, "overlaps the position registers");
 	if (m->status.table == POPC_TABLE_HOLDING && overlap(m->status.reg, 1, m->cmd.reg, ncmd))
 		return bad(c, K_ST_REG, "overlaps the command registers");
+	/* popc would read back its own enable word as the drive's status: with
+	 * on = 1 and ready_mask = 1 a drive that never enabled would look ready */
+	if (m->status.table == POPC_TABLE_HOLDING && m->enable.table == POPC_TABLE_HOLDING &&
+	    m->status.reg == m->enable.reg)
+		return bad(c, K_ST_REG, "is the enable register (the status must be the drive's own word)");
 	if (m->fc23 && m->pos.table != POPC_TABLE_HOLDING)
 		return bad(c, K_DRIVE_FC23, "FC23 reads holding registers; the position is an input register");
 	return sequence_register(c, m);

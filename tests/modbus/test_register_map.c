@@ -164,6 +164,7 @@ static const bad_case bad_cases[] = {
 	{"limit_N = 20", "", "missing command.limit_N: the force clamp is not optional"},
 	{"register = 200", "register = 101", ":14: command.register = 101: overlaps the position registers"},
 	{"register = 102", "register = 101", ":25: status.register = 101: overlaps the position registers"},
+	{"register = 102", "register = 300", ":25: status.register = 300: is the enable register"},
 	{"off = 6", "off = 15", ":23: enable.off = 15: off must differ from the last on word"},
 	{"fault_mask = 0x08", "fault_mask = 0x21", ":27: status.fault_mask = 0x21: shares bits with ready_mask"},
 	{"[status]", "[statuss]", "unknown section [statuss]"},
