@@ -611,8 +611,10 @@ static void put_word(FILE *f, const char *text)
 	fputc('\'', f);
 }
 
+/* One `popc run` line per run of the shard: the scene file, the sweep's
+ * fixed --set overrides in their order, then the run's values. */
 static int print_list(const popc_sweep_plan *p, const popc_sweep_shard *sh, const char *program,
-		      const char *scene_abs, const char *dir_abs)
+		      const char *const *sets, int n_sets, const char *scene_abs, const char *dir_abs)
 {
 	char rdir[POPC_PATH_MAX], path[POPC_PATH_MAX + 32], set[POPC_SWEEP_VALUE_MAX + 160];
 	int idx[64];
@@ -629,6 +631,10 @@ static int print_list(const popc_sweep_plan *p, const popc_sweep_shard *sh, cons
 		put_word(stdout, program);
 		fputs(" run ", stdout);
 		put_word(stdout, scene_abs);
+		for (int m = 0; m < n_sets; m++) {
+			fputs(" --set ", stdout);
+			put_word(stdout, sets[m]);
+		}
 		for (int a = 0; a < p->n_axes; a++) {
 			snprintf(set, sizeof set, "%s.%s=%s", p->axes[a].section, p->axes[a].key,
 				 p->axes[a].values[idx[a]]);
@@ -766,6 +772,196 @@ static int cmd_merge(int argc, char **argv)
 	return t.failed || t.missing ? 1 : 0;
 }
 
+/* Narrows [*b, *e) to the text without the blanks around it. */
+static void trim_blanks(const char **b, const char **e)
+{
+	while (*b < *e && (**b == ' ' || **b == '\t'))
+		(*b)++;
+	while (*e > *b && ((*e)[-1] == ' ' || (*e)[-1] == '\t'))
+		(*e)--;
+}
+
+/* Does the --set assignment "section.key=value" name this key? Names are
+ * compared without the blanks around them, as popc_scene_set reads them. */
+static int set_names_key(const char *set, const char *section, const char *key)
+{
+	const char *eq = strchr(set, '='), *dot = strchr(set, '.');
+	if (!eq || !dot || dot > eq)
+		return 0;
+	const char *given[2][2] = {{set, dot}, {dot + 1, eq}};
+	const char *want[2] = {section, key};
+	for (int k = 0; k < 2; k++) {
+		const char *gb = given[k][0], *ge = given[k][1];
+		const char *wb = want[k], *we = want[k] + strlen(want[k]);
+		trim_blanks(&gb, &ge);
+		trim_blanks(&wb, &we);
+		if (ge - gb != we - wb || memcmp(gb, wb, (size_t)(ge - gb)) != 0)
+			return 0;
+	}
+	return 1;
+}
+
+/* The command line of a sweep (not merge), checked. */
+typedef struct sweep_args {
+	char **vary, **sets;          /* pointers into argv */
+	int n_vary, n_sets;
+	int quiet, keep_log, list;
+	long jobs;                    /* 0: default_jobs() */
+	const char *scene_path, *dir, *shard_text, *program;
+} sweep_args;
+
+/* Plans, checks and runs (or lists) the sweep of a checked command line. */
+static int sweep_main(const sweep_args *a)
+{
+	/* plan everything, and check every run's scene, before anything runs.
+	 * The base scene is not validated alone: it need not be a scene of its
+	 * own (--set operator.intent=table --vary operator.table=a.csv,b.csv),
+	 * and every run's scene is validated, naming the run. */
+	popc_scene base;
+	popc_error err;
+	popc_scene_defaults(&base);
+	int st = popc_scene_load(&base, a->scene_path, &err);
+	for (int m = 0; m < a->n_sets && !st; m++)
+		st = popc_scene_set_assignment(&base, a->sets[m], &err);
+	if (st)
+		return popc_cli_fail("sweep", st, &err);
+	int n_vary = a->n_vary;
+	popc_sweep_axis *axes = calloc((size_t)n_vary, sizeof *axes);
+	if (!axes) {
+		fprintf(stderr, "popc sweep: out of memory\n");
+		return 1;
+	}
+	for (int k = 0; k < n_vary && !st; k++)
+		st = popc_sweep_axis_parse(a->vary[k], &axes[k], &err);
+	for (int k = 0; k < n_vary && !st; k++)
+		for (int m = 0; m < a->n_sets && !st; m++)
+			if (set_names_key(a->sets[m], axes[k].section, axes[k].key))
+				st = popc_error_set(&err, POPC_ERR_INVALID,
+						    "--set %s and --vary %s.%s=%s: the key is both fixed "
+						    "and varied; give it once",
+						    a->sets[m], axes[k].section, axes[k].key, axes[k].spec);
+	popc_sweep_plan plan;
+	if (st) {
+		for (int k = 0; k < n_vary; k++)
+			popc_sweep_axis_free(&axes[k]);
+		free(axes);
+		return popc_cli_fail("sweep", st, &err);
+	}
+	st = popc_sweep_plan_init(&plan, &base, axes, n_vary, 1, &err);
+	if (st) {
+		popc_sweep_plan_free(&plan);
+		return popc_cli_fail("sweep", st, &err);
+	}
+
+	popc_sweep_shard shard = {.index = 0, .count = 1};
+	if (a->shard_text)
+		st = popc_sweep_shard_parse(a->shard_text, &shard, &err);
+	else
+		st = popc_sweep_shard_from_slurm(getenv("SLURM_ARRAY_TASK_ID"),
+						 getenv("SLURM_ARRAY_TASK_COUNT"),
+						 getenv("SLURM_ARRAY_TASK_MIN"),
+						 getenv("SLURM_ARRAY_TASK_STEP"), &shard, &err);
+	if (st < 0) {
+		popc_sweep_plan_free(&plan);
+		return popc_cli_fail("sweep", st, &err);
+	}
+	char scene_abs[PATH_MAX], dir_abs[PATH_MAX];
+	abs_path(a->scene_path, scene_abs, sizeof scene_abs);
+	st = popc_sweep_dir_prepare(&plan, a->dir, scene_abs, &err);
+	if (st) {
+		popc_sweep_plan_free(&plan);
+		return popc_cli_fail("sweep", st, &err);
+	}
+	abs_path(a->dir, dir_abs, sizeof dir_abs);
+	if (a->list) {
+		char self[PATH_MAX];
+		const char *program = a->program;
+		if (!program) {
+			ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
+			self[n > 0 ? n : 0] = '\0';
+			program = n > 0 ? self : "popc";
+		}
+		int r = print_list(&plan, &shard, program, (const char *const *)a->sets, a->n_sets,
+				   scene_abs, dir_abs);
+		popc_sweep_plan_free(&plan);
+		return r;
+	}
+
+	/* resume: finished runs are skipped, failed ones run again */
+	long long n_shard = 0, n_todo = 0;
+	for (long long i = 0; i < plan.n_runs; i++)
+		n_shard += popc_sweep_in_shard(&shard, i);
+	long long *todo = malloc((size_t)(n_shard ? n_shard : 1) * sizeof *todo);
+	if (!todo) {
+		popc_sweep_plan_free(&plan);
+		fprintf(stderr, "popc sweep: out of memory\n");
+		return 1;
+	}
+	const char *dirs[1] = {a->dir};
+	popc_sweep_results res;
+	st = popc_sweep_results_load(&res, &plan, dirs, 1, 1, &err);
+	if (st) {
+		free(todo);
+		popc_sweep_plan_free(&plan);
+		return popc_cli_fail("sweep", st, &err);
+	}
+	for (long long i = 0; i < plan.n_runs; i++)
+		if (popc_sweep_in_shard(&shard, i) && !(res.run[i].row && res.run[i].exit_status == 0))
+			todo[n_todo++] = i;
+	popc_sweep_results_free(&res);
+
+	sweep_ctx ctx = {.plan = &plan, .dir = a->dir, .keep_log = a->keep_log, .todo = todo,
+			 .n_todo = n_todo, .rows_pid = 0, .die_after_claim = -1};
+	test_hooks(&ctx);
+	ctx.prog = (progress){.quiet = a->quiet, .tty = isatty(STDERR_FILENO), .total = n_shard,
+			      .done = n_shard - n_todo, .t_start = now_s()};
+	ctx.prog.last_decile = (int)(10 * ctx.prog.done / (n_shard ? n_shard : 1));
+	ctx.prog.last_done = ctx.prog.done;
+	if (!a->quiet && n_shard - n_todo > 0)
+		fprintf(stderr, "popc sweep: %lld of %lld runs already done in %s\n", n_shard - n_todo,
+			n_shard, a->dir);
+	popc_cli_install_signals();
+	int trouble = n_todo > 0 ? run_sweep(&ctx, a->jobs > 0 ? (int)a->jobs : default_jobs()) : 0;
+	free(todo);
+	double elapsed = now_s() - ctx.prog.t_start;
+
+	/* summary.csv from the run files, in id order, renamed into place: an
+	 * interrupted sweep leaves the last whole one */
+	char path[POPC_PATH_MAX + 64];
+	if (shard.count > 1)
+		snprintf(path, sizeof path, "%s/summary-shard-%lld-of-%lld.csv", a->dir, shard.index,
+			 shard.count);
+	else
+		snprintf(path, sizeof path, "%s/summary.csv", a->dir);
+	popc_sweep_tally t;
+	/* not interrupted, every run of the shard should have a result: name
+	 * any that has none (a row that could not be written, a worker that
+	 * could not be started) */
+	failure_list fl = {.plan = &plan, .list_missing = !popc_cli_stop};
+	st = popc_sweep_results_load(&res, &plan, dirs, 1, 1, &err);
+	if (!st) {
+		show_notes("sweep", &res, a->quiet);
+		st = popc_sweep_results_write(&res, &plan, &shard, path, &t, list_failure, &fl, &err);
+		popc_sweep_results_free(&res);
+	}
+	popc_sweep_plan_free(&plan);
+	if (st)
+		return popc_cli_fail("sweep", st, &err);
+	long long listed = fl.failed + (fl.list_missing ? fl.missing : 0);
+	if (fl.shown < listed)
+		fprintf(stderr, "  ... and %lld more (exit_status in %s)\n", listed - fl.shown, path);
+	if (!a->quiet || t.failed || t.missing)
+		fprintf(stderr,
+			"popc sweep: %s: %lld runs, %lld succeeded, %lld failed, %lld not run; "
+			"%lld run now in %.3g s\n",
+			path, t.planned, t.ok, t.failed, t.missing, ctx.prog.done_now, elapsed);
+	if (popc_cli_stop) {
+		fprintf(stderr, "popc sweep: interrupted; run the same command again to resume\n");
+		return POPC_EXIT_INTERRUPTED;
+	}
+	return trouble || t.failed || t.missing ? POPC_EXIT_RUN_FAILED : 0;
+}
+
 int popc_cmd_sweep(int argc, char **argv)
 {
 	if (argc >= 2 && strcmp(argv[1], "merge") == 0)
@@ -783,181 +979,58 @@ int popc_cmd_sweep(int argc, char **argv)
 		{"help", no_argument, NULL, 'h'},
 		{NULL, 0, NULL, 0},
 	};
-	char **vary = NULL, **sets = NULL;
-	int n_sets = 0, n_vary = 0, quiet = 0, keep_log = 1, list = 0, c;
-	long jobs = 0;
-	const char *dir = NULL, *shard_text = NULL, *program = NULL;
+	sweep_args a = {.keep_log = 1};
+	int c, rc = -1, oom = 0;
 	optind = 1;
-	while ((c = getopt_long(argc, argv, "o:j:qh", opts, NULL)) != -1) {
+	while (rc < 0 && (c = getopt_long(argc, argv, "o:j:qh", opts, NULL)) != -1) {
 		switch (c) {
-		case OPT_VARY: popc_cli_push(&vary, &n_vary, optarg); break;
-		case OPT_SET: popc_cli_push(&sets, &n_sets, optarg); break;
-		case 'o': dir = optarg; break;
+		case OPT_VARY: oom |= popc_cli_push(&a.vary, &a.n_vary, optarg); break;
+		case OPT_SET: oom |= popc_cli_push(&a.sets, &a.n_sets, optarg); break;
+		case 'o': a.dir = optarg; break;
 		case 'j':
-			if (popc_cli_parse_long(optarg, 1, 4096, &jobs) != 0) {
+			if (popc_cli_parse_long(optarg, 1, 4096, &a.jobs) != 0) {
 				fprintf(stderr, "popc sweep: -j '%s': a whole number in [1, 4096]\n", optarg);
-				free(vary);
-				free(sets);
-				return 2;
+				rc = 2;
 			}
 			break;
-		case OPT_NO_LOG: keep_log = 0; break;
-		case OPT_SHARD: shard_text = optarg; break;
-		case OPT_LIST: list = 1; break;
-		case OPT_PROGRAM: program = optarg; break;
-		case 'q': quiet = 1; break;
-		case 'h': usage(stdout); free(vary); free(sets); return 0;
-		default: usage(stderr); free(vary); free(sets); return 2;
+		case OPT_NO_LOG: a.keep_log = 0; break;
+		case OPT_SHARD: a.shard_text = optarg; break;
+		case OPT_LIST: a.list = 1; break;
+		case OPT_PROGRAM: a.program = optarg; break;
+		case 'q': a.quiet = 1; break;
+		case 'h': usage(stdout); rc = 0; break;
+		default: usage(stderr); rc = 2; break;
 		}
 	}
-	const char *why = optind >= argc       ? "missing SCENE file"
-			  : optind + 1 != argc ? "more than one SCENE file"
-			  : !dir               ? "missing -o DIR"
-			  : n_vary == 0        ? "nothing to vary: give --vary section.key=LIST"
-					       : NULL;
-	if (why) {
-		fprintf(stderr, "popc sweep: %s\n", why);
-		usage(stderr);
-		free(vary);
-		free(sets);
-		return 2;
-	}
-	const char *scene_path = argv[optind];
-
-	/* plan everything, and check every run's scene, before anything runs */
-	popc_scene base;
-	popc_error err;
-	int st = popc_cli_load_scene(&base, scene_path, sets, n_sets, &err);
-	free(sets);
-	if (st) {
-		free(vary);
-		return popc_cli_fail("sweep", st, &err);
-	}
-	popc_sweep_axis *axes = calloc((size_t)n_vary, sizeof *axes);
-	if (!axes) {
-		free(vary);
-		fprintf(stderr, "popc sweep: out of memory\n");
-		return 1;
-	}
-	for (int a = 0; a < n_vary && !st; a++)
-		st = popc_sweep_axis_parse(vary[a], &axes[a], &err);
-	free(vary);
-	popc_sweep_plan plan;
-	if (st) {
-		for (int a = 0; a < n_vary; a++)
-			popc_sweep_axis_free(&axes[a]);
-		free(axes);
-		return popc_cli_fail("sweep", st, &err);
-	}
-	st = popc_sweep_plan_init(&plan, &base, axes, n_vary, 1, &err);
-	if (st) {
-		popc_sweep_plan_free(&plan);
-		return popc_cli_fail("sweep", st, &err);
-	}
-
-	popc_sweep_shard shard = {.index = 0, .count = 1};
-	if (shard_text)
-		st = popc_sweep_shard_parse(shard_text, &shard, &err);
-	else
-		st = popc_sweep_shard_from_slurm(getenv("SLURM_ARRAY_TASK_ID"),
-						 getenv("SLURM_ARRAY_TASK_COUNT"),
-						 getenv("SLURM_ARRAY_TASK_MIN"),
-						 getenv("SLURM_ARRAY_TASK_STEP"), &shard, &err);
-	if (st < 0) {
-		popc_sweep_plan_free(&plan);
-		return popc_cli_fail("sweep", st, &err);
-	}
-	char scene_abs[PATH_MAX], dir_abs[PATH_MAX];
-	abs_path(scene_path, scene_abs, sizeof scene_abs);
-	st = popc_sweep_dir_prepare(&plan, dir, scene_abs, &err);
-	if (st) {
-		popc_sweep_plan_free(&plan);
-		return popc_cli_fail("sweep", st, &err);
-	}
-	abs_path(dir, dir_abs, sizeof dir_abs);
-	if (list) {
-		char self[PATH_MAX];
-		if (!program) {
-			ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
-			self[n > 0 ? n : 0] = '\0';
-			program = n > 0 ? self : "popc";
+	if (rc < 0) {
+		/* options that would be silently ignored are refused */
+		const char *why = optind >= argc       ? "missing SCENE file"
+				  : optind + 1 != argc ? "more than one SCENE file"
+				  : !a.dir             ? "missing -o DIR"
+				  : !a.dir[0]          ? "-o '': give a directory name"
+				  : a.n_vary == 0      ? "nothing to vary: give --vary section.key=LIST"
+				  : a.list && !a.keep_log
+					  ? "--no-log does not apply to --list: every listed popc run "
+					    "keeps its log (merge computes the chatter columns from it)"
+				  : a.list && a.jobs
+					  ? "-j does not apply to --list: give GNU parallel its own --jobs"
+				  : a.program && !a.list
+					  ? "--program applies to --list only (the popc the listed lines "
+					    "call); a sweep runs in this process"
+					  : NULL;
+		if (oom) {
+			fprintf(stderr, "popc sweep: out of memory\n");
+			rc = 1;
+		} else if (why) {
+			fprintf(stderr, "popc sweep: %s\n", why);
+			usage(stderr);
+			rc = 2;
+		} else {
+			a.scene_path = argv[optind];
+			rc = sweep_main(&a);
 		}
-		int r = print_list(&plan, &shard, program, scene_abs, dir_abs);
-		popc_sweep_plan_free(&plan);
-		return r;
 	}
-
-	/* resume: finished runs are skipped, failed ones run again */
-	long long n_shard = 0, n_todo = 0;
-	for (long long i = 0; i < plan.n_runs; i++)
-		n_shard += popc_sweep_in_shard(&shard, i);
-	long long *todo = malloc((size_t)(n_shard ? n_shard : 1) * sizeof *todo);
-	if (!todo) {
-		popc_sweep_plan_free(&plan);
-		fprintf(stderr, "popc sweep: out of memory\n");
-		return 1;
-	}
-	const char *dirs[1] = {dir};
-	popc_sweep_results res;
-	st = popc_sweep_results_load(&res, &plan, dirs, 1, 1, &err);
-	if (st) {
-		free(todo);
-		popc_sweep_plan_free(&plan);
-		return popc_cli_fail("sweep", st, &err);
-	}
-	for (long long i = 0; i < plan.n_runs; i++)
-		if (popc_sweep_in_shard(&shard, i) && !(res.run[i].row && res.run[i].exit_status == 0))
-			todo[n_todo++] = i;
-	popc_sweep_results_free(&res);
-
-	sweep_ctx ctx = {.plan = &plan, .dir = dir, .keep_log = keep_log, .todo = todo,
-			 .n_todo = n_todo, .rows_pid = 0, .die_after_claim = -1};
-	test_hooks(&ctx);
-	ctx.prog = (progress){.quiet = quiet, .tty = isatty(STDERR_FILENO), .total = n_shard,
-			      .done = n_shard - n_todo, .t_start = now_s()};
-	ctx.prog.last_decile = (int)(10 * ctx.prog.done / (n_shard ? n_shard : 1));
-	ctx.prog.last_done = ctx.prog.done;
-	if (!quiet && n_shard - n_todo > 0)
-		fprintf(stderr, "popc sweep: %lld of %lld runs already done in %s\n", n_shard - n_todo,
-			n_shard, dir);
-	popc_cli_install_signals();
-	int trouble = n_todo > 0 ? run_sweep(&ctx, jobs > 0 ? (int)jobs : default_jobs()) : 0;
-	free(todo);
-	double elapsed = now_s() - ctx.prog.t_start;
-
-	/* summary.csv from the run files, in id order, renamed into place: an
-	 * interrupted sweep leaves the last whole one */
-	char path[POPC_PATH_MAX + 64];
-	if (shard.count > 1)
-		snprintf(path, sizeof path, "%s/summary-shard-%lld-of-%lld.csv", dir, shard.index,
-			 shard.count);
-	else
-		snprintf(path, sizeof path, "%s/summary.csv", dir);
-	popc_sweep_tally t;
-	/* not interrupted, every run of the shard should have a result: name
-	 * any that has none (a row that could not be written, a worker that
-	 * could not be started) */
-	failure_list fl = {.plan = &plan, .list_missing = !popc_cli_stop};
-	st = popc_sweep_results_load(&res, &plan, dirs, 1, 1, &err);
-	if (!st) {
-		show_notes("sweep", &res, quiet);
-		st = popc_sweep_results_write(&res, &plan, &shard, path, &t, list_failure, &fl, &err);
-		popc_sweep_results_free(&res);
-	}
-	popc_sweep_plan_free(&plan);
-	if (st)
-		return popc_cli_fail("sweep", st, &err);
-	long long listed = fl.failed + (fl.list_missing ? fl.missing : 0);
-	if (fl.shown < listed)
-		fprintf(stderr, "  ... and %lld more (exit_status in %s)\n", listed - fl.shown, path);
-	if (!quiet || t.failed || t.missing)
-		fprintf(stderr,
-			"popc sweep: %s: %lld runs, %lld succeeded, %lld failed, %lld not run; "
-			"%lld run now in %.3g s\n",
-			path, t.planned, t.ok, t.failed, t.missing, ctx.prog.done_now, elapsed);
-	if (popc_cli_stop) {
-		fprintf(stderr, "popc sweep: interrupted; run the same command again to resume\n");
-		return POPC_EXIT_INTERRUPTED;
-	}
-	return trouble || t.failed || t.missing ? POPC_EXIT_RUN_FAILED : 0;
+	free(a.vary);
+	free(a.sets);
+	return rc;
 }

@@ -44,10 +44,21 @@ expect_exit 2 "bad combination (ramp ends where it starts)" "$POPC" sweep "$SCEN
 check "  names the run" err_has "run 0001 (operator.x0=0.03 operator.x_end=0.03)"
 printf 't,x_d\n0,-0.01\n0.1,0.005\n' > "$T/xd.csv"
 printf 't,x_d\n0,-0.01\n0.1,0.005\n0.05,0\n' > "$T/back.csv"
-expect_exit 2 "a missing operator table" "$POPC" sweep "$SCENE" --set operator.intent=table --set "operator.table=$T/xd.csv" --vary "operator.table=$T/xd.csv,$T/none.csv" -o "$T/bad"
+expect_exit 2 "a missing operator table" "$POPC" sweep "$SCENE" --set operator.intent=table --vary "operator.table=$T/xd.csv,$T/none.csv" -o "$T/bad"
 check "  names the run and the file (not a failure of each run)" err_has "run 0001 (operator.table=$T/none.csv): $T/none.csv: cannot open table"
 expect_exit 2 "a bad operator table, read by the runs of one intent only" "$POPC" sweep "$SCENE" --set "operator.table=$T/back.csv" --vary operator.intent=ramp,table -o "$T/bad"
 check "  names the run, file:line and the times" err_has "run 0001 (operator.intent=table): $T/back.csv:4: time 0.05 does not increase"
+expect_exit 0 "the base scene need not be valid alone (a table intent, its table varied)" "$POPC" sweep "$SCENE" --set operator.intent=table --set run.duration=0.2 --vary "operator.table=$T/xd.csv" -o "$T/tabs" -q
+expect_exit 2 "a key both fixed (--set) and varied" "$POPC" sweep "$SCENE" --set operator.speed=0.03 "${VARY[@]}" -o "$T/bad"
+check "  names both" err_has "--set operator.speed=0.03 and --vary operator.speed=0.02:0.08:3: the key is both fixed and varied"
+expect_exit 2 "--no-log with --list" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/bad" --list --no-log
+check "  says why" err_has "--no-log does not apply to --list"
+expect_exit 2 "-j with --list" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/bad" --list -j 2
+check "  says what to do" err_has "give GNU parallel its own --jobs"
+expect_exit 2 "--program without --list" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/bad" --program /bin/true
+check "  says so" err_has "--program applies to --list only"
+expect_exit 2 "an empty -o" "$POPC" sweep "$SCENE" "${VARY[@]}" -o ''
+check "  says so" err_has "-o '': give a directory name"
 expect_exit 2 "a sweep over a real axis" "$POPC" sweep "$SCENE" --set "axis.map=$SRC/data/drives/generic.ini" --set axis.connect=tcp:127.0.0.1:1 --vary axis.kind=sim,modbus -o "$T/bad"
 check "  names the run; nothing ran" err_has "run 0001 (axis.kind=modbus): axis.kind = modbus: a sweep runs the simulated axis only"
 expect_exit 2 "bad --shard" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/bad" --shard 2/2

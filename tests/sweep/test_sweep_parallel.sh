@@ -13,12 +13,13 @@ trap 'rm -rf "$T"' EXIT
 nowall() { sed 's/,[^,]*$//' "$1"; }
 same_nowall() { cmp -s <(nowall "$1") <(nowall "$2") || { diff <(nowall "$1") <(nowall "$2") | head -5; return 1; }; }
 
-VARY=(--vary operator.speed=0.02:0.08:3 --vary controller.variant=none,ref-energy,filtered-velocity,improved)
+# a fixed --set too: the listed lines must carry it (the runs of the plan)
+VARY=(--set run.duration=3 --vary operator.speed=0.02:0.08:3 --vary controller.variant=none,ref-energy,filtered-velocity,improved)
 
 "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/p" --list > "$T/jobs" 2>"$T/err"
 check "--list exits 0" test $? -eq 0
 check "  one line per run (12)" test "$(wc -l < "$T/jobs")" -eq 12
-check "  popc run lines" test "$(grep -c " run $SCENE --set operator.speed=" "$T/jobs")" -eq 12
+check "  popc run lines, the fixed --set first" test "$(grep -c " run $SCENE --set run.duration=3 --set operator.speed=" "$T/jobs")" -eq 12
 check "  run 0005: speed 0.05, ref-energy" grep -q "operator.speed=0.05 --set controller.variant=ref-energy --log $T/p/runs/0005/log.csv --summary $T/p/runs/0005/run.csv -q$" "$T/jobs"
 
 # the GNU parallel recipe of docs/SWEEPS.md (here on this machine only)
@@ -30,6 +31,7 @@ check "merge exits 0" test $? -eq 0
 "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/s" -j 2 -q --no-log
 check "the in-process sweep exits 0" test $? -eq 0
 check "parallel + merge equals the in-process sweep (but wall time)" same_nowall "$T/p/summary.csv" "$T/s/summary.csv"
+check "  3 s runs (3001 ticks)" test "$(cut -d, -f5 "$T/p/summary.csv" | sort -u | tr '\n' ' ')" = "3001 ticks "
 check "  including the chatter columns" test "$(cut -d, -f16-18 "$T/p/summary.csv" | sort -u | wc -l)" -gt 2
 
 # a job that failed (here: its run.csv taken away and the job marked failed)
