@@ -19,8 +19,13 @@
 
 /* Options every verb that reads logs accepts (--column, --delimiter,
  * --comment, --set). */
+#define ANA_MAX_SCALES 16
 typedef struct ana_input_options {
 	popc_log_reader_options reader;
+	/* --scale NAME=FACTOR: the file's NAME column times FACTOR is SI */
+	int n_scales;
+	const char *scale_name[ANA_MAX_SCALES];
+	double scale[ANA_MAX_SCALES];
 	char **sets;
 	int n_sets;
 	const char *verb;   /* for the notes ana_log_open prints ("popc-analyze VERB: ...") */
@@ -49,15 +54,19 @@ enum {
 	ANA_OPT_DELIMITER,
 	ANA_OPT_COMMENT,
 	ANA_OPT_SET,
+	ANA_OPT_SCALE,
 };
 #define ANA_INPUT_LONG_OPTIONS                                               \
 	{"column", required_argument, NULL, ANA_OPT_COLUMN},                 \
 	{"delimiter", required_argument, NULL, ANA_OPT_DELIMITER},           \
 	{"comment", required_argument, NULL, ANA_OPT_COMMENT},               \
-	{"set", required_argument, NULL, ANA_OPT_SET}
+	{"set", required_argument, NULL, ANA_OPT_SET},                       \
+	{"scale", required_argument, NULL, ANA_OPT_SCALE}
 #define ANA_INPUT_HELP                                                                         \
 	"  --column NAME=HEADER     popc's column NAME is the file's column HEADER (repeatable;\n" \
 	"                           names: t x count x_true v f_e f_pc f_c W E_ref flags dt rtt)\n" \
+	"  --scale NAME=FACTOR      the file's column NAME times FACTOR is in SI units, e.g.\n"  \
+	"                           t=1e-3 (ms), x=1e-3 (mm), f_c=-1 (other sign convention)\n" \
 	"  --delimiter C            cell delimiter: ',' ';' tab ('\\t' or 'tab') or 'space'\n"    \
 	"                           (default: detected from the column names line)\n"             \
 	"  --comment C              comment character (default '#')\n"                            \
@@ -92,6 +101,8 @@ typedef struct ana_log {
 	long long ahead_line[2];  /* their line numbers (comments may come between) */
 	int n_ahead, ahead_pos, ahead_st;
 	double row[POPC_LOG_MAX_COLUMNS];
+	double scale[POPC_LOG_MAX_COLUMNS]; /* --scale per file column (1: none) */
+	int scaled;                         /* any --scale */
 	/* derived columns */
 	long long k;              /* ticks handed out */
 	double x_prev_m;

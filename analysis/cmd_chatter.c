@@ -139,6 +139,7 @@ int ana_cmd_chatter(int argc, char **argv)
 		case ANA_OPT_DELIMITER:
 		case ANA_OPT_COMMENT:
 		case ANA_OPT_SET:
+		case ANA_OPT_SCALE:
 			if ((rc = ana_input_option(&in, c, optarg, "chatter")) != 0)
 				goto out;
 			break;

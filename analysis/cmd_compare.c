@@ -239,6 +239,7 @@ int ana_cmd_compare(int argc, char **argv)
 		case ANA_OPT_DELIMITER:
 		case ANA_OPT_COMMENT:
 		case ANA_OPT_SET:
+		case ANA_OPT_SCALE:
 			if ((rc = ana_input_option(&in, c, optarg, "compare")) != 0)
 				goto out;
 			break;

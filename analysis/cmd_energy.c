@@ -320,6 +320,7 @@ int ana_cmd_energy(int argc, char **argv)
 		case ANA_OPT_DELIMITER:
 		case ANA_OPT_COMMENT:
 		case ANA_OPT_SET:
+		case ANA_OPT_SCALE:
 			if ((rc = ana_input_option(&in, c, optarg, "energy")) != 0)
 				goto out;
 			break;

@@ -65,6 +65,54 @@ static int parse_char_option(const char *arg, char *out)
 	return 0;
 }
 
+/* popc's column names (the --column and --scale NAMEs) */
+static int column_name_known(const char *name)
+{
+	static const char *const names[] = {"t",   "x",    "count", "x_true", "v",  "f_e", "f_pc",
+					    "f_c", "W",    "E_ref", "flags", "dt", "rtt"};
+	for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
+		if (strcmp(names[i], name) == 0)
+			return 1;
+	return 0;
+}
+
+static int scale_option(ana_input_options *o, char *arg, const char *verb)
+{
+	char *eq = strchr(arg, '=');
+	char *end = NULL;
+	double f = 0.0;
+	if (eq) {
+		*eq = '\0';
+		errno = 0;
+		f = strtod(eq + 1, &end);
+	}
+	if (!eq || end == eq + 1 || *end || errno || !isfinite(f) || f == 0.0 ||
+	    !column_name_known(arg) || strcmp(arg, "flags") == 0 || (strcmp(arg, "t") == 0 && f < 0.0)) {
+		fprintf(stderr,
+			"popc-analyze %s: --scale %s%s%s: expected NAME=FACTOR, NAME one of t x count "
+			"x_true v f_e f_pc f_c W E_ref dt rtt, FACTOR a finite nonzero number (> 0 "
+			"for t)\n",
+			verb, arg, eq ? "=" : "", eq ? eq + 1 : "");
+		if (eq)
+			*eq = '=';
+		return 2;
+	}
+	for (int i = 0; i < o->n_scales; i++)
+		if (strcmp(o->scale_name[i], arg) == 0) {
+			fprintf(stderr, "popc-analyze %s: --scale %s=%s: %s is already scaled\n", verb, arg,
+				eq + 1, arg);
+			*eq = '=';
+			return 2;
+		}
+	if (o->n_scales >= ANA_MAX_SCALES) {
+		fprintf(stderr, "popc-analyze %s: --scale: at most %d\n", verb, ANA_MAX_SCALES);
+		return 2;
+	}
+	o->scale_name[o->n_scales] = arg; /* arg stays split at '=': the name */
+	o->scale[o->n_scales++] = f;
+	return 0;
+}
+
 int ana_input_option(ana_input_options *o, int opt, char *arg, const char *verb)
 {
 	popc_error err;
@@ -76,15 +124,9 @@ int ana_input_option(ana_input_options *o, int opt, char *arg, const char *verb)
 		}
 		/* a misspelt name (F_c, fc) would map nothing and leave the log
 		 * without that column, silently: only popc's names, each once */
-		static const char *const names[] = {"t",    "x",  "count", "x_true", "v",
-						    "f_e",  "f_pc", "f_c", "W",      "E_ref",
-						    "flags", "dt",  "rtt"};
 		const int last = o->reader.n_map - 1;
 		const char *name = o->reader.map_name[last];
-		int known = 0;
-		for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
-			known |= strcmp(names[i], name) == 0;
-		if (!known) {
+		if (!column_name_known(name)) {
 			fprintf(stderr,
 				"popc-analyze %s: --column %s=%s: '%s' is not a popc column name (t x "
 				"count x_true v f_e f_pc f_c W E_ref flags dt rtt)\n",
@@ -117,6 +159,8 @@ int ana_input_option(ana_input_options *o, int opt, char *arg, const char *verb)
 			o->reader.comment = c;
 		return 0;
 	}
+	case ANA_OPT_SCALE:
+		return scale_option(o, arg, verb);
 	case ANA_OPT_SET:
 		if (!strchr(arg, '=') || !strchr(arg, '.')) {
 			fprintf(stderr, "popc-analyze %s: --set '%s': expected section.key=value\n",
@@ -272,6 +316,16 @@ int ana_no_pc_force(popc_error *err, const char *path)
 			      path);
 }
 
+/* --scale: to SI units (no multiplication without one, so that a popc log
+ * still reads back bit for bit) */
+static void apply_scale(const ana_log *l, double *row)
+{
+	if (!l->scaled)
+		return;
+	for (int i = 0; i < l->r.n_cols; i++)
+		row[i] *= l->scale[i];
+}
+
 int ana_log_open(ana_log *l, const char *path, const ana_input_options *o, popc_error *err)
 {
 	memset(l, 0, sizeof *l);
@@ -323,6 +377,21 @@ int ana_log_open(ana_log *l, const char *path, const ana_input_options *o, popc_
 		if (cols[i] >= 0)
 			used[n_used++] = cols[i];
 	popc_log_reader_use_columns(r, used, n_used);
+	for (int i = 0; i < POPC_LOG_MAX_COLUMNS; i++)
+		l->scale[i] = 1.0;
+	for (int i = 0; i < o->n_scales; i++) {
+		int c = popc_log_reader_column(r, o->scale_name[i]);
+		if (c < 0) {
+			st = popc_error_set(err, POPC_ERR_INVALID,
+					    "%s: --scale %s=%g: the log has no column '%s' (map one with "
+					    "--column %s=HEADER)",
+					    path, o->scale_name[i], o->scale[i], o->scale_name[i],
+					    o->scale_name[i]);
+			goto fail;
+		}
+		l->scale[c] = o->scale[i];
+		l->scaled = 1;
+	}
 	l->has_pc_force = l->c_f_pc >= 0 || l->c_f_c >= 0;
 	l->has_w = l->has_pc_force || (l->c_W >= 0 && l->c_E_ref >= 0);
 	if ((st = popc_log_reader_require(r, "t", &l->c_t, err)) != 0)
@@ -344,6 +413,7 @@ int ana_log_open(ana_log *l, const char *path, const ana_input_options *o, popc_
 		if (got == 0)
 			break;
 		l->ahead_line[l->n_ahead] = r->lineno;
+		apply_scale(l, l->ahead[l->n_ahead]);
 		l->n_ahead++;
 	}
 	if (l->n_ahead == 0) {
@@ -388,6 +458,7 @@ int ana_log_next(ana_log *l, ana_row *out, popc_error *err)
 		if (got <= 0)
 			return got;
 		line = l->r.lineno;
+		apply_scale(l, l->row);
 		row = l->row;
 	}
 	const double delta = l->scene.enc_resolution_m;

@@ -58,4 +58,30 @@ expect_rc 2 "$A" chatter --column F_c=force "$W/force.csv" &&
 expect_rc 2 "$A" compare --column f_c=force --column f_c=x "$W/force.csv" &&
 	grep -q -- "--column f_c=x: f_c is already mapped to 'force'" "$W/err" &&
 	ok "--column name mapped twice refused" || fail "double --column: $(cat "$W/err")"
+
+# --scale: other units and sign conventions. Exact factors give the same row
+# bit for bit: x in half-metres (x2 is exact in binary), the force with the
+# other sign (-1).
+awk -F, 'NR == 1 { print "t,x_half,f_dev"; next } { printf "%s,%.17g,%.17g\n", $1, $2 / 2, -$3 }' \
+	"$W/plain.csv" >"$W/units.csv"
+same_as units.csv --column x=x_half --column f_c=f_dev --scale x=2 --scale f_c=-1 &&
+	ok "--scale x=2 --scale f_c=-1: same row bit for bit"
+# time in milliseconds: 1e-3 is inexact, so only the duration is checked
+# (to the rounding of 1000 x 1e-3, well within 1e-12 s)
+awk -F, 'NR == 1 { print "t_ms,x,f_c"; next } { printf "%.17g,%s,%s\n", $1 * 1000, $2, $3 }' \
+	"$W/plain.csv" >"$W/ms.csv"
+expect_rc 0 "$A" compare --format csv --column t=t_ms --scale t=1e-3 "$W/ms.csv" &&
+	awk -F, 'NR == 2 { exit !($3 == 1001 && $4 > 1 - 1e-12 && $4 < 1 + 1e-12) }' "$W/out" &&
+	ok "--scale t=1e-3: 1 s, 1001 ticks" || fail "ms log: $(cat "$W/out")"
+expect_rc 0 "$A" compare --format csv --column t=t_ms "$W/ms.csv" &&
+	awk -F, 'NR == 2 { exit !($4 == 1000) }' "$W/out" && ok "(unscaled it reads as 1000 s)" ||
+	fail "ms log unscaled: $(cat "$W/out")"
+for bad in "x=abc" "y=2" "t=-1" "x=0" "flags=2" "x"; do
+	expect_rc 2 "$A" compare --scale "$bad" "$W/plain.csv" &&
+		grep -q -- "--scale $bad: expected NAME=FACTOR" "$W/err" || fail "--scale $bad: $(cat "$W/err")"
+done
+ok "--scale with a bad name or factor refused"
+expect_rc 2 "$A" compare --scale count=2 "$W/plain.csv" &&
+	grep -q "plain.csv: --scale count=2: the log has no column 'count'" "$W/err" &&
+	ok "--scale of a column the log lacks refused" || fail "--scale missing column: $(cat "$W/err")"
 finish
