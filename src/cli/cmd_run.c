@@ -1,4 +1,5 @@
 /* popc run SCENE [--set k=v]... [--variant NAME] [--log FILE] [--summary FILE] */
+#include <errno.h>
 #include <getopt.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -41,9 +42,11 @@ enum { OPT_SET = 256, OPT_VARIANT, OPT_LOG, OPT_SUMMARY, OPT_AXIS, OPT_MAP, OPT_
        OPT_FREE_RUN, OPT_RT };
 
 /* Appends the run's summary row, and the axis' own columns (a real axis:
- * period and latency percentiles) after the run's, to path; a new file gets
- * the header first. */
-static int write_summary_file(const char *path, const popc_run_summary *sum, const popc_scene *s,
+ * period and latency percentiles) after the run's, to f (opened for
+ * appending before the run, so that a summary path that cannot be written
+ * stops the run before it starts, not after it is done); an empty file gets
+ * the header first. Closes f. */
+static int write_summary_file(FILE *f, const popc_run_summary *sum, const popc_scene *s,
 			      const char *axis_names, const char *axis_values)
 {
 	char *header = NULL, *row = NULL;
@@ -59,14 +62,15 @@ static int write_summary_file(const char *path, const popc_run_summary *sum, con
 		fclose(m);
 	}
 	int st = -1;
-	FILE *f = header && row && hl && rl ? fopen(path, "a+") : NULL;
-	if (f) {
+	if (header && row && hl && rl) {
 		fseek(f, 0, SEEK_END);
 		if (ftell(f) == 0)
 			fprintf(f, "%.*s%s\n", (int)hl - 1, header, axis_names); /* drop the '\n' */
 		fprintf(f, "%.*s%s\n", (int)rl - 1, row, axis_values);
-		st = fclose(f);
+		st = 0;
 	}
+	if (fclose(f) != 0)
+		st = -1;
 	free(header);
 	free(row);
 	return st;
@@ -153,6 +157,13 @@ int popc_cmd_run(int argc, char **argv)
 	if (st)
 		return popc_cli_fail("run", st, &err);
 
+	FILE *summary = NULL;
+	if (summary_path && !(summary = fopen(summary_path, "a"))) {
+		st = popc_error_set(&err, POPC_ERR_IO, "%s: cannot open the summary for appending: %s",
+				    summary_path, strerror(errno));
+		popc_axis_destroy(&axis);
+		return popc_cli_fail("run", st, &err);
+	}
 	popc_log_writer log;
 	popc_run_options ro = {.log = NULL, .stop_flag = &popc_cli_stop};
 	if (log_path) {
@@ -160,6 +171,8 @@ int popc_cmd_run(int argc, char **argv)
 		if (!st)
 			st = popc_log_write_header(&log, axis->ops->name, &s, NULL, &err);
 		if (st) {
+			if (summary)
+				fclose(summary);
 			popc_axis_destroy(&axis);
 			return popc_cli_fail("run", st, &err);
 		}
@@ -177,9 +190,9 @@ int popc_cmd_run(int argc, char **argv)
 		axis->ops->report(axis, quiet ? NULL : stderr, axis_names, axis_values,
 				  sizeof axis_names);
 	popc_axis_destroy(&axis);
-	if (summary_path &&
-	    write_summary_file(summary_path, &sum, &s, axis_names, axis_values) != 0) {
-		fprintf(stderr, "popc run: %s: cannot write the summary\n", summary_path);
+	if (summary && write_summary_file(summary, &sum, &s, axis_names, axis_values) != 0) {
+		fprintf(stderr, "popc run: %s: cannot write the summary: %s\n", summary_path,
+			strerror(errno));
 		if (!run_st)
 			return 1;
 	}

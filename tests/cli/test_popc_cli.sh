@@ -92,6 +92,10 @@ expect_exit 0 "second run appends to the summary" "$POPC" run "$SRC/data/scenes/
 check "  two rows, one header" test "$(wc -l < "$T/sum.csv")" -eq 3
 check "  -q prints nothing" test ! -s "$T/err"
 
+expect_exit 1 "a summary path that cannot be written" "$POPC" run "$SRC/data/scenes/paper.ini" --summary "$T/nodir/sum.csv" --log "$T/sumlog.csv"
+check "  names it and why" err_has "nodir/sum.csv: cannot open the summary for appending: No such file or directory"
+check "  refused before the run: no log written" test ! -e "$T/sumlog.csv"
+
 # log to standard output equals the log file
 "$POPC" run "$SRC/data/scenes/paper.ini" -q --log - > "$T/stdout.csv"
 check "--log - writes the same log to stdout" cmp -s "$T/stdout.csv" "$T/paper.csv"
