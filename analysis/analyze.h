@@ -144,6 +144,13 @@ int ana_fail(const char *verb, int status, const popc_error *err);
  * beside a log named compare.csv, a replay prefix naming its own input). */
 int ana_output_is_input(const char *out, char *const *inputs, int n);
 
+/* Writes text as one CSV cell: in double quotes (inner quotes doubled) when it
+ * holds a comma, a quote or a line end, as a file name may. */
+void ana_put_csv_text(FILE *f, const char *text);
+
+/* Writes text as one Markdown table cell ('|' escaped). */
+void ana_put_md_text(FILE *f, const char *text);
+
 /* Writes v in shortest round-trip form. */
 void ana_put_double(FILE *f, double v);
 

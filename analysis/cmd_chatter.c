@@ -78,12 +78,14 @@ static void print_text(const ana_summary *s)
 
 static void print_csv(const ana_summary *s)
 {
-	const char *log = s->log;
 	const popc_chatter_result *r = &s->chatter;
-	if (!s->has_pc_force)
-		printf("%s,chatter_not_checked,,,\n", log);
+	if (!s->has_pc_force) {
+		ana_put_csv_text(stdout, s->log);
+		printf(",chatter_not_checked,,,\n");
+	}
 	for (int i = 0; i < r->n_stored; i++) {
-		printf("%s,chatter,", log);
+		ana_put_csv_text(stdout, s->log);
+		printf(",chatter,");
 		ana_put_double(stdout, r->intervals[i].start_s);
 		putchar(',');
 		ana_put_double(stdout, r->intervals[i].end_s);
@@ -92,7 +94,8 @@ static void print_csv(const ana_summary *s)
 		putchar('\n');
 	}
 	if (r->limit_cycle) {
-		printf("%s,limit_cycle,", log);
+		ana_put_csv_text(stdout, s->log);
+		printf(",limit_cycle,");
 		ana_put_double(stdout, r->lc_start_s);
 		putchar(',');
 		ana_put_double(stdout, r->lc_end_s);

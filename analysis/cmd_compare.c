@@ -138,7 +138,13 @@ void ana_summary_print_row(FILE *f, ana_format fmt, const ana_summary *s)
 	const char *na = fmt == ANA_CSV ? "" : "n/a";
 	if (fmt == ANA_MARKDOWN)
 		fputs("| ", f);
-	fprintf(f, "%s%s%s%s%lld", s->log, sep, s->variant, sep, s->ticks);
+	/* the log's name is its file name and the variant the header's text:
+	 * either may hold the separator */
+	void (*put_text)(FILE *, const char *) = fmt == ANA_CSV ? ana_put_csv_text : ana_put_md_text;
+	put_text(f, s->log);
+	fputs(sep, f);
+	put_text(f, s->variant);
+	fprintf(f, "%s%lld", sep, s->ticks);
 	for (int i = 0; i < nv; i++) {
 		fputs(sep, f);
 		if (!known[i])

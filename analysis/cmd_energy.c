@@ -237,7 +237,8 @@ static int energy_one(const char *path, const ana_input_options *in, const int *
 		}
 		double wme_end = e->obs.W_J - e->obs.E_ref_J;
 		if (fmt == ANA_CSV) {
-			printf("%s,%s,%lld,", l.name, name, rows);
+			ana_put_csv_text(stdout, l.name);
+			printf(",%s,%lld,", name, rows);
 			ana_put_double(stdout, e->obs.W_J);
 			putchar(',');
 			ana_put_double(stdout, e->obs.E_ref_J);

@@ -33,6 +33,30 @@ int ana_output_is_input(const char *out, char *const *inputs, int n)
 	return -1;
 }
 
+void ana_put_csv_text(FILE *f, const char *text)
+{
+	if (!strpbrk(text, ",\"\r\n")) {
+		fputs(text, f);
+		return;
+	}
+	fputc('"', f);
+	for (const char *p = text; *p; p++) {
+		if (*p == '"')
+			fputc('"', f);
+		fputc(*p, f);
+	}
+	fputc('"', f);
+}
+
+void ana_put_md_text(FILE *f, const char *text)
+{
+	for (const char *p = text; *p; p++) {
+		if (*p == '|')
+			fputc('\\', f);
+		fputc(*p, f);
+	}
+}
+
 void ana_put_double(FILE *f, double v)
 {
 	char b[POPC_DOUBLE_TEXT_MAX + 1];

@@ -84,4 +84,20 @@ ok "--scale with a bad name or factor refused"
 expect_rc 2 "$A" compare --scale count=2 "$W/plain.csv" &&
 	grep -q "plain.csv: --scale count=2: the log has no column 'count'" "$W/err" &&
 	ok "--scale of a column the log lacks refused" || fail "--scale missing column: $(cat "$W/err")"
+
+# A log's name is its file name, which may hold the CSV delimiter or a quote:
+# the CSV cell is quoted (RFC 4180), the Markdown cell escapes '|'.
+cp "$W/plain.csv" "$W/run 1, \"fast\".csv"
+expect_rc 0 "$A" compare --format csv "$W/run 1, \"fast\".csv" &&
+	[ "$(tail -n 1 "$W/out" | cut -c1-18)" = '"run 1, ""fast""",' ] &&
+	[ "$(tail -n 1 "$W/out" | sed 's/^"run 1, ""fast""",//')" = "$(cat "$W/want")" ] &&
+	ok "compare CSV: a name with ',' and '\"' quoted" || fail "CSV name quoting: $(cat "$W/out")"
+# (thresholds 0: every window flagged, so there is a row to print)
+expect_rc 1 "$A" chatter --format csv --threshold pc_rms=0 --threshold pc_flip_rate=0 \
+	--threshold vsign_rate=0 --threshold contact=0 "$W/run 1, \"fast\".csv" &&
+	grep -q '^"run 1, ""fast""",chatter,' "$W/out" && ok "chatter CSV: name quoted" ||
+	fail "chatter CSV name: $(cat "$W/out")"
+cp "$W/plain.csv" "$W/a|b.csv"
+expect_rc 0 "$A" compare --format markdown "$W/a|b.csv" && grep -q '^| a\\|b | unknown | 1001 |' "$W/out" &&
+	ok "compare Markdown: '|' in a name escaped" || fail "Markdown name: $(cat "$W/out")"
 finish
