@@ -229,11 +229,13 @@ int popc_sweep_mkdir_p(const char *path, popc_error *err)
 			continue;
 		*p = '\0';
 		if (mkdir(buf, 0777) != 0 && errno != EEXIST)
-			return popc_error_set(err, POPC_ERR_IO, "%s: %s", buf, strerror(errno));
+			return popc_error_set(err, POPC_ERR_IO, "cannot create directory %s: %s", buf,
+					      strerror(errno));
 		*p = '/';
 	}
 	if (mkdir(buf, 0777) != 0 && errno != EEXIST)
-		return popc_error_set(err, POPC_ERR_IO, "%s: %s", buf, strerror(errno));
+		return popc_error_set(err, POPC_ERR_IO, "cannot create directory %s: %s", buf,
+				      strerror(errno));
 	return 0;
 }
 
@@ -299,8 +301,11 @@ int popc_sweep_dir_prepare(const popc_sweep_plan *p, const char *dir, const char
 	static const char *const sub[] = {"runs", "rows"};
 	for (size_t k = 0; k < 2; k++) {
 		snprintf(path, sizeof path, "%s/%s", dir, sub[k]);
-		if (mkdir(path, 0777) != 0 && errno != EEXIST)
-			return popc_error_set(err, POPC_ERR_IO, "%s: %s", path, strerror(errno));
+		if (mkdir(path, 0777) != 0 && errno != EEXIST) {
+			int e = errno;
+			return popc_error_set(err, POPC_ERR_IO, "cannot create directory %s: %s%s", path,
+					      strerror(e), e == ENOTDIR ? " (is -o a file?)" : "");
+		}
 	}
 
 	snprintf(path, sizeof path, "%s/sweep.plan", dir);
