@@ -80,27 +80,28 @@ static int in_range(const fault_range *r, long n)
 	return r->first > 0 && n >= r->first && n < r->first + r->count;
 }
 
-/* "N[,COUNT]" or, with want_arg, "N,ARG[,COUNT]". */
+/* "N[,COUNT]" or, with want_arg, "N,ARG[,COUNT]": decimal integers and
+ * nothing else (a value past the last one, a sign or a blank is refused,
+ * not ignored). */
 static int parse_range(const char *text, int want_arg, fault_range *r)
 {
 	long v[3] = {0, 0, 0};
-	int n = 0;
+	int n = 0, max = want_arg ? 3 : 2;
 	const char *p = text;
-	while (n < 3) {
+	for (;;) {
+		if (n == max || *p < '0' || *p > '9')
+			return -1;
 		char *end;
 		errno = 0;
-		v[n] = strtol(p, &end, 10);
-		if (end == p || errno || v[n] < 0)
+		v[n++] = strtol(p, &end, 10);
+		if (errno)
 			return -1;
-		n++;
 		if (*end == '\0')
 			break;
 		if (*end != ',')
 			return -1;
 		p = end + 1;
 	}
-	if (*p && n == 3 && strchr(p, ','))
-		return -1;
 	if (v[0] < 1 || n < 1 + want_arg)
 		return -1;
 	r->first = v[0];
@@ -109,12 +110,15 @@ static int parse_range(const char *text, int want_arg, fault_range *r)
 	return r->count >= 1 ? 0 : -1;
 }
 
+/* A decimal integer >= min, digits only. */
 static int parse_count(const char *text, long min, long *out)
 {
 	char *end;
 	errno = 0;
+	if (*text < '0' || *text > '9')
+		return -1;
 	long v = strtol(text, &end, 10);
-	if (end == text || *end || errno || v < min)
+	if (*end || errno || v < min)
 		return -1;
 	*out = v;
 	return 0;

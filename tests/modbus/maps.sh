@@ -63,4 +63,16 @@ check_log "$WORK/refused.csv" '^# stop = axis start failed: .*cannot connect'
 rc=0
 "$SIM" --map "$DRIVES/generic.ini" --listen tcp:127.0.0.1:0 2>/dev/null || rc=$?
 expect_rc sim-usage $rc 2
+# fault options take exactly their numbers: a value too many is refused, not
+# ignored (bounded: a server that accepted one would listen until killed)
+for opt in "--drop 5,1,2" "--drop 0" "--drop 5,0" "--drop -1" "--delay 5" "--delay 5,80,1,1" \
+	"--delay 5,80,2," "--exception 5,0" "--notify-at 1x" "--close-after +3"; do
+	rc=0
+	# shellcheck disable=SC2086
+	timeout 10 "$SIM" --map "$DRIVES/generic.ini" --listen tcp:127.0.0.1:0 --scene "$SCENE" $opt \
+		>/dev/null 2>"$WORK/simopt.err" || rc=$?
+	expect_rc "sim $opt" $rc 2
+	grep -q "bad value '${opt#* }' for ${opt%% *}" "$WORK/simopt.err" ||
+		fail "sim $opt: $(cat "$WORK/simopt.err")"
+done
 finish
