@@ -41,6 +41,8 @@ int popc_cmd_scene(int argc, char **argv)
 	optind = 1;
 	argc--;
 	argv++;
+	static char prog_show[] = "popc scene show", prog_keys[] = "popc scene keys";
+	argv[0] = keys ? prog_keys : prog_show; /* getopt's messages name argv[0] */
 	while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
 		switch (c) {
 		case 's': popc_cli_push(&sets, &n_sets, optarg); break;

@@ -964,8 +964,11 @@ static int sweep_main(const sweep_args *a)
 
 int popc_cmd_sweep(int argc, char **argv)
 {
-	if (argc >= 2 && strcmp(argv[1], "merge") == 0)
+	if (argc >= 2 && strcmp(argv[1], "merge") == 0) {
+		static char prog[] = "popc sweep merge"; /* getopt's messages name argv[0] */
+		argv[1] = prog;
 		return cmd_merge(argc - 1, argv + 1);
+	}
 	static const struct option opts[] = {
 		{"vary", required_argument, NULL, OPT_VARY},
 		{"set", required_argument, NULL, OPT_SET},

@@ -37,6 +37,10 @@ int main(int argc, char **argv)
 		printf("popc %s\n", POPC_VERSION);
 		return 0;
 	}
+	/* getopt names argv[0] in its messages: "popc run: unrecognized option" */
+	static char prog[64];
+	snprintf(prog, sizeof prog, "popc %s", verb);
+	argv[1] = prog;
 	if (strcmp(verb, "run") == 0)
 		return popc_cmd_run(argc - 1, argv + 1);
 	if (strcmp(verb, "scene") == 0)

@@ -16,6 +16,9 @@ expect_exit 2 "popc without a verb" "$POPC"
 expect_exit 2 "unknown verb" "$POPC" frobnicate
 expect_exit 2 "run without a scene" "$POPC" run
 expect_exit 2 "run with an unknown option" "$POPC" run "$SRC/data/scenes/paper.ini" --bogus
+check "  names the program and verb" err_has "popc run: unrecognized option '--bogus'"
+expect_exit 2 "scene show with an unknown option" "$POPC" scene show --bogus
+check "  names the program and verb" err_has "popc scene show: unrecognized option '--bogus'"
 expect_exit 2 "run with a missing scene file" "$POPC" run "$T/none.ini"
 check "  names the missing file" err_has "$T/none.ini"
 
