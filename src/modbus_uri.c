@@ -45,7 +45,8 @@ static int parse_tcp(const char *text, const char *p, popc_modbus_uri *u, popc_e
 		char *end;
 		errno = 0;
 		v = strtol(port, &end, 10);
-		if (end == port || *end || errno || v < 0 || v > 65535)
+		/* digits only: strtol would also take a sign or leading blanks */
+		if (*port < '0' || *port > '9' || *end || errno || v < 0 || v > 65535)
 			return uri_bad(err, text, "port must be an integer in [0, 65535] (0: any free port, "
 						  "for a server)");
 	}
@@ -71,7 +72,7 @@ static int parse_rtu(const char *text, const char *p, popc_modbus_uri *u, popc_e
 	char *end;
 	errno = 0;
 	long baud = strtol(b, &end, 10);
-	if (end == b || (*end && *end != ':') || errno || baud < 50 || baud > 4000000)
+	if (*b < '0' || *b > '9' || (*end && *end != ':') || errno || baud < 50 || baud > 4000000)
 		return uri_bad(err, text, "baud must be an integer in [50, 4000000]");
 	u->baud = (int)baud;
 	if (!*end)

@@ -325,6 +325,12 @@ static const uri_case uri_cases[] = {
 	{"rtu:/dev/ttyS1:9600:9N1", 0, NULL},
 	{"udp:1.2.3.4:502", 0, NULL},
 	{"rtu:", 0, NULL},
+	/* numbers are digits only */
+	{"tcp:127.0.0.1:+502", 0, NULL},
+	{"tcp:127.0.0.1: 502", 0, NULL},
+	{"tcp:127.0.0.1:", 0, NULL},
+	{"rtu:/dev/ttyS1:+9600", 0, NULL},
+	{"rtu:/dev/ttyS1: 9600:8N1", 0, NULL},
 };
 
 static void test_uris(void **state)
