@@ -38,6 +38,7 @@ awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
 	END { exit !(NR == 2 && ok) }' "$WORK/sum.csv" || fail "summary CSV lacks the period columns: $(cat "$WORK/sum.csv")"
 # dt and rtt in every row after tick 0, positive
 awk -F, '/^#/ { next } !h { for (i = 1; i <= NF; i++) c[$i] = i; h = 1; next }
-	n++ > 0 && !($c["dt"] > 0 && $c["rtt"] > 0) { bad = 1 } END { exit bad }' "$WORK/rt.csv" ||
+	n++ > 0 && !($c["dt"] > 0 && $c["rtt"] > 0) { bad = 1 }
+	END { exit bad || !c["dt"] || !c["rtt"] || n != 10001 }' "$WORK/rt.csv" ||
 	fail "dt or rtt missing in the log"
 finish
