@@ -38,8 +38,8 @@ int main(int argc, char **argv)
 		return 0;
 	}
 	/* getopt names argv[0] in its messages: "popc run: unrecognized option" */
-	static char prog[64];
-	snprintf(prog, sizeof prog, "popc %s", verb);
+	static char prog[64] = "popc ";
+	strncat(prog, verb, sizeof prog - sizeof "popc ");
 	argv[1] = prog;
 	if (strcmp(verb, "run") == 0)
 		return popc_cmd_run(argc - 1, argv + 1);
