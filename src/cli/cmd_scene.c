@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "popc/intent.h"
 
 static void usage(FILE *f)
 {
@@ -13,7 +14,8 @@ static void usage(FILE *f)
 	      "\n"
 	      "show  prints the resolved scene as INI, every default explicit: the scene\n"
 	      "      file (or only the defaults, the paper's scene, without FILE) with the\n"
-	      "      --set overrides applied and validated.\n"
+	      "      --set overrides applied and validated (an intent table is read too).\n"
+	      "      Exit 2 names what is wrong: file:line, key and allowed range.\n"
 	      "keys  lists every scene key with its default and allowed range.\n",
 	      f);
 }
@@ -71,6 +73,12 @@ int popc_cmd_scene(int argc, char **argv)
 	popc_error err;
 	int st = popc_cli_load_scene(&s, path, sets, n_sets, &err);
 	free(sets);
+	if (!st && s.intent == POPC_INTENT_TABLE) {
+		/* the table is part of the scene: check it as popc run reads it */
+		popc_intent in;
+		st = popc_intent_init(&in, &s, &err);
+		popc_intent_free(&in);
+	}
 	if (st)
 		return popc_cli_fail("scene show", st, &err);
 	printf("; resolved scene%s%s\n", path ? " from " : " (defaults)", path ? path : "");

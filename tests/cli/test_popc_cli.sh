@@ -75,6 +75,8 @@ check "  names file:line, column and range" err_has "far.csv:3: column 2: 1e+308
 printf 't,f\n0,0\n1,-2e6\n' > "$T/tab/push.csv"
 expect_exit 2 "a force beyond operator.force's range" "$POPC" run "$T/tab/table.ini" --set "operator.table=$T/tab/push.csv" --set operator.table_quantity=force
 check "  names the force range" err_has "push.csv:3: column 2: -2e+06 N is out of range; allowed [-1e+06, 1e+06] N"
+expect_exit 2 "scene show reads the table too" "$POPC" scene show "$T/tab/table.ini" --set "operator.table=$T/tab/back.csv"
+check "  names file:line" err_has "back.csv:4: time 0.5 does not increase"
 expect_exit 2 "a missing table" "$POPC" run "$T/tab/table.ini" --set "operator.table=$T/tab/none.csv"
 check "  names it" err_has "none.csv: cannot open table: No such file or directory"
 
