@@ -8,6 +8,7 @@
 #include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "ini_lines.h"
 #include "popc/numfmt.h"
@@ -373,18 +374,29 @@ static int scene_ini_handler(void *user, const char *section, const char *name, 
 	return c->status ? 0 : 1;
 }
 
-/* Makes a path relative to the scene file's directory absolute-ish. */
-static void resolve_relative(char *field, const char *scene_path)
+/* A relative table or map path is relative to the scene file's directory;
+ * it is made absolute (the working directory before a relative scene path),
+ * so that the resolved scene, written to a log header or a sweep's run
+ * directory, names the same file from anywhere. */
+static int resolve_relative(char *field, const char *scene_path, const char *key, popc_error *err)
 {
 	if (!field[0] || field[0] == '/')
-		return;
+		return 0;
+	char cwd[POPC_PATH_MAX] = "";
+	if (scene_path[0] != '/' && !getcwd(cwd, sizeof cwd))
+		cwd[0] = '\0'; /* then relative to the working directory, as given */
 	const char *slash = strrchr(scene_path, '/');
-	if (!slash)
-		return;
+	int dir_len = slash ? (int)(slash - scene_path) : 0;
 	char out[POPC_PATH_MAX];
-	int n = snprintf(out, sizeof out, "%.*s/%s", (int)(slash - scene_path), scene_path, field);
-	if (n > 0 && (size_t)n < sizeof out)
-		memcpy(field, out, (size_t)n + 1);
+	int n = snprintf(out, sizeof out, "%s%s%.*s%s%s", cwd, cwd[0] && cwd[1] ? "/" : "", dir_len, scene_path,
+			 dir_len ? "/" : "", field);
+	if (n < 0 || (size_t)n >= sizeof out)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: %s = %s: the path from the scene's directory is longer "
+				      "than %d characters",
+				      scene_path, key, field, POPC_PATH_MAX - 1);
+	memcpy(field, out, (size_t)n + 1);
+	return 0;
 }
 
 int popc_scene_load(popc_scene *s, const char *path, popc_error *err)
@@ -420,10 +432,13 @@ int popc_scene_load(popc_scene *s, const char *path, popc_error *err)
 						  "or a ; or # comment)");
 		return popc_error_set(err, POPC_ERR_INVALID, "%s:%d: %s", path, line, msg);
 	}
+	int st = 0;
 	if (strcmp(table_before, s->op_table) != 0)
-		resolve_relative(s->op_table, path);
-	if (strcmp(map_before, s->axis_map) != 0)
-		resolve_relative(s->axis_map, path);
+		st = resolve_relative(s->op_table, path, "operator.table", err);
+	if (!st && strcmp(map_before, s->axis_map) != 0)
+		st = resolve_relative(s->axis_map, path, "axis.map", err);
+	if (st)
+		return st;
 	snprintf(s->source, sizeof s->source, "%s", path);
 	return 0;
 }

@@ -65,6 +65,12 @@ printf '[run]\nduration = 0.2\n[operator]\nintent = table\ntable = xd.csv\n' > "
 printf 't,x_d\r\n0,-0.01\r\n0.1,0.005\r\n' > "$T/tab/xd.csv"
 expect_exit 0 "table intent, path relative to the scene file" "$POPC" run "$T/tab/table.ini" -q --log "$T/tab.csv"
 check "  x_true follows the table past 0 m (contact)" awk -F, '/^[0-9]/ && $4 > 0 { e = 1 } END { exit !e }' "$T/tab.csv"
+# a relative scene path: the resolved scene names the table absolutely, so
+# that it runs from anywhere (here from another directory)
+mkdir -p "$T/elsewhere"
+(cd "$T" && "$POPC" scene show tab/table.ini > "$T/elsewhere/resolved.ini" 2>"$T/err")
+check "resolved scene names the table by its absolute path" grep -qx "table = $T/tab/xd.csv" "$T/elsewhere/resolved.ini"
+expect_exit 0 "  and runs from another directory" "$POPC" run "$T/elsewhere/resolved.ini" -q
 printf 't,x_d\n0,0\n1,0.01\n0.5,0.02\n' > "$T/tab/back.csv"
 expect_exit 2 "times that go back" "$POPC" run "$T/tab/table.ini" --set "operator.table=$T/tab/back.csv" --log "$T/back.csv"
 check "  names file:line and both times" err_has "back.csv:4: time 0.5 does not increase (previous 1)"
