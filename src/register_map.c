@@ -646,17 +646,24 @@ int popc_register_map_load(popc_register_map *m, const char *path, popc_error *e
 	c->path = path;
 	c->err = err;
 	c->f = fopen(path, "r");
+	/* a map that cannot be read is bad input (exit 2), as for a scene */
 	if (!c->f) {
-		int st = popc_error_set(err, POPC_ERR_IO, "%s: cannot open the register map: %s", path,
+		int st = popc_error_set(err, POPC_ERR_INVALID, "%s: cannot open the register map: %s", path,
 					strerror(errno));
 		free(c);
 		return st;
 	}
 	int line = ini_parse_stream(read_line, c, map_handler, c);
+	/* fgets ends at the end of the file and on a read error (a directory:
+	 * EISDIR), which must not read as an empty map ("missing ...") */
+	int read_failed = ferror(c->f), read_errno = errno;
 	fclose(c->f);
 	int st = c->status;
-	if (!st && line < 0)
-		st = popc_error_set(err, POPC_ERR_IO, "%s: cannot read", path);
+	if (!st && read_failed)
+		st = popc_error_set(err, POPC_ERR_INVALID, "%s: cannot read the register map: %s", path,
+				    strerror(read_errno));
+	else if (!st && line < 0)
+		st = popc_error_set(err, POPC_ERR_NOMEM, "%s: out of memory while reading", path);
 	else if (!st && line > 0)
 		st = popc_error_set(err, POPC_ERR_INVALID,
 				    "%s:%d: malformed line (expected [section], key = value, or a ; comment)",

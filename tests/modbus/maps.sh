@@ -48,6 +48,14 @@ map_error soft-order 's/^soft_max_m = .*/soft_max_m = -0.06/' \
 	':[0-9]*: position.soft_max_m = -0.06: soft_max_m must be above soft_min_m = -0.05 (line [0-9]*)'
 map_error silence 's/^timeout_ms = .*/timeout_ms = 1000/' \
 	':[0-9]*: drive.timeout_ms = 1000 (line [0-9]*) x drive.max_failures = 3 (line [0-9]*) = 3000 ms'
+# a map that cannot be opened or read (a directory) is bad input too: exit 2
+for m in "$WORK/no-such-map.ini" "$WORK"; do
+	rc=0
+	"$POPC" run "$SCENE" -q --axis modbus --map "$m" --connect tcp:127.0.0.1:1 2>"$WORK/unread.err" || rc=$?
+	expect_rc "map $m" $rc 2
+	grep -q "$m: cannot \(open\|read\) the register map" "$WORK/unread.err" ||
+		fail "map $m: $(cat "$WORK/unread.err")"
+done
 rc=0
 "$POPC" run "$SCENE" -q --axis modbus --map "$DRIVES/generic.ini" --connect serial:x \
 	2>"$WORK/uri.err" || rc=$?

@@ -284,6 +284,27 @@ static void test_sequence_register(void **state)
 	}
 }
 
+/* A map that cannot be opened or read is bad input naming the file; a
+ * directory (fopen succeeds, reading fails) is not an empty map. */
+static void test_unreadable_maps(void **state)
+{
+	(void)state;
+	static const struct {
+		const char *path, *want;
+	} cases[] = {
+		{"/nonexistent/popc-map.ini", "/nonexistent/popc-map.ini: cannot open the register map: "},
+		{"/", "/: cannot read the register map: Is a directory"},
+	};
+	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+		popc_register_map m;
+		popc_error err;
+		int st = popc_register_map_load(&m, cases[i].path, &err);
+		if (st != POPC_ERR_INVALID || !strstr(err.msg, cases[i].want))
+			fail_msg("%s: status %d, '%s'; want invalid, '%s'", cases[i].path, st, err.msg,
+				 cases[i].want);
+	}
+}
+
 /* the maps shipped in data/drives/ all load */
 static void test_shipped_maps(void **state)
 {
@@ -392,6 +413,7 @@ int main(void)
 		cmocka_unit_test(test_leading_zeros),
 		cmocka_unit_test(test_bad_maps),
 		cmocka_unit_test(test_sequence_register),
+		cmocka_unit_test(test_unreadable_maps),
 		cmocka_unit_test(test_shipped_maps),
 		cmocka_unit_test(test_uris),
 		cmocka_unit_test(test_histogram),
