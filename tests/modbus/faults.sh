@@ -13,7 +13,8 @@
 . "$(dirname "$0")/lib.sh"
 TRANSPORT=$2
 DUR=1.5
-N=400   # the request the faults hit: tick 395, in contact
+N=400   # the request the faults hit: tick 395 (t = 0.395 s, at rest before the ramp;
+        # retry.sh hits tick 895, in contact)
 
 if [ "$TRANSPORT" = rtu ]; then
 	start_socat
