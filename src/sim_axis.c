@@ -264,8 +264,16 @@ static int sim_sample(popc_axis *a, popc_axis_sample *out, popc_error *err)
 
 /* Advances plant (and the exact shadow) over one control period with f_c held,
  * splitting the period at breakpoints of the operator's profile so that the
- * exact discretization stays exact. Returns 0 or the status of a partial step
- * whose matrices could not be computed (*h_failed_s: its length). */
+ * exact discretization stays exact. A breakpoint within tol_s before the
+ * period's end counts as on the tick: the segment's line is followed that much
+ * further (the ramp of the paper's scene ends at 1.2999999999999998 s, one ulp
+ * before tick 1300). One just after t is a segment of its own, however short:
+ * the rest of the period must not follow that segment's line, which can be
+ * steep (a table's step in x_d over 1e-13 s, a slope of 1e9 m/s, sent the
+ * plant to 70 m) or end a hold (at 3 kHz tick 51 is 0.016999999999999998 s,
+ * one ulp before operator.t0 = 0.017: the ramp started a period late). Returns
+ * 0 or the status of a partial step whose matrices could not be computed
+ * (*h_failed_s: its length). */
 static int advance(sim_axis *s, popc_plant *p, popc_plant_state *st, double f_c, double *h_failed_s)
 {
 	double t = (double)s->k * s->period_s, t_end = (double)(s->k + 1) * s->period_s;
@@ -273,9 +281,9 @@ static int advance(sim_axis *s, popc_plant *p, popc_plant_state *st, double f_c,
 	for (;;) {
 		popc_plant_input u;
 		double next;
-		popc_intent_input(&s->intent, t, &u, &next);
+		popc_intent_input(&s->intent, t, &u, &next); /* next > t (intent.h) */
 		u.u0_N -= f_c;
-		if (next < t_end - s->tol_s && next > t + s->tol_s) {
+		if (next < t_end - s->tol_s && next > t) {
 			if ((status = popc_plant_step_h(p, st, &u, next - t)) != 0) {
 				*h_failed_s = next - t;
 				return status;
