@@ -174,8 +174,18 @@ typedef struct ana_summary {
 	popc_chatter_result chatter;
 	double duration_s;
 	long long ticks;
+	double period_s;         /* the period the detector and the metrics used */
 	int has_pc_force, has_w; /* 0: the PC (W) columns are n/a */
 } ana_summary;
+
+/* Chatter has a verdict: the log has a PC force and at least one full
+ * detection window (chatter.windows > 0). Otherwise chatter_s and
+ * chatter_intervals are "not checked", never 0. */
+int ana_chatter_checked(const ana_summary *s);
+
+/* The error for a log shorter than one chatter window: names the file, its
+ * length and the length it needs. Returns POPC_ERR_INVALID. */
+int ana_chatter_too_short(popc_error *err, const char *path, const ana_summary *s);
 
 /* Streams a log through popc_metrics and the chatter detector (and on_row,
  * if not NULL, for every row). late_from_s < 0: the second half of the

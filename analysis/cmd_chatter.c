@@ -20,7 +20,8 @@ static void usage(FILE *f)
 	      "  --format text|csv        text (default), or CSV rows log,kind,start_s,end_s,value\n"
 	      "                           (kind chatter: value = largest window PC RMS, N;\n"
 	      "                           kind limit_cycle: value = amplitude, m;\n"
-	      "                           kind chatter_not_checked: the log has no PC force)\n"
+	      "                           kind chatter_not_checked: the log has no PC force\n"
+	      "                           or is shorter than one window)\n"
 	      "  --threshold NAME=VALUE   change a threshold (repeatable); names and defaults:\n"
 	      "                           window=0.1 s, pc_rms=0.5 N, pc_flip_rate=100 /s,\n"
 	      "                           vsign_rate=100 /s, contact=0.5 (share of window),\n"
@@ -33,7 +34,9 @@ static void usage(FILE *f)
 	      "Exit status (like diff): 0 nothing flagged, 1 chatter or a limit cycle flagged,\n"
 	      "2 trouble (bad usage or input). A log without a PC force (no f_pc or f_c\n"
 	      "column, none mapped with --column) cannot be checked for chatter: its limit\n"
-	      "cycle is still reported (it needs only positions), and the exit status is 2.\n",
+	      "cycle is still reported (it needs only positions), and the exit status is 2.\n"
+	      "So is a log shorter than one window (default 0.1 s: 100 ticks at 1 kHz): it\n"
+	      "was not checked, which is no 'no chatter'.\n",
 	      f);
 }
 
@@ -43,8 +46,12 @@ static void print_text(const ana_summary *s)
 {
 	const popc_chatter_result *r = &s->chatter;
 	printf("%s: ", s->log);
+	const int checked = ana_chatter_checked(s);
 	if (!s->has_pc_force)
 		printf("chatter not checked (no PC force)");
+	else if (!checked)
+		printf("chatter not checked (%lld ticks, fewer than one window of %lld)", s->ticks,
+		       r->window_ticks);
 	else if (r->n_intervals)
 		printf("chatter %.3f s in %d interval%s:", r->chatter_s, r->n_intervals,
 		       r->n_intervals == 1 ? "" : "s");
@@ -57,12 +64,15 @@ static void print_text(const ana_summary *s)
 	if (r->n_stored < r->n_intervals)
 		printf(" ... (%d more)", r->n_intervals - r->n_stored);
 	printf("; %s\n", r->limit_cycle ? "LIMIT CYCLE" : "no limit cycle");
-	if (s->has_pc_force)
+	if (checked)
 		printf("  windows: max PC RMS %.3g N, max PC sign flips %.4g /s, ", r->max_pc_rms_N,
 		       r->max_pc_flip_rate_Hz);
 	else
 		printf("  windows: max PC RMS n/a, max PC sign flips n/a, ");
-	printf("max velocity sign changes %.4g /s in contact\n", r->max_vsign_rate_Hz);
+	if (r->windows > 0)
+		printf("max velocity sign changes %.4g /s in contact\n", r->max_vsign_rate_Hz);
+	else
+		printf("max velocity sign changes n/a (no full window)\n");
 	printf("  last %.3g s: amplitude %.3g m at %.3g Hz, %.0f %% in contact, sustain %.3g, ",
 	       r->lc_span_s, r->lc_amplitude_m, r->lc_frequency_Hz, 100.0 * r->lc_contact,
 	       r->lc_sustain);
@@ -79,7 +89,7 @@ static void print_text(const ana_summary *s)
 static void print_csv(const ana_summary *s)
 {
 	const popc_chatter_result *r = &s->chatter;
-	if (!s->has_pc_force) {
+	if (!ana_chatter_checked(s)) {
 		ana_put_csv_text(stdout, s->log);
 		printf(",chatter_not_checked,,,\n");
 	}
@@ -176,6 +186,12 @@ int ana_cmd_chatter(int argc, char **argv)
 			fprintf(stderr, "popc-analyze chatter: %s; chatter not checked, only the limit "
 					"cycle\n",
 				err.msg);
+			rc = 2;
+		} else if (!ana_chatter_checked(&s)) {
+			/* shorter than one detection window: no window was judged, so
+			 * "no chatter" would again be a verdict without data */
+			ana_chatter_too_short(&err, argv[i], &s);
+			fprintf(stderr, "popc-analyze chatter: %s\n", err.msg);
 			rc = 2;
 		}
 		if (quiet)

@@ -21,6 +21,7 @@ int ana_summarize(const char *path, const ana_input_options *o, const popc_chatt
 	if (st)
 		return st;
 	s->has_pc_force = l.has_pc_force;
+	s->period_s = l.period_s;
 	s->has_w = l.has_w;
 	snprintf(s->log, sizeof s->log, "%s", l.name);
 	snprintf(s->variant, sizeof s->variant, "%s", l.variant);
@@ -69,6 +70,23 @@ int ana_summarize(const char *path, const ana_input_options *o, const popc_chatt
 	return 0;
 }
 
+int ana_chatter_checked(const ana_summary *s)
+{
+	return s->has_pc_force && s->chatter.windows > 0;
+}
+
+int ana_chatter_too_short(popc_error *err, const char *path, const ana_summary *s)
+{
+	const long long need = s->chatter.window_ticks;
+	return popc_error_set(err, POPC_ERR_INVALID,
+			      "%s: chatter not checked: the log has %lld tick%s (%.4g s at T = %.4g s), "
+			      "fewer than one detection window of %lld ticks (%.4g s); it needs at least "
+			      "%lld ticks (%.4g s), or a shorter window (--threshold window=S)",
+			      path, s->ticks, s->ticks == 1 ? "" : "s", (double)s->ticks * s->period_s,
+			      s->period_s, need, (double)need * s->period_s, need,
+			      (double)need * s->period_s);
+}
+
 static const char *const columns[] = {
 	"log", "variant", "ticks", "duration_s", "pc_rms", "pc_rms_late", "pc_max", "pc_active",
 	"pc_energy", "w_minus_eref_min", "w_minus_eref_end", "vsign_rate", "vsign_rate_late",
@@ -114,7 +132,10 @@ void ana_summary_print_row(FILE *f, ana_format fmt, const ana_summary *s)
 	int known[sizeof v / sizeof v[0]];
 	for (int i = 0; i < nv; i++)
 		known[i] = 1;
-	known[1] = known[2] = known[3] = known[4] = known[5] = known[10] = s->has_pc_force;
+	known[1] = known[2] = known[3] = known[4] = known[5] = s->has_pc_force;
+	/* chatter also needs one full detection window: a shorter log has no
+	 * verdict (n/a, empty in CSV), not "0 s of chatter" */
+	known[10] = ana_chatter_checked(s);
 	known[6] = known[7] = s->has_w;
 	if (fmt == ANA_TEXT) {
 		static const int width[] = {8, 8, 8, 8, 8, 10, 10, 10, 8, 8, 8};
@@ -127,7 +148,7 @@ void ana_summary_print_row(FILE *f, ana_format fmt, const ana_summary *s)
 			else
 				fprintf(f, " %8.4g", v[i]);
 		}
-		if (s->has_pc_force)
+		if (ana_chatter_checked(s))
 			fprintf(f, " %4d", c->n_intervals);
 		else
 			fprintf(f, " %4s", "n/a");
@@ -155,7 +176,7 @@ void ana_summary_print_row(FILE *f, ana_format fmt, const ana_summary *s)
 			ana_put_double(f, v[i]);
 	}
 	fputs(sep, f);
-	if (s->has_pc_force)
+	if (ana_chatter_checked(s))
 		fprintf(f, "%d", c->n_intervals);
 	else
 		fputs(na, f);
@@ -183,7 +204,9 @@ static void usage(FILE *f)
 	      "  lc_amplitude (m), lc_frequency (Hz) from the chatter detector.\n"
 	      "The late window is the second half of run.duration (popc logs), else --late-from.\n"
 	      "A log without a PC force (no f_pc or f_c column) gets n/a (empty in CSV) for the\n"
-	      "PC and chatter columns, and for W - E_ref unless W and E_ref are logged.\n"
+	      "PC and chatter columns, and for W - E_ref unless W and E_ref are logged; a log\n"
+	      "shorter than one chatter window (--threshold window, default 0.1 s) gets n/a\n"
+	      "for chatter_s and chatter_intervals: it was not checked.\n"
 	      "\n"
 	      "  --format text|csv|markdown  output format (default text)\n"
 	      "  --late-from T            start of the late window (s)\n"
@@ -272,6 +295,11 @@ int ana_cmd_compare(int argc, char **argv)
 			ana_no_pc_force(&why, argv[i]);
 			fprintf(stderr, "popc-analyze compare: note: %s; its PC and chatter columns%s are n/a\n",
 				why.msg, s.has_w ? "" : " and W - E_ref");
+		} else if (!ana_chatter_checked(&s)) {
+			popc_error why;
+			ana_chatter_too_short(&why, argv[i], &s);
+			fprintf(stderr, "popc-analyze compare: note: %s; its chatter columns are n/a\n",
+				why.msg);
 		}
 		ana_summary_print_row(stdout, fmt, &s);
 	}

@@ -345,11 +345,24 @@ static int write_index(const report_out *ro, const char *title, const report_log
 		const ana_summary *s = &logs[i].sum;
 		fprintf(html, "<tr><td><a href=\"#%s\">%s</a></td><td>", logs[i].name, logs[i].name);
 		html_escape(html, s->variant);
-		fprintf(html,
-			"</td><td>%.4g</td><td>%.4g</td><td>%.4g</td><td>%.4g</td><td>%.4g</td>"
-			"<td>%.4g</td><td>%.4g</td><td>%s</td></tr>\n",
-			s->pc_rms_N, s->pc_rms_late_N, s->pc_max_N, s->pc_active, s->w_minus_eref_end_J,
-			s->vsign_rate_Hz, s->chatter.chatter_s, s->chatter.limit_cycle ? "yes" : "no");
+		fputs("</td>", html);
+		/* as compare.md: a cell without data behind it is n/a, never a 0 */
+		const struct {
+			double v;
+			int known;
+		} cell[] = {
+			{s->pc_rms_N, s->has_pc_force},     {s->pc_rms_late_N, s->has_pc_force},
+			{s->pc_max_N, s->has_pc_force},     {s->pc_active, s->has_pc_force},
+			{s->w_minus_eref_end_J, s->has_w},  {s->vsign_rate_Hz, 1},
+			{s->chatter.chatter_s, ana_chatter_checked(s)},
+		};
+		for (size_t k = 0; k < sizeof cell / sizeof cell[0]; k++) {
+			if (cell[k].known)
+				fprintf(html, "<td>%.4g</td>", cell[k].v);
+			else
+				fputs("<td>n/a</td>", html);
+		}
+		fprintf(html, "<td>%s</td></tr>\n", s->chatter.limit_cycle ? "yes" : "no");
 	}
 	fputs("</table>\n<p><a href=\"compare.csv\">compare.csv</a> · "
 	      "<a href=\"compare.md\">compare.md</a></p>\n<h2>Variants overlaid</h2>\n",
@@ -366,7 +379,12 @@ static int write_index(const report_out *ro, const char *title, const report_log
 		fprintf(html, "<h3 id=\"%s\">%s (variant ", nm, nm);
 		html_escape(html, logs[i].sum.variant);
 		fputs(")</h3>\n<p>", html);
-		if (c->n_intervals) {
+		if (!ana_chatter_checked(&logs[i].sum)) {
+			const char *why = logs[i].sum.has_pc_force ? "shorter than one chatter window"
+								   : "no PC force";
+			fprintf(md, "Chatter not checked (%s).", why);
+			fprintf(html, "Chatter not checked (%s).", why);
+		} else if (c->n_intervals) {
 			fprintf(md, "Chatter flagged: %.3f s in %d interval(s).", c->chatter_s, c->n_intervals);
 			fprintf(html, "Chatter flagged: %.3f s in %d interval(s).", c->chatter_s,
 				c->n_intervals);
@@ -556,6 +574,10 @@ int ana_cmd_report(int argc, char **argv)
 			fprintf(stderr, "popc-analyze report: note: %s; no PC force panel, its PC and "
 					"chatter columns%s are n/a\n",
 				err.msg, lg->sum.has_w ? "" : " and W - E_ref");
+		} else if (!ana_chatter_checked(&lg->sum)) {
+			ana_chatter_too_short(&err, argv[i], &lg->sum);
+			fprintf(stderr, "popc-analyze report: note: %s; its chatter columns are n/a\n",
+				err.msg);
 		}
 		script_safe(lg->sum.variant);
 		/* a unique, file-name-safe name */

@@ -96,6 +96,7 @@ int popc_chatter_init(popc_chatter *d, const popc_chatter_config *cfg, double pe
 		return popc_error_set(err, POPC_ERR_INVALID, "chatter detector: window too long");
 	d->sub_ticks = sub < 1.0 ? 1 : llround(sub);
 	d->seg_ticks = seg < 1.0 ? 1 : llround(seg);
+	d->res.window_ticks = d->sub_ticks * POPC_CHATTER_SUBBLOCKS;
 	return 0;
 }
 
@@ -133,6 +134,7 @@ static void evaluate_window(popc_chatter *d)
 	double contact = (double)w.contact_ticks / (double)w.ticks;
 	double vrate = w.contact_ticks ? (double)w.vsign_changes / ((double)w.contact_ticks * T) : 0.0;
 	popc_chatter_result *r = &d->res;
+	r->windows++;
 	if (rms > r->max_pc_rms_N)
 		r->max_pc_rms_N = rms;
 	if (flips > r->max_pc_flip_rate_Hz)

@@ -57,6 +57,11 @@ typedef struct popc_chatter_interval {
 } popc_chatter_interval;
 
 typedef struct popc_chatter_result {
+	/* full chatter windows evaluated: 0 when the log is shorter than one
+	 * window, and then chatter was not checked (no verdict: chatter_s = 0
+	 * means nothing, the caller must say "not checked") */
+	long long windows;
+	long long window_ticks;        /* ticks in one window: the shortest log checked */
 	double chatter_s;              /* total flagged time (s) */
 	int n_intervals;               /* every interval found */
 	int n_stored;                  /* min(n_intervals, POPC_CHATTER_MAX_INTERVALS) */
@@ -125,7 +130,8 @@ int popc_chatter_init(popc_chatter *d, const popc_chatter_config *cfg, double pe
 /* One control tick (t, x, f_pc, W, E_ref are used). Ticks come in time order. */
 void popc_chatter_add(popc_chatter *d, const popc_tick *t);
 
-/* Closes the open interval and fills *r. Call once, after the last tick. */
+/* Closes the open interval and fills *r. Call once, after the last tick.
+ * r->windows == 0: fewer ticks than r->window_ticks, chatter not checked. */
 void popc_chatter_finish(popc_chatter *d, popc_chatter_result *r);
 
 #endif

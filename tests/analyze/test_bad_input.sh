@@ -100,9 +100,10 @@ expect_rc 0 "$A" compare "$W/nofc.csv" && grep -q "^nofc .* n/a " "$W/out" && ok
 	fail "compare text nofc: $(cat "$W/out")"
 expect_rc 0 "$A" report --no-draw -o "$W/rep-nofc" "$W/nofc.csv" && ! grep -q "using 1:6" "$W/rep-nofc/nofc.gp" &&
 	ok "report without a PC force: no PC force panel" || fail "report nofc"
-# with f_c mapped, chatter has data again
-sed '1s/x$/x,force/; 2,$ s/$/,0/' "$W/nofc.csv" >"$W/mapped.csv"
-expect_rc 0 "$A" chatter --column f_c=force "$W/mapped.csv" && ok "--column f_c=force: chatter checked"
+# with f_c mapped, chatter has data again (150 ticks: more than one 100 ms window)
+awk 'BEGIN { print "t,x,force"; for (k = 0; k < 150; k++) printf "%.3f,1e-6,0\n", k / 1000 }' >"$W/mapped.csv"
+expect_rc 0 "$A" chatter --column f_c=force "$W/mapped.csv" && grep -q "^mapped: no chatter" "$W/out" &&
+	ok "--column f_c=force: chatter checked" || fail "mapped: $(cat "$W/out" "$W/err")"
 
 # Parameters a foreign log lacks: one note per log naming each default taken
 expect_rc 0 "$A" compare "$W/foreign.csv" "$W/foreign.csv" &&

@@ -176,6 +176,30 @@ static void decaying_or_small_oscillation_is_not(void **state)
 	assert_int_equal(r.limit_cycle, 0);
 }
 
+/* A log shorter than one window is not checked: windows == 0 (the caller says
+ * "not checked", never "no chatter"); one tick more than a window less one
+ * gives the first window. Chattering input, so a checked window flags. */
+static void short_log_is_not_checked(void **state)
+{
+	(void)state;
+	static const struct {
+		long long ticks, windows;
+	} cases[] = {{0, 0}, {1, 0}, {99, 0}, {100, 1}, {110, 2}, {119, 2}};
+	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+		popc_chatter d;
+		popc_chatter_config cfg;
+		start(&d, &cfg);
+		for (long long k = 0; k < cases[i].ticks; k++)
+			add(&d, k, 1e-3 + (double)(k % 2) * DELTA_M, k % 2 ? 5.0 : -5.0);
+		popc_chatter_result r;
+		popc_chatter_finish(&d, &r);
+		/* 100 ms of 1 ms ticks: ten sub-blocks of ten ticks */
+		assert_int_equal(r.window_ticks, 100);
+		assert_int_equal(r.windows, cases[i].windows);
+		assert_int_equal(r.n_intervals, cases[i].windows > 0);
+	}
+}
+
 static void config_set_and_init_errors(void **state)
 {
 	(void)state;
@@ -210,6 +234,7 @@ int main(void)
 		cmocka_unit_test(intervals_are_bounded),
 		cmocka_unit_test(sustained_oscillation_is_a_limit_cycle),
 		cmocka_unit_test(decaying_or_small_oscillation_is_not),
+		cmocka_unit_test(short_log_is_not_checked),
 		cmocka_unit_test(config_set_and_init_errors),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
