@@ -1,6 +1,7 @@
 /* Shared helpers of popc-analyze (analyze.h): input options, the log wrapper
  * that derives missing columns, error printing. */
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -533,8 +534,15 @@ int ana_log_next(ana_log *l, ana_row *out, popc_error *err)
 		t->E_ref_J = l->c_E_ref >= 0 ? row[l->c_E_ref] : l->obs.E_ref_J;
 	}
 	if (l->c_flags >= 0) {
+		/* a bit set (POPC_FLAG_*): 3.5, -1 or 1e30 is no flag word, and
+		 * truncating it would invent or drop bits */
 		double f = row[l->c_flags];
-		t->flags = f >= 0 && f < 4294967296.0 ? (unsigned)f : 0u;
+		if (!(f == floor(f) && f >= 0.0 && f <= (double)UINT_MAX))
+			return popc_error_set(err, POPC_ERR_INVALID,
+					      "%s:%lld: column %d (flags): %.17g is not a flag word (an "
+					      "integer in [0, %u])",
+					      l->r.path, line, l->c_flags + 1, f, UINT_MAX);
+		t->flags = (unsigned)f;
 	} else {
 		t->flags = t->f_pc_N != 0.0 ? POPC_FLAG_ACTIVE : 0u;
 	}

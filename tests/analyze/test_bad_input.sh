@@ -39,6 +39,16 @@ check time.csv "$W/time.csv:$((names + 9)): column 1 (t): time .* does not incre
 check noposition.csv "missing column 'x'"
 check short.csv "$W/short.csv:$((names + 3)): 2 cells, expected 11"
 check dupname.csv "$W/dupname.csv:$cnames: column 3 (x) repeats the name of column 2"
+# flags is a bit set: a value that is no integer in [0, 2^32 - 1] is refused,
+# not truncated (3.5 read as 3, 1e30 and -1 as 0)
+# (the cell as written, then as the message shows the value read)
+for bad in 3.5:3.5 1e30:1e+30 -1:-1 4294967296:4294967296 0.5:0.5; do
+	awk -F, -v bad="${bad%%:*}" 'BEGIN { OFS = "," } NR == '$((names + 4))' { $11 = bad "" } { print }' \
+		"$W/good.csv" >"$W/flags.csv"
+	check flags.csv "$W/flags.csv:$((names + 4)): column 11 (flags): ${bad#*:} is not a flag word (an integer in \[0, 4294967295\])"
+done
+awk -F, 'BEGIN { OFS = "," } NR == '$((names + 4))' { $11 = "4294967295" } { print }' "$W/good.csv" >"$W/flags.csv"
+expect_rc 0 "$A" compare "$W/flags.csv" && ok "flags 4294967295 (all 32 bits) accepted" || fail "flags max"
 check does-not-exist.csv "cannot open"
 # a directory opens for reading on Linux; it is no (empty) log
 mkdir "$W/adir"
