@@ -97,7 +97,10 @@ int popc_plant_coeffs(const popc_plant_config *cfg, double h_s, popc_plant_step_
 
 /* Dense matrix exponential of an n x n matrix (n <= 8), row major, by scaling
  * and squaring with a [6/6] Pade approximant (Higham 2005, table 2.3: backward
- * error below 2^-53 for ||A|| / 2^s <= 0.54). Returns 0, POPC_ERR_INVALID
+ * error below 2^-53 for ||A|| / 2^s <= 0.54). A matrix that needs squarings
+ * (||A||_1 > 0.54) is balanced first by a diagonal similarity of powers of two
+ * (exact; Parlett-Reinsch), so that a stiff plant's mixed units do not
+ * multiply the squarings' rounding (src/expm.c). Returns 0, POPC_ERR_INVALID
  * for n out of range, or POPC_ERR_NUMERIC when A or the result is not finite. */
 int popc_expm(int n, const double *a, double *out);
 

@@ -65,6 +65,17 @@ check "  the log's columns are as assumed" bash -c "grep -v '^#' '$T/div.csv' | 
 check "  nothing past the bound logged" awk -F, '!/^#/ && $1 != "t" { x = $4 < 0 ? -$4 : $4; if (x > 1.3) bad = 1 } END { exit bad }' "$T/div.csv"
 check "  nor any non-finite number" bash -c "! grep -v '^#' '$T/div.csv' | grep -qiE 'nan|inf'"
 
+# an undamped stiff light hand (K/M = 1e15 1/s^2, w T = 3.2e4 at 1 kHz) with
+# the wall out of reach is a bounded motion; the exact step's det(Phi) was
+# 1 + 2.3e-4 (unbalanced scaling and squaring), the free motion grew every
+# period and the run stopped at t = 213 s as "the physics" diverging
+expect_exit 0 "the exact step keeps a stiff light hand bounded" "$POPC" run "$PAPER" -q \
+  --set operator.mass=0 --set device.mass=1e-6 --set operator.stiffness=1e9 \
+  --set operator.damping=0 --set environment.position=1 --variant none --set run.duration=1000 \
+  --set encoder.resolution=1e-12 --log "$T/stiff.csv"
+# the hand follows x_d within V / w = 1.6e-9 m: x in [x0, x_end] to 1e-8 m
+check "  x stays within the ramp's positions" awk -F, '!/^#/ && $1 != "t" { if ($4 < -0.01000001 || $4 > 0.03000001) bad = 1 } END { exit bad }' "$T/stiff.csv"
+
 # explicit Euler x 100 on the paper scene is stable and accurate (0.12
 # counts): it was stopped at t = 27.6 s of a 600 s run (x 8 at 10.5 s)
 expect_exit 0 "a long accurate Euler run completes" "$POPC" run "$PAPER" --set run.duration=600 \

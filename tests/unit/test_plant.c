@@ -1,5 +1,6 @@
 /* Plant: exact discretization against closed forms; fixed-step integrator
  * orders; expm. */
+#include <float.h>
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -154,6 +155,44 @@ static void test_exact_sine_input(void **state)
 	assert_true(fabs(a.x_m) > 1e-4); /* the input really moved the mass */
 }
 
+/* A stiff, light, undamped plant: det(Phi) = e^(-B/M T) = 1 exactly and Phi
+ * = [[cos wT, sin wT / w], [-w sin wT, cos wT]]. Unbalanced, A T =
+ * [[0, T], [-w^2 T, 0]] has a 1-norm of w^2 T (1e15 at w T = 1e6, T = 1 ms)
+ * and eigenvectors of condition number w: det(Phi) came out 1 + 0.014 at
+ * w T = 1e6 and 1 + 1.2e-7 at w T = 1e3 (M = 1e-3 kg, K = 1e9 N/m, 1 kHz), so
+ * the "exact" step grew the free motion every period and an undamped hand
+ * without contact ran to the divergence bound. Balanced, it is a rotation of
+ * angle w T: each of the s = log2(w T / 0.54) squarings doubles the error
+ * before it, about 2^s u = 2 w T u in all. The bound is 16 w T eps (measured
+ * at most 2.6 w T eps for det and entries; the reference's own angle w T is
+ * rounded by about w T eps). */
+static void test_exact_stiff_light_plant(void **state)
+{
+	(void)state;
+	const struct {
+		double m, k, T;
+	} cases[] = {
+		{1e-3, 1e9, 1e-3},  /* w T = 1e3 */
+		{1e-6, 1e9, 1e-3},  /* 3.2e4 */
+		{1e-9, 1e9, 1e-4},  /* 1e5 */
+		{1e-9, 1e9, 1e-3},  /* 1e6 */
+		{1e-3, 1e9, 1.0},   /* 1e6 */
+	};
+	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+		popc_plant p = make(cases[i].m, 0.0, cases[i].k, POPC_INTEGRATOR_EXACT, 1, cases[i].T);
+		const popc_plant_step_coeffs *c = &p.full;
+		double w = sqrt(cases[i].k / cases[i].m), th = w * cases[i].T;
+		double bound = 16.0 * th * DBL_EPSILON;
+		double det = c->phi[0][0] * c->phi[1][1] - c->phi[0][1] * c->phi[1][0];
+		double e[5] = {det - 1.0, c->phi[0][0] - cos(th), c->phi[0][1] * w - sin(th),
+			       c->phi[1][0] / w + sin(th), c->phi[1][1] - cos(th)};
+		for (int j = 0; j < 5; j++)
+			if (!(fabs(e[j]) <= bound))
+				fail_msg("M %g kg, K %g N/m, T %g s (w T = %g): error %d is %.3g, bound %.3g",
+					 cases[i].m, cases[i].k, cases[i].T, th, j, e[j], bound);
+	}
+}
+
 /* Each fixed-step integrator's order: error(h) / error(h/2) ~ 2^p. */
 static void test_integrator_orders(void **state)
 {
@@ -280,6 +319,7 @@ int main(void)
 		cmocka_unit_test(test_exact_spring_mass),
 		cmocka_unit_test(test_exact_ramp_input),
 		cmocka_unit_test(test_exact_sine_input),
+		cmocka_unit_test(test_exact_stiff_light_plant),
 		cmocka_unit_test(test_integrator_orders),
 		cmocka_unit_test(test_init_rejects_bad_config),
 		cmocka_unit_test(test_init_rejects_overflowing_ratios),
