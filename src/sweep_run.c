@@ -198,18 +198,29 @@ int popc_sweep_run_one(const popc_sweep_plan *p, long long i, const char *dir, i
 	free(run_row);
 	if (n < 0)
 		return n;
+	/* the sweep's record first: a run whose row is in the rows file is
+	 * finished whatever happens to the copy below */
+	int st2 = popc_sweep_rows_append(p, rows_fd, i, row, res->exit_status, res->reason, err);
+	if (st2)
+		return st2;
+	res->recorded = 1;
 	if (keep_log) {
-		/* the run's own copy, next to its log: header and row */
+		/* the run's own copy, next to its log: header and row. A failure
+		 * here is reported (the directory lacks a file it should have), but
+		 * the run keeps its result in the sweep. */
 		char text[POPC_SWEEP_ROW_MAX * 2];
 		size_t lc = strlen(p->columns);
 		if (lc + (size_t)n < sizeof text) {
 			memcpy(text, p->columns, lc);
 			memcpy(text + lc, row, (size_t)n);
 			snprintf(path, sizeof path, "%s/summary.csv", rdir);
-			int st2 = popc_sweep_write_atomic(path, text, lc + (size_t)n, err);
-			if (st2)
-				return st2;
+			popc_error cerr;
+			if (popc_sweep_write_atomic(path, text, lc + (size_t)n, &cerr) != 0)
+				return popc_error_set(err, POPC_ERR_IO,
+						      "%s (the run's copy of its row; the row itself is "
+						      "recorded in the sweep)",
+						      cerr.msg);
 		}
 	}
-	return popc_sweep_rows_append(p, rows_fd, i, row, res->exit_status, res->reason, err);
+	return 0;
 }

@@ -246,15 +246,19 @@ static void worker_main(sweep_ctx *c, int slot)
 			raise(SIGKILL);
 		atomic_store(&c->sh->current[slot], k);
 		popc_sweep_result res;
-		if (popc_sweep_run_one(c->plan, i, c->dir, c->keep_log, fd, &popc_cli_stop, &res, &err) != 0) {
-			/* its row could not be written: said here, and the sweep
-			 * exits 1 listing it as without a result; no retry */
+		int st = popc_sweep_run_one(c->plan, i, c->dir, c->keep_log, fd, &popc_cli_stop, &res, &err);
+		if (st != 0) {
+			/* its row could not be written (the sweep exits 1 listing
+			 * it as without a result; no retry), or only the run's own
+			 * summary.csv (the row counts): said here, and exit 1 */
 			fprintf(stderr, "popc sweep: %s\n", err.msg);
 			atomic_store(&c->sh->trouble, 1);
-		} else if (res.interrupted) {
+		}
+		if (st == 0 && res.interrupted) {
 			atomic_store(&c->sh->current[slot], -1);
 			break; /* not recorded: run again (next round, or a resumed sweep) */
-		} else if (res.exit_status != 0) {
+		}
+		if ((st == 0 || res.recorded) && res.exit_status != 0) {
 			atomic_fetch_add(&c->sh->failed, 1);
 			say_failure(c, i, res.exit_status, res.reason);
 		}

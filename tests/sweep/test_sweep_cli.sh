@@ -116,6 +116,17 @@ check "  summary unchanged, byte for byte" cmp -s "$S" "$T/s1.csv"
 expect_exit 2 "another sweep into the same directory" "$POPC" sweep "$SCENE" --vary operator.speed=0.01,0.02 -o "$T/s"
 check "  refused: holds another sweep" err_has "holds another sweep"
 
+# ---- a run's own summary.csv that cannot be written (a directory stands at
+# its path: rename() fails, as root too): the run keeps its row in the sweep,
+# and the failure is reported
+mkdir -p "$T/cp/runs/0004/summary.csv"
+expect_exit 1 "a run's summary.csv that cannot be written" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/cp" -j 2
+check "  names it and why" err_has "$T/cp/runs/0004/summary.csv: Is a directory (the run's copy of its row; the row itself is recorded in the sweep)"
+check "  every run has its result (none 'not run')" err_has "9 runs, 9 succeeded, 0 failed, 0 not run"
+check "  the same summary as the one-machine sweep" same_nowall "$T/cp/summary.csv" "$S"
+expect_exit 0 "  again: nothing left to run" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/cp" -j 2
+check "  9 of 9 runs already done" err_has "9 of 9 runs already done"
+
 # ---- rows files left by an earlier process of the same pid (pids repeat in
 # containers and across Slurm nodes): one killed mid-row, one killed
 # mid-header. The hook names the new rows files after that pid; both workers
