@@ -32,7 +32,30 @@ typedef struct ana_input_options {
 	int quiet;          /* -q: no notes */
 	unsigned uses;      /* ANA_USES_*: scene parameters the verb reads beyond the columns */
 	unsigned ignores;   /* ANA_USES_*: derived columns the verb does not read (replay: W) */
+	/* energy --allow-uneven: a log without a rate may have uneven time steps
+	 * (the verb then computes nothing that uses the period) */
+	int allow_uneven;
 } ana_input_options;
+
+/* A log that gives no rate takes its period T from its first time step; every
+ * later step must equal T within this relative tolerance, or the log is
+ * uneven (ana_log_next refuses it, naming the first offending line).
+ * Why 1 %: it must pass what formatting does to even steps t = k T, and catch
+ * what uneven sampling does.
+ * - popc's shortest round-trip form (or %.17g) prints the double k*T exactly;
+ *   a difference of two such doubles is off by at most ulp(t) ~ k T 2^-52,
+ *   relative 2.2e-16 k: 2.2e-7 after 1e9 ticks (11 days at 1 kHz).
+ * - fixed decimals, %.6f (microseconds, the coarsest common in device logs):
+ *   each t rounds by <= 0.5 us, a step by <= 1 us: 0.1 % of a 1 ms period,
+ *   1 % at 10 kHz; the first step, T itself, carries the same error.
+ * - --scale t=1e-3 of integer milliseconds rounds once per value: ~1e-16.
+ * - a time column that cannot resolve its own step (%g's six digits past
+ *   t = 100 s at 1 kHz) is refused, rightly: it cannot give the period.
+ * Uneven sampling is far outside: a dropped sample is a step of 2T (+100 %),
+ * 1000 Hz against 1024 Hz is 2.4 %. Steps within 1 % change the quantities
+ * built on T (v = dx/T, rates per second, window lengths in ticks) by at
+ * most 1 % on that tick. */
+#define ANA_PERIOD_REL_TOL 0.01
 
 /* Scene parameters a verb depends on besides those the derived columns need
  * (ana_log_open adds the encoder always, the environment when f_e is missing,
@@ -87,6 +110,9 @@ typedef struct ana_log {
 	int is_popc;              /* has a popc provenance header */
 	double period_s;          /* 1 / run.rate, or the first time step */
 	int period_from_time;     /* 1: no rate known, taken from the time column */
+	int allow_uneven;         /* the time steps are not checked against period_s */
+	double t_prev_s;          /* the previous row's time, for the step check */
+	long long t_prev_line;
 	/* column indices, -1 when the file lacks them */
 	int c_t, c_x, c_count, c_x_true, c_v, c_f_e, c_f_pc, c_f_c, c_W, c_E_ref, c_flags;
 	int c_dt, c_rtt;
@@ -122,7 +148,10 @@ typedef struct ana_row {
  * Requires t and a position (x or count). Errors name the file, line, column. */
 int ana_log_open(ana_log *l, const char *path, const ana_input_options *o, popc_error *err);
 
-/* Next row: 1, 0 at the end, or a negative popc_status. */
+/* Next row: 1, 0 at the end, or a negative popc_status. A log whose period
+ * comes from its time column (no rate) must have even steps (within
+ * ANA_PERIOD_REL_TOL of the first) unless allow_uneven: the first step that is
+ * not is an error naming its line. */
 int ana_log_next(ana_log *l, ana_row *row, popc_error *err);
 
 void ana_log_close(ana_log *l);

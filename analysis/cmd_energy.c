@@ -52,14 +52,22 @@ static void usage(FILE *f)
 	      "  -o, --output FILE        also write the recomputed columns of one LOG as CSV:\n"
 	      "                           t,x,f_c,W_logged,E_ref_logged,E_ref,W_<observer>...\n"
 	      "  --check                  exit 1 unless 'online' equals the logged W and E_ref\n"
-	      "                           bit for bit on every row\n" ANA_INPUT_HELP
+	      "                           bit for bit on every row\n"
+	      "  --allow-uneven           accept a log without a rate whose time steps are\n"
+	      "                           uneven (refused by default, as by every verb). Only\n"
+	      "                           definitions that do not use the period T are computed:\n"
+	      "                           eq3, eq2, ignore, ignore-undo, and online when the\n"
+	      "                           variant ran one of them; 'filtered' (W += f_c v T) is\n"
+	      "                           left out, or refused when asked for by --observer; a\n"
+	      "                           log whose E_ref uses T (f_e derived with damping from\n"
+	      "                           v = dx/T) is refused\n" ANA_INPUT_HELP
 	      "  -h, --help               this help\n"
 	      "\n"
 	      "Exit status: 0 done, 1 --check found a difference, 2 bad usage or input.\n",
 	      f);
 }
 
-enum { OPT_OBSERVER = 256, OPT_FORMAT, OPT_CHECK };
+enum { OPT_OBSERVER = 256, OPT_FORMAT, OPT_CHECK, OPT_ALLOW_UNEVEN };
 
 typedef struct energy_state {
 	definition def;
@@ -72,6 +80,19 @@ typedef struct energy_state {
 static int same_bits(double a, double b)
 {
 	return memcmp(&a, &b, sizeof a) == 0;
+}
+
+static void observer_for(const ana_log *l, definition d, popc_observer *o);
+
+/* Whether definition d of this log uses the period T. Only the filtered
+ * observer multiplies by it (W += f_c(k-1) v(k) T, seed eq. 2 with the FOAW
+ * velocity); eq3, ignore and ignore-undo sum f_c dx, and eq2 as computed here
+ * is f_c(k) dx(k) (T v = dx with the backward velocity). */
+static int uses_period(const ana_log *l, definition d)
+{
+	popc_observer o;
+	observer_for(l, d, &o);
+	return o.variant == POPC_VARIANT_FILTERED_VELOCITY;
 }
 
 static void observer_for(const ana_log *l, definition d, popc_observer *o)
@@ -109,14 +130,48 @@ static void step(energy_state *s, const ana_log *l, const popc_tick *t)
 	popc_observer_commit(&s->obs, &ob, t->f_e_N, t->f_c_N);
 }
 
-static int energy_one(const char *path, const ana_input_options *in, const int *want, int n_want,
-		      ana_format fmt, const char *out_path, int check, int *check_failed)
+static int energy_one(const char *path, const ana_input_options *in, const int *want_in,
+		      int n_want_in, int observers_given, ana_format fmt, const char *out_path,
+		      int check, int *check_failed)
 {
 	ana_log l;
 	popc_error err;
 	int st = ana_log_open(&l, path, in, &err);
 	if (st)
 		return ana_fail("energy", st, &err);
+	int want[DEF_COUNT], n_want = 0;
+	const int uneven = in->allow_uneven && l.period_from_time; /* steps not checked */
+	if (uneven && l.c_f_e < 0 && l.c_v < 0 && l.env.damping_Nspm != 0.0) {
+		/* E_ref is the trapezoid of f_e over dx, and a derived f_e has the
+		 * damping term B v with v = dx/T */
+		ana_log_close(&l);
+		fprintf(stderr,
+			"popc-analyze energy: %s: --allow-uneven: E_ref uses the period here: f_e is "
+			"derived from the environment with damping %g N s/m times v = dx/T (log f_e "
+			"or v, or give the rate with --set run.rate=HZ)\n",
+			path, l.env.damping_Nspm);
+		return 2;
+	}
+	for (int i = 0; i < n_want_in; i++) {
+		definition d = (definition)want_in[i];
+		if (uneven && uses_period(&l, d)) {
+			if (observers_given || (check && d == DEF_ONLINE)) {
+				ana_log_close(&l);
+				fprintf(stderr,
+					"popc-analyze energy: %s: --allow-uneven: the observer '%s'%s "
+					"uses the period T (W += f_c v T), which uneven time steps do not "
+					"have\n",
+					path, defs[d].name, d == DEF_ONLINE ? " (filtered, the log's variant)" : "");
+				return 2;
+			}
+			fprintf(stderr,
+				"popc-analyze energy: note: %s: --allow-uneven: observer '%s' left out: "
+				"it uses the period T\n",
+				path, defs[d].name);
+			continue;
+		}
+		want[n_want++] = (int)d;
+	}
 	if (!l.has_pc_force) {
 		/* W is the sum of the command force over the motion: with neither f_c
 		 * nor f_pc it would be the environment's energy, E_ref, relabelled */
@@ -154,8 +209,12 @@ static int energy_one(const char *path, const ana_input_options *in, const int *
 			fprintf(stderr, "popc-analyze energy: %s: cannot open for writing\n", out_path);
 			return 2;
 		}
-		fprintf(out, "# popc-analyze energy of %s\n# period = %.17g\nt,x,f_c,W_logged,E_ref_logged,E_ref",
-			path, l.period_s);
+		fprintf(out, "# popc-analyze energy of %s\n# period = %.17g\n", path, l.period_s);
+		if (uneven)
+			fputs("# allow_uneven = the time steps were not checked; no column below uses "
+			      "the period\n",
+			      out);
+		fputs("t,x,f_c,W_logged,E_ref_logged,E_ref", out);
 		for (int i = 0; i < n_want; i++)
 			fprintf(out, ",W_%s", defs[s[i].def].name);
 		fputc('\n', out);
@@ -276,6 +335,7 @@ int ana_cmd_energy(int argc, char **argv)
 		{"format", required_argument, NULL, OPT_FORMAT},
 		{"output", required_argument, NULL, 'o'},
 		{"check", no_argument, NULL, OPT_CHECK},
+		{"allow-uneven", no_argument, NULL, OPT_ALLOW_UNEVEN},
 		{"help", no_argument, NULL, 'h'},
 		ANA_INPUT_LONG_OPTIONS,
 		{NULL, 0, NULL, 0},
@@ -316,6 +376,7 @@ int ana_cmd_energy(int argc, char **argv)
 			break;
 		case 'o': out_path = optarg; break;
 		case OPT_CHECK: check = 1; break;
+		case OPT_ALLOW_UNEVEN: in.allow_uneven = 1; break;
 		case 'h': usage(stdout); goto out;
 		case ANA_OPT_COLUMN:
 		case ANA_OPT_DELIMITER:
@@ -339,6 +400,7 @@ int ana_cmd_energy(int argc, char **argv)
 		rc = 2;
 		goto out;
 	}
+	const int observers_given = n_want > 0;
 	if (n_want == 0)
 		for (int i = 0; i < DEF_COUNT; i++)
 			want[n_want++] = i;
@@ -357,7 +419,8 @@ int ana_cmd_energy(int argc, char **argv)
 		     "max_abs_dE_ref,rows_differing");
 	int check_failed = 0;
 	for (int i = optind; i < argc; i++) {
-		int r = energy_one(argv[i], &in, want, n_want, fmt, out_path, check, &check_failed);
+		int r = energy_one(argv[i], &in, want, n_want, observers_given, fmt, out_path, check,
+				   &check_failed);
 		if (r > rc)
 			rc = r;
 	}

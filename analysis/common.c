@@ -453,6 +453,7 @@ int ana_log_open(ana_log *l, const char *path, const ana_input_options *o, popc_
 		l->period_s = l->ahead[1][l->c_t] - l->ahead[0][l->c_t];
 		l->period_from_time = 1;
 	}
+	l->allow_uneven = o->allow_uneven;
 	popc_variant v;
 	popc_ignore_mode m;
 	ana_online_observer(&l->scene, &v, &m);
@@ -491,6 +492,25 @@ int ana_log_next(ana_log *l, ana_row *out, popc_error *err)
 	popc_tick *t = &out->tick;
 	memset(out, 0, sizeof *out);
 	t->t_s = row[l->c_t];
+	if (l->period_from_time && !l->allow_uneven && l->k > 0) {
+		/* the period is the first step: every step must be it (the tolerance
+		 * and why: ANA_PERIOD_REL_TOL) */
+		const double step = t->t_s - l->t_prev_s;
+		if (!(fabs(step - T) <= ANA_PERIOD_REL_TOL * T))
+			return popc_error_set(
+				err, POPC_ERR_INVALID,
+				"%s:%lld: column %d (t): uneven time steps: the step from line %lld (t = "
+				"%.17g) is %.17g s, %.3g %% off the period %.17g s (the first step, "
+				"lines %lld-%lld; the log gives no rate), more than %g %%. The analysis "
+				"uses one period T: resample the log, or give --set run.rate=HZ if the "
+				"device ran at a fixed rate and only its time stamps are uneven (energy: "
+				"--allow-uneven for the observers that do not use T)",
+				l->r.path, line, l->c_t + 1, l->t_prev_line, l->t_prev_s, step,
+				100.0 * fabs(step - T) / T, T, l->ahead_line[0], l->ahead_line[1],
+				100.0 * ANA_PERIOD_REL_TOL);
+	}
+	l->t_prev_s = t->t_s;
+	l->t_prev_line = line;
 	if (l->c_count >= 0) {
 		double c = row[l->c_count];
 		if (!(c == floor(c) && fabs(c) < 4.0e18))

@@ -100,4 +100,44 @@ expect_rc 1 "$A" chatter --format csv --threshold pc_rms=0 --threshold pc_flip_r
 cp "$W/plain.csv" "$W/a|b.csv"
 expect_rc 0 "$A" compare --format markdown "$W/a|b.csv" && grep -q '^| a\\|b | unknown | 1001 |' "$W/out" &&
 	ok "compare Markdown: '|' in a name escaped" || fail "Markdown name: $(cat "$W/out")"
+
+# Uneven time steps in a log without a rate (its period is its first step):
+# refused by every verb, naming the first offending line. A dropped sample
+# (line 501 of plain.csv, t = 0.499) makes the step from line 500 2 ms.
+sed '501d' "$W/plain.csv" >"$W/dropped.csv"
+for verb in energy chatter compare "replay --variant improved --prefix $W/drop-" "report --no-draw -o $W/rep-drop"; do
+	# shellcheck disable=SC2086
+	expect_rc 2 "$A" $verb "$W/dropped.csv" &&
+		grep -q "dropped.csv:501: column 1 (t): uneven time steps: the step from line 500 (t = 0.498) is 0.002.* s, 100 % off the period 0.001 s (the first step, lines 2-3; the log gives no rate), more than 1 %" "$W/err" ||
+		fail "uneven $verb: $(cat "$W/err")"
+done
+ok "a dropped sample: every verb refuses, naming line 501"
+# the tolerance (ANA_PERIOD_REL_TOL, 1 %): time stamps written with 6 decimals
+# pass; one step off by 0.5 % passes, by 2 % does not
+awk -F, 'NR == 1 { print; next } { printf "%.6f,%s,%s\n", $1, $2, $3 }' "$W/plain.csv" >"$W/fixed6.csv"
+same_as fixed6.csv && ok "t with 6 decimals: even"
+awk -F, 'NR == 1 { print; next } NR == 300 { $1 = $1 + 5e-6 } { print $1 "," $2 "," $3 }' "$W/plain.csv" >"$W/jitter.csv"
+expect_rc 0 "$A" compare "$W/jitter.csv" && ok "one step 0.5 % off: accepted" || fail "0.5 % jitter: $(cat "$W/err")"
+awk -F, 'NR == 1 { print; next } NR == 300 { $1 = $1 + 2e-5 } { print $1 "," $2 "," $3 }' "$W/plain.csv" >"$W/jitter2.csv"
+expect_rc 2 "$A" compare "$W/jitter2.csv" && grep -q "jitter2.csv:300: .* 2 % off the period" "$W/err" &&
+	ok "one step 2 % off: refused" || fail "2 % jitter: $(cat "$W/err")"
+# a rate given: the time column is not the period's source, nothing to check
+expect_rc 0 "$A" compare --set run.rate=1000 "$W/dropped.csv" && ok "--set run.rate: not checked"
+# energy --allow-uneven: the definitions that do not use T, bit for bit what
+# they give with any rate (250 Hz here: T unused); 'filtered' left out, or refused when asked
+expect_rc 0 "$A" energy --format csv --set run.rate=250 --observer eq3 --observer eq2 --observer ignore \
+	"$W/dropped.csv" && cut -d, -f2- "$W/out" >"$W/rated"
+if expect_rc 0 "$A" energy --format csv --allow-uneven "$W/dropped.csv"; then
+	grep -q "note: .*dropped.csv: --allow-uneven: observer 'filtered' left out: it uses the period T" "$W/err" &&
+		! grep -q ",filtered," "$W/out" && grep -v -e ",online=" -e ",ignore-undo," "$W/out" | cut -d, -f2- |
+		cmp -s - "$W/rated" && ok "energy --allow-uneven: eq3, eq2, ignore as with a rate; filtered left out" ||
+		fail "allow-uneven: $(cat "$W/out" "$W/err" "$W/rated")"
+fi
+expect_rc 2 "$A" energy --allow-uneven --observer filtered "$W/dropped.csv" &&
+	grep -q "dropped.csv: --allow-uneven: the observer 'filtered' uses the period T" "$W/err" &&
+	ok "--allow-uneven --observer filtered: refused" || fail "allow-uneven filtered: $(cat "$W/err")"
+expect_rc 2 "$A" energy --allow-uneven --set environment.damping=0.5 "$W/dropped.csv" &&
+	grep -q "E_ref uses the period here" "$W/err" && ok "--allow-uneven with a damping f_e derived: refused" ||
+	fail "allow-uneven damping: $(cat "$W/err")"
+expect_rc 2 "$A" compare --allow-uneven "$W/dropped.csv" && ok "--allow-uneven is energy's only"
 finish
