@@ -126,12 +126,13 @@ static int load_table(popc_intent *in, const char *path, popc_error *err)
 		n++;
 	}
 	/* getline ends at the end of the file and on a read error (a directory:
-	 * EISDIR), which must not read as an empty table */
+	 * EISDIR), which must not read as an empty table; a table that cannot
+	 * be read is bad input (exit 2), like one that cannot be opened */
 	int read_failed = ferror(f), read_errno = errno;
 	free(line);
 	fclose(f);
 	if (!status && read_failed)
-		status = popc_error_set(err, POPC_ERR_IO, "%s: cannot read table: %s", path,
+		status = popc_error_set(err, POPC_ERR_INVALID, "%s: cannot read table: %s", path,
 					strerror(read_errno));
 	if (!status && (!t || !q || oom))
 		status = popc_error_set(err, POPC_ERR_NOMEM, "%s: out of memory", path);

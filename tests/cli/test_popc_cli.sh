@@ -85,6 +85,9 @@ expect_exit 2 "scene show reads the table too" "$POPC" scene show "$T/tab/table.
 check "  names file:line" err_has "back.csv:4: time 0.5 does not increase"
 expect_exit 2 "a missing table" "$POPC" run "$T/tab/table.ini" --set "operator.table=$T/tab/none.csv"
 check "  names it" err_has "none.csv: cannot open table: No such file or directory"
+mkdir -p "$T/tab/dir.csv"
+expect_exit 2 "a directory given as the table (bad input, as a missing one)" "$POPC" run "$T/tab/table.ini" --set "operator.table=$T/tab/dir.csv"
+check "  names the path and why" err_has "popc run: $T/tab/dir.csv: cannot read table: Is a directory"
 
 # the paper scene, logged
 expect_exit 0 "run paper.ini" "$POPC" run "$SRC/data/scenes/paper.ini" --log "$T/paper.csv" --summary "$T/sum.csv"

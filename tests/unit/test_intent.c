@@ -218,11 +218,13 @@ static void test_bad_tables(void **state)
 				fail_msg("case %zu: '%s' lacks '%s'", i, err.msg, bad[i].must_contain[j]);
 		popc_intent_free(&in);
 	}
-	/* a directory opens but cannot be read: not "no rows" */
+	/* a directory opens but cannot be read: not "no rows", and bad input
+	 * (exit 2) naming the path, as a missing table */
 	popc_intent in;
 	popc_error err = {{0}};
-	assert_int_equal(load_table(tmpdir, &in, &err), POPC_ERR_IO);
-	assert_non_null(strstr(err.msg, "cannot read table"));
+	assert_int_equal(load_table(tmpdir, &in, &err), POPC_ERR_INVALID);
+	assert_int_equal(strncmp(err.msg, tmpdir, strlen(tmpdir)), 0);
+	assert_non_null(strstr(err.msg, ": cannot read table: Is a directory"));
 	popc_intent_free(&in);
 }
 
