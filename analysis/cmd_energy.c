@@ -51,6 +51,9 @@ static void usage(FILE *f)
 	      "  --format text|csv        summary format (default text)\n"
 	      "  -o, --output FILE        also write the recomputed columns of one LOG as CSV:\n"
 	      "                           t,x,f_c,W_logged,E_ref_logged,E_ref,W_<observer>...\n"
+	      "                           ending with '# stop = completed', or with\n"
+	      "                           '# stop = input error' after the rows read before\n"
+	      "                           bad input\n"
 	      "  --check                  exit 1 unless 'online' equals the logged W and E_ref\n"
 	      "                           bit for bit on every row\n"
 	      "  --allow-uneven           accept a log without a rate whose time steps are\n"
@@ -263,6 +266,11 @@ static int energy_one(const char *path, const ana_input_options *in, const int *
 		}
 		rows++;
 	}
+	/* how the rows end, as a popc log ends: a file cut short by bad input
+	 * keeps every row written so far and says so, so it cannot pass for a
+	 * complete recompute of a shorter log */
+	if (out)
+		fprintf(out, "# stop = %s\n", st < 0 ? "input error" : "completed");
 	int write_failed = 0;
 	if (out && out != stdout)
 		write_failed = fclose(out) != 0;

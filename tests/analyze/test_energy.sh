@@ -27,6 +27,24 @@ awk -F, 'BEGIN { OFS = "," } /^#/ || /^t,/ { print; next } NR == 3000 { $9 = $9 
 	"$W/ref-energy.csv" >"$W/tampered.csv"
 expect_rc 1 "$A" energy --check --observer online "$W/tampered.csv" && ok "--check catches a changed W"
 
+# -o ends like a popc log: '# stop = completed', or, cut short by bad input
+# (text in f_c at line 3000), '# stop = input error' after every row read
+# before it, each equal to the complete recompute's row.
+expect_rc 0 "$A" energy -o "$W/full.energy.csv" "$W/ref-energy.csv" &&
+	[ "$(tail -n 1 "$W/full.energy.csv")" = "# stop = completed" ] && ok "energy -o: '# stop = completed'" ||
+	fail "energy -o end: $(tail -n 1 "$W/full.energy.csv")"
+awk -F, 'BEGIN { OFS = "," } NR == 3000 { $8 = "abc" } { print }' "$W/ref-energy.csv" >"$W/bad-fc.csv"
+before=$(head -n 2999 "$W/bad-fc.csv" | grep -v '^#' | tail -n +2 | wc -l)
+if expect_rc 2 "$A" energy -o "$W/cut.energy.csv" "$W/bad-fc.csv"; then
+	grep -v '^#' "$W/cut.energy.csv" >"$W/cut.rows"
+	grep -v '^#' "$W/full.energy.csv" | head -n $((before + 1)) >"$W/full.rows"
+	[ "$(tail -n 1 "$W/cut.energy.csv")" = "# stop = input error" ] &&
+		[ "$(wc -l <"$W/cut.rows")" -eq $((before + 1)) ] && cmp -s "$W/cut.rows" "$W/full.rows" &&
+		grep -q "bad-fc.csv:3000: column 8 (f_c)" "$W/err" &&
+		ok "energy -o cut by bad input: $before rows kept, '# stop = input error'" ||
+		fail "energy -o cut: $(tail -n 2 "$W/cut.energy.csv"), $(wc -l <"$W/cut.rows") lines, want $((before + 1))"
+fi
+
 # A foreign rewrite of the improved log: no popc header, other names and order,
 # ';' delimiter, '%' comments; the scene's parameters come from --set.
 awk -F, '
