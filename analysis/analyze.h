@@ -18,7 +18,7 @@
 #include "popc/scene.h"
 
 /* Options every verb that reads logs accepts (--column, --delimiter,
- * --comment, --set). */
+ * --decimal, --comment, --set, --scale). */
 #define ANA_MAX_SCALES 16
 typedef struct ana_input_options {
 	popc_log_reader_options reader;
@@ -78,13 +78,15 @@ enum {
 	ANA_OPT_COMMENT,
 	ANA_OPT_SET,
 	ANA_OPT_SCALE,
+	ANA_OPT_DECIMAL,
 };
 #define ANA_INPUT_LONG_OPTIONS                                               \
 	{"column", required_argument, NULL, ANA_OPT_COLUMN},                 \
 	{"delimiter", required_argument, NULL, ANA_OPT_DELIMITER},           \
 	{"comment", required_argument, NULL, ANA_OPT_COMMENT},               \
 	{"set", required_argument, NULL, ANA_OPT_SET},                       \
-	{"scale", required_argument, NULL, ANA_OPT_SCALE}
+	{"scale", required_argument, NULL, ANA_OPT_SCALE},                   \
+	{"decimal", required_argument, NULL, ANA_OPT_DECIMAL}
 #define ANA_INPUT_HELP                                                                         \
 	"  --column NAME=HEADER     popc's column NAME is the file's column HEADER (repeatable;\n" \
 	"                           names: t x count x_true v f_e f_pc f_c W E_ref flags dt rtt)\n" \
@@ -92,6 +94,9 @@ enum {
 	"                           t=1e-3 (ms), x=1e-3 (mm), f_c=-1 (other sign convention)\n" \
 	"  --delimiter C            cell delimiter: ',' ';' tab ('\\t' or 'tab') or 'space'\n"    \
 	"                           (default: detected from the column names line)\n"             \
+	"  --decimal .|,            decimal mark of the numbers (default '.'); ',' reads\n"    \
+	"                           '1,5' as 1.5 exactly (European logs, ';' between cells;\n"  \
+	"                           not with --delimiter ',')\n"                                \
 	"  --comment C              comment character (default '#')\n"                            \
 	"  --set section.key=value  scene parameter the log lacks or overrides, e.g.\n"          \
 	"                           encoder.resolution=1e-5 environment.stiffness=1000\n"         \

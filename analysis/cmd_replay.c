@@ -102,6 +102,7 @@ int ana_cmd_replay(int argc, char **argv)
 		case ANA_OPT_COMMENT:
 		case ANA_OPT_SET:
 		case ANA_OPT_SCALE:
+		case ANA_OPT_DECIMAL:
 			if ((rc = ana_input_option(&in, c, optarg, "replay")) != 0)
 				goto out;
 			break;

@@ -531,6 +531,7 @@ int ana_cmd_report(int argc, char **argv)
 		case ANA_OPT_COMMENT:
 		case ANA_OPT_SET:
 		case ANA_OPT_SCALE:
+		case ANA_OPT_DECIMAL:
 			if ((rc = ana_input_option(&in, c, optarg, "report")) != 0)
 				goto out;
 			break;

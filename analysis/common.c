@@ -178,12 +178,33 @@ int ana_input_option(ana_input_options *o, int opt, char *arg, const char *verb)
 				verb, opt == ANA_OPT_DELIMITER ? "delimiter" : "comment", arg);
 			return 2;
 		}
+		if (opt == ANA_OPT_DELIMITER && c == ',' && o->reader.decimal == ',') {
+			fprintf(stderr,
+				"popc-analyze %s: --delimiter ',' with --decimal ',': a decimal-comma log "
+				"needs another delimiter (';', tab)\n",
+				verb);
+			return 2;
+		}
 		if (opt == ANA_OPT_DELIMITER)
 			o->reader.delimiter = c;
 		else
 			o->reader.comment = c;
 		return 0;
 	}
+	case ANA_OPT_DECIMAL:
+		if (strcmp(arg, ".") != 0 && strcmp(arg, ",") != 0) {
+			fprintf(stderr, "popc-analyze %s: --decimal '%s': '.' or ','\n", verb, arg);
+			return 2;
+		}
+		if (arg[0] == ',' && o->reader.delimiter == ',') {
+			fprintf(stderr,
+				"popc-analyze %s: --decimal ',' with --delimiter ',': a decimal-comma log "
+				"needs another delimiter (';', tab)\n",
+				verb);
+			return 2;
+		}
+		o->reader.decimal = arg[0];
+		return 0;
 	case ANA_OPT_SCALE:
 		return scale_option(o, arg, verb);
 	case ANA_OPT_SET:

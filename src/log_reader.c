@@ -137,11 +137,11 @@ static void header_comment(popc_log_reader *r, const char *text, char *section, 
 		r->n_keys++;
 }
 
-static char detect_delimiter(const char *line)
+static char detect_delimiter(const char *line, int decimal_comma)
 {
 	const char cand[3] = {',', ';', '\t'};
 	int best = -1, best_n = 0;
-	for (int i = 0; i < 3; i++) {
+	for (int i = decimal_comma ? 1 : 0; i < 3; i++) {
 		int n = 0;
 		for (const char *p = line; *p; p++)
 			n += *p == cand[i];
@@ -269,7 +269,16 @@ int popc_log_reader_open(popc_log_reader *r, const char *path, const popc_log_re
 		}
 		break;
 	}
-	r->delimiter = r->opt.delimiter ? r->opt.delimiter : detect_delimiter(line);
+	const int decimal_comma = r->opt.decimal == ',';
+	if ((r->opt.decimal && r->opt.decimal != '.' && !decimal_comma) ||
+	    (decimal_comma && r->opt.delimiter == ',')) {
+		popc_log_reader_close(r);
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: decimal mark '%c' with delimiter '%c': the decimal mark is "
+				      "'.' or ',', and ',' needs another delimiter (';', tab)",
+				      path, r->opt.decimal, r->opt.delimiter ? r->opt.delimiter : ',');
+	}
+	r->delimiter = r->opt.delimiter ? r->opt.delimiter : detect_delimiter(line, decimal_comma);
 	const char *cs[POPC_LOG_MAX_COLUMNS], *ce[POPC_LOG_MAX_COLUMNS];
 	int n = split(line, r->delimiter, cs, ce, POPC_LOG_MAX_COLUMNS);
 	if (n <= 0) {
@@ -374,7 +383,26 @@ int popc_log_reader_next(popc_log_reader *r, double *values, popc_error *err)
 			values[i] = (double)NAN; /* a column nobody reads: text is fine */
 			continue;
 		}
+		/* a decimal comma reads as the point it stands for, in place (the
+		 * cell is in this line's buffer), and is put back for messages */
+		char *cell = line + (cs[i] - line), *comma[2];
+		int n_comma = 0;
+		if (r->opt.decimal == ',') {
+			if (memchr(cell, '.', (size_t)(ce[i] - cs[i])))
+				return popc_error_set(
+					err, POPC_ERR_INVALID,
+					"%s:%lld: column %d (%s): '%.*s' has a '.', but the decimal mark is ','",
+					r->path, r->lineno, i + 1, r->col_name[i],
+					(int)(ce[i] - cs[i] > 40 ? 40 : ce[i] - cs[i]), cs[i]);
+			for (char *p = cell; p < cell + (ce[i] - cs[i]) && n_comma < 2; p++)
+				if (*p == ',') {
+					comma[n_comma++] = p;
+					*p = '.';
+				}
+		}
 		size_t used = cs[i] < ce[i] ? popc_parse_double(cs[i], ce[i], &values[i]) : 0;
+		for (int k = 0; k < n_comma; k++)
+			*comma[k] = ',';
 		if (used == 0 || cs[i] + used != ce[i] || !isfinite(values[i])) {
 			int is_nan = ce[i] - cs[i] >= 3 && (strncmp(cs[i], "nan", 3) == 0 ||
 							    strncmp(cs[i], "NaN", 3) == 0 ||

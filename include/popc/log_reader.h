@@ -8,6 +8,8 @@
  *
  * A UTF-8 byte order mark at the start of the file is skipped.
  *
+ * Numbers use a decimal point, or a decimal comma with opt.decimal = ','.
+ *
  * Cells may be in double quotes (RFC 4180). Column names may be empty (pandas'
  * index column, a trailing delimiter); an empty name is never looked up.
  *
@@ -29,6 +31,11 @@
 typedef struct popc_log_reader_options {
 	char delimiter;                 /* 0: detect from the header line (',', ';', tab, space) */
 	char comment;                   /* 0: '#' */
+	/* 0 or '.': decimal point. ',': decimal comma (European rigs: "1,5" with
+	 * ';' between cells): a parsed cell's ',' reads as '.', bit for bit the
+	 * same number, and a '.' in it is an error (a thousands separator or a
+	 * mixed file). Excludes the delimiter ','; detection then picks ';' or tab. */
+	char decimal;
 	/* --column NAME=HEADER: popc's name NAME is the file's column HEADER */
 	int n_map;
 	const char *map_name[POPC_LOG_MAX_COLUMNS];

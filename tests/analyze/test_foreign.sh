@@ -101,6 +101,32 @@ cp "$W/plain.csv" "$W/a|b.csv"
 expect_rc 0 "$A" compare --format markdown "$W/a|b.csv" && grep -q '^| a\\|b | unknown | 1001 |' "$W/out" &&
 	ok "compare Markdown: '|' in a name escaped" || fail "Markdown name: $(cat "$W/out")"
 
+# Decimal commas (European rigs: ';' between cells, '1,5'): --decimal , reads
+# them bit for bit as the same file written with points (compare's row and
+# every energy -o row equal); a '.' in such a log, --decimal , with
+# --delimiter , (either order) and an unknown mark are refused.
+sed 's/,/;/g; s/\./,/g' "$W/plain.csv" >"$W/eu.csv"
+grep -q '^0,001;' "$W/eu.csv" || fail "eu.csv has no decimal comma: $(sed -n 3p "$W/eu.csv")"
+same_as eu.csv --decimal , && ok "--decimal ,: the same row as with points"
+expect_rc 0 "$A" energy -o "$W/eu.energy" --decimal , "$W/eu.csv" &&
+	expect_rc 0 "$A" energy -o "$W/plain.energy" "$W/plain.csv" &&
+	grep -v '^#' "$W/eu.energy" >"$W/eu.rows" && grep -v '^#' "$W/plain.energy" >"$W/plain.rows" &&
+	[ "$(wc -l <"$W/eu.rows")" -eq 1002 ] && cmp -s "$W/eu.rows" "$W/plain.rows" &&
+	ok "--decimal ,: every energy -o row bitwise equal" || fail "decimal comma energy rows differ"
+expect_rc 2 "$A" compare "$W/eu.csv" && grep -q "eu.csv:2: column 2 (x): not a finite number '-0,01'" "$W/err" &&
+	ok "a decimal-comma log without --decimal: refused, not misread" || fail "eu without --decimal: $(cat "$W/err")"
+sed '9s/^\([^;]*\);\([^;]*\),/\1;\2./' "$W/eu.csv" >"$W/eu-mixed.csv"
+expect_rc 2 "$A" compare --decimal , "$W/eu-mixed.csv" &&
+	grep -q "eu-mixed.csv:9: column 2 (x): '.*\..*' has a '.', but the decimal mark is ','" "$W/err" &&
+	ok "--decimal ,: a '.' in a number refused" || fail "eu mixed: $(cat "$W/err")"
+expect_rc 2 "$A" compare --decimal , --delimiter , "$W/eu.csv" &&
+	grep -q -- "--delimiter ',' with --decimal ','" "$W/err" &&
+	expect_rc 2 "$A" compare --delimiter , --decimal , "$W/eu.csv" &&
+	grep -q -- "--decimal ',' with --delimiter ','" "$W/err" && ok "--decimal , --delimiter , refused (both orders)" ||
+	fail "decimal and delimiter ',': $(cat "$W/err")"
+expect_rc 2 "$A" compare --decimal x "$W/eu.csv" && ok "--decimal x refused"
+expect_rc 0 "$A" compare --help && grep -q -- "--decimal .|," "$W/out" && ok "--decimal in --help"
+
 # Uneven time steps in a log without a rate (its period is its first step):
 # refused by every verb, naming the first offending line. A dropped sample
 # (line 501 of plain.csv, t = 0.499) makes the step from line 500 2 ms.
