@@ -59,7 +59,8 @@ static const scene_key scene_keys[] = {
 	NUM("operator", "amplitude", op_amplitude_m, 0, 1e3, 0, "m", "sine amplitude"),
 	NUM("operator", "frequency", op_frequency_Hz, 0, 1e5, 0, "Hz", "sine frequency"),
 	{"operator", "table", KEY_STRING, OFF(op_table), 0, 0, 0, "path", NULL,
-	 "table intent: CSV of t,value rows (relative to the scene file)"},
+	 "table intent: CSV of t,value rows (relative to the scene file; on the command "
+	 "line, to the working directory)"},
 	{"operator", "table_quantity", KEY_ENUM, OFF(op_table_quantity), 0, 0, 0, "", quantity_names,
 	 "table intent: the value column is x_d (m) or an exogenous force (N)"},
 
@@ -93,7 +94,7 @@ static const scene_key scene_keys[] = {
 	{"axis", "kind", KEY_ENUM, OFF(axis), 0, 0, 0, "", axis_names,
 	 "sim (the plant above) or modbus (a servo drive)"},
 	{"axis", "map", KEY_STRING, OFF(axis_map), 0, 0, 0, "path", NULL,
-	 "modbus: register map file (relative to the scene file)"},
+	 "modbus: register map file (relative as operator.table)"},
 	{"axis", "connect", KEY_STRING, OFF(axis_connect), 0, 0, 0, "uri", NULL,
 	 "modbus: tcp:HOST:PORT or rtu:DEVICE[:BAUD[:8N1]]"},
 };
@@ -145,6 +146,14 @@ static const scene_key *find_key(const char *section, const char *key, int *sect
 	}
 	return NULL;
 }
+
+/* operator.table, axis.map: files, made absolute by resolve_relative() */
+static int is_path_key(const scene_key *k)
+{
+	return k->type == KEY_STRING && strcmp(k->unit, "path") == 0;
+}
+
+static int resolve_relative(char *field, const char *scene_path, const char *key, popc_error *err);
 
 static void describe_range(const scene_key *k, char *buf, size_t cap)
 {
@@ -299,7 +308,20 @@ int popc_scene_set(popc_scene *s, const char *section, const char *key, const ch
 	const scene_key *k = find_key(sec, name, &section_known);
 	if (!k)
 		return unknown_key(sec, name, section_known, "--set: ", err);
-	return set_key(s, k, val, "--set ", err);
+	int st = set_key(s, k, val, "--set ", err);
+	if (!st && is_path_key(k)) {
+		char full[80];
+		snprintf(full, sizeof full, "%s.%s", k->section, k->key);
+		st = resolve_relative((char *)s + k->offset, NULL, full, err);
+	}
+	return st;
+}
+
+int popc_scene_key_is_path(const char *section, const char *key)
+{
+	int section_known;
+	const scene_key *k = find_key(section, key, &section_known);
+	return k && is_path_key(k);
 }
 
 int popc_scene_set_assignment(popc_scene *s, const char *assignment, popc_error *err)
@@ -374,27 +396,34 @@ static int scene_ini_handler(void *user, const char *section, const char *name, 
 	return c->status ? 0 : 1;
 }
 
-/* A relative table or map path is relative to the scene file's directory;
- * it is made absolute (the working directory before a relative scene path),
- * so that the resolved scene, written to a log header or a sweep's run
- * directory, names the same file from anywhere. */
+/* One rule for the path keys (operator.table, axis.map): a relative path is
+ * relative to where it was written, the scene file's directory for a path in
+ * a scene file (scene_path), the working directory for one given on the
+ * command line (popc_scene_set, scene_path NULL; --set, --vary, --map). Either
+ * way it is made absolute when it is read (the working directory before a
+ * relative scene path), so that the resolved scene, written to a log header
+ * or a sweep's run directory, names the same file from any directory. */
 static int resolve_relative(char *field, const char *scene_path, const char *key, popc_error *err)
 {
 	if (!field[0] || field[0] == '/')
 		return 0;
 	char cwd[POPC_PATH_MAX] = "";
-	if (scene_path[0] != '/' && !getcwd(cwd, sizeof cwd))
+	if ((!scene_path || scene_path[0] != '/') && !getcwd(cwd, sizeof cwd))
 		cwd[0] = '\0'; /* then relative to the working directory, as given */
-	const char *slash = strrchr(scene_path, '/');
+	const char *slash = scene_path ? strrchr(scene_path, '/') : NULL;
 	int dir_len = slash ? (int)(slash - scene_path) : 0;
 	char out[POPC_PATH_MAX];
-	int n = snprintf(out, sizeof out, "%s%s%.*s%s%s", cwd, cwd[0] && cwd[1] ? "/" : "", dir_len, scene_path,
-			 dir_len ? "/" : "", field);
+	int n = snprintf(out, sizeof out, "%s%s%.*s%s%s", cwd, cwd[0] && cwd[1] ? "/" : "", dir_len,
+			 slash ? scene_path : "", dir_len ? "/" : "", field);
 	if (n < 0 || (size_t)n >= sizeof out)
-		return popc_error_set(err, POPC_ERR_INVALID,
-				      "%s: %s = %s: the path from the scene's directory is longer "
-				      "than %d characters",
-				      scene_path, key, field, POPC_PATH_MAX - 1);
+		return scene_path ? popc_error_set(err, POPC_ERR_INVALID,
+						   "%s: %s = %s: the path from the scene's directory "
+						   "is longer than %d characters",
+						   scene_path, key, field, POPC_PATH_MAX - 1)
+				  : popc_error_set(err, POPC_ERR_INVALID,
+						   "--set %s: the path from the working directory is "
+						   "longer than %d characters: %s",
+						   key, POPC_PATH_MAX - 1, field);
 	memcpy(field, out, (size_t)n + 1);
 	return 0;
 }

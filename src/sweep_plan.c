@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "popc/intent.h"
 
@@ -444,8 +445,17 @@ int popc_sweep_plan_init(popc_sweep_plan *p, const popc_scene *base, popc_sweep_
 		const popc_sweep_axis *ax = &axes[a];
 		h = popc_sweep_fnv1a(h, ax->section, strlen(ax->section) + 1);
 		h = popc_sweep_fnv1a(h, ax->key, strlen(ax->key) + 1);
-		for (int v = 0; v < ax->n_values; v++)
+		int relative = 0;
+		for (int v = 0; v < ax->n_values; v++) {
 			h = popc_sweep_fnv1a(h, ax->values[v], strlen(ax->values[v]) + 1);
+			relative |= ax->values[v][0] != '/';
+		}
+		/* a relative path names a file from the working directory
+		 * (scene.h): the same list given in another directory is another
+		 * sweep (a resume there would mix two sets of files) */
+		char cwd[POPC_PATH_MAX];
+		if (relative && popc_scene_key_is_path(ax->section, ax->key) && getcwd(cwd, sizeof cwd))
+			h = popc_sweep_fnv1a(h, cwd, strlen(cwd) + 1);
 	}
 	h = popc_sweep_fnv1a(h, p->columns, strlen(p->columns));
 	p->plan_id = h;

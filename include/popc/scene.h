@@ -96,14 +96,21 @@ void popc_scene_defaults(popc_scene *s);
 /* Reads an INI scene file on top of the current contents of s (call
  * popc_scene_defaults first). Unknown sections or keys, duplicate keys,
  * malformed numbers, NaN/inf and out-of-range values are errors naming
- * file:line, the key and the allowed range. Relative table paths are resolved
- * against the scene file's directory. Returns 0 or a negative popc_status. */
+ * file:line, the key and the allowed range. A relative path (operator.table,
+ * axis.map) is relative to the scene file's directory and made absolute.
+ * Returns 0 or a negative popc_status. */
 int popc_scene_load(popc_scene *s, const char *path, popc_error *err);
 
-/* Applies one "section.key=value" override with the same validation. */
+/* Applies one "section.key=value" override with the same validation. A
+ * relative path (operator.table, axis.map) given this way is relative to the
+ * working directory and made absolute, so that a resolved scene names the
+ * same file from any directory. */
 int popc_scene_set_assignment(popc_scene *s, const char *assignment, popc_error *err);
 int popc_scene_set(popc_scene *s, const char *section, const char *key, const char *value,
 		   popc_error *err);
+
+/* 1 when section.key names a file (operator.table, axis.map), else 0. */
+int popc_scene_key_is_path(const char *section, const char *key);
 
 /* Cross-key checks (ramp end beyond start, pc bound finite, ...). Call after
  * all loads and overrides. */

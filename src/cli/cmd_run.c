@@ -33,6 +33,11 @@ static void usage(FILE *f)
 	      "  -q, --quiet              no summary on standard error\n"
 	      "  -h, --help               this help\n"
 	      "\n"
+	      "A relative path (operator.table, axis.map) is relative to where it is written:\n"
+	      "in the scene file, to the file's directory; on the command line (--set, --map),\n"
+	      "to the working directory. popc makes it absolute, so the resolved scene in the\n"
+	      "log header runs from any directory.\n"
+	      "\n"
 	      "Exit status: 0 done, 1 run failed, 2 bad scene or usage, 3 safety stop,\n"
 	      "4 communication lost, 5 interrupted (safe state reached), 6 integrator unstable.\n",
 	      f);

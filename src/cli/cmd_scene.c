@@ -16,6 +16,8 @@ static void usage(FILE *f)
 	      "      file (or only the defaults, the paper's scene, without FILE) with the\n"
 	      "      --set overrides applied and validated (an intent table is read too).\n"
 	      "      Exit 2 names what is wrong: file:line, key and allowed range.\n"
+	      "      Relative paths (operator.table, axis.map) are printed absolute: from\n"
+	      "      the scene file's directory, or for --set from the working directory.\n"
 	      "keys  lists every scene key with its default and allowed range.\n",
 	      f);
 }

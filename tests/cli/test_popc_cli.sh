@@ -71,6 +71,13 @@ mkdir -p "$T/elsewhere"
 (cd "$T" && "$POPC" scene show tab/table.ini > "$T/elsewhere/resolved.ini" 2>"$T/err")
 check "resolved scene names the table by its absolute path" grep -qx "table = $T/tab/xd.csv" "$T/elsewhere/resolved.ini"
 expect_exit 0 "  and runs from another directory" "$POPC" run "$T/elsewhere/resolved.ini" -q
+# a relative path on the command line is from the working directory, and
+# made absolute too (one rule: relative to where it is written)
+(cd "$T/tab" && "$POPC" scene show --set operator.intent=table --set operator.table=xd.csv --set axis.map=drive.ini > "$T/elsewhere/set.ini" 2>"$T/err")
+check "--set operator.table=xd.csv is named absolutely, from the working directory" grep -qx "table = $T/tab/xd.csv" "$T/elsewhere/set.ini"
+check "  ... axis.map too" grep -qx "map = $T/tab/drive.ini" "$T/elsewhere/set.ini"
+expect_exit 0 "  and the resolved scene runs from another directory" "$POPC" run "$T/elsewhere/set.ini" -q
+check "  --help states the rule" bash -c "'$POPC' run --help | grep -q 'on the command line (--set, --map),'"
 printf 't,x_d\n0,0\n1,0.01\n0.5,0.02\n' > "$T/tab/back.csv"
 expect_exit 2 "times that go back" "$POPC" run "$T/tab/table.ini" --set "operator.table=$T/tab/back.csv" --log "$T/back.csv"
 check "  names file:line and both times" err_has "back.csv:4: time 0.5 does not increase (previous 1)"

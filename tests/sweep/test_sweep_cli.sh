@@ -49,6 +49,17 @@ check "  names the run and the file (not a failure of each run)" err_has "run 00
 expect_exit 2 "a bad operator table, read by the runs of one intent only" "$POPC" sweep "$SCENE" --set "operator.table=$T/back.csv" --vary operator.intent=ramp,table -o "$T/bad"
 check "  names the run, file:line and the times" err_has "run 0001 (operator.intent=table): $T/back.csv:4: time 0.05 does not increase"
 expect_exit 0 "the base scene need not be valid alone (a table intent, its table varied)" "$POPC" sweep "$SCENE" --set operator.intent=table --set run.duration=0.2 --vary "operator.table=$T/xd.csv" -o "$T/tabs" -q
+# relative --vary paths are from the working directory; each run's scene.ini
+# names its table absolutely, so that it runs from any directory
+printf 't,x_d\n0,-0.01\n0.1,0.002\n' > "$T/xd2.csv"
+(cd "$T" && "$POPC" sweep "$SCENE" --set operator.intent=table --set run.duration=0.2 --vary operator.table=xd.csv,xd2.csv -o rel -q 2>"$T/err")
+check "a sweep over relative table paths (exit $?)" test -s "$T/rel/summary.csv"
+check "  the run's scene.ini names the table absolutely" grep -qx "table = $T/xd2.csv" "$T/rel/runs/0001/scene.ini"
+expect_exit 0 "  and runs from another directory" env -C / "$POPC" run "$T/rel/runs/0001/scene.ini" -q
+check "  summary.csv shows the values as given" test "$(tail -n +2 "$T/rel/summary.csv" | cut -d, -f2 | tr '\n' ' ')" = "xd.csv xd2.csv "
+mkdir -p "$T/other" && cp "$T/xd.csv" "$T/xd2.csv" "$T/other/"
+(cd "$T/other" && "$POPC" sweep "$SCENE" --set operator.intent=table --set run.duration=0.2 --vary operator.table=xd.csv,xd2.csv -o "$T/rel" -q 2>"$T/err")
+check "  the same list from another directory is another sweep (exit $?)" err_has "holds another sweep"
 expect_exit 2 "a key both fixed (--set) and varied" "$POPC" sweep "$SCENE" --set operator.speed=0.03 "${VARY[@]}" -o "$T/bad"
 check "  names both" err_has "--set operator.speed=0.03 and --vary operator.speed=0.02:0.08:3: the key is both fixed and varied"
 expect_exit 2 "--no-log with --list" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/bad" --list --no-log

@@ -325,6 +325,45 @@ static void test_dump_round_trip(void **state)
 	assert_memory_equal(&r, &s, sizeof s);
 }
 
+/* One rule for paths: relative to where they are written. A --set path is
+ * relative to the working directory and made absolute (a scene file's are
+ * relative to its directory: tests/cli); an absolute one is kept as given;
+ * connect is a URI, not a path. */
+static void test_set_paths_absolute(void **state)
+{
+	(void)state;
+	char cwd[1024], want[1100];
+	assert_non_null(getcwd(cwd, sizeof cwd));
+	popc_scene s;
+	popc_scene_defaults(&s);
+	popc_error err;
+	assert_int_equal(popc_scene_set_assignment(&s, "operator.table= rel/x.csv ", &err), 0);
+	snprintf(want, sizeof want, "%s%srel/x.csv", cwd, cwd[1] ? "/" : "");
+	assert_string_equal(s.op_table, want);
+	assert_int_equal(popc_scene_set(&s, "axis", "map", "/abs/m.ini", &err), 0);
+	assert_string_equal(s.axis_map, "/abs/m.ini");
+	assert_int_equal(popc_scene_set(&s, "axis", "connect", "tcp:127.0.0.1:1502", &err), 0);
+	assert_string_equal(s.axis_connect, "tcp:127.0.0.1:1502");
+	assert_int_equal(popc_scene_key_is_path("operator", "table"), 1);
+	assert_int_equal(popc_scene_key_is_path("axis", "map"), 1);
+	assert_int_equal(popc_scene_key_is_path("axis", "connect"), 0);
+	assert_int_equal(popc_scene_key_is_path("run", "duration"), 0);
+	assert_int_equal(popc_scene_key_is_path("run", "nosuch"), 0);
+	/* a path that fits alone but not once absolute is refused, not kept
+	 * relative (it would name another file from another directory) */
+	char longrel[1024];
+	size_t fits = sizeof longrel - 1 - strlen(cwd) - 1; /* cwd '/' longrel: 1023 */
+	memset(longrel, 'a', sizeof longrel - 1);
+	longrel[fits] = '\0';
+	assert_int_equal(popc_scene_set(&s, "operator", "table", longrel, &err), 0);
+	assert_int_equal(strlen(s.op_table), 1023);
+	longrel[fits] = 'a';
+	longrel[fits + 1] = '\0';
+	assert_int_equal(popc_scene_set(&s, "operator", "table", longrel, &err), POPC_ERR_INVALID);
+	assert_non_null(strstr(err.msg, "operator.table"));
+	assert_non_null(strstr(err.msg, "from the working directory is longer than 1023"));
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -336,6 +375,7 @@ int main(void)
 		cmocka_unit_test(test_bad_overrides),
 		cmocka_unit_test(test_cross_key_validation),
 		cmocka_unit_test(test_dump_round_trip),
+		cmocka_unit_test(test_set_paths_absolute),
 	};
 	return cmocka_run_group_tests(tests, setup, teardown);
 }
