@@ -132,6 +132,23 @@ static FILE *open_in(const report_out *ro, const char *file, char *path, size_t 
 	return f;
 }
 
+/* Closes a file open_in opened: 0, or -1 after saying which file failed and
+ * why (failed: an earlier write to it already failed). Every failure prints
+ * one message, where it happens, so the caller adds none. */
+static int close_out(FILE *f, const char *path, int failed)
+{
+	failed |= ferror(f) != 0;
+	/* errno tells only for fclose: an earlier failed write's errno may be
+	 * overwritten by now */
+	int close_failed = fclose(f) != 0;
+	int saved = errno;
+	if (!failed && !close_failed)
+		return 0;
+	fprintf(stderr, "popc-analyze report: %s: write failed%s%s\n", path,
+		close_failed ? ": " : "", close_failed ? strerror(saved) : "");
+	return -1;
+}
+
 /* The terminal lines shared by every script: pngcairo/pdfcairo when this
  * gnuplot has them (Debian's gnuplot-nox does), else png and EPS. */
 static void write_terminal_block(FILE *f, const char *name, const char *png_size,
@@ -195,7 +212,7 @@ static int write_log_script(const report_out *ro, const report_log *lg)
 		      "  set output\n"
 		      "}\n",
 		      f);
-		return fclose(f) == 0 ? 0 : -1;
+		return close_out(f, path, 0);
 	}
 	fputs("  set ylabel \"PC force (N)\"\n"
 	      "  set xlabel \"t (s)\"\n",
@@ -214,7 +231,7 @@ static int write_log_script(const report_out *ro, const report_log *lg)
 		   "  set output\n"
 		   "}\n",
 		c->n_intervals ? " (shaded: chatter flagged)" : "");
-	return fclose(f) == 0 ? 0 : -1;
+	return close_out(f, path, 0);
 }
 
 /* Panel p of variants.gp: 0 position, 1 W - E_ref, 2 PC force. */
@@ -269,7 +286,7 @@ static int write_variants_script(const report_out *ro, const report_log *logs, i
 		fputc('\n', f);
 	}
 	fputs("  unset multiplot\n  set output\n}\n", f);
-	return fclose(f) == 0 ? 0 : -1;
+	return close_out(f, path, 0);
 }
 
 static void html_escape(FILE *f, const char *s)
@@ -303,7 +320,8 @@ static int write_index(const report_out *ro, const char *title, const report_log
 {
 	char path[1400];
 	const char *dir = ro->dir;
-	FILE *md = open_in(ro, "index.md", path, sizeof path);
+	char md_path[1400];
+	FILE *md = open_in(ro, "index.md", md_path, sizeof md_path);
 	if (!md)
 		return -1;
 	FILE *html = open_in(ro, "index.html", path, sizeof path);
@@ -410,15 +428,15 @@ static int write_index(const report_out *ro, const char *title, const report_log
 		}
 	}
 	fputs("</body></html>\n", html);
-	int bad = fclose(md) != 0;
-	bad |= fclose(html) != 0;
+	int bad = close_out(md, md_path, 0) != 0;
+	bad |= close_out(html, path, 0) != 0;
 	return bad ? -1 : 0;
 }
 
 static int write_tables(const report_out *ro, const report_log *logs, int n)
 {
-	char path[1400];
-	FILE *csv = open_in(ro, "compare.csv", path, sizeof path);
+	char path[1400], csv_path[1400];
+	FILE *csv = open_in(ro, "compare.csv", csv_path, sizeof csv_path);
 	if (!csv)
 		return -1;
 	FILE *md = open_in(ro, "compare.md", path, sizeof path);
@@ -432,8 +450,8 @@ static int write_tables(const report_out *ro, const report_log *logs, int n)
 		ana_summary_print_row(csv, ANA_CSV, &logs[i].sum);
 		ana_summary_print_row(md, ANA_MARKDOWN, &logs[i].sum);
 	}
-	int bad = fclose(csv) != 0;
-	bad |= fclose(md) != 0;
+	int bad = close_out(csv, csv_path, 0) != 0;
+	bad |= close_out(md, path, 0) != 0;
 	return bad ? -1 : 0;
 }
 
@@ -598,17 +616,16 @@ int ana_cmd_report(int argc, char **argv)
 		char path[1400], file[300];
 		snprintf(file, sizeof file, "%s.dat", lg->name);
 		FILE *f = open_in(&ro, file, path, sizeof path);
-		int bad = !f;
+		int bad = !f; /* open_in said why: a refusal to overwrite an input, or errno */
 		if (f) {
 			fprintf(f, "# %s decimated (min/max per bucket of %lld ticks)\n"
 				   "# t x x_true v f_e f_pc f_c W E_ref W-E_ref\n",
 				argv[i], dec.width);
-			bad = ana_decim_write(&dec, f) != 0;
-			bad |= fclose(f) != 0;
+			bad = close_out(f, path, ana_decim_write(&dec, f) != 0) != 0;
 		}
 		ana_decim_free(&dec);
+		/* each failure has printed its one message (which file, why) */
 		if (bad || write_log_script(&ro, lg) != 0) {
-			fprintf(stderr, "popc-analyze report: %s: cannot write the data or script\n", dir);
 			rc = 2;
 			goto out;
 		}

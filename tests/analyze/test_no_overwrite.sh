@@ -29,6 +29,22 @@ cp "$W/good.csv" "$W/r2/run.dat"
 expect_rc 2 "$A" report --no-draw -o "$W/r2" "$W/r2/run.csv" "$W/r2/run.dat" &&
 	grep -q "report: $W/r2/run.dat is the input log" "$W/err" && same "$W/r2/run.dat" &&
 	ok "report: a log named like another's data file kept" || fail "report run.dat: $(cat "$W/err")"
+# one clear message, the refusal, and no second line about the same failure
+[ "$(grep -c '' "$W/err")" -eq 1 ] && ok "report refusal: one message" ||
+	fail "report refusal: $(grep -c '' "$W/err") lines: $(cat "$W/err")"
+# a file that cannot be written (a link to /dev/full: ENOSPC at close) is named
+# once, with why, for the data file and for the tables
+if [ -w /dev/full ]; then
+	mkdir "$W/r4" "$W/r5"
+	ln -s /dev/full "$W/r4/good.dat"
+	expect_rc 2 "$A" report --no-draw -o "$W/r4" "$W/good.csv" &&
+		[ "$(cat "$W/err")" = "popc-analyze report: $W/r4/good.dat: write failed: No space left on device" ] &&
+		ok "report: a data file that cannot be written, one message" || fail "report /dev/full dat: $(cat "$W/err")"
+	ln -s /dev/full "$W/r5/compare.md"
+	expect_rc 2 "$A" report --no-draw -o "$W/r5" "$W/good.csv" &&
+		[ "$(cat "$W/err")" = "popc-analyze report: $W/r5/compare.md: write failed: No space left on device" ] &&
+		ok "report: a table that cannot be written, one message" || fail "report /dev/full md: $(cat "$W/err")"
+fi
 if command -v gnuplot >/dev/null 2>&1; then
 	# the figure b.png is the log itself, reached through the link b.csv
 	cp "$W/good.csv" "$W/r3/b.png"
