@@ -163,7 +163,9 @@ int popc_sweep_run_csv_status(const char *run_header, const char *run_row, int *
  *                         row never joins a line an earlier process left cut.
  *                         A file whose header was cut (no rows) is skipped.
  *   DIR/runs/<id>/        scene.ini, log.csv and summary.csv (unless --no-log);
- *                         run.csv when made by a --list `popc run` line
+ *                         for --list, scene.ini (the run's resolved scene,
+ *                         which its `popc run` line runs), then log.csv and
+ *                         run.csv from the line
  *   DIR/summary.csv       every row in id order (summary-shard-I-of-N.csv for
  *                         a shard), written to a temporary name and renamed,
  *                         so it is always whole

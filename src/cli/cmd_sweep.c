@@ -63,8 +63,11 @@ static void usage(FILE *f)
 	      "                           default from SLURM_ARRAY_TASK_ID/_COUNT when set.\n"
 	      "                           A shard writes DIR/summary-shard-I-of-N.csv\n"
 	      "  --list                   print one 'popc run' command line per run of the\n"
-	      "                           shard (for GNU parallel) instead of running; then\n"
-	      "                           'popc sweep merge DIR' gathers their results\n"
+	      "                           shard (for GNU parallel) instead of running; each\n"
+	      "                           runs the run's resolved scene, written now to\n"
+	      "                           DIR/runs/<id>/scene.ini (later edits of SCENE do\n"
+	      "                           not reach it); then 'popc sweep merge DIR'\n"
+	      "                           gathers their results\n"
 	      "  --program PATH           the popc that --list lines call (default: this one)\n"
 	      "  -q, --quiet              no progress\n"
 	      "  -h, --help               this help\n"
@@ -619,13 +622,15 @@ static void put_word(FILE *f, const char *text)
 	fputc('\'', f);
 }
 
-/* One `popc run` line per run of the shard: the scene file, the sweep's
- * fixed --set overrides in their order, then the run's values. */
+/* One `popc run` line per run of the shard. Each runs the run's resolved
+ * scene, written now to DIR/runs/<id>/scene.ini (every key, paths absolute:
+ * scene.h), not the sweep's scene file with --set words: the lines run later,
+ * maybe on other machines, and an edit of the scene file in between would
+ * give results other than the plan's, which merge would take as the plan's. */
 static int print_list(const popc_sweep_plan *p, const popc_sweep_shard *sh, const char *program,
-		      const char *const *sets, int n_sets, const char *scene_abs, const char *dir_abs)
+		      const char *dir_abs)
 {
-	char rdir[POPC_PATH_MAX], path[POPC_PATH_MAX + 32], set[POPC_SWEEP_VALUE_MAX + 160];
-	int idx[64];
+	char rdir[POPC_PATH_MAX], path[POPC_PATH_MAX + 32];
 	for (long long i = 0; i < p->n_runs; i++) {
 		if (!popc_sweep_in_shard(sh, i))
 			continue;
@@ -635,20 +640,24 @@ static int print_list(const popc_sweep_plan *p, const popc_sweep_shard *sh, cons
 			fprintf(stderr, "popc sweep: %s: %s\n", rdir, strerror(errno));
 			return 1;
 		}
-		popc_sweep_run_values(p, i, idx);
+		popc_scene s;
+		popc_error err;
+		char *text = NULL;
+		size_t len;
+		snprintf(path, sizeof path, "%s/scene.ini", rdir);
+		int st = popc_sweep_run_scene(p, i, &s, &err);
+		if (!st)
+			st = popc_scene_to_text(&s, &text, &len, &err);
+		if (!st)
+			st = popc_sweep_write_atomic(path, text, len, &err);
+		free(text);
+		if (st) {
+			fprintf(stderr, "popc sweep: %s\n", err.msg);
+			return popc_status_exit_code(st);
+		}
 		put_word(stdout, program);
 		fputs(" run ", stdout);
-		put_word(stdout, scene_abs);
-		for (int m = 0; m < n_sets; m++) {
-			fputs(" --set ", stdout);
-			put_word(stdout, sets[m]);
-		}
-		for (int a = 0; a < p->n_axes; a++) {
-			snprintf(set, sizeof set, "%s.%s=%s", p->axes[a].section, p->axes[a].key,
-				 p->axes[a].values[idx[a]]);
-			fputs(" --set ", stdout);
-			put_word(stdout, set);
-		}
+		put_word(stdout, path);
 		/* the log always: popc run's summary lacks the chatter detector's
 		 * columns, which merge computes from it */
 		snprintf(path, sizeof path, "%s/log.csv", rdir);
@@ -889,8 +898,7 @@ static int sweep_main(const sweep_args *a)
 			self[n > 0 ? n : 0] = '\0';
 			program = n > 0 ? self : "popc";
 		}
-		int r = print_list(&plan, &shard, program, (const char *const *)a->sets, a->n_sets,
-				   scene_abs, dir_abs);
+		int r = print_list(&plan, &shard, program, dir_abs);
 		popc_sweep_plan_free(&plan);
 		return r;
 	}

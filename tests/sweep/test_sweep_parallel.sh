@@ -16,11 +16,19 @@ same_nowall() { cmp -s <(nowall "$1") <(nowall "$2") || { diff <(nowall "$1") <(
 # a fixed --set too: the listed lines must carry it (the runs of the plan)
 VARY=(--set run.duration=3 --vary operator.speed=0.02:0.08:3 --vary controller.variant=none,ref-energy,filtered-velocity,improved)
 
-"$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/p" --list > "$T/jobs" 2>"$T/err"
+# the scene is a copy that is edited between --list and the runs: the listed
+# lines run the plan's resolved scenes, so the edit must change nothing
+cp "$SCENE" "$T/scene.ini"
+"$POPC" sweep "$T/scene.ini" "${VARY[@]}" -o "$T/p" --list > "$T/jobs" 2>"$T/err"
 check "--list exits 0" test $? -eq 0
 check "  one line per run (12)" test "$(wc -l < "$T/jobs")" -eq 12
-check "  popc run lines, the fixed --set first" test "$(grep -c " run $SCENE --set run.duration=3 --set operator.speed=" "$T/jobs")" -eq 12
-check "  run 0005: speed 0.05, ref-energy" grep -q "operator.speed=0.05 --set controller.variant=ref-energy --log $T/p/runs/0005/log.csv --summary $T/p/runs/0005/run.csv -q$" "$T/jobs"
+check "  popc run lines, each on its run's scene.ini" test "$(grep -c " run $T/p/runs/00[01][0-9]/scene.ini --log " "$T/jobs")" -eq 12
+check "  run 0005: its scene, log and summary" grep -q " run $T/p/runs/0005/scene.ini --log $T/p/runs/0005/log.csv --summary $T/p/runs/0005/run.csv -q$" "$T/jobs"
+check "  run 0005's scene: speed 0.05, ref-energy" grep -qx "variant = ref-energy" "$T/p/runs/0005/scene.ini"
+check "  ... speed 0.05" grep -q "^speed = 0\.050*[0-9]\?$" "$T/p/runs/0005/scene.ini"
+check "  ... and the fixed --set (duration 3)" grep -qx "duration = 3" "$T/p/runs/0005/scene.ini"
+sed -i 's/^pc_bound = 5 /pc_bound = 1 /; s/^stiffness = 1000 /stiffness = 2000 /' "$T/scene.ini"
+check "the scene file is edited after --list" grep -q "^pc_bound = 1 " "$T/scene.ini"
 
 # the GNU parallel recipe of docs/SWEEPS.md (here on this machine only)
 parallel --will-cite --jobs 2 --joblog "$T/joblog" < "$T/jobs" > "$T/par.out" 2>&1
@@ -30,7 +38,7 @@ check "merge exits 0" test $? -eq 0
 
 "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/s" -j 2 -q --no-log
 check "the in-process sweep exits 0" test $? -eq 0
-check "parallel + merge equals the in-process sweep (but wall time)" same_nowall "$T/p/summary.csv" "$T/s/summary.csv"
+check "parallel + merge equals the in-process sweep of the scene as listed (but wall time)" same_nowall "$T/p/summary.csv" "$T/s/summary.csv"
 check "  3 s runs (3001 ticks)" test "$(cut -d, -f5 "$T/p/summary.csv" | sort -u | tr '\n' ' ')" = "3001 ticks "
 check "  including the chatter columns" test "$(cut -d, -f16-18 "$T/p/summary.csv" | sort -u | wc -l)" -gt 2
 
