@@ -23,7 +23,10 @@ static void usage(FILE *f)
 	      "  --variant NAME           controller.variant: none, po-pc, ref-energy,\n"
 	      "                           filtered-velocity, ignore, hold, improved\n"
 	      "  --log FILE               write the CSV log to FILE ('-': standard output)\n"
-	      "  --summary FILE           append the summary as a CSV row (header if new)\n"
+	      "  --summary FILE           append the summary as a CSV row (header if new;\n"
+	      "                           '-': standard output, with its header unless\n"
+	      "                           appending to a file that is not empty; not\n"
+	      "                           with --log -)\n"
 	      "  --axis sim|modbus        axis.kind: the simulated plant or a servo drive\n"
 	      "  --map FILE               axis.map: the drive's register map (docs/MODBUS.md)\n"
 	      "  --connect URI            axis.connect: tcp:HOST:PORT or rtu:DEVICE[:BAUD[:8N1]]\n"
@@ -49,8 +52,9 @@ enum { OPT_SET = 256, OPT_VARIANT, OPT_LOG, OPT_SUMMARY, OPT_AXIS, OPT_MAP, OPT_
 /* Appends the run's summary row, and the axis' own columns (a real axis:
  * period and latency percentiles) after the run's, to f (opened for
  * appending before the run, so that a summary path that cannot be written
- * stops the run before it starts, not after it is done); an empty file gets
- * the header first. Closes f. */
+ * stops the run before it starts, not after it is done); an empty file, or a
+ * stream without a position (standard output on a pipe or a terminal), gets
+ * the header first. Closes f, or flushes it when it is stdout. */
 static int write_summary_file(FILE *f, const popc_run_summary *sum, const popc_scene *s,
 			      const char *axis_names, const char *axis_values)
 {
@@ -68,13 +72,14 @@ static int write_summary_file(FILE *f, const popc_run_summary *sum, const popc_s
 	}
 	int st = -1;
 	if (header && row && hl && rl) {
-		fseek(f, 0, SEEK_END);
-		if (ftell(f) == 0)
+		/* a pipe cannot seek: ftell fails, and the reader gets a header */
+		long at = fseek(f, 0, SEEK_END) == 0 ? ftell(f) : -1;
+		if (at <= 0)
 			fprintf(f, "%.*s%s\n", (int)hl - 1, header, axis_names); /* drop the '\n' */
 		fprintf(f, "%.*s%s\n", (int)rl - 1, row, axis_values);
 		st = 0;
 	}
-	if (fclose(f) != 0)
+	if (f == stdout ? fflush(f) != 0 || ferror(f) : fclose(f) != 0)
 		st = -1;
 	free(header);
 	free(row);
@@ -122,9 +127,13 @@ int popc_cmd_run(int argc, char **argv)
 		default: usage(stderr); free(sets); return 2;
 		}
 	}
-	if (optind + 1 != argc) {
-		fprintf(stderr, "popc run: %s\n",
-			optind >= argc ? "missing SCENE file" : "more than one SCENE file");
+	int summary_stdout = summary_path && strcmp(summary_path, "-") == 0;
+	if (optind + 1 != argc || (summary_stdout && log_path && strcmp(log_path, "-") == 0)) {
+		const char *why = optind >= argc      ? "missing SCENE file"
+				  : optind + 1 != argc ? "more than one SCENE file"
+						       : "--log - and --summary - both name standard "
+							 "output: give one of them a file";
+		fprintf(stderr, "popc run: %s\n", why);
 		usage(stderr);
 		free(sets);
 		return 2;
@@ -162,8 +171,8 @@ int popc_cmd_run(int argc, char **argv)
 	if (st)
 		return popc_cli_fail("run", st, &err);
 
-	FILE *summary = NULL;
-	if (summary_path && !(summary = fopen(summary_path, "a"))) {
+	FILE *summary = summary_stdout ? stdout : NULL;
+	if (summary_path && !summary_stdout && !(summary = fopen(summary_path, "a"))) {
 		st = popc_error_set(&err, POPC_ERR_IO, "%s: cannot open the summary for appending: %s",
 				    summary_path, strerror(errno));
 		popc_axis_destroy(&axis);
@@ -176,7 +185,7 @@ int popc_cmd_run(int argc, char **argv)
 		if (!st)
 			st = popc_log_write_header(&log, axis->ops->name, &s, NULL, &err);
 		if (st) {
-			if (summary)
+			if (summary && summary != stdout)
 				fclose(summary);
 			popc_axis_destroy(&axis);
 			return popc_cli_fail("run", st, &err);

@@ -117,6 +117,20 @@ expect_exit 1 "a summary path that cannot be written" "$POPC" run "$SRC/data/sce
 check "  names it and why" err_has "nodir/sum.csv: cannot open the summary for appending: No such file or directory"
 check "  refused before the run: no log written" test ! -e "$T/sumlog.csv"
 
+# --summary -: standard output, as --log - (no file named '-')
+(cd "$T" && "$POPC" run "$SRC/data/scenes/paper.ini" -q --summary - > "$T/sumout.csv" 2>"$T/err")
+check "--summary - writes to standard output (exit $?)" test "$(wc -l < "$T/sumout.csv")" -eq 2
+check "  header and row, as the file's" cmp -s <(head -1 "$T/sumout.csv") <(head -1 "$T/sum.csv")
+check "  no file named '-'" test ! -e "$T/-"
+"$POPC" run "$SRC/data/scenes/paper.ini" -q --summary - | cat > "$T/sumpipe.csv"
+check "  on a pipe: header and row" test "$(wc -l < "$T/sumpipe.csv")" -eq 2 -a "$(head -1 "$T/sumpipe.csv")" = "$(head -1 "$T/sum.csv")"
+"$POPC" run "$SRC/data/scenes/paper.ini" -q --summary - >> "$T/sumout.csv"
+check "  appended to a file that is not empty: the row only" test "$(wc -l < "$T/sumout.csv")" -eq 3 -a "$(grep -c '^variant,' "$T/sumout.csv")" -eq 1
+expect_exit 2 "--log - with --summary -" "$POPC" run "$SRC/data/scenes/paper.ini" --log - --summary -
+check "  says both name standard output" err_has "popc run: --log - and --summary - both name standard output"
+check "  nothing ran: nothing on standard output" test ! -s "$T/out"
+check "  --help says '-' is standard output" grep -q "'-': standard output, with its header" <("$POPC" run --help)
+
 # log to standard output equals the log file
 "$POPC" run "$SRC/data/scenes/paper.ini" -q --log - > "$T/stdout.csv"
 check "--log - writes the same log to stdout" cmp -s "$T/stdout.csv" "$T/paper.csv"
