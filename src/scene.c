@@ -200,11 +200,19 @@ static number_status parse_number(const char *text, double *out)
 	return NUMBER_OK;
 }
 
+/* Sets key k from text. Messages name "<where><section>.<key> = <value>", or,
+ * with option (a command-line option of its own, as popc run --variant),
+ * "<option> <value>": the name the user typed. */
 static int set_key(popc_scene *s, const scene_key *k, const char *value, const char *where,
-		   popc_error *err)
+		   const char *option, popc_error *err)
 {
-	char range[160];
+	char range[160], who[200];
 	describe_range(k, range, sizeof range);
+	if (option)
+		snprintf(who, sizeof who, "%s", option);
+	else
+		snprintf(who, sizeof who, "%s%s.%s", where, k->section, k->key);
+	const char *sep = option ? " " : " = ";
 	char *field = (char *)s + k->offset;
 	switch (k->type) {
 	case KEY_DOUBLE:
@@ -217,18 +225,17 @@ static int set_key(popc_scene *s, const scene_key *k, const char *value, const c
 		};
 		number_status ns = parse_number(value, &v);
 		if (ns != NUMBER_OK)
-			return popc_error_set(err, POPC_ERR_INVALID, "%s%s.%s = '%s': %s; allowed %s",
-					      where, k->section, k->key, value, why[ns], range);
+			return popc_error_set(err, POPC_ERR_INVALID, "%s%s'%s': %s; allowed %s", who,
+					      sep, value, why[ns], range);
 		int below = k->min_open ? !(v > k->min) : !(v >= k->min);
 		if (below || !(v <= k->max))
-			return popc_error_set(err, POPC_ERR_INVALID,
-					      "%s%s.%s = %s: out of range; allowed %s", where, k->section,
-					      k->key, value, range);
+			return popc_error_set(err, POPC_ERR_INVALID, "%s%s%s: out of range; allowed %s",
+					      who, sep, value, range);
 		if (k->type == KEY_INT) {
 			if (v != floor(v))
 				return popc_error_set(err, POPC_ERR_INVALID,
-						      "%s%s.%s = %s: not a whole number; allowed %s",
-						      where, k->section, k->key, value, range);
+						      "%s%s%s: not a whole number; allowed %s", who, sep,
+						      value, range);
 			*(int *)(void *)field = (int)v;
 		} else {
 			*(double *)(void *)field = v;
@@ -245,12 +252,12 @@ static int set_key(popc_scene *s, const scene_key *k, const char *value, const c
 				return 0;
 			}
 		}
-		return popc_error_set(err, POPC_ERR_INVALID, "%s%s.%s = '%s': unknown value; allowed %s",
-				      where, k->section, k->key, value, range);
+		return popc_error_set(err, POPC_ERR_INVALID, "%s%s'%s': unknown value; allowed %s", who,
+				      sep, value, range);
 	case KEY_STRING:
 		if (strlen(value) >= POPC_PATH_MAX)
-			return popc_error_set(err, POPC_ERR_INVALID, "%s%s.%s: longer than %d characters",
-					      where, k->section, k->key, POPC_PATH_MAX - 1);
+			return popc_error_set(err, POPC_ERR_INVALID, "%s: longer than %d characters", who,
+					      POPC_PATH_MAX - 1);
 		snprintf(field, POPC_PATH_MAX, "%s", value);
 		return 0;
 	}
@@ -293,28 +300,41 @@ static int trimmed(const char *text, size_t len, char *out, size_t cap)
 	return 0;
 }
 
-int popc_scene_set(popc_scene *s, const char *section, const char *key, const char *value,
-		   popc_error *err)
+/* popc_scene_set and popc_scene_set_option: option NULL for --set */
+static int scene_set(popc_scene *s, const char *section, const char *key, const char *value,
+		     const char *option, popc_error *err)
 {
 	/* blanks around a name or value count as in a file: " 5" and "5 " are 5 */
 	char sec[64], name[64], val[POPC_PATH_MAX];
 	if (trimmed(section, strlen(section), sec, sizeof sec) ||
 	    trimmed(key, strlen(key), name, sizeof name))
 		return popc_error_set(err, POPC_ERR_INVALID, "--set %s.%s: name too long", section, key);
+	char who[200];
+	snprintf(who, sizeof who, "%s%s%s%s", option ? option : "--set ", option ? "" : sec,
+		 option ? "" : ".", option ? "" : name);
 	if (trimmed(value, strlen(value), val, sizeof val))
-		return popc_error_set(err, POPC_ERR_INVALID, "--set %s.%s: value longer than %d characters",
-				      sec, name, POPC_PATH_MAX - 1);
+		return popc_error_set(err, POPC_ERR_INVALID, "%s: value longer than %d characters", who,
+				      POPC_PATH_MAX - 1);
 	int section_known;
 	const scene_key *k = find_key(sec, name, &section_known);
 	if (!k)
 		return unknown_key(sec, name, section_known, "--set: ", err);
-	int st = set_key(s, k, val, "--set ", err);
-	if (!st && is_path_key(k)) {
-		char full[80];
-		snprintf(full, sizeof full, "%s.%s", k->section, k->key);
-		st = resolve_relative((char *)s + k->offset, NULL, full, err);
-	}
+	int st = set_key(s, k, val, "--set ", option, err);
+	if (!st && is_path_key(k))
+		st = resolve_relative((char *)s + k->offset, NULL, who, err);
 	return st;
+}
+
+int popc_scene_set(popc_scene *s, const char *section, const char *key, const char *value,
+		   popc_error *err)
+{
+	return scene_set(s, section, key, value, NULL, err);
+}
+
+int popc_scene_set_option(popc_scene *s, const char *option, const char *section, const char *key,
+			  const char *value, popc_error *err)
+{
+	return scene_set(s, section, key, value, option, err);
 }
 
 int popc_scene_key_is_path(const char *section, const char *key)
@@ -390,7 +410,7 @@ static int scene_ini_handler(void *user, const char *section, const char *name, 
 		return 0;
 	}
 	c->seen_line[idx] = c->line;
-	c->status = set_key(c->s, k, value, "", c->err);
+	c->status = set_key(c->s, k, value, "", NULL, c->err);
 	if (c->status)
 		c->status_line = c->line;
 	return c->status ? 0 : 1;
@@ -405,6 +425,8 @@ static int scene_ini_handler(void *user, const char *section, const char *name, 
  * or a sweep's run directory, names the same file from any directory. */
 static int resolve_relative(char *field, const char *scene_path, const char *key, popc_error *err)
 {
+	/* key: "operator.table" in a scene file, the option's name otherwise
+	 * ("--set operator.table", "--map") */
 	if (!field[0] || field[0] == '/')
 		return 0;
 	char cwd[POPC_PATH_MAX] = "";
@@ -421,8 +443,8 @@ static int resolve_relative(char *field, const char *scene_path, const char *key
 						   "is longer than %d characters",
 						   scene_path, key, field, POPC_PATH_MAX - 1)
 				  : popc_error_set(err, POPC_ERR_INVALID,
-						   "--set %s: the path from the working directory is "
-						   "longer than %d characters: %s",
+						   "%s: the path from the working directory is longer "
+						   "than %d characters: %s",
 						   key, POPC_PATH_MAX - 1, field);
 	memcpy(field, out, (size_t)n + 1);
 	return 0;

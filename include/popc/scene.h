@@ -109,6 +109,13 @@ int popc_scene_set_assignment(popc_scene *s, const char *assignment, popc_error 
 int popc_scene_set(popc_scene *s, const char *section, const char *key, const char *value,
 		   popc_error *err);
 
+/* As popc_scene_set, for a value given by a command-line option of its own
+ * (popc run --variant for controller.variant): messages name the option the
+ * user typed ("--variant 'x': unknown value; allowed one of none|...") rather
+ * than "--set controller.variant". */
+int popc_scene_set_option(popc_scene *s, const char *option, const char *section, const char *key,
+			  const char *value, popc_error *err);
+
 /* 1 when section.key names a file (operator.table, axis.map), else 0. */
 int popc_scene_key_is_path(const char *section, const char *key);
 

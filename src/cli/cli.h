@@ -19,7 +19,19 @@ int popc_cli_fail(const char *verb, int status, const popc_error *err);
  * --set assignments in order and validates. */
 int popc_cli_load_scene(popc_scene *s, const char *path, char **sets, int n_sets, popc_error *err);
 
-/* Collects a --set argument (the array grows as needed; freed by the caller). */
+/* A scene key given by an option of its own (popc run --variant NAME is
+ * controller.variant): its errors name the option. value NULL: not given. */
+typedef struct popc_cli_key_option {
+	const char *option, *section, *key, *value;
+} popc_cli_key_option;
+
+/* popc_cli_load_scene, then the key options (after --set: they win), then
+ * validation. */
+int popc_cli_load_scene_options(popc_scene *s, const char *path, char **sets, int n_sets,
+				const popc_cli_key_option *opts, int n_opts, popc_error *err);
+
+/* Collects a --set argument (the array grows as needed; freed by the caller).
+ * Returns 0, or -1 when out of memory (the list is left as it was). */
 int popc_cli_push(char ***list, int *n, char *value);
 
 /* Strict whole-string number parsers for options. */

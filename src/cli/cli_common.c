@@ -44,7 +44,8 @@ int popc_cli_fail(const char *verb, int status, const popc_error *err)
 	return popc_status_exit_code(status);
 }
 
-int popc_cli_load_scene(popc_scene *s, const char *path, char **sets, int n_sets, popc_error *err)
+int popc_cli_load_scene_options(popc_scene *s, const char *path, char **sets, int n_sets,
+				const popc_cli_key_option *opts, int n_opts, popc_error *err)
 {
 	popc_scene_defaults(s);
 	int st = 0;
@@ -52,9 +53,18 @@ int popc_cli_load_scene(popc_scene *s, const char *path, char **sets, int n_sets
 		st = popc_scene_load(s, path, err);
 	for (int i = 0; !st && i < n_sets; i++)
 		st = popc_scene_set_assignment(s, sets[i], err);
+	for (int i = 0; !st && i < n_opts; i++)
+		if (opts[i].value)
+			st = popc_scene_set_option(s, opts[i].option, opts[i].section, opts[i].key,
+						   opts[i].value, err);
 	if (!st)
 		st = popc_scene_validate(s, err);
 	return st;
+}
+
+int popc_cli_load_scene(popc_scene *s, const char *path, char **sets, int n_sets, popc_error *err)
+{
+	return popc_cli_load_scene_options(s, path, sets, n_sets, NULL, 0, err);
 }
 
 int popc_cli_push(char ***list, int *n, char *value)

@@ -140,21 +140,16 @@ int popc_cmd_run(int argc, char **argv)
 	}
 	popc_scene s;
 	popc_error err;
-	char variant_set[96];
-	if (variant) {
-		snprintf(variant_set, sizeof variant_set, "controller.variant=%s", variant);
-		popc_cli_push(&sets, &n_sets, variant_set);
-	}
-	/* --axis, --map, --connect are --set axis.kind=, axis.map=, axis.connect= */
-	static const char *const axis_keys[3] = {"kind", "map", "connect"};
-	char axis_set[3][POPC_PATH_MAX + 16];
-	for (int i = 0; i < 3; i++) {
-		if (!axis_opt[i])
-			continue;
-		snprintf(axis_set[i], sizeof axis_set[i], "axis.%s=%s", axis_keys[i], axis_opt[i]);
-		popc_cli_push(&sets, &n_sets, axis_set[i]);
-	}
-	int st = popc_cli_load_scene(&s, argv[optind], sets, n_sets, &err);
+	/* keys with options of their own, applied after --set; their errors
+	 * name the option typed ("--variant 'x': ... allowed one of ...") */
+	const popc_cli_key_option key_opts[] = {
+		{"--variant", "controller", "variant", variant},
+		{"--axis", "axis", "kind", axis_opt[0]},
+		{"--map", "axis", "map", axis_opt[1]},
+		{"--connect", "axis", "connect", axis_opt[2]},
+	};
+	int st = popc_cli_load_scene_options(&s, argv[optind], sets, n_sets, key_opts,
+					     (int)(sizeof key_opts / sizeof key_opts[0]), &err);
 	free(sets);
 	if (st)
 		return popc_cli_fail("run", st, &err);

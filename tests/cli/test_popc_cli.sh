@@ -33,7 +33,13 @@ check "  names the keys and the shortest duration" err_has "run.duration = 0.000
 check "  nothing ran: no log written" test ! -e "$T/notick.csv"
 expect_exit 0 "half a period rounds to one tick" "$POPC" run "$SRC/data/scenes/paper.ini" --set run.duration=5e-4 -q
 expect_exit 2 "bad --variant" "$POPC" run "$SRC/data/scenes/paper.ini" --variant fastest
-check "  lists the variants" err_has "none|po-pc|ref-energy|filtered-velocity|ignore|hold|improved"
+check "  names the option typed and lists the variants" err_has "popc run: --variant 'fastest': unknown value; allowed one of none|po-pc|ref-energy|filtered-velocity|ignore|hold|improved"
+expect_exit 2 "bad --axis" "$POPC" run "$SRC/data/scenes/paper.ini" --axis serial
+check "  names --axis and the kinds" err_has "popc run: --axis 'serial': unknown value; allowed one of sim|modbus"
+expect_exit 2 "the same through --set" "$POPC" run "$SRC/data/scenes/paper.ini" --set controller.variant=fastest
+check "  names --set and the key" err_has "popc run: --set controller.variant = 'fastest': unknown value"
+expect_exit 0 "--variant wins over --set controller.variant" "$POPC" run "$SRC/data/scenes/paper.ini" --set controller.variant=improved --variant none --set run.duration=0.1 --summary - -q
+check "  ran none" grep -q "^none," "$T/out"
 
 # scene files as users write them: indented keys, CRLF, and errors that name
 # their own line
