@@ -113,7 +113,13 @@ int popc_cmd_run(int argc, char **argv)
 	optind = 1;
 	while ((c = getopt_long(argc, argv, "qh", opts, NULL)) != -1) {
 		switch (c) {
-		case OPT_SET: popc_cli_push(&sets, &n_sets, optarg); break;
+		case OPT_SET:
+			if (popc_cli_push(&sets, &n_sets, optarg) != 0) {
+				fprintf(stderr, "popc run: out of memory\n");
+				free(sets);
+				return 1;
+			}
+			break;
 		case OPT_VARIANT: variant = optarg; break;
 		case OPT_LOG: log_path = optarg; break;
 		case OPT_SUMMARY: summary_path = optarg; break;

@@ -49,7 +49,13 @@ int popc_cmd_scene(int argc, char **argv)
 	argv[0] = keys ? prog_keys : prog_show; /* getopt's messages name argv[0] */
 	while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
 		switch (c) {
-		case 's': popc_cli_push(&sets, &n_sets, optarg); break;
+		case 's':
+			if (popc_cli_push(&sets, &n_sets, optarg) != 0) {
+				fprintf(stderr, "popc scene show: out of memory\n");
+				free(sets);
+				return 1;
+			}
+			break;
 		case 'h': usage(stdout); free(sets); return 0;
 		default: usage(stderr); free(sets); return 2;
 		}
