@@ -39,7 +39,7 @@ expect_exit 2 "bad --axis" "$POPC" run "$SRC/data/scenes/paper.ini" --axis seria
 check "  names --axis and the kinds" err_has "popc run: --axis 'serial': unknown value; allowed one of sim|modbus"
 expect_exit 2 "the same through --set" "$POPC" run "$SRC/data/scenes/paper.ini" --set controller.variant=fastest
 check "  names --set and the key" err_has "popc run: --set controller.variant = 'fastest': unknown value"
-expect_exit 0 "--variant wins over --set controller.variant" "$POPC" run "$SRC/data/scenes/paper.ini" --set controller.variant=improved --variant none --set run.duration=0.1 --summary - -q
+expect_exit 0 "--variant wins over --set controller.variant" env -C "$T" "$POPC" run "$SRC/data/scenes/paper.ini" --set controller.variant=improved --variant none --set run.duration=0.1 --summary - -q
 check "  ran none" grep -q "^none," "$T/out"
 
 # scene files as users write them: indented keys, CRLF, and errors that name
@@ -128,12 +128,12 @@ check "  refused before the run: no log written" test ! -e "$T/sumlog.csv"
 (cd "$T" && "$POPC" run "$SRC/data/scenes/paper.ini" -q --summary - > "$T/sumout.csv" 2>"$T/err")
 check "--summary - writes to standard output (exit $?)" test "$(wc -l < "$T/sumout.csv")" -eq 2
 check "  header and row, as the file's" cmp -s <(head -1 "$T/sumout.csv") <(head -1 "$T/sum.csv")
-check "  no file named '-'" test ! -e "$T/-"
-"$POPC" run "$SRC/data/scenes/paper.ini" -q --summary - | cat > "$T/sumpipe.csv"
+check "  no file named '-'" test ! -e "$T/-"   # (each --summary - here runs in $T)
+(cd "$T" && "$POPC" run "$SRC/data/scenes/paper.ini" -q --summary - | cat > "$T/sumpipe.csv")
 check "  on a pipe: header and row" test "$(wc -l < "$T/sumpipe.csv")" -eq 2 -a "$(head -1 "$T/sumpipe.csv")" = "$(head -1 "$T/sum.csv")"
-"$POPC" run "$SRC/data/scenes/paper.ini" -q --summary - >> "$T/sumout.csv"
+(cd "$T" && "$POPC" run "$SRC/data/scenes/paper.ini" -q --summary - >> "$T/sumout.csv")
 check "  appended to a file that is not empty: the row only" test "$(wc -l < "$T/sumout.csv")" -eq 3 -a "$(grep -c '^variant,' "$T/sumout.csv")" -eq 1
-expect_exit 2 "--log - with --summary -" "$POPC" run "$SRC/data/scenes/paper.ini" --log - --summary -
+expect_exit 2 "--log - with --summary -" env -C "$T" "$POPC" run "$SRC/data/scenes/paper.ini" --log - --summary -
 check "  says both name standard output" err_has "popc run: --log - and --summary - both name standard output"
 check "  nothing ran: nothing on standard output" test ! -s "$T/out"
 check "  --help says '-' is standard output" grep -q "'-': standard output, with its header" <("$POPC" run --help)
