@@ -71,6 +71,7 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 		sum->ticks = k + 1;
 		if (k + 1 < n_ticks && (st = axis->ops->exchange(axis, row.tick.f_c_N, &smp, err)) != 0) {
 			why = st == POPC_ERR_NUMERIC ? "integrator unstable"
+			      : st == POPC_ERR_DIVERGED ? "closed loop diverged"
 			      : st == POPC_ERR_SAFETY ? "safety stop"
 			      : st == POPC_ERR_COMM   ? "communication lost"
 			      : st == POPC_ERR_INTERRUPTED ? "signal" /* seen by the axis mid-transaction */

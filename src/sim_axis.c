@@ -241,16 +241,21 @@ static int sim_sample(popc_axis *a, popc_axis_sample *out, popc_error *err)
 				  fabs(s->st.x_m - s->st_exact.x_m) < 0.5 * fabs(s->st.x_m);
 		if (s->scene.integrator != POPC_INTEGRATOR_EXACT && !with_shadow)
 			return integrator_failed(s, what, err);
+		char pc_note[96] = ", or use a PC variant";
+		if (s->scene.variant != POPC_VARIANT_NONE)
+			snprintf(pc_note, sizeof pc_note,
+				 "; the PC, bounded at controller.pc_bound = %g N, did not keep it passive",
+				 s->scene.pc_bound_N);
 		return popc_error_set(
-			err, POPC_ERR_NUMERIC,
+			err, POPC_ERR_DIVERGED,
 			"%s at t = %.9g s (tick %lld) %s: the closed loop of this scene diverged (the "
 			"physics, not the integrator); add damping, lower the wall stiffness or "
-			"raise the control rate (a sampled wall is passive for b > K_e T / 2), or use a "
-			"PC variant",
+			"raise the control rate (a sampled wall is passive for b > K_e T / 2)%s",
 			what, (double)s->k * s->period_s, s->k,
 			s->scene.integrator == POPC_INTEGRATOR_EXACT
 				? "with the exact integrator, which is exact for any step"
-				: "and so does the exact integrator fed the same commands");
+				: "and so does the exact integrator fed the same commands",
+			pc_note);
 	}
 	if (!ok)
 		return popc_error_set(err, POPC_ERR_INVALID,

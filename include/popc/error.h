@@ -14,7 +14,7 @@ enum popc_exit {
 	POPC_EXIT_SAFETY = 3,      /* safety stop on a real axis (fault bit, soft limit) */
 	POPC_EXIT_COMM_LOST = 4,   /* communication with the axis lost */
 	POPC_EXIT_INTERRUPTED = 5, /* stopped by SIGINT/TERM/HUP/QUIT, safe state reached */
-	POPC_EXIT_UNSTABLE = 6,    /* the integrator went unstable; the log says where */
+	POPC_EXIT_UNSTABLE = 6,    /* the simulation went unstable (integrator or closed loop) */
 };
 
 typedef enum popc_status {
@@ -26,6 +26,7 @@ typedef enum popc_status {
 	POPC_ERR_COMM = -5,     /* communication with an axis */
 	POPC_ERR_SAFETY = -6,   /* safety supervisor stop */
 	POPC_ERR_INTERRUPTED = -7,
+	POPC_ERR_DIVERGED = -8, /* the simulated closed loop diverged (the physics, not the integrator) */
 } popc_status;
 
 #define POPC_ERROR_MSG_MAX 512

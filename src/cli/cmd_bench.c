@@ -162,7 +162,7 @@ static int reference_forces(const popc_scene *s0, recorder *rec, popc_error *err
 }
 
 /* Max |x - x_exact| at the samples when the integrator is fed the forces
- * open loop. Returns 0, or POPC_ERR_NUMERIC when the integrator was stopped
+ * open loop. Returns 0, or POPC_ERR_NUMERIC (POPC_ERR_DIVERGED) when the integrator was stopped
  * as unstable (*tick_out: where). */
 static int replay_error(const popc_scene *s0, popc_integrator m, int substeps, const recorder *rec,
 			double *err_m, long long *tick_out, popc_error *err)
@@ -375,7 +375,7 @@ static int bench_integrators(const popc_scene *s, const bench_opts *o)
 			p->substeps = sweep[i];
 			popc_error e2;
 			int rst = replay_error(s, methods[m], sweep[i], &rec, &p->error_m, &p->tick, &e2);
-			p->unstable = rst == POPC_ERR_NUMERIC;
+			p->unstable = rst == POPC_ERR_NUMERIC || rst == POPC_ERR_DIVERGED;
 			snprintf(p->why, sizeof p->why, "%s",
 				 strstr(e2.msg, "made up") ? "made-up energy"
 				 : strstr(e2.msg, "free motion would grow") ? "growth bound"
@@ -388,7 +388,7 @@ static int bench_integrators(const popc_scene *s, const bench_opts *o)
 			p->ns = NAN;
 			if (!p->unstable) {
 				rst = loop_ns_per_tick(s, methods[m], sweep[i], o, &p->ns, &e2);
-				if (rst && rst != POPC_ERR_NUMERIC) {
+				if (rst && rst != POPC_ERR_NUMERIC && rst != POPC_ERR_DIVERGED) {
 					free(rec.f_c);
 					return popc_cli_fail("bench", rst, &e2);
 				}

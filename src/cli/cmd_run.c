@@ -42,7 +42,8 @@ static void usage(FILE *f)
 	      "log header runs from any directory.\n"
 	      "\n"
 	      "Exit status: 0 done, 1 run failed, 2 bad scene or usage, 3 safety stop,\n"
-	      "4 communication lost, 5 interrupted (safe state reached), 6 integrator unstable.\n",
+	      "4 communication lost, 5 interrupted (safe state reached), 6 unstable: a\n"
+	      "fixed-step integrator, or the closed loop itself diverged (the log says which).\n",
 	      f);
 }
 

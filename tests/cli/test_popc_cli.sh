@@ -11,7 +11,7 @@ trap 'rm -rf "$T"' EXIT
 
 expect_exit 0 "popc --help" "$POPC" --help
 expect_exit 0 "popc run --help" "$POPC" run --help
-check "run --help documents exit codes" grep -q "6 integrator unstable" "$T/out"
+check "run --help documents exit codes" grep -q "6 unstable: a" "$T/out"
 expect_exit 0 "popc scene --help" "$POPC" scene --help
 expect_exit 2 "popc without a verb" "$POPC"
 expect_exit 2 "unknown verb" "$POPC" frobnicate

@@ -171,7 +171,7 @@ check "  same results as with logs and 2 jobs" same_nowall "$T/n/summary.csv" "$
 # ---- failed runs: the others go on, the sweep says which, resume retries them
 FAIL=(--set integrator.method=euler --set integrator.substeps=1 --vary environment.stiffness=1000,1e8,2000)
 expect_exit 1 "sweep with an unstable run" "$POPC" sweep "$SCENE" "${FAIL[@]}" -o "$T/f" --no-log -j 2
-check "  lists the failed run with its values" err_has "0001 (environment.stiffness=1e8): exit 6: integrator unstable"
+check "  lists the failed run with its values" err_has "0001 (environment.stiffness=1e8): exit 6: closed loop diverged"
 check "  the others succeeded" test "$(cut -d, -f1,3 "$T/f/summary.csv" | tr '\n' ' ')" = "run,exit_status 0000,0 0001,6 0002,0 "
 check "  well formed" well_formed "$T/f/summary.csv"
 expect_exit 1 "again: the failed run is retried, the others skipped" "$POPC" sweep "$SCENE" "${FAIL[@]}" -o "$T/f" --no-log -j 2
