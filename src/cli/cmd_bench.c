@@ -885,7 +885,13 @@ int popc_cmd_bench(int argc, char **argv)
 	while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
 		switch (c) {
 		case OPT_SCENE: o.scene_path = optarg; break;
-		case OPT_SET: popc_cli_push(&o.sets, &o.n_sets, optarg); break;
+		case OPT_SET:
+			if (popc_cli_push(&o.sets, &o.n_sets, optarg) != 0) {
+				fprintf(stderr, "popc bench: out of memory\n");
+				free(o.sets);
+				return 1;
+			}
+			break;
 		case OPT_FORMAT:
 			if (strcmp(optarg, "csv") == 0)
 				o.csv = 1;

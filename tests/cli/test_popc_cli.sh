@@ -184,6 +184,9 @@ if [ -n "$FAIL_REALLOC" ] && [ -f "$FAIL_REALLOC" ]; then
   expect_exit 1 "popc sweep --vary, out of memory" "${oom_env[@]}" "$POPC" sweep "$SRC/data/scenes/paper.ini" --vary run.duration=0.1,0.2 -o "$T/oom"
   check "  says so" err_has "popc sweep: out of memory"
   check "  nothing ran" test ! -e "$T/oom"
+  expect_exit 1 "popc bench --set, out of memory" "${oom_env[@]}" "$POPC" bench loop --set run.duration=0.1 --min-time 0 --repeat 1
+  check "  says so" err_has "popc bench: out of memory"
+  check "  nothing measured" test ! -s "$T/out"
 else
   echo "# fail_realloc shim not given (argument 1): out-of-memory checks left out"
 fi
