@@ -260,7 +260,8 @@ static int sim_sample(popc_axis *a, popc_axis_sample *out, popc_error *err)
 	if (!ok)
 		return popc_error_set(err, POPC_ERR_INVALID,
 				      "encoder count overflow at t = %.9g s (tick %lld): x = %g m is %g "
-				      "counts of encoder.resolution = %g m, beyond the 62-bit count; raise "
+				      "counts of encoder.resolution = %g m, beyond 2^53 counts (where count x "
+				      "resolution stops being exact); raise "
 				      "encoder.resolution",
 				      (double)s->k * s->period_s, s->k, s->st.x_m,
 				      s->st.x_m / s->delta_m, s->delta_m);

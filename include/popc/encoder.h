@@ -7,11 +7,14 @@
 #include <math.h>
 
 /* Count of the quantization cell holding x. Returns 0 and sets *ok = 0 when
- * x / delta is not finite or does not fit a 62-bit count. */
+ * x / delta is not finite or |count| reaches 2^53: beyond it neighbouring
+ * counts share a double, so count * delta (the measured position) and the
+ * count logged as a number would no longer be exact. */
+#define POPC_ENCODER_COUNT_LIMIT 9007199254740992.0 /* 2^53 */
 static inline long long popc_encoder_count(double x_m, double delta_m, int *ok)
 {
 	double c = floor(x_m / delta_m);
-	if (!(c > -4.0e18 && c < 4.0e18)) { /* also false for NaN */
+	if (!(c > -POPC_ENCODER_COUNT_LIMIT && c < POPC_ENCODER_COUNT_LIMIT)) { /* false for NaN */
 		*ok = 0;
 		return 0;
 	}

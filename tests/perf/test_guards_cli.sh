@@ -44,8 +44,8 @@ expect_exit 2 "a resolution too fine for the scene is refused" "$POPC" run "$PAP
   --set encoder.resolution=1e-300
 check "  names encoder.resolution and 2^53" bash -c "grep -q 'encoder.resolution = 1e-300 m is too fine' '$T/err' && grep -q '2^53 counts' '$T/err'"
 check "  no divergence blamed" bash -c "! grep -q diverged '$T/err'"
-# a force pushing a free-ish mass to 1e6 m passes 4e18 counts of 1e-15 m at
-# 4000 m: its own message, not a divergence
+# a force pushing a free-ish mass to 1e6 m passes 2^53 counts of 1e-15 m at
+# 9 m: its own message, not a divergence
 expect_exit 2 "count overflow has its own message" "$POPC" run "$PAPER" -q \
   --set operator.intent=force --set operator.force=1e6 --set operator.force_rate=1e9 \
   --set operator.stiffness=1 --set environment.stiffness=0 --set encoder.resolution=1e-15

@@ -34,7 +34,13 @@ static void test_quantizer_table(void **state)
 		{NAN, 1e-5, 0, 0},
 		{INFINITY, 1e-5, 0, 0},
 		{-INFINITY, 1e-5, 0, 0},
-		{1e300, 1e-5, 0, 0},            /* no 62-bit count */
+		{1e300, 1e-5, 0, 0},            /* far beyond 2^53 counts */
+		/* the limit, with a power-of-two delta so the quotients are exact:
+		 * 2^53 - 1 counts is the last exact one, 2^53 is refused */
+		{8589934592.0 - 0x1p-20, 0x1p-20, 1, 9007199254740991LL},
+		{-8589934592.0 + 0x1p-20, 0x1p-20, 1, -9007199254740991LL},
+		{8589934592.0, 0x1p-20, 0, 0},
+		{-8589934592.0, 0x1p-20, 0, 0},
 	};
 	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
 		int ok = -1;
