@@ -221,6 +221,15 @@ int ana_chatter_checked(const ana_summary *s);
  * length and the length it needs. Returns POPC_ERR_INVALID. */
 int ana_chatter_too_short(popc_error *err, const char *path, const ana_summary *s);
 
+/* The limit cycle has a verdict: the log covers at least half its window
+ * (popc_chatter_lc_checked: 1000 ticks at 1 kHz by default). Otherwise
+ * limit_cycle, lc_amplitude and lc_frequency are "not checked", never 0. */
+int ana_lc_checked(const ana_summary *s);
+
+/* The message for a log shorter than half a limit-cycle window: names the
+ * file, its length and the length it needs. Returns POPC_ERR_INVALID. */
+int ana_lc_too_short(popc_error *err, const char *path, const ana_summary *s);
+
 /* Streams a log through popc_metrics and the chatter detector (and on_row,
  * if not NULL, for every row). late_from_s < 0: the second half of the
  * header's run.duration, or the whole log when the header has none. */

@@ -21,7 +21,9 @@ static void usage(FILE *f)
 	      "                           (kind chatter: value = largest window PC RMS, N;\n"
 	      "                           kind limit_cycle: value = amplitude, m;\n"
 	      "                           kind chatter_not_checked: the log has no PC force\n"
-	      "                           or is shorter than one window)\n"
+	      "                           or is shorter than one window;\n"
+	      "                           kind limit_cycle_not_checked: the log is shorter\n"
+	      "                           than half a limit-cycle window)\n"
 	      "  --threshold NAME=VALUE   change a threshold (repeatable); names and defaults:\n"
 	      "                           window=0.1 s, pc_rms=0.5 N, pc_flip_rate=100 /s,\n"
 	      "                           vsign_rate=100 /s, contact=0.5 (share of window),\n"
@@ -36,7 +38,11 @@ static void usage(FILE *f)
 	      "column, none mapped with --column) cannot be checked for chatter: its limit\n"
 	      "cycle is still reported (it needs only positions), and the exit status is 2.\n"
 	      "So is a log shorter than one window (default 0.1 s: 100 ticks at 1 kHz): it\n"
-	      "was not checked, which is no 'no chatter'.\n",
+	      "was not checked, which is no 'no chatter'. The limit cycle needs half its\n"
+	      "window (default 1 s: 1000 ticks at 1 kHz); a shorter log says 'limit cycle not\n"
+	      "checked' (and a note on stderr, also with -q) and exits by its chatter\n"
+	      "verdict: 0 or 1 when chatter was checked (a 0.1 to 1 s log), 2 when it was not.\n"
+	      "Exit 0 says nothing was flagged, not that there is no limit cycle.\n",
 	      f);
 }
 
@@ -63,7 +69,11 @@ static void print_text(const ana_summary *s)
 		       i + 1 < r->n_stored ? "," : "");
 	if (r->n_stored < r->n_intervals)
 		printf(" ... (%d more)", r->n_intervals - r->n_stored);
-	printf("; %s\n", r->limit_cycle ? "LIMIT CYCLE" : "no limit cycle");
+	if (!ana_lc_checked(s))
+		printf("; limit cycle not checked (%lld ticks, fewer than half a window: %lld)\n",
+		       s->ticks, r->lc_min_ticks);
+	else
+		printf("; %s\n", r->limit_cycle ? "LIMIT CYCLE" : "no limit cycle");
 	if (checked)
 		printf("  windows: max PC RMS %.3g N, max PC sign flips %.4g /s, ", r->max_pc_rms_N,
 		       r->max_pc_flip_rate_Hz);
@@ -73,6 +83,13 @@ static void print_text(const ana_summary *s)
 		printf("max velocity sign changes %.4g /s in contact\n", r->max_vsign_rate_Hz);
 	else
 		printf("max velocity sign changes n/a (no full window)\n");
+	if (!ana_lc_checked(s)) {
+		/* fewer turning points than a frequency or a sustain needs: the
+		 * window's metrics are no measurement, as compare's n/a cells */
+		printf("  last %.3g s: limit-cycle metrics n/a (fewer than %lld ticks)\n", r->lc_span_s,
+		       r->lc_min_ticks);
+		return;
+	}
 	printf("  last %.3g s: amplitude %.3g m at %.3g Hz, %.0f %% in contact, sustain %.3g, ",
 	       r->lc_span_s, r->lc_amplitude_m, r->lc_frequency_Hz, 100.0 * r->lc_contact,
 	       r->lc_sustain);
@@ -103,7 +120,10 @@ static void print_csv(const ana_summary *s)
 		ana_put_double(stdout, r->intervals[i].pc_rms_max_N);
 		putchar('\n');
 	}
-	if (r->limit_cycle) {
+	if (!ana_lc_checked(s)) {
+		ana_put_csv_text(stdout, s->log);
+		printf(",limit_cycle_not_checked,,,\n");
+	} else if (r->limit_cycle) {
 		ana_put_csv_text(stdout, s->log);
 		printf(",limit_cycle,");
 		ana_put_double(stdout, r->lc_start_s);
@@ -179,14 +199,14 @@ int ana_cmd_chatter(int argc, char **argv)
 		}
 		if (s.chatter.n_intervals || s.chatter.limit_cycle)
 			flagged = 1;
+		const int lc_checked = ana_lc_checked(&s);
 		if (!s.has_pc_force) {
 			/* "no chatter" would be a verdict without data: trouble, like a
 			 * missing required column; the limit cycle needs only positions,
 			 * so it is still reported */
 			ana_no_pc_force(&err, argv[i]);
-			fprintf(stderr, "popc-analyze chatter: %s; chatter not checked, only the limit "
-					"cycle\n",
-				err.msg);
+			fprintf(stderr, "popc-analyze chatter: %s; chatter not checked%s\n", err.msg,
+				lc_checked ? ", only the limit cycle" : "");
 			rc = 2;
 		} else if (!ana_chatter_checked(&s)) {
 			/* shorter than one detection window: no window was judged, so
@@ -194,6 +214,16 @@ int ana_cmd_chatter(int argc, char **argv)
 			ana_chatter_too_short(&err, argv[i], &s);
 			fprintf(stderr, "popc-analyze chatter: %s\n", err.msg);
 			rc = 2;
+		}
+		if (!lc_checked) {
+			/* the exit status follows chatter, the verb's question (docs/
+			 * ANALYSIS.md): a 0.1 to 1 s log has a chatter verdict and
+			 * exits 0 or 1. Nothing else would tell a -q caller that the
+			 * limit cycle was not judged, so this note is kept under -q;
+			 * it is a note when the exit status is not already 2. */
+			ana_lc_too_short(&err, argv[i], &s);
+			fprintf(stderr, "popc-analyze chatter: %s%s\n",
+				ana_chatter_checked(&s) ? "note: " : "", err.msg);
 		}
 		if (quiet)
 			continue;

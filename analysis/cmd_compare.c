@@ -72,7 +72,26 @@ int ana_summarize(const char *path, const ana_input_options *o, const popc_chatt
 
 int ana_chatter_checked(const ana_summary *s)
 {
-	return s->has_pc_force && s->chatter.windows > 0;
+	return s->has_pc_force && popc_chatter_checked(&s->chatter);
+}
+
+int ana_lc_checked(const ana_summary *s)
+{
+	/* positions only: a log without a PC force is checked too */
+	return popc_chatter_lc_checked(&s->chatter);
+}
+
+int ana_lc_too_short(popc_error *err, const char *path, const ana_summary *s)
+{
+	const long long need = s->chatter.lc_min_ticks;
+	return popc_error_set(err, POPC_ERR_INVALID,
+			      "%s: limit cycle not checked: the log has %lld tick%s (%.4g s at T = "
+			      "%.4g s), fewer than half a limit-cycle window (%lld ticks, %.4g s); it "
+			      "needs at least %lld ticks (%.4g s), or a shorter window (--threshold "
+			      "lc_window=S)",
+			      path, s->ticks, s->ticks == 1 ? "" : "s", (double)s->ticks * s->period_s,
+			      s->period_s, need, (double)need * s->period_s, need,
+			      (double)need * s->period_s);
 }
 
 int ana_chatter_too_short(popc_error *err, const char *path, const ana_summary *s)
@@ -152,7 +171,11 @@ void ana_summary_print_row(FILE *f, ana_format fmt, const ana_summary *s)
 			fprintf(f, " %4d", c->n_intervals);
 		else
 			fprintf(f, " %4s", "n/a");
-		fprintf(f, " %3d %10.3e %8.4g\n", c->limit_cycle, c->lc_amplitude_m, c->lc_frequency_Hz);
+		if (ana_lc_checked(s))
+			fprintf(f, " %3d %10.3e %8.4g\n", c->limit_cycle, c->lc_amplitude_m,
+				c->lc_frequency_Hz);
+		else
+			fprintf(f, " %3s %10s %8s\n", "n/a", "n/a", "n/a");
 		return;
 	}
 	const char *sep = fmt == ANA_CSV ? "," : " | ";
@@ -180,10 +203,17 @@ void ana_summary_print_row(FILE *f, ana_format fmt, const ana_summary *s)
 		fprintf(f, "%d", c->n_intervals);
 	else
 		fputs(na, f);
-	fprintf(f, "%s%d%s", sep, c->limit_cycle, sep);
-	if (fmt == ANA_MARKDOWN) {
-		fprintf(f, "%.4g | %.4g |\n", c->lc_amplitude_m, c->lc_frequency_Hz);
+	/* the limit cycle needs half its window: a shorter log has no verdict,
+	 * and its amplitude and frequency, from a few turning points, are no
+	 * measurement */
+	if (!ana_lc_checked(s)) {
+		fprintf(f, "%s%s%s%s%s%s%s\n", sep, na, sep, na, sep, na,
+			fmt == ANA_MARKDOWN ? " |" : "");
+	} else if (fmt == ANA_MARKDOWN) {
+		fprintf(f, "%s%d%s%.4g | %.4g |\n", sep, c->limit_cycle, sep, c->lc_amplitude_m,
+			c->lc_frequency_Hz);
 	} else {
+		fprintf(f, "%s%d%s", sep, c->limit_cycle, sep);
 		ana_put_double(f, c->lc_amplitude_m);
 		fputs(sep, f);
 		ana_put_double(f, c->lc_frequency_Hz);
@@ -206,7 +236,9 @@ static void usage(FILE *f)
 	      "A log without a PC force (no f_pc or f_c column) gets n/a (empty in CSV) for the\n"
 	      "PC and chatter columns, and for W - E_ref unless W and E_ref are logged; a log\n"
 	      "shorter than one chatter window (--threshold window, default 0.1 s) gets n/a\n"
-	      "for chatter_s and chatter_intervals: it was not checked.\n"
+	      "for chatter_s and chatter_intervals, and one shorter than half a limit-cycle\n"
+	      "window (--threshold lc_window, default 2 s: 1 s) for limit_cycle,\n"
+	      "lc_amplitude and lc_frequency: they were not checked (a note on stderr).\n"
 	      "\n"
 	      "  --format text|csv|markdown  output format (default text)\n"
 	      "  --late-from T            start of the late window (s)\n"
@@ -300,6 +332,13 @@ int ana_cmd_compare(int argc, char **argv)
 			popc_error why;
 			ana_chatter_too_short(&why, argv[i], &s);
 			fprintf(stderr, "popc-analyze compare: note: %s; its chatter columns are n/a\n",
+				why.msg);
+		}
+		if (!ana_lc_checked(&s)) {
+			popc_error why;
+			ana_lc_too_short(&why, argv[i], &s);
+			fprintf(stderr,
+				"popc-analyze compare: note: %s; its limit-cycle columns are n/a\n",
 				why.msg);
 		}
 		ana_summary_print_row(stdout, fmt, &s);

@@ -380,7 +380,8 @@ static int write_index(const report_out *ro, const char *title, const report_log
 			else
 				fputs("<td>n/a</td>", html);
 		}
-		fprintf(html, "<td>%s</td></tr>\n", s->chatter.limit_cycle ? "yes" : "no");
+		fprintf(html, "<td>%s</td></tr>\n",
+			!ana_lc_checked(s) ? "n/a" : s->chatter.limit_cycle ? "yes" : "no");
 	}
 	fputs("</table>\n<p><a href=\"compare.csv\">compare.csv</a> · "
 	      "<a href=\"compare.md\">compare.md</a></p>\n<h2>Variants overlaid</h2>\n",
@@ -410,11 +411,18 @@ static int write_index(const report_out *ro, const char *title, const report_log
 			fputs("No chatter flagged.", md);
 			fputs("No chatter flagged.", html);
 		}
-		const char *lc = c->limit_cycle ? "Limit cycle" : "No limit cycle";
-		fprintf(md, " %s: amplitude %.3g m at %.3g Hz over the last %.3g s.\n\n", lc,
-			c->lc_amplitude_m, c->lc_frequency_Hz, c->lc_span_s);
-		fprintf(html, " %s: amplitude %.3g m at %.3g Hz over the last %.3g s.\n\n", lc,
-			c->lc_amplitude_m, c->lc_frequency_Hz, c->lc_span_s);
+		if (!ana_lc_checked(&logs[i].sum)) {
+			fputs(" Limit cycle not checked (shorter than half a limit-cycle window).\n\n",
+			      md);
+			fputs(" Limit cycle not checked (shorter than half a limit-cycle window).\n\n",
+			      html);
+		} else {
+			const char *lc = c->limit_cycle ? "Limit cycle" : "No limit cycle";
+			fprintf(md, " %s: amplitude %.3g m at %.3g Hz over the last %.3g s.\n\n", lc,
+				c->lc_amplitude_m, c->lc_frequency_Hz, c->lc_span_s);
+			fprintf(html, " %s: amplitude %.3g m at %.3g Hz over the last %.3g s.\n\n",
+				lc, c->lc_amplitude_m, c->lc_frequency_Hz, c->lc_span_s);
+		}
 		if (drawn) {
 			fprintf(md, "![%s](%s.png)\n\n[PDF](%s.%s) · [script](%s.gp) · [data](%s.dat)\n\n", nm,
 				nm, nm, pdf_ext(dir, nm), nm, nm);
@@ -596,6 +604,12 @@ int ana_cmd_report(int argc, char **argv)
 		} else if (!ana_chatter_checked(&lg->sum)) {
 			ana_chatter_too_short(&err, argv[i], &lg->sum);
 			fprintf(stderr, "popc-analyze report: note: %s; its chatter columns are n/a\n",
+				err.msg);
+		}
+		if (!ana_lc_checked(&lg->sum)) {
+			ana_lc_too_short(&err, argv[i], &lg->sum);
+			fprintf(stderr,
+				"popc-analyze report: note: %s; its limit-cycle columns are n/a\n",
 				err.msg);
 		}
 		script_safe(lg->sum.variant);

@@ -97,6 +97,10 @@ int popc_chatter_init(popc_chatter *d, const popc_chatter_config *cfg, double pe
 	d->sub_ticks = sub < 1.0 ? 1 : llround(sub);
 	d->seg_ticks = seg < 1.0 ? 1 : llround(seg);
 	d->res.window_ticks = d->sub_ticks * POPC_CHATTER_SUBBLOCKS;
+	/* half the limit-cycle window, in whole segments as the window is kept:
+	 * a shorter stretch holds too few turning points for a frequency and a
+	 * sustain (first against last quarter) to mean anything */
+	d->res.lc_min_ticks = d->seg_ticks * (POPC_CHATTER_LC_SEGMENTS / 2);
 	return 0;
 }
 
@@ -327,6 +331,7 @@ void popc_chatter_finish(popc_chatter *d, popc_chatter_result *r)
 		contact += list[i]->contact_ticks;
 		pc_sq += list[i]->pc_sq_sum;
 	}
+	res->lc_ticks = ticks;
 	if (ticks > 0) {
 		res->lc_span_s = (double)ticks * d->period_s;
 		res->lc_start_s = list[0]->t_first_s;
@@ -349,7 +354,7 @@ void popc_chatter_finish(popc_chatter *d, popc_chatter_result *r)
 			res->lc_sustain = a_last / a_first;
 	}
 	const popc_chatter_config *c = &d->cfg;
-	res->limit_cycle = res->lc_span_s >= 0.5 * c->lc_window_s &&
+	res->limit_cycle = popc_chatter_lc_checked(res) &&
 			   res->lc_amplitude_m >= c->lc_amplitude_min_counts * c->resolution_m &&
 			   res->lc_frequency_Hz >= c->lc_freq_min_Hz &&
 			   res->lc_frequency_Hz <= c->lc_freq_max_Hz &&

@@ -66,7 +66,13 @@ typedef struct popc_chatter_result {
 	int n_intervals;               /* every interval found */
 	int n_stored;                  /* min(n_intervals, POPC_CHATTER_MAX_INTERVALS) */
 	popc_chatter_interval intervals[POPC_CHATTER_MAX_INTERVALS];
-	int limit_cycle;               /* 0 or 1 */
+	int limit_cycle;               /* 0 or 1; 0 means nothing unless checked */
+	/* the limit cycle is judged on at least half its window (lc_min_ticks =
+	 * 4 of the 8 segments: 1000 ticks for 2 s at 1 kHz); lc_ticks is what the
+	 * last window covers (the whole log until it is longer than the window).
+	 * lc_ticks < lc_min_ticks: not checked (popc_chatter_lc_checked), and the
+	 * lc_* metrics below, over less than half a window, are no measurement */
+	long long lc_ticks, lc_min_ticks;
 	/* chatter metrics: maxima over the full windows */
 	double max_pc_rms_N, max_pc_flip_rate_Hz, max_vsign_rate_Hz;
 	/* limit-cycle metrics over the last window */
@@ -131,7 +137,23 @@ int popc_chatter_init(popc_chatter *d, const popc_chatter_config *cfg, double pe
 void popc_chatter_add(popc_chatter *d, const popc_tick *t);
 
 /* Closes the open interval and fills *r. Call once, after the last tick.
- * r->windows == 0: fewer ticks than r->window_ticks, chatter not checked. */
+ * r->windows == 0: fewer ticks than r->window_ticks, chatter not checked;
+ * r->lc_ticks < r->lc_min_ticks: the limit cycle not checked. */
 void popc_chatter_finish(popc_chatter *d, popc_chatter_result *r);
+
+/* A verdict on chatter (chatter_s, n_intervals mean something): at least one
+ * full window. A zeroed result is not checked. */
+static inline int popc_chatter_checked(const popc_chatter_result *r)
+{
+	return r->windows > 0;
+}
+
+/* A verdict on the limit cycle (limit_cycle and the lc_* metrics mean
+ * something): the last window covers at least half its length. A zeroed
+ * result is not checked. */
+static inline int popc_chatter_lc_checked(const popc_chatter_result *r)
+{
+	return r->lc_min_ticks > 0 && r->lc_ticks >= r->lc_min_ticks;
+}
 
 #endif

@@ -82,12 +82,23 @@ expect_rc 0 "$A" compare --format csv "$W/bom-foreign.csv" &&
 
 # No PC-force source (neither f_pc nor f_c): chatter cannot say "no chatter".
 printf 't,x\n0,0\n0.001,1e-6\n' >"$W/nofc.csv"
+# (2 ticks: the limit cycle is not checked either, nothing is)
 if expect_rc 2 "$A" chatter "$W/nofc.csv"; then
-	grep -q "$W/nofc.csv: no PC force: the file has no column 'f_pc' or 'f_c' (map one with --column f_pc=HEADER" "$W/err" &&
-		grep -q "^nofc: chatter not checked (no PC force); no limit cycle" "$W/out" &&
-		! grep -q "no chatter" "$W/out" &&
-		ok "chatter without a PC force: exit 2, limit cycle still reported" ||
+	grep -q "$W/nofc.csv: no PC force: the file has no column 'f_pc' or 'f_c' (map one with --column f_pc=HEADER.*; chatter not checked$" "$W/err" &&
+		grep -q "$W/nofc.csv: limit cycle not checked: the log has 2 ticks" "$W/err" &&
+		grep -q "^nofc: chatter not checked (no PC force); limit cycle not checked (2 ticks" "$W/out" &&
+		! grep -q "no chatter\|no limit cycle" "$W/out" &&
+		ok "chatter without a PC force, 2 ticks: exit 2, nothing checked" ||
 		fail "chatter nofc: $(cat "$W/out" "$W/err")"
+fi
+# 1.5 s of positions without a PC force: the limit cycle is still reported
+awk 'BEGIN { print "t,x"; for (k = 0; k < 1500; k++) printf "%.3f,1e-3\n", k / 1000 }' >"$W/nofc-long.csv"
+if expect_rc 2 "$A" chatter "$W/nofc-long.csv"; then
+	grep -q "no PC force: .*; chatter not checked, only the limit cycle$" "$W/err" &&
+		grep -q "^nofc-long: chatter not checked (no PC force); no limit cycle" "$W/out" &&
+		! grep -q "limit cycle not checked" "$W/err" &&
+		ok "chatter without a PC force, 1.5 s: exit 2, limit cycle still reported" ||
+		fail "chatter nofc-long: $(cat "$W/out" "$W/err")"
 fi
 expect_rc 2 "$A" chatter --format csv "$W/nofc.csv" && grep -qx "nofc,chatter_not_checked,,," "$W/out" &&
 	ok "chatter csv: chatter_not_checked row" || fail "chatter csv nofc: $(cat "$W/out")"
@@ -96,12 +107,13 @@ expect_rc 2 "$A" chatter -q "$W/nofc.csv" && grep -q "no PC force" "$W/err" && o
 expect_rc 2 "$A" energy "$W/nofc.csv" && grep -q "no PC force" "$W/err" && ok "energy without a PC force: exit 2" ||
 	fail "energy nofc: $(cat "$W/err")"
 # compare: PC, chatter and W - E_ref cells empty (CSV) or n/a, never 0; the
-# position-only columns (limit cycle) still filled; a note on stderr
-if expect_rc 0 "$A" compare --format csv "$W/nofc.csv"; then
+# limit cycle too at 2 ticks, not at 1.5 s (nofc-long); a note on stderr
+if expect_rc 0 "$A" compare --format csv "$W/nofc.csv" "$W/nofc-long.csv"; then
 	awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+		$1 == "nofc-long" { if ($c["chatter_s"] != "" || $c["limit_cycle"] != "0" || $c["lc_amplitude"] == "") exit 1; next }
 		{ if ($c["pc_rms"] != "" || $c["pc_max"] != "" || $c["pc_active"] != "" ||
 		      $c["chatter_s"] != "" || $c["chatter_intervals"] != "" ||
-		      $c["w_minus_eref_end"] != "" || $c["limit_cycle"] != "0" || $c["ticks"] != "2") exit 1 }' \
+		      $c["w_minus_eref_end"] != "" || $c["limit_cycle"] != "" || $c["ticks"] != "2") exit 1 }' \
 		"$W/out" && grep -q "compare: note: .*no PC force.* are n/a" "$W/err" &&
 		ok "compare without a PC force: empty PC cells, note" ||
 		fail "compare nofc: $(cat "$W/out" "$W/err")"
@@ -122,9 +134,12 @@ expect_rc 0 "$A" compare "$W/foreign.csv" "$W/foreign.csv" &&
 expect_rc 0 "$A" compare --set encoder.resolution=1e-6 "$W/foreign.csv" &&
 	grep -q "environment.stiffness = 1000" "$W/err" && ! grep -q "encoder.resolution" "$W/err" &&
 	ok "defaults note: a --set parameter is not named" || fail "defaults note with --set: $(cat "$W/err")"
-expect_rc 0 "$A" chatter -q "$W/foreign.csv" && [ ! -s "$W/err" ] && ok "defaults note: -q suppresses it" ||
+# (a 0.2 s log: a 0.2 s limit-cycle window, so that it is checked and no
+# "limit cycle not checked" note, kept under -q, is printed either)
+expect_rc 0 "$A" chatter -q --threshold lc_window=0.2 "$W/foreign.csv" && [ ! -s "$W/err" ] &&
+	ok "defaults note: -q suppresses it" ||
 	fail "chatter -q printed: $(cat "$W/err")"
-expect_rc 0 "$A" compare "$W/good.csv" && [ ! -s "$W/err" ] && ok "a popc log: no defaults note" ||
+expect_rc 0 "$A" compare --threshold lc_window=0.2 "$W/good.csv" && [ ! -s "$W/err" ] && ok "a popc log: no defaults note" ||
 	fail "popc log note: $(cat "$W/err")"
 # chatter's exit status must not be 1 ("flagged") when the input is bad
 expect_rc 2 "$A" chatter "$W/good.csv" "$W/empty.csv" && ok "chatter: trouble wins over flagged"

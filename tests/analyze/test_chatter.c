@@ -171,9 +171,55 @@ static void decaying_or_small_oscillation_is_not(void **state)
 	/* sustained, large, but 100 Hz: above lc_freq_max */
 	r = sine(1.5e-3, 100.0, 0.0, 5.0);
 	assert_int_equal(r.limit_cycle, 0);
-	/* too short a log to judge (0.5 s of a 2 s window) */
+	/* too short a log to judge (0.5 s of a 2 s window): not checked, so its
+	 * limit_cycle = 0 is no "no limit cycle" */
 	r = sine(1.5e-3, 9.0, 0.0, 0.5);
 	assert_int_equal(r.limit_cycle, 0);
+	assert_false(popc_chatter_lc_checked(&r));
+}
+
+/* The limit cycle needs half its window (4 of 8 segments: 1000 ticks of 1 ms
+ * for the default 2 s). A shorter log is not checked, whatever it holds: here
+ * the paper scene's 9 Hz, +-1.5 mm limit cycle, flagged from 1000 ticks on. */
+static void short_log_limit_cycle_not_checked(void **state)
+{
+	(void)state;
+	static const struct {
+		long long ticks;
+		int checked;
+	} cases[] = {{0, 0}, {1, 0}, {100, 0}, {999, 0}, {1000, 1}, {1250, 1}, {2500, 1}, {5000, 1}};
+	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+		popc_chatter d;
+		popc_chatter_config cfg;
+		start(&d, &cfg);
+		for (long long k = 0; k < cases[i].ticks; k++)
+			add(&d, k, 1e-3 + 1.5e-3 * sin(two_pi * 9.0 * (double)k * T_S), 0.0);
+		popc_chatter_result r;
+		popc_chatter_finish(&d, &r);
+		assert_int_equal(r.lc_min_ticks, 1000);
+		/* the window holds 8 segments of 250 ticks at most */
+		assert_int_equal(r.lc_ticks, cases[i].ticks < 2000 ? cases[i].ticks : 2000 + cases[i].ticks % 250);
+		assert_int_equal(popc_chatter_lc_checked(&r), cases[i].checked);
+		assert_int_equal(r.limit_cycle, cases[i].checked);
+	}
+	/* a zeroed result (a caller that never ran the detector) is not checked */
+	popc_chatter_result z = {0};
+	assert_false(popc_chatter_lc_checked(&z));
+	assert_false(popc_chatter_checked(&z));
+	/* another window: half of it in whole segments, round(0.3 s / 8 / T) = 38 */
+	popc_chatter d;
+	popc_chatter_config cfg;
+	popc_chatter_config_defaults(&cfg);
+	cfg.lc_window_s = 0.3;
+	popc_environment env = wall();
+	popc_error err;
+	assert_int_equal(popc_chatter_init(&d, &cfg, T_S, &env, &err), 0);
+	for (long long k = 0; k < 151; k++)
+		add(&d, k, 1e-3, 0.0);
+	popc_chatter_result r;
+	popc_chatter_finish(&d, &r);
+	assert_int_equal(r.lc_min_ticks, 152);
+	assert_false(popc_chatter_lc_checked(&r));
 }
 
 /* A log shorter than one window is not checked: windows == 0 (the caller says
@@ -196,6 +242,7 @@ static void short_log_is_not_checked(void **state)
 		/* 100 ms of 1 ms ticks: ten sub-blocks of ten ticks */
 		assert_int_equal(r.window_ticks, 100);
 		assert_int_equal(r.windows, cases[i].windows);
+		assert_int_equal(popc_chatter_checked(&r), cases[i].windows > 0);
 		assert_int_equal(r.n_intervals, cases[i].windows > 0);
 	}
 }
@@ -235,6 +282,7 @@ int main(void)
 		cmocka_unit_test(sustained_oscillation_is_a_limit_cycle),
 		cmocka_unit_test(decaying_or_small_oscillation_is_not),
 		cmocka_unit_test(short_log_is_not_checked),
+		cmocka_unit_test(short_log_limit_cycle_not_checked),
 		cmocka_unit_test(config_set_and_init_errors),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);

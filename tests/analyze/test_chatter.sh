@@ -45,26 +45,76 @@ grep -v '^#' "$W/ref-energy.csv" | head -n 51 >"$W/short.csv"
 grep -v '^#' "$W/ref-energy.csv" | head -n 101 >"$W/window.csv"
 if expect_rc 2 "$A" chatter "$W/short.csv"; then
 	grep -q "short.csv: chatter not checked: the log has 50 ticks (0.05 s at T = 0.001 s), fewer than one detection window of 100 ticks (0.1 s); it needs at least 100 ticks" "$W/err" &&
-		grep -q "^short: chatter not checked (50 ticks, fewer than one window of 100)" "$W/out" &&
-		! grep -q "no chatter" "$W/out" && ok "short log: chatter not checked, exit 2" ||
+		grep -q "^short: chatter not checked (50 ticks, fewer than one window of 100); limit cycle not checked" "$W/out" &&
+		! grep -q "no chatter\|no limit cycle" "$W/out" && ok "short log: chatter not checked, exit 2" ||
 		fail "short log: $(cat "$W/out" "$W/err")"
 fi
 expect_rc 2 "$A" chatter --format csv "$W/short.csv" && grep -qx "short,chatter_not_checked,,," "$W/out" &&
-	ok "short log csv: chatter_not_checked row" || fail "short csv: $(cat "$W/out")"
+	grep -qx "short,limit_cycle_not_checked,,," "$W/out" &&
+	ok "short log csv: chatter_not_checked and limit_cycle_not_checked rows" || fail "short csv: $(cat "$W/out")"
 expect_rc 2 "$A" chatter -q "$W/short.csv" && ok "short log -q: exit 2"
 expect_rc 0 "$A" chatter "$W/window.csv" && grep -q "^window: no chatter" "$W/out" &&
 	ok "100 ticks: one window, checked" || fail "100-tick log: $(cat "$W/out" "$W/err")"
-# compare: chatter_s and chatter_intervals empty (not 0) for the short log, its
-# PC columns still filled; both filled at 100 ticks
-if expect_rc 0 "$A" compare --format csv "$W/short.csv" "$W/window.csv"; then
-	awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
-		$1 == "short" && ($c["chatter_s"] != "" || $c["chatter_intervals"] != "" || $c["pc_rms"] == "") { exit 1 }
-		$1 == "window" && ($c["chatter_s"] != "0" || $c["chatter_intervals"] != "0") { exit 1 }' "$W/out" &&
-		grep -q "compare: note: .*short.csv: chatter not checked.*its chatter columns are n/a" "$W/err" &&
-		ok "compare: a short log's chatter cells empty, note" || fail "compare short: $(cat "$W/out" "$W/err")"
+
+# The limit cycle needs half its 2 s window: 1000 ticks of 1 ms. A 0.1 to 1 s
+# log has a chatter verdict but none on the limit cycle: "limit cycle not
+# checked" (never "no limit cycle"), a note on stderr naming its length and
+# the 1000 ticks it needs (kept under -q: the exit status cannot say it), and
+# the exit status of its chatter verdict (0 here). Under 0.1 s nothing was
+# checked: exit 2 (above). At 1000 ticks the limit cycle is judged.
+grep -v '^#' "$W/ref-energy.csv" | head -n 501 >"$W/half.csv"
+grep -v '^#' "$W/ref-energy.csv" | head -n 1001 >"$W/second.csv"
+lc_note="note: $W/half.csv: limit cycle not checked: the log has 500 ticks (0.5 s at T = 0.001 s), fewer than half a limit-cycle window (1000 ticks, 1 s); it needs at least 1000 ticks (1 s), or a shorter window (--threshold lc_window=S)"
+if expect_rc 0 "$A" chatter "$W/half.csv"; then
+	grep -qx "half: no chatter; limit cycle not checked (500 ticks, fewer than half a window: 1000)" "$W/out" &&
+		grep -q "last 0.5 s: limit-cycle metrics n/a (fewer than 1000 ticks)" "$W/out" &&
+		! grep -q "no limit cycle\|amplitude" "$W/out" && grep -qF "$lc_note" "$W/err" &&
+		ok "0.5 s log: chatter checked, limit cycle not checked, exit 0" ||
+		fail "half log: $(cat "$W/out" "$W/err")"
 fi
-expect_rc 0 "$A" compare --format markdown "$W/short.csv" && grep -q "^| short | unknown | 50 |.* | n/a | n/a | 0 |" "$W/out" &&
+expect_rc 0 "$A" chatter -q "$W/half.csv" && [ ! -s "$W/out" ] && grep -qF "$lc_note" "$W/err" &&
+	ok "0.5 s log -q: exit 0, the note still on stderr" || fail "half -q: $(cat "$W/out" "$W/err")"
+expect_rc 0 "$A" chatter --format csv "$W/half.csv" && grep -qx "half,limit_cycle_not_checked,,," "$W/out" &&
+	[ "$(wc -l <"$W/out")" -eq 2 ] && ok "0.5 s log csv: limit_cycle_not_checked row" ||
+	fail "half csv: $(cat "$W/out")"
+# the rule follows the window: --threshold lc_window=1 needs 500 ticks
+expect_rc 0 "$A" chatter --threshold lc_window=1 "$W/half.csv" && grep -q "^half: no chatter; no limit cycle" "$W/out" &&
+	! grep -q "limit cycle not checked" "$W/err" && ok "lc_window=1: 500 ticks are half a window, checked" ||
+	fail "half lc_window=1: $(cat "$W/out" "$W/err")"
+expect_rc 1 "$A" chatter "$W/second.csv" && ! grep -q "not checked" "$W/out" "$W/err" &&
+	ok "1000 ticks: the limit cycle checked" || fail "1000-tick log: $(cat "$W/out" "$W/err")"
+# compare: chatter_s and chatter_intervals empty (not 0) for the short log, its
+# PC columns still filled; both filled at 100 ticks. The limit-cycle cells
+# (limit_cycle, lc_amplitude, lc_frequency) empty below 1000 ticks, filled at it.
+if expect_rc 0 "$A" compare --format csv "$W/short.csv" "$W/window.csv" "$W/half.csv" "$W/second.csv"; then
+	awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+		{ lc = $c["limit_cycle"] $c["lc_amplitude"] $c["lc_frequency"] }
+		$1 == "short" && ($c["chatter_s"] != "" || $c["chatter_intervals"] != "" || $c["pc_rms"] == "") { exit 1 }
+		$1 == "window" && ($c["chatter_s"] != "0" || $c["chatter_intervals"] != "0") { exit 1 }
+		$1 != "second" && lc != "" { exit 1 }
+		$1 == "second" && ($c["limit_cycle"] == "" || $c["lc_amplitude"] == "" || $c["lc_frequency"] == "") { exit 1 }
+		{ n++ } END { exit n != 4 }' "$W/out" &&
+		grep -q "compare: note: .*short.csv: chatter not checked.*its chatter columns are n/a" "$W/err" &&
+		grep -qF "compare: $lc_note; its limit-cycle columns are n/a" "$W/err" &&
+		[ "$(grep -c "limit cycle not checked" "$W/err")" -eq 3 ] &&
+		ok "compare: a short log's chatter and limit-cycle cells empty, notes" || fail "compare short: $(cat "$W/out" "$W/err")"
+fi
+expect_rc 0 "$A" compare --format markdown "$W/short.csv" && grep -q "^| short | unknown | 50 |.* | n/a | n/a | n/a | n/a | n/a |$" "$W/out" &&
 	ok "compare markdown: n/a" || fail "compare md short: $(cat "$W/out")"
+expect_rc 0 "$A" compare "$W/half.csv" && grep -q "^half .*  0    0 n/a        n/a      n/a$" "$W/out" &&
+	ok "compare text: limit-cycle cells n/a" || fail "compare text half: $(cat "$W/out")"
+# report: the tables as compare's, the HTML cell and the log's paragraph say
+# not checked, a note on stderr
+if expect_rc 0 "$A" report --no-draw -o "$W/rep-short" "$W/half.csv" "$W/second.csv"; then
+	grep -q "^| half | .* | n/a | n/a | n/a |$" "$W/rep-short/compare.md" &&
+		grep -q "^half,.*,,,$" "$W/rep-short/compare.csv" &&
+		grep -q '<td>half</td>\|href="#half">half</a></td><td>unknown</td>.*<td>n/a</td></tr>' "$W/rep-short/index.html" &&
+		grep -q 'href="#second">second</a></td><td>unknown</td>.*<td>yes</td></tr>' "$W/rep-short/index.html" &&
+		grep -q "No chatter flagged. Limit cycle not checked (shorter than half a limit-cycle window)." "$W/rep-short/index.md" &&
+		grep -q "No chatter flagged. Limit cycle not checked" "$W/rep-short/index.html" &&
+		grep -qF "report: $lc_note; its limit-cycle columns are n/a" "$W/err" &&
+		ok "report: limit cycle not checked, n/a" || fail "report half: $(cat "$W/err"; grep half "$W/rep-short/index.html")"
+fi
 
 # Thresholds move the decision: a 10 N RMS threshold flags no chatter.
 expect_rc 0 "$A" chatter -q --threshold pc_rms=10 "$W/ref-energy.csv" && ok "--threshold pc_rms=10"

@@ -3,7 +3,9 @@
 # called compare.csv or NAME.dat or a figure name (also through a link). Each is
 # refused with exit 2, naming both files, and the input stays byte for byte.
 . "$2"
-run_scene paper.ini "$W/good.csv" --set run.duration=0.5
+# 1 s: long enough for the limit cycle (half its 2 s window), so that report
+# prints no "limit cycle not checked" note and its messages can be counted
+run_scene paper.ini "$W/good.csv" --set run.duration=1
 cp "$W/good.csv" "$W/keep.csv"
 same() { cmp -s "$W/keep.csv" "$1"; }
 
