@@ -116,13 +116,21 @@ int popc_sweep_row(const popc_sweep_plan *p, long long i, int exit_status, const
 					      metric_columns[m]);
 		PUT(",%.*s", (int)rlen[c], rcell[c]);
 	}
-	if (chatter) {
+	/* a verdict the detector could not reach (a run shorter than one chatter
+	 * window, or than half a limit-cycle window) is an empty cell, as in
+	 * popc-analyze compare: a 0 would read as "no chatter" in a merge or a
+	 * comparison of summaries */
+	if (chatter && popc_chatter_checked(chatter)) {
 		char cs[POPC_DOUBLE_TEXT_MAX + 1];
 		popc_format_double(chatter->chatter_s, cs);
-		PUT(",%s,%d,%d", cs, chatter->n_intervals, chatter->limit_cycle);
+		PUT(",%s,%d", cs, chatter->n_intervals);
 	} else {
-		PUT(",,,");
+		PUT(",,");
 	}
+	if (chatter && popc_chatter_lc_checked(chatter))
+		PUT(",%d", chatter->limit_cycle);
+	else
+		PUT(",");
 	char wall[POPC_DOUBLE_TEXT_MAX + 1];
 	popc_format_double(wall_time_s, wall);
 	PUT(",%s\n", wall);

@@ -131,7 +131,11 @@ char *popc_sweep_columns_header(const popc_sweep_axis *axes, int n_axes);
  * row (as popc_run_summary_csv_header/_row write them, with or without the
  * trailing newline) and the chatter detector's result (chatter_s,
  * chatter_intervals, limit_cycle). run_row or chatter may be NULL for a run
- * that produced no summary (setup failed, worker died): those cells are empty. exit_status
+ * that produced no summary (setup failed, worker died): those cells are empty.
+ * So are chatter_s and chatter_intervals when chatter was not checked
+ * (popc_chatter_checked: shorter than one window), and limit_cycle when the
+ * limit cycle was not (popc_chatter_lc_checked: shorter than half its window),
+ * as popc-analyze compare leaves them: never a 0 without data. exit_status
  * is the run's exit code (include/popc/error.h); wall_time_s the run's time.
  * Returns the length, or a negative popc_status when a column is missing or
  * the row does not fit in cap. */

@@ -127,6 +127,42 @@ check "  summary unchanged, byte for byte" cmp -s "$S" "$T/s1.csv"
 expect_exit 2 "another sweep into the same directory" "$POPC" sweep "$SCENE" --vary operator.speed=0.01,0.02 -o "$T/s"
 check "  refused: holds another sweep" err_has "holds another sweep"
 
+# ---- runs too short for a verdict of the chatter detector: chatter_s and
+# chatter_intervals empty below one 100 ms window (51 ticks), limit_cycle
+# empty below half its 2 s window (501 ticks), never a 0 that reads as "no
+# chatter"; filled at 1.5 s. Resume and merge keep the summary byte for byte;
+# the --list runs (cells computed from their logs) give the same cells.
+SHORT=(--set controller.variant=ref-energy --vary run.duration=0.05,0.5,1.5)
+# cell SUMMARY ID COLUMN: the cell of run ID in the named column
+cell() { awk -F, -v id="$2" -v name="$3" 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+  $1 == id { print $c[name] }' "$1"; }
+expect_exit 0 "a sweep of 0.05, 0.5 and 1.5 s runs" "$POPC" sweep "$SCENE" "${SHORT[@]}" -o "$T/short" -j 2 -q
+SH=$T/short/summary.csv
+check "  well formed" well_formed "$SH"
+check "  0.05 s (51 ticks): chatter and limit-cycle cells empty" test "$(cell "$SH" 0000 ticks),$(cell "$SH" 0000 chatter_s),$(cell "$SH" 0000 chatter_intervals),$(cell "$SH" 0000 limit_cycle)" = "51,,,"
+check "  0.5 s: chatter checked (0), limit_cycle empty" test "$(cell "$SH" 0001 chatter_s),$(cell "$SH" 0001 chatter_intervals),$(cell "$SH" 0001 limit_cycle)" = "0,0,"
+check "  1.5 s: every cell filled" test -n "$(cell "$SH" 0002 chatter_s)" -a -n "$(cell "$SH" 0002 chatter_intervals)" -a -n "$(cell "$SH" 0002 limit_cycle)"
+check "  the run's summary is its row" test "$(tail -1 "$T/short/runs/0000/summary.csv")" = "$(grep '^0000,' "$SH")"
+if [ -x "$ANA" ]; then
+  for id in 0000 0001 0002; do
+    "$ANA" compare --format csv "$T/short/runs/$id/log.csv" > "$T/cmp.csv" 2>/dev/null
+    # (compare names the row after the log's file: log)
+    check "  run $id: chatter cells as popc-analyze compare's" test \
+      "$(cell "$T/cmp.csv" log ticks):$(cell "$T/cmp.csv" log chatter_s),$(cell "$T/cmp.csv" log chatter_intervals),$(cell "$T/cmp.csv" log limit_cycle)" = \
+      "$(cell "$SH" "$id" ticks):$(cell "$SH" "$id" chatter_s),$(cell "$SH" "$id" chatter_intervals),$(cell "$SH" "$id" limit_cycle)"
+  done
+fi
+cp "$SH" "$T/short1.csv"
+expect_exit 0 "  the same sweep again" "$POPC" sweep "$SCENE" "${SHORT[@]}" -o "$T/short" -j 2 -q
+check "  summary unchanged, byte for byte" cmp -s "$SH" "$T/short1.csv"
+expect_exit 0 "  merge into another directory" "$POPC" sweep merge "$T/short" -o "$T/shortm"
+check "  merged summary equal, byte for byte" cmp -s "$T/shortm/summary.csv" "$T/short1.csv"
+"$POPC" sweep "$SCENE" "${SHORT[@]}" -o "$T/shortl" --list > "$T/shortl.jobs" 2>"$T/err"
+check "  --list: 3 popc run lines" test "$(grep -c ' run ' "$T/shortl.jobs")" -eq 3
+sh "$T/shortl.jobs" > /dev/null 2>&1
+expect_exit 0 "  merge of the --list runs" "$POPC" sweep merge "$T/shortl"
+check "  equal to the in-process sweep (but wall time)" same_nowall "$T/shortl/summary.csv" "$SH"
+
 # ---- a run's own summary.csv that cannot be written (a directory stands at
 # its path: rename() fails, as root too): the run keeps its row in the sweep,
 # and the failure is reported

@@ -369,6 +369,11 @@ static void test_rows(void **state)
 	chat.chatter_s = 0.5;
 	chat.n_intervals = 2;
 	chat.limit_cycle = 1;
+	/* 5001 ticks at 1 kHz: every window full, the last limit-cycle window too */
+	chat.windows = 491;
+	chat.window_ticks = 100;
+	chat.lc_ticks = 2001;
+	chat.lc_min_ticks = 1000;
 	char buf[POPC_SWEEP_ROW_MAX];
 	popc_error err;
 	int n = popc_sweep_row(&p, 3, 6, header, row, &chat, 0.25, buf, sizeof buf, &err);
@@ -383,6 +388,33 @@ static void test_rows(void **state)
 	n = popc_sweep_row(&p, 0, 1, NULL, NULL, NULL, 0.0, buf, sizeof buf, &err);
 	assert_true(n > 0);
 	assert_string_equal(buf, "0000,0.01,none,1,,,,,,,,,,,,,,,0\n");
+
+	/* a run too short for a verdict has empty cells, not 0: 500 ticks have
+	 * chatter windows but less than half a limit-cycle window ... */
+	memset(&chat, 0, sizeof chat);
+	chat.windows = 41;
+	chat.window_ticks = 100;
+	chat.lc_ticks = 500;
+	chat.lc_min_ticks = 1000;
+	n = popc_sweep_row(&p, 3, 0, header, row, &chat, 0.25, buf, sizeof buf, &err);
+	assert_true(n > 0);
+	assert_string_equal(buf, "0003,0.02,improved,0,5001,1.5,5,0.25,-0.001,-2e-05,3,12.5,1.25,13,0,"
+				 "0,0,,0.25\n");
+	assert_int_equal(popc_sweep_row_exit_status(&p, buf), 0);
+	/* ... 50 ticks not one chatter window either */
+	chat.windows = 0;
+	chat.lc_ticks = 50;
+	n = popc_sweep_row(&p, 3, 0, header, row, &chat, 0.25, buf, sizeof buf, &err);
+	assert_true(n > 0);
+	assert_string_equal(buf, "0003,0.02,improved,0,5001,1.5,5,0.25,-0.001,-2e-05,3,12.5,1.25,13,0,"
+				 ",,,0.25\n");
+	/* limit cycle checked, chatter not (a longer chatter window) */
+	chat.lc_ticks = 1000;
+	chat.limit_cycle = 0;
+	n = popc_sweep_row(&p, 3, 0, header, row, &chat, 0.25, buf, sizeof buf, &err);
+	assert_true(n > 0);
+	assert_string_equal(buf, "0003,0.02,improved,0,5001,1.5,5,0.25,-0.001,-2e-05,3,12.5,1.25,13,0,"
+				 ",,0,0.25\n");
 
 	/* a run summary without a metric column is an error naming it */
 	n = popc_sweep_row(&p, 0, 0, "status,ticks\n", "0,5\n", NULL, 0.0, buf, sizeof buf, &err);
