@@ -37,6 +37,7 @@
 #include "popc/log_reader.h"
 #include "popc/numfmt.h"
 #include "popc/plant.h"
+#include "popc/sweep.h"
 #include "popc/run.h"
 
 static double now_s(void)
@@ -959,6 +960,10 @@ int popc_cmd_bench(int argc, char **argv)
 		fprintf(stderr, "popc bench: the benchmarks run the simulated axis (axis = %s)\n", s.axis);
 		return 2;
 	}
+	/* the figure's directory is made (or refused) before half a minute of
+	 * measuring, as report -o and sweep -o make theirs */
+	if (o.plot_dir && (st = popc_sweep_mkdir_p(o.plot_dir, &err)) != 0)
+		return popc_cli_fail("bench", st, &err);
 	if (strcmp(what, "integrators") == 0)
 		return bench_integrators(&s, &o);
 	if (strcmp(what, "loop") == 0)

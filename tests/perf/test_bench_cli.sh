@@ -47,10 +47,13 @@ check "  euler converges at order 1 from 1 substep ($(order euler 1))" in_range 
 tr100=$(awk -F, '$1 == "trapezoid" && $2 == 100 {print $4}' "$T/wp.csv")
 check "  trapezoid x100 error $tr100 m in [1e-12, 1e-9]" in_range "$tr100" 1e-12 1e-9
 
-expect_exit 0 "bench integrators, text and plot" "$POPC" bench integrators --min-time 0 --repeat 1 --plot "$T"
+expect_exit 0 "bench integrators, text and plot into a new directory" "$POPC" bench integrators --min-time 0 --repeat 1 --plot "$T/fig/new"
 check "  prints measured orders" grep -q "measured order" "$T/out"
-check "  the gnuplot script" test -s "$T/integrators.gp"
-check "  the figure" test -s "$T/integrators.png"
+check "  the gnuplot script" test -s "$T/fig/new/integrators.gp"
+check "  the figure" test -s "$T/fig/new/integrators.png"
+: > "$T/a-file"
+expect_exit 1 "bench --plot where no directory can be made" "$POPC" bench integrators --plot "$T/a-file/x"
+check "  says so before measuring" bash -c "grep -q 'cannot create directory $T/a-file/x' '$T/err' && ! test -s '$T/out'"
 
 expect_exit 0 "bench loop, CSV" "$POPC" bench loop --format csv --min-time 0 --repeat 1
 check "  loop rows" grep -q "^loop_ns_per_tick," "$T/out"
