@@ -299,6 +299,27 @@ void popc_chatter_add(popc_chatter *d, const popc_tick *t)
 	d->started = 1;
 }
 
+/* How many whole segments, taken from one end of the window (the oldest first,
+ * or the newest: the open segment then the full ones before it), hold the
+ * number of ticks nearest a quarter of the window's ticks (ties: fewer). A
+ * quarter counted in segments (n / 4) would make a log ending one tick into a
+ * new segment compare that one tick with the first quarter; counted in ticks,
+ * a quarter is within half a segment of a quarter wherever the log ends. */
+static int quarter_segments(const popc_chatter_segment *const *list, int n, long long ticks,
+			    int newest)
+{
+	long long acc = 0; /* ticks of the m segments taken, times 4 below */
+	int m = 0;
+	while (m < n) {
+		long long next = list[newest ? n - 1 - m : m]->ticks;
+		if (m > 0 && llabs(4 * acc - ticks) <= llabs(4 * (acc + next) - ticks))
+			break;
+		acc += next;
+		m++;
+	}
+	return m;
+}
+
 /* Mean half swing over segments [from, to) of the chronological list. */
 static double amplitude_of(const popc_chatter_segment *const *list, int from, int to,
 			   long long *reversals)
@@ -341,11 +362,13 @@ void popc_chatter_finish(popc_chatter *d, popc_chatter_result *r)
 		res->lc_contact = (double)contact / (double)ticks;
 		res->lc_pc_rms_N = sqrt(pc_sq / (double)ticks);
 		res->lc_w_drift_J = list[n - 1]->wme_last_J - list[0]->wme_first_J;
-		/* sustained: the last quarter still swings like the first */
-		int q = n / 4 > 0 ? n / 4 : 1;
+		/* sustained: the last quarter still swings like the first; the
+		 * quarters in ticks (quarter_segments) */
+		int q_first = quarter_segments(list, n, ticks, 0);
+		int q_last = quarter_segments(list, n, ticks, 1);
 		long long rev_first, rev_last;
-		double a_first = amplitude_of(list, 0, q, &rev_first);
-		double a_last = amplitude_of(list, n - q, n, &rev_last);
+		double a_first = amplitude_of(list, 0, q_first, &rev_first);
+		double a_last = amplitude_of(list, n - q_last, n, &rev_last);
 		if (rev_last == 0)
 			res->lc_sustain = 0.0;
 		else if (rev_first == 0)
