@@ -40,6 +40,10 @@ static int parse_tcp(const char *text, const char *p, popc_modbus_uri *u, popc_e
 		if (host_end)
 			port = host_end + 1;
 	}
+	/* a bracket belongs around an IPv6 address only: "tcp:[[]" left the
+	 * host "[", whose canonical text "tcp:[:502" no longer parses */
+	if (strpbrk(u->host, "[]"))
+		return uri_bad(err, text, "'[' or ']' inside the host");
 	long v = 502; /* the registered Modbus TCP port */
 	if (port) {
 		char *end;
