@@ -200,6 +200,32 @@ static number_status parse_number(const char *text, double *out)
 	return NUMBER_OK;
 }
 
+/* Why a string value cannot be written to a scene file and read back, or
+ * NULL. The resolved scene is written as one (popc scene show, a sweep's
+ * runs/<id>/scene.ini) and read with libinih, so "key = value" must fit
+ * libinih's line (INI_MAX_LINE - 1 characters without the newline; longer
+ * lines are refused, ini_lines.h), hold no line break, and no ';' at its start
+ * or after a blank (libinih's inline comment: the rest would be dropped). */
+static int unwritable(const scene_key *k, const char *value, char *why, size_t cap)
+{
+	if (value[strcspn(value, "\r\n")]) {
+		snprintf(why, cap, "has a line break");
+		return 1;
+	}
+	for (const char *p = strchr(value, ';'); p; p = strchr(p + 1, ';'))
+		if (p == value || p[-1] == ' ' || p[-1] == '\t') {
+			snprintf(why, cap, "has a ';' at its start or after a blank (a scene file "
+					   "reads it as a comment)");
+			return 1;
+		}
+	if (strlen(k->key) + 3 + strlen(value) > INI_MAX_LINE - 1) {
+		snprintf(why, cap, "is too long for a line of a scene file (\"%s = ...\" holds at most %d "
+				   "characters)", k->key, INI_MAX_LINE - 1);
+		return 1;
+	}
+	return 0;
+}
+
 /* Sets key k from text. Messages name "<where><section>.<key> = <value>", or,
  * with option (a command-line option of its own, as popc run --variant),
  * "<option> <value>": the name the user typed. */
@@ -258,6 +284,9 @@ static int set_key(popc_scene *s, const scene_key *k, const char *value, const c
 		if (strlen(value) >= POPC_PATH_MAX)
 			return popc_error_set(err, POPC_ERR_INVALID, "%s: longer than %d characters", who,
 					      POPC_PATH_MAX - 1);
+		if (unwritable(k, value, range, sizeof range))
+			return popc_error_set(err, POPC_ERR_INVALID, "%s%s'%s': %s", who, sep, value,
+					      range);
 		snprintf(field, POPC_PATH_MAX, "%s", value);
 		return 0;
 	}
@@ -322,6 +351,11 @@ static int scene_set(popc_scene *s, const char *section, const char *key, const 
 	int st = set_key(s, k, val, "--set ", option, err);
 	if (!st && is_path_key(k))
 		st = resolve_relative((char *)s + k->offset, NULL, who, err);
+	char why[160];
+	if (!st && is_path_key(k) && unwritable(k, (char *)s + k->offset, why, sizeof why))
+		st = popc_error_set(err, POPC_ERR_INVALID,
+				    "%s: the path from the working directory, %s, %s", who,
+				    (char *)s + k->offset, why);
 	return st;
 }
 
@@ -490,6 +524,17 @@ int popc_scene_load(popc_scene *s, const char *path, popc_error *err)
 		st = resolve_relative(s->axis_map, path, "axis.map", err);
 	if (st)
 		return st;
+	/* resolved, a path must still be one a scene file can hold */
+	for (size_t i = 0; i < N_KEYS; i++) {
+		const scene_key *k = &scene_keys[i];
+		char why[160];
+		if (is_path_key(k) && c.seen_line[i] &&
+		    unwritable(k, (char *)s + k->offset, why, sizeof why))
+			return popc_error_set(err, POPC_ERR_INVALID,
+					      "%s:%d: %s.%s: the path from the scene's directory, %s, %s",
+					      path, c.seen_line[i], k->section, k->key,
+					      (char *)s + k->offset, why);
+	}
 	snprintf(s->source, sizeof s->source, "%s", path);
 	return 0;
 }
