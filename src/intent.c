@@ -109,6 +109,24 @@ static int load_table(popc_intent *in, const char *path, popc_error *err)
 						lineno, tv, t[n - 1]);
 			break;
 		}
+		if (n > 0) {
+			/* the operator's input between rows uses the slope (pl_value):
+			 * rows too close in time for their change in value (1 m in
+			 * 1e-310 s) make it infinite, and u = K_HO x_d + B_HO x_d' NaN */
+			double slope = (qv - q[n - 1]) / (tv - t[n - 1]);
+			double u1 = in->q_is_force ? slope : in->k_op * slope;
+			double u0 = in->q_is_force ? qv : in->k_op * qv + in->b_op * slope;
+			double u0_prev = in->q_is_force ? q[n - 1] : in->k_op * q[n - 1] + in->b_op * slope;
+			if (!isfinite(slope) || !isfinite(u1) || !isfinite(u0) || !isfinite(u0_prev)) {
+				status = popc_error_set(
+					err, POPC_ERR_INVALID,
+					"%s:%d: %g %s at time %g s after %g %s at %g s: the rows are too "
+					"close in time for the change (the operator's input would not be a "
+					"finite number)",
+					path, lineno, qv, q_unit, tv, q[n - 1], q_unit, t[n - 1]);
+				break;
+			}
+		}
 		if (n == cap) {
 			cap *= 2;
 			double *nt = realloc(t, cap * sizeof *t), *nq = realloc(q, cap * sizeof *q);
