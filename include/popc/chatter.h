@@ -11,8 +11,11 @@
  * Limit cycle (seed Fig. 10, and the sampled spring without PC, Fig. 6): over
  * the last seconds of the log the position keeps oscillating with an amplitude
  * far above the encoder resolution, at a low frequency, in contact, and does
- * not decay. Turning points are found with a hysteresis of a few counts so
- * that quantization dither never counts as motion.
+ * not decay: turning points in the window's first and last quarter (an
+ * oscillation that began inside the window, such as an approach from rest and
+ * its bounces, is not yet one), the amplitude ratio between them scaled to
+ * the full window's 1.5 s. Turning points are found with a hysteresis of a few
+ * counts so that quantization dither never counts as motion.
  *
  *   popc_chatter_config cfg;
  *   popc_chatter_config_defaults(&cfg);
@@ -47,7 +50,7 @@ typedef struct popc_chatter_config {
 	double lc_hysteresis_counts;     /* a turning point needs this much return */
 	double lc_freq_min_Hz, lc_freq_max_Hz;
 	double lc_contact_min;           /* share of ticks in contact */
-	double lc_sustain_min;           /* amplitude last quarter / first quarter */
+	double lc_sustain_min;           /* lc_sustain at least this (below) */
 	double resolution_m;             /* encoder resolution delta (m) */
 } popc_chatter_config;
 
@@ -81,7 +84,11 @@ typedef struct popc_chatter_result {
 	double lc_amplitude_m;         /* mean half swing between turning points */
 	double lc_frequency_Hz;        /* turning points / 2 / span */
 	double lc_contact;             /* share of ticks in contact */
-	double lc_sustain;             /* amplitude of the last quarter / first quarter */
+	/* amplitude of the last quarter / first quarter (quarters in ticks),
+	 * raised to (0.75 lc_window / the time between the quarters' centres):
+	 * the ratio over a full window's 1.5 s whatever the log's length; 0 when
+	 * either quarter has no turning point */
+	double lc_sustain;
 	double lc_pc_rms_N;            /* PC force RMS (small: the PC does not act) */
 	double lc_w_drift_J;           /* change of W - E_ref over the window */
 } popc_chatter_result;

@@ -230,9 +230,9 @@ static void short_log_limit_cycle_not_checked(void **state)
  * compares quarters counted in ticks: a quarter counted in segments made a
  * 1001-tick log compare its last tick alone with the first quarter (no turning
  * point: sustain 0, no limit cycle; 72 of these lengths missed). Sustain of
- * this steady sine, measured at every length: 1.00 to 1.14 (above 1: the first
- * quarter's first swing starts at the log's first sample, mid-swing); 0.8 to
- * 1.25 allowed. */
+ * this steady sine, measured at every length: 1.00 to 1.31 (above 1: the first
+ * quarter's first swing starts at the log's first sample, mid-swing, and a
+ * 1 s log's ratio is squared to the full window's 1.5 s); 0.8 to 1.5 allowed. */
 static void limit_cycle_wherever_the_log_ends(void **state)
 {
 	(void)state;
@@ -249,9 +249,87 @@ static void limit_cycle_wherever_the_log_ends(void **state)
 			add(&d, k, 1e-3 + 1.5e-3 * sin(two_pi * 9.0 * (double)k * T_S), 0.0);
 		popc_chatter_result r;
 		popc_chatter_finish(&d, &r);
-		if (!r.limit_cycle || r.lc_sustain < 0.8 || r.lc_sustain > 1.25)
+		if (!r.limit_cycle || r.lc_sustain < 0.8 || r.lc_sustain > 1.5)
 			fail_msg("%lld ticks: limit_cycle %d, sustain %g (amplitude %g m, %g Hz)", n,
 				 r.limit_cycle, r.lc_sustain, r.lc_amplitude_m, r.lc_frequency_Hz);
+	}
+}
+
+/* The seed's scene before contact (data/scenes/fig3.ini): at rest in free
+ * space at -10 mm until 0.5 s, an approach at 50 mm/s reaching the wall at
+ * 0.7 s, then (here) a steady 9 Hz, +-1.5 mm oscillation about the wall. While
+ * the window's first quarter is at rest the oscillation began inside the
+ * window and is not shown to persist: sustain 0, no limit cycle (it was
+ * flagged: a first quarter without turning points counted as "started from
+ * rest, not decaying", so every approach and bounce of a 1-2 s log was a limit
+ * cycle). Once the window lies on the oscillation (3.5 s of log: the last 2 s)
+ * it is flagged. */
+static void approach_from_rest_is_not_a_limit_cycle(void **state)
+{
+	(void)state;
+	popc_chatter_config cfg;
+	popc_chatter_config_defaults(&cfg);
+	cfg.resolution_m = DELTA_M;
+	popc_environment env = wall();
+	popc_error err;
+	static const long long lengths[] = {1000, 1001, 1249, 1250, 1251, 1500, 1750, 1999, 2000, 3500};
+	for (size_t i = 0; i < sizeof lengths / sizeof lengths[0]; i++) {
+		popc_chatter d;
+		assert_int_equal(popc_chatter_init(&d, &cfg, T_S, &env, &err), 0);
+		for (long long k = 0; k < lengths[i]; k++) {
+			double t = (double)k * T_S;
+			double x = t < 0.5 ? -10e-3 : t < 0.7 ? -10e-3 + 0.05 * (t - 0.5)
+							 : 1.5e-3 * sin(two_pi * 9.0 * (t - 0.7));
+			add(&d, k, x, 0.0);
+		}
+		popc_chatter_result r;
+		popc_chatter_finish(&d, &r);
+		assert_true(popc_chatter_lc_checked(&r));
+		int whole = lengths[i] == 3500;
+		if (r.limit_cycle != whole)
+			fail_msg("%lld ticks: limit_cycle %d (amplitude %g m, %g Hz, contact %g, sustain %g)",
+				 lengths[i], r.limit_cycle, r.lc_amplitude_m, r.lc_frequency_Hz,
+				 r.lc_contact, r.lc_sustain);
+		if (!whole) {
+			/* the other criteria pass: only the sustain decides */
+			assert_true(r.lc_amplitude_m >= 50 * DELTA_M);
+			assert_true(r.lc_frequency_Hz >= 1.0 && r.lc_contact >= 0.1);
+			assert_true(r.lc_sustain == 0.0);
+		} else {
+			assert_true(fabs(r.lc_amplitude_m - 1.5e-3) < 0.1e-3);
+		}
+	}
+}
+
+/* A contact bounce decaying with a time constant of 1.5 s (ref-energy's and
+ * improved's decay in 1.0-1.2 s: faster) is no limit cycle at any length. Its
+ * amplitude ratio between the quarters of a 1 s log (0.75 s apart) is
+ * e^-0.5 = 0.61, which passed the 0.5 threshold set for the 1.5 s of a full
+ * window, over which it is e^-1 = 0.37; scaled to 1.5 s every length gives
+ * about that (measured 0.36 to 0.39 over 1000-2500 ticks; 0.45 allowed). The
+ * log starts at a crest, a true turning point, so that its first swing is a
+ * whole one; the amplitude stays above its threshold (at least 1.2 mm), so the
+ * sustain alone decides. */
+static void decaying_bounce_is_not_a_limit_cycle_at_any_length(void **state)
+{
+	(void)state;
+	popc_chatter_config cfg;
+	popc_chatter_config_defaults(&cfg);
+	cfg.resolution_m = DELTA_M;
+	popc_environment env = wall();
+	popc_error err;
+	for (long long n = 1000; n <= 2500; n++) {
+		popc_chatter d;
+		assert_int_equal(popc_chatter_init(&d, &cfg, T_S, &env, &err), 0);
+		for (long long k = 0; k < n; k++) {
+			double t = (double)k * T_S;
+			add(&d, k, 1e-3 + 3e-3 * exp(-t / 1.5) * cos(two_pi * 9.0 * t), 0.0);
+		}
+		popc_chatter_result r;
+		popc_chatter_finish(&d, &r);
+		if (r.limit_cycle || r.lc_amplitude_m < 50 * DELTA_M || r.lc_sustain > 0.45)
+			fail_msg("%lld ticks: limit_cycle %d, amplitude %g m, sustain %g", n,
+				 r.limit_cycle, r.lc_amplitude_m, r.lc_sustain);
 	}
 }
 
@@ -317,6 +395,8 @@ int main(void)
 		cmocka_unit_test(short_log_is_not_checked),
 		cmocka_unit_test(short_log_limit_cycle_not_checked),
 		cmocka_unit_test(limit_cycle_wherever_the_log_ends),
+		cmocka_unit_test(approach_from_rest_is_not_a_limit_cycle),
+		cmocka_unit_test(decaying_bounce_is_not_a_limit_cycle_at_any_length),
 		cmocka_unit_test(config_set_and_init_errors),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);

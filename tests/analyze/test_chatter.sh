@@ -81,8 +81,23 @@ expect_rc 0 "$A" chatter --format csv "$W/half.csv" && grep -qx "half,limit_cycl
 expect_rc 0 "$A" chatter --threshold lc_window=1 "$W/half.csv" && grep -q "^half: no chatter; no limit cycle" "$W/out" &&
 	! grep -q "limit cycle not checked" "$W/err" && ok "lc_window=1: 500 ticks are half a window, checked" ||
 	fail "half lc_window=1: $(cat "$W/out" "$W/err")"
-expect_rc 1 "$A" chatter "$W/second.csv" && ! grep -q "not checked" "$W/out" "$W/err" &&
-	ok "1000 ticks: the limit cycle checked" || fail "1000-tick log: $(cat "$W/out" "$W/err")"
+# Those 1000 ticks are the approach: at rest until 0.5 s, the wall at 0.75 s,
+# three bounces (3 mm, 2 Hz, 12 % in contact): no limit cycle, since the
+# window's first quarter holds no turning point (it was flagged, exit 1).
+expect_rc 0 "$A" chatter "$W/second.csv" && ! grep -q "not checked" "$W/out" "$W/err" &&
+	grep -q "^second: no chatter; no limit cycle$" "$W/out" && grep -q "sustain 0," "$W/out" &&
+	ok "1000 ticks: the limit cycle checked; the approach is none" || fail "1000-tick log: $(cat "$W/out" "$W/err")"
+# The bounces after the approach, 1 s of them from 0.8 s on (a recording
+# started in contact): ref-energy's decay (time constant about 1 s) is no limit
+# cycle (it was: a ratio of 0.59 between the quarters of a 1 s log passed the
+# 0.5 meant for the 1.5 s of a full window; scaled, 0.35); without PC the same
+# stretch keeps its swing and is one.
+grep -v '^#' "$W/ref-energy.csv" | awk 'NR == 1 || (NR > 801 && NR <= 1801)' >"$W/bounce.csv"
+grep -v '^#' "$W/none.csv" | awk 'NR == 1 || (NR > 801 && NR <= 1801)' >"$W/bounce-none.csv"
+expect_rc 0 "$A" chatter "$W/bounce.csv" && grep -q "^bounce: no chatter; no limit cycle$" "$W/out" &&
+	ok "ref-energy's bounces, 0.8-1.8 s: no limit cycle" || fail "bounce: $(cat "$W/out" "$W/err")"
+expect_rc 1 "$A" chatter "$W/bounce-none.csv" && grep -q "^bounce-none: no chatter; LIMIT CYCLE$" "$W/out" &&
+	ok "none, 0.8-1.8 s: limit cycle" || fail "bounce-none: $(cat "$W/out" "$W/err")"
 # compare: chatter_s and chatter_intervals empty (not 0) for the short log, its
 # PC columns still filled; both filled at 100 ticks. The limit-cycle cells
 # (limit_cycle, lc_amplitude, lc_frequency) empty below 1000 ticks, filled at it.
@@ -109,7 +124,7 @@ if expect_rc 0 "$A" report --no-draw -o "$W/rep-short" "$W/half.csv" "$W/second.
 	grep -q "^| half | .* | n/a | n/a | n/a |$" "$W/rep-short/compare.md" &&
 		grep -q "^half,.*,,,$" "$W/rep-short/compare.csv" &&
 		grep -q '<td>half</td>\|href="#half">half</a></td><td>unknown</td>.*<td>n/a</td></tr>' "$W/rep-short/index.html" &&
-		grep -q 'href="#second">second</a></td><td>unknown</td>.*<td>yes</td></tr>' "$W/rep-short/index.html" &&
+		grep -q 'href="#second">second</a></td><td>unknown</td>.*<td>no</td></tr>' "$W/rep-short/index.html" &&
 		grep -q "No chatter flagged. Limit cycle not checked (shorter than half a limit-cycle window)." "$W/rep-short/index.md" &&
 		grep -q "No chatter flagged. Limit cycle not checked" "$W/rep-short/index.html" &&
 		grep -qF "report: $lc_note; its limit-cycle columns are n/a" "$W/err" &&
