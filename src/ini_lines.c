@@ -5,12 +5,25 @@
 
 char *popc_ini_read_line(char *str, int num, FILE *f, int *line, int *too_long)
 {
-	char *r = fgets(str, num, f);
-	if (!r)
-		return NULL;
+	/* fgets, but seeing a NUL byte: past one strlen would see a line cut
+	 * short, take it for one too long, and count the rest as another line */
+	int n = 0, c, nul = 0;
+	while (n < num - 1 && (c = getc(f)) != EOF) {
+		str[n++] = (char)c;
+		nul |= c == '\0';
+		if (c == '\n')
+			break;
+	}
+	if (n == 0)
+		return NULL; /* the end of the file, or a read error (ferror) */
+	str[n] = '\0';
+	char *r = str;
 	(*line)++;
-	size_t n = strlen(r);
-	if (n == 0 || r[n - 1] != '\n') {
+	if (nul) { /* libinih would read the line up to the NUL only */
+		*too_long = 2;
+		return NULL;
+	}
+	if (r[n - 1] != '\n') {
 		/* num - 1 characters without their newline: the line either ends
 		 * here (the newline, or CR LF, is consumed, or it is the last line
 		 * of the file) or goes on */
@@ -31,6 +44,6 @@ char *popc_ini_read_line(char *str, int num, FILE *f, int *line, int *too_long)
 	 * "rate = 500" after "duration = 2" as a second value of duration. */
 	size_t lead = strspn(r, " \t");
 	if (lead > 0)
-		memmove(r, r + lead, n - lead + 1);
+		memmove(r, r + lead, (size_t)n - lead + 1);
 	return r;
 }

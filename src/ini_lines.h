@@ -16,7 +16,9 @@
  * *line. Returns str, or NULL at the end of the file, on a read error (see
  * ferror(f)), or when the line is longer than num - 1 characters, its newline
  * excluded (a CR LF ending counts as the newline): then *too_long = 1 and
- * *line is that line's number. Leading blanks are removed from str. */
+ * *line is that line's number; likewise *too_long = 2 for a line holding a
+ * NUL byte (libinih would read it up to the NUL: no text file). Leading
+ * blanks are removed from str. */
 char *popc_ini_read_line(char *str, int num, FILE *f, int *line, int *too_long);
 
 #endif

@@ -209,7 +209,11 @@ static char *read_line(char *str, int num, void *stream)
 		return NULL;
 	int too_long = 0;
 	char *r = popc_ini_read_line(str, num, c->f, &c->line, &too_long);
-	if (too_long)
+	if (too_long == 2)
+		c->status = popc_error_set(c->err, POPC_ERR_INVALID,
+					   "%s:%d: a NUL byte in the line (a register map is a text file)",
+					   c->path, c->line);
+	else if (too_long)
 		c->status = popc_error_set(c->err, POPC_ERR_INVALID,
 					   "%s:%d: line longer than %d characters (shorten the comment or value)",
 					   c->path, c->line, num - 1);

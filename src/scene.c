@@ -502,6 +502,10 @@ int popc_scene_load(popc_scene *s, const char *path, popc_error *err)
 	if (read_failed && !c.status) /* e.g. a directory: fopen succeeds, reading fails */
 		return popc_error_set(err, POPC_ERR_INVALID, "%s: cannot read scene: %s", path,
 				      strerror(read_errno));
+	if (c.too_long == 2 && line == 0)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s:%d: a NUL byte in the line (a scene is a text file)", path,
+				      c.line);
 	if (c.too_long && line == 0) /* an earlier error (line > 0) is named first */
 		return popc_error_set(err, POPC_ERR_INVALID,
 				      "%s:%d: line longer than %d characters (libinih's limit)", path,

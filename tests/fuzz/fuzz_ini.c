@@ -6,7 +6,8 @@
  * the file; a scene that loads and validates writes a text that loads to the
  * same scene; a map that loads has finite scales and soft limits; the line
  * reader returns every line that fits, blanks stripped, counted as the file
- * counts it, and refuses exactly the lines that do not fit. */
+ * counts it, and refuses exactly the lines that do not fit or hold a NUL
+ * byte. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -143,8 +144,14 @@ int popc_fuzz_ini_lines(const uint8_t *data, size_t size)
 		size_t content = raw - (nl ? 1 : 0);
 		if (content > 0 && data[pos + content - 1] == '\r')
 			content--;
+		const int has_nul = pos < size && memchr(data + pos, '\0', raw) != NULL;
 		if (!got) {
-			if (too_long) {
+			if (too_long == 2) {
+				if (!has_nul || line != expect_line)
+					popc_fuzz_fail(data - 1, size + 1,
+						       "line %d (real %lld) refused for a NUL byte", line,
+						       expect_line);
+			} else if (too_long) {
 				if (pos >= size || content <= (size_t)num - 1 || line != expect_line)
 					popc_fuzz_fail(data - 1, size + 1,
 						       "line %d (real %lld, %zu characters, limit %d) "
@@ -160,6 +167,8 @@ int popc_fuzz_ini_lines(const uint8_t *data, size_t size)
 			popc_fuzz_fail(data - 1, size + 1, "a line past the end of the file");
 		if (line != expect_line)
 			popc_fuzz_fail(data - 1, size + 1, "line %lld counted as %d", expect_line, line);
+		if (has_nul)
+			popc_fuzz_fail(data - 1, size + 1, "line %d with a NUL byte accepted", line);
 		if (content > (size_t)num - 1)
 			popc_fuzz_fail(data - 1, size + 1, "line %d of %zu characters accepted (limit %d)",
 				       line, content, num - 1);
