@@ -57,6 +57,12 @@ static int load_table(popc_intent *in, const char *path, popc_error *err)
 		lineno++;
 		while (len > 0 && (line[len - 1] == '\n' || line[len - 1] == '\r'))
 			line[--len] = '\0';
+		if (memchr(line, '\0', (size_t)len)) { /* the text after it would be dropped */
+			status = popc_error_set(err, POPC_ERR_INVALID,
+						"%s:%d: a NUL byte in the line (a table is a text file)",
+						path, lineno);
+			break;
+		}
 		const char *p = line, *end = line + len;
 		if (lineno == 1 && strncmp(p, "\xEF\xBB\xBF", 3) == 0)
 			p += 3; /* a UTF-8 byte order mark */

@@ -47,7 +47,7 @@ static int fill(popc_log_reader *r)
 
 /* Next line without its end-of-line; *complete = 0 if the file ended without a
  * newline. Returns 0 at the end of the file, -1 on a line too long, -2 on a
- * read error. */
+ * read error, -3 on a NUL byte in the line. */
 static int next_line(popc_log_reader *r, char **line, size_t *len, int *complete)
 {
 	for (;;) {
@@ -72,6 +72,10 @@ static int next_line(popc_log_reader *r, char **line, size_t *len, int *complete
 		if (st != 0)
 			return st;
 	}
+	/* the cells are C strings: past a NUL byte the rest of the line would
+	 * be dropped unseen (a cell "0\0junk" read as 0, cells after it missing) */
+	if (memchr(*line, '\0', *len))
+		return -3;
 	if (*len && (*line)[*len - 1] == '\r')
 		(*len)--;
 	(*line)[*len] = '\0'; /* the buffer has one spare byte past cap */
@@ -85,6 +89,10 @@ static int line_error(const popc_log_reader *r, int got, popc_error *err)
 	if (got == -2)
 		return popc_error_set(err, POPC_ERR_IO, "%s:%lld: read error: %s", r->path,
 				      r->lineno + 1, strerror(r->read_errno));
+	if (got == -3)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s:%lld: a NUL byte in the line (a log is a text file)", r->path,
+				      r->lineno + 1);
 	return popc_error_set(err, POPC_ERR_INVALID, "%s:%lld: line longer than %u bytes", r->path,
 			      r->lineno + 1, LINE_MAX_BYTES + READ_BLOCK);
 }
