@@ -1,0 +1,320 @@
+/* popc bench log: log writing against printf("%.17g"), log reading + energy
+ * recompute against strtod, and the reader's memory (bench.h). */
+#include "bench.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "cli.h"
+#include "popc/controller.h"
+#include "popc/encoder.h"
+#include "popc/log.h"
+#include "popc/log_reader.h"
+#include "popc/numfmt.h"
+#include "popc/run.h"
+
+/* The rows of one run of the scene (its integrator, closed loop) lasting
+ * n ticks. */
+static popc_log_row *make_rows(const popc_scene *s0, long n, popc_error *err)
+{
+	popc_scene s = *s0;
+	s.duration_s = (double)(n - 1) * popc_scene_period_s(&s);
+	popc_log_row *rows = malloc((size_t)n * sizeof *rows);
+	if (!rows) {
+		popc_error_set(err, POPC_ERR_NOMEM, "bench: out of memory for %ld rows", n);
+		return NULL;
+	}
+	popc_controller_config cc;
+	popc_controller_config_from_scene(&cc, &s);
+	popc_controller ctl;
+	popc_controller_init(&ctl, &cc);
+	popc_axis *ax;
+	if (popc_sim_axis_create(&ax, &s, err) != 0) {
+		free(rows);
+		return NULL;
+	}
+	popc_axis_sample smp;
+	int st = ax->ops->sample(ax, &smp, err);
+	for (long i = 0; !st && i < n; i++) {
+		popc_log_row *r = &rows[i];
+		r->tick.t_s = (double)i * popc_scene_period_s(&s);
+		popc_controller_step(&ctl, smp.count, popc_encoder_position(smp.count, s.enc_resolution_m),
+				     &r->tick);
+		r->x_true_m = smp.x_true_m;
+		r->dt_s = r->rtt_s = 0.0;
+		if (i + 1 < n)
+			st = ax->ops->exchange(ax, r->tick.f_c_N, &smp, err);
+	}
+	popc_axis_destroy(&ax);
+	if (st) {
+		free(rows);
+		return NULL;
+	}
+	return rows;
+}
+
+/* A log of the scene run for `ticks` ticks, written by popc run's own loop. */
+static int run_to_log(const popc_scene *s0, long long ticks, const char *path, popc_error *err)
+{
+	popc_scene s = *s0;
+	s.duration_s = (double)(ticks - 1) * popc_scene_period_s(&s);
+	popc_axis *ax;
+	int st = popc_sim_axis_create(&ax, &s, err);
+	if (st)
+		return st;
+	popc_log_writer w;
+	st = popc_log_open(&w, path, ax->ops->log_columns, err);
+	if (!st)
+		st = popc_log_write_header(&w, "sim", &s, NULL, err);
+	if (!st) {
+		popc_run_options ro = {.log = &w, .stop_flag = NULL};
+		popc_run_summary sum;
+		st = popc_run(&s, ax, &ro, &sum, err);
+	}
+	popc_error e2;
+	int cst = popc_log_close(&w, &e2);
+	popc_axis_destroy(&ax);
+	return st ? st : cst;
+}
+
+static int write_popc(const char *path, const popc_scene *s, const popc_log_row *rows, long n,
+		      popc_error *err)
+{
+	popc_log_writer w;
+	int st = popc_log_open(&w, path, POPC_LOG_COL_X_TRUE, err);
+	if (!st)
+		st = popc_log_write_header(&w, "sim", s, NULL, err);
+	for (long i = 0; !st && i < n; i++)
+		st = popc_log_write_row(&w, &rows[i], err);
+	popc_error e2;
+	int cst = popc_log_close(&w, &e2);
+	return st ? st : cst;
+}
+
+static int write_printf(const char *path, const popc_log_row *rows, long n)
+{
+	FILE *f = fopen(path, "w");
+	if (!f)
+		return -1;
+	fprintf(f, "%s\n", popc_log_column_names(POPC_LOG_COL_X_TRUE));
+	for (long i = 0; i < n; i++) {
+		const popc_tick *t = &rows[i].tick;
+		fprintf(f, "%.17g,%.17g,%lld,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%u\n", t->t_s,
+			t->x_m, t->count, rows[i].x_true_m, t->v_mps, t->f_e_N, t->f_pc_N, t->f_c_N,
+			t->W_J, t->E_ref_J, t->flags);
+	}
+	return fclose(f);
+}
+
+static long file_bytes(const char *path)
+{
+	FILE *f = fopen(path, "rb");
+	if (!f)
+		return -1;
+	fseek(f, 0, SEEK_END);
+	long n = ftell(f);
+	fclose(f);
+	return n;
+}
+
+/* The recompute loop of popc-analyze's energy verb: W and E_ref from a log's
+ * x, count, v, f_e and f_c columns, with the observer that ran online. */
+typedef struct recompute {
+	popc_observer obs;
+	double period_s;
+	int ix, icount, iv, ife, ifc;
+	long long rows;
+} recompute;
+
+static void recompute_row(recompute *rc, const double *v)
+{
+	popc_observation ob;
+	popc_observer_update(&rc->obs, v[rc->ix], (long long)v[rc->icount], v[rc->iv], rc->period_s,
+			     v[rc->ife], &ob);
+	popc_observer_commit(&rc->obs, &ob, v[rc->ife], v[rc->ifc]);
+	rc->rows++;
+}
+
+static int read_popc(const char *path, const popc_scene *s, recompute *rc, popc_error *err)
+{
+	popc_log_reader r;
+	int st = popc_log_reader_open(&r, path, NULL, err);
+	if (st)
+		return st;
+	popc_observer_init(&rc->obs, s->variant, s->ignore_mode);
+	rc->period_s = popc_scene_period_s(s);
+	rc->rows = 0;
+	if (!st)
+		st = popc_log_reader_require(&r, "x", &rc->ix, err);
+	if (!st)
+		st = popc_log_reader_require(&r, "count", &rc->icount, err);
+	if (!st)
+		st = popc_log_reader_require(&r, "v", &rc->iv, err);
+	if (!st)
+		st = popc_log_reader_require(&r, "f_e", &rc->ife, err);
+	if (!st)
+		st = popc_log_reader_require(&r, "f_c", &rc->ifc, err);
+	double v[POPC_LOG_MAX_COLUMNS];
+	while (!st && (st = popc_log_reader_next(&r, v, err)) == 1) {
+		recompute_row(rc, v);
+		st = 0;
+	}
+	popc_log_reader_close(&r);
+	return st < 0 ? st : 0;
+}
+
+/* The baseline reader: fgets and strtod per cell, same recompute. */
+static int read_strtod(const char *path, const popc_scene *s, recompute *rc)
+{
+	FILE *f = fopen(path, "r");
+	if (!f)
+		return -1;
+	popc_observer_init(&rc->obs, s->variant, s->ignore_mode);
+	rc->period_s = popc_scene_period_s(s);
+	rc->rows = 0;
+	/* popc's column order with x_true: t,x,count,x_true,v,f_e,f_pc,f_c,W,E_ref,flags */
+	rc->ix = 1, rc->icount = 2, rc->iv = 4, rc->ife = 5, rc->ifc = 7;
+	char line[1024];
+	int header = 1;
+	while (fgets(line, sizeof line, f)) {
+		if (line[0] == '#')
+			continue;
+		if (header) {
+			header = 0;
+			continue;
+		}
+		double v[16];
+		char *p = line, *end;
+		int n = 0;
+		while (n < 16) {
+			v[n++] = strtod(p, &end);
+			if (*end != ',')
+				break;
+			p = end + 1;
+		}
+		recompute_row(rc, v);
+	}
+	fclose(f);
+	return 0;
+}
+
+/* Peak resident memory (KiB) of a child process that reads the log. */
+static long child_read_rss_kib(const char *path, const popc_scene *s)
+{
+	int fd[2];
+	if (pipe(fd) != 0)
+		return -1;
+	fflush(NULL);
+	pid_t pid = fork();
+	if (pid < 0)
+		return -1;
+	if (pid == 0) {
+		close(fd[0]);
+		recompute rc;
+		popc_error err;
+		long kib = -1;
+		if (read_popc(path, s, &rc, &err) == 0) {
+			struct rusage ru;
+			getrusage(RUSAGE_SELF, &ru);
+			kib = ru.ru_maxrss;
+		}
+		ssize_t w = write(fd[1], &kib, sizeof kib);
+		_exit(w == (ssize_t)sizeof kib ? 0 : 1);
+	}
+	close(fd[1]);
+	long kib = -1;
+	if (read(fd[0], &kib, sizeof kib) != (ssize_t)sizeof kib)
+		kib = -1;
+	close(fd[0]);
+	int status;
+	waitpid(pid, &status, 0);
+	return kib;
+}
+
+int bench_log(const popc_scene *s, const bench_opts *o)
+{
+	popc_error err;
+	const char *dir = o->dir ? o->dir : getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp";
+	char p_popc[POPC_PATH_MAX], p_printf[POPC_PATH_MAX], p_big[POPC_PATH_MAX];
+	snprintf(p_popc, sizeof p_popc, "%s/popc-bench-%ld-popc.csv", dir, (long)getpid());
+	snprintf(p_printf, sizeof p_printf, "%s/popc-bench-%ld-printf.csv", dir, (long)getpid());
+	snprintf(p_big, sizeof p_big, "%s/popc-bench-%ld-big.csv", dir, (long)getpid());
+	long n = o->rows;
+	popc_log_row *rows = make_rows(s, n, &err);
+	if (!rows)
+		return popc_cli_fail("bench", POPC_ERR_NOMEM, &err);
+	double w_popc = INFINITY, w_printf = INFINITY, r_popc = INFINITY, r_strtod = INFINITY;
+	int st = 0;
+	recompute a, b;
+	for (int r = 0; r < o->repeats && !st; r++) {
+		double t0 = bench_now_s();
+		st = write_popc(p_popc, s, rows, n, &err);
+		double t1 = bench_now_s();
+		if (!st && write_printf(p_printf, rows, n) != 0)
+			st = popc_error_set(&err, POPC_ERR_IO, "%s: write failed", p_printf);
+		double t2 = bench_now_s();
+		if (!st)
+			st = read_popc(p_popc, s, &a, &err);
+		double t3 = bench_now_s();
+		if (!st && read_strtod(p_popc, s, &b) != 0)
+			st = popc_error_set(&err, POPC_ERR_IO, "%s: read failed", p_popc);
+		double t4 = bench_now_s();
+		w_popc = fmin(w_popc, t1 - t0);
+		w_printf = fmin(w_printf, t2 - t1);
+		r_popc = fmin(r_popc, t3 - t2);
+		r_strtod = fmin(r_strtod, t4 - t3);
+	}
+	long bytes_popc = file_bytes(p_popc), bytes_printf = file_bytes(p_printf);
+	/* exactness: the recompute from the log equals the online W and E_ref bitwise */
+	int exact = !st && a.rows == n && a.obs.W_J == rows[n - 1].tick.W_J &&
+		    a.obs.E_ref_J == rows[n - 1].tick.E_ref_J;
+	free(rows); /* before the children fork: their peak memory is the reader's */
+	rows = NULL;
+	/* memory: the same reader on a log four times longer */
+	long rss_small = -1, rss_big = -1;
+	if (!st)
+		st = run_to_log(s, 4LL * n, p_big, &err);
+	if (!st) {
+		rss_small = child_read_rss_kib(p_popc, s);
+		rss_big = child_read_rss_kib(p_big, s);
+	}
+	long bytes_big = file_bytes(p_big);
+	remove(p_popc);
+	remove(p_printf);
+	remove(p_big);
+	if (st)
+		return popc_cli_fail("bench", st, &err);
+	double mb = 1e-6 * (double)bytes_popc;
+	if (o->csv) {
+		puts("what,popc_MBps,libc_MBps,ratio");
+		printf("write,%.6g,%.6g,%.4g\n", mb / w_popc, 1e-6 * (double)bytes_printf / w_printf,
+		       w_printf / w_popc);
+		printf("read_recompute,%.6g,%.6g,%.4g\n", mb / r_popc, mb / r_strtod,
+		       r_strtod / r_popc);
+		printf("reader_peak_rss_kib,%ld,%ld,\n", rss_small, rss_big);
+		printf("recompute_bitwise,%d,,\n", exact);
+		return exact ? 0 : 1;
+	}
+	printf("popc bench log: %ld rows of the scene's run (%.1f MB as popc writes them), one "
+	       "core, fastest of %d, files in %s\n",
+	       n, mb, o->repeats, dir);
+	printf("%-44s %10s %10s %7s\n", "", "popc", "C library", "ratio");
+	printf("%-44s %10.1f %10.1f %7.2f   (targets: >= 300 MB/s, >= 3 x)\n",
+	       "write MB/s (vs printf %.17g)", mb / w_popc, 1e-6 * (double)bytes_printf / w_printf,
+	       w_printf / w_popc);
+	printf("%-44s %10.1f %10.1f %7.2f   (targets: >= 500 MB/s, >= 2 x)\n",
+	       "read + W/E_ref recompute MB/s (vs strtod)", mb / r_popc, mb / r_strtod,
+	       r_strtod / r_popc);
+	printf("write: %.1f ns per row popc, %.1f ns per row printf\n", 1e9 * w_popc / (double)n,
+	       1e9 * w_printf / (double)n);
+	printf("reader peak memory: %ld KiB for %.1f MB, %ld KiB for %.1f MB (whole process)\n",
+	       rss_small, mb, rss_big, 1e-6 * (double)bytes_big);
+	printf("recomputed W and E_ref equal the online values bitwise: %s\n", exact ? "yes" : "NO");
+	return exact ? 0 : 1;
+}
