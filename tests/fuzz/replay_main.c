@@ -100,7 +100,7 @@ static int replay_dir(popc_fuzz_fn fn, const char *dir)
 	qsort(names, n, sizeof *names, by_name);
 	int count = 0;
 	for (size_t i = 0; i < n; i++) {
-		char path[4096];
+		char path[8192]; /* dir (up to 4096) / name (up to 256) */
 		snprintf(path, sizeof path, "%s/%s", dir, names[i]);
 		if (count >= 0 && replay_file(fn, path) == 0)
 			count++;
@@ -130,6 +130,18 @@ int main(int argc, char **argv)
 		fprintf(stderr, "fuzz_replay: no harness '%s'\n", argv[1]);
 		return 2;
 	}
+	/* the file harnesses read memory files through /proc/self/fd: without
+	 * them every such input would pass unread */
+	char path[64];
+	int fd = popc_fuzz_file((const uint8_t *)"x", 1, path, sizeof path);
+	FILE *probe = fd >= 0 ? fopen(path, "r") : NULL;
+	if (!probe) {
+		printf("fuzz_replay: skipped: no memory file readable as /proc/self/fd/N here\n");
+		popc_fuzz_file_close(fd);
+		return 77;
+	}
+	fclose(probe);
+	popc_fuzz_file_close(fd);
 	int total = 0;
 	for (size_t h = 0; h < N_HARNESSES; h++) {
 		char dir[4096];
