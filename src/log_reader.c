@@ -193,13 +193,21 @@ static int split(char *line, char delim, const char **cs, const char **ce, int m
 			/* the closing quote: one not followed by another */
 			for (q = p + 1; (q = strchr(q, '"')) != NULL && q[1] == '"'; q += 2)
 				;
+			/* only blanks may follow it: "1e-5"9 is no quoted 1e-5 (the 9
+			 * was dropped), it is text as it is */
+			const char *a = q ? q + 1 : NULL;
+			while (a && (*a == ' ' || (*a == '\t' && delim != '\t')))
+				a++;
+			if (a && *a && *a != delim)
+				q = NULL;
 		}
 		char *d;
 		if (q) {
 			cs[n] = p + 1;
 			ce[n] = q;
 			d = strchr(q + 1, delim);
-		} else { /* unquoted, or a quote never closed: the text as it is */
+		} else { /* unquoted, or a quote never closed (or followed by text):
+			  * the text as it is */
 			cs[n] = p;
 			d = strchr(p, delim);
 			ce[n] = d ? d : p + strlen(p);
