@@ -19,6 +19,8 @@
 # to tests/fuzz/corpus/HARNESS/. To refresh the checked-in corpus with the
 # inputs that add coverage, keeping it small:
 #   $POPC_FUZZ_WORK/fuzz_HARNESS -merge=1 NEWDIR tests/fuzz/corpus/HARNESS $POPC_FUZZ_WORK/corpus/HARNESS
+# and copy NEWDIR's new files in. The corpus stays at a few hundred KB: for
+# log_reader only the merged inputs up to 1 KB were kept (coverage 499 of 500).
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
