@@ -135,7 +135,9 @@ static void header_comment(popc_log_reader *r, const char *text, char *section, 
 		snprintf(key, sizeof key, "%s.%.*s", section, (int)(ke - ks), ks);
 	else
 		snprintf(key, sizeof key, "%.*s", (int)(ke - ks), ks);
-	if (strcmp(key, "stop") == 0) {
+	/* "stop" is popc's end-of-log key wherever it stands (no scene section
+	 * has one) */
+	if (ke - ks == 4 && memcmp(ks, "stop", 4) == 0) {
 		snprintf(r->stop_reason, sizeof r->stop_reason, "%.*s", (int)(ve - vs), vs);
 		return;
 	}
@@ -251,7 +253,6 @@ int popc_log_reader_open(popc_log_reader *r, const char *path, const popc_log_re
 		popc_log_reader_close(r);
 		return popc_error_set(err, POPC_ERR_NOMEM, "%s: out of memory", path);
 	}
-	char section[64] = "";
 	char *line;
 	size_t len;
 	int complete;
@@ -280,11 +281,14 @@ int popc_log_reader_open(popc_log_reader *r, const char *path, const popc_log_re
 		if (!*s)
 			continue;
 		if (*s == r->comment) {
-			header_comment(r, s + 1, section, sizeof section);
+			header_comment(r, s + 1, r->section, sizeof r->section);
 			continue;
 		}
 		break;
 	}
+	/* the header's sections end with it: "# stop = ..." after the rows is
+	 * no key of the scene's last section */
+	r->section[0] = '\0';
 	const int decimal_comma = r->opt.decimal == ',';
 	if ((r->opt.decimal && r->opt.decimal != '.' && !decimal_comma) ||
 	    (decimal_comma && r->opt.delimiter == ',')) {
@@ -370,8 +374,7 @@ int popc_log_reader_next(popc_log_reader *r, double *values, popc_error *err)
 		if (!*s)
 			continue;
 		if (*s == r->comment) {
-			char section[4] = "";
-			header_comment(r, s + 1, section, sizeof section);
+			header_comment(r, s + 1, r->section, sizeof r->section);
 			continue;
 		}
 		break;

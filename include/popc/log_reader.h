@@ -54,6 +54,7 @@ typedef struct popc_log_reader {
 	/* header "key = value" comments (keys qualified "section.key" below a [section]) */
 	int n_keys;
 	char *key[POPC_LOG_MAX_HEADER_KEYS], *value[POPC_LOG_MAX_HEADER_KEYS];
+	char section[64];               /* the last [section] comment, for keys after it */
 	char stop_reason[512];
 	/* buffer */
 	char *buf;

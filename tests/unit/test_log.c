@@ -220,6 +220,27 @@ static void test_reader_bom(void **state)
 	}
 }
 
+/* Comments after the rows: a [section] there qualifies the keys after it
+ * (it was kept in a 4-byte buffer: "[controller]" made "con.key"), and the
+ * header's last section does not swallow the trailing "# stop". */
+static void test_reader_trailing_sections(void **state)
+{
+	(void)state;
+	const char *path = write_file("trail.csv", "# [integrator]\n# method = exact\nt,x\n0,1e-5\n"
+						  "# [controller]\n# note = kept\n# stop = completed\n");
+	popc_log_reader r;
+	popc_error err;
+	assert_int_equal(popc_log_reader_open(&r, path, NULL, &err), 0);
+	assert_string_equal(popc_log_reader_header(&r, "integrator.method"), "exact");
+	double v[POPC_LOG_MAX_COLUMNS];
+	assert_int_equal(popc_log_reader_next(&r, v, &err), 1);
+	assert_int_equal(popc_log_reader_next(&r, v, &err), 0);
+	assert_non_null(popc_log_reader_header(&r, "controller.note"));
+	assert_string_equal(popc_log_reader_header(&r, "controller.note"), "kept");
+	assert_string_equal(r.stop_reason, "completed");
+	popc_log_reader_close(&r);
+}
+
 /* A foreign log: other names, another order, ';' and CRLF, a header comment. */
 static void test_foreign_log_mapping(void **state)
 {
@@ -265,6 +286,7 @@ int main(void)
 		cmocka_unit_test(test_round_trip_bitwise),
 		cmocka_unit_test(test_reader_errors),
 		cmocka_unit_test(test_reader_bom),
+		cmocka_unit_test(test_reader_trailing_sections),
 		cmocka_unit_test(test_foreign_log_mapping),
 	};
 	return cmocka_run_group_tests(tests, setup, teardown);
