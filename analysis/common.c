@@ -364,12 +364,21 @@ int ana_no_pc_force(popc_error *err, const char *path)
 
 /* --scale: to SI units (no multiplication without one, so that a popc log
  * still reads back bit for bit) */
-static void apply_scale(const ana_log *l, double *row)
+static int apply_scale(const ana_log *l, double *row, long long line, popc_error *err)
 {
 	if (!l->scaled)
-		return;
-	for (int i = 0; i < l->r.n_cols; i++)
-		row[i] *= l->scale[i];
+		return 0;
+	for (int i = 0; i < l->r.n_cols; i++) {
+		double v = row[i] * l->scale[i];
+		/* a finite value the factor overflows would reach the energies as
+		 * inf and come out as NaN (columns nobody reads are NaN already) */
+		if (isfinite(row[i]) && !isfinite(v))
+			return popc_error_set(err, POPC_ERR_INVALID,
+					      "%s:%lld: column %d (%s): %g x --scale %g overflows a double",
+					      l->r.path, line, i + 1, l->r.col_name[i], row[i], l->scale[i]);
+		row[i] = v;
+	}
+	return 0;
 }
 
 int ana_log_open(ana_log *l, const char *path, const ana_input_options *o, popc_error *err)
@@ -459,7 +468,8 @@ int ana_log_open(ana_log *l, const char *path, const ana_input_options *o, popc_
 		if (got == 0)
 			break;
 		l->ahead_line[l->n_ahead] = r->lineno;
-		apply_scale(l, l->ahead[l->n_ahead]);
+		if ((st = apply_scale(l, l->ahead[l->n_ahead], r->lineno, err)) != 0)
+			goto fail;
 		l->n_ahead++;
 	}
 	if (l->n_ahead == 0) {
@@ -505,7 +515,9 @@ int ana_log_next(ana_log *l, ana_row *out, popc_error *err)
 		if (got <= 0)
 			return got;
 		line = l->r.lineno;
-		apply_scale(l, l->row);
+		int st = apply_scale(l, l->row, line, err);
+		if (st)
+			return st;
 		row = l->row;
 	}
 	const double delta = l->scene.enc_resolution_m;

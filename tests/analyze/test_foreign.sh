@@ -81,6 +81,14 @@ for bad in "x=abc" "y=2" "t=-1" "x=0" "flags=2" "x"; do
 		grep -q -- "--scale $bad: expected NAME=FACTOR" "$W/err" || fail "--scale $bad: $(cat "$W/err")"
 done
 ok "--scale with a bad name or factor refused"
+# a factor that overflows a value is refused naming line and column (the
+# energies came out NaN with exit 0)
+awk -F, 'NR == 5 { print $1 "," $2 ",1e300"; next } { print }' "$W/plain.csv" >"$W/huge.csv"
+for verb in energy compare; do
+	expect_rc 2 "$A" $verb --scale f_c=1e10 "$W/huge.csv" &&
+		grep -q "huge.csv:5: column 3 (f_c): 1e+300 x --scale 1e+10 overflows a double" "$W/err" &&
+		ok "$verb: --scale overflowing a value refused, named" || fail "$verb overflow: $(cat "$W/err")"
+done
 expect_rc 2 "$A" compare --scale count=2 "$W/plain.csv" &&
 	grep -q "plain.csv: --scale count=2: the log has no column 'count'" "$W/err" &&
 	ok "--scale of a column the log lacks refused" || fail "--scale missing column: $(cat "$W/err")"
