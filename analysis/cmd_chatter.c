@@ -29,7 +29,7 @@ static void usage(FILE *f)
 	      "                           vsign_rate=100 /s, contact=0.5 (share of window),\n"
 	      "                           lc_window=2 s, lc_amplitude=50 counts,\n"
 	      "                           lc_hysteresis=5 counts, lc_freq_min=1 Hz,\n"
-	      "                           lc_freq_max=50 Hz, lc_contact=0.1, lc_sustain=0.5\n"
+	      "                           lc_freq_max=50 Hz, lc_contact=0.1, lc_sustain=0.8\n"
 	      "  -q, --quiet              print nothing; the exit status tells\n" ANA_INPUT_HELP
 	      "  -h, --help               this help\n"
 	      "\n"

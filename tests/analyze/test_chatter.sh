@@ -32,6 +32,16 @@ expect_rc 0 "$A" chatter --format csv "$W/improved.csv" &&
 	[ "$(wc -l <"$W/out")" -eq 1 ] && ok "improved: nothing flagged" ||
 	{ fail "improved: flagged"; cat "$W/out" >&2; }
 
+# po-pc's contact oscillation decays slowly (time constant 2.2 s early, 3.2 s
+# late; sustain 0.48-0.62 over 3.4-5 s logs): not a limit cycle at any length.
+# With lc_sustain = 0.5 logs of 3.5-4.25 s were flagged (amplitude still above
+# 50 counts there); none's sustained swing measures 0.97.
+run_scene paper.ini "$W/po-pc.csv" --variant po-pc --set run.duration=3.8
+expect_rc 0 "$A" chatter "$W/po-pc.csv" &&
+	grep -q "^po-pc: no chatter; no limit cycle" "$W/out" &&
+	ok "po-pc, 3.8 s: its decaying oscillation is no limit cycle" ||
+	fail "po-pc 3.8 s: $(cat "$W/out")"
+
 # Text form, several logs: exit 1 when any is flagged; names the interval.
 expect_rc 1 "$A" chatter "$W/improved.csv" "$W/ref-energy.csv" &&
 	grep -q "^ref-energy: chatter" "$W/out" && grep -q "^improved: no chatter; no limit cycle" "$W/out" &&
