@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "ini_lines.h"
+#include "popc/numfmt.h"
 
 #define TWO_PI 6.283185307179586476925286766559
 
@@ -312,10 +313,12 @@ static int get_num(load_ctx *c, int k, double lo, double hi, int open_lo, double
 		*out = def;
 		return 0;
 	}
-	char *end;
-	errno = 0;
-	double v = strtod(c->value[k], &end);
-	if (end == c->value[k] || *end || errno || !isfinite(v) || v > hi || v < lo ||
+	/* a decimal in the C locale, the whole text, as scene values
+	 * (popc_parse_double: no hex floats, no "inf"/"nan", exact rounding) */
+	const char *text = c->value[k], *text_end = text + strlen(text);
+	double v;
+	size_t used = popc_parse_double(text, text_end, &v);
+	if (used == 0 || text + used != text_end || !isfinite(v) || v > hi || v < lo ||
 	    (open_lo && v == lo)) {
 		char what[96];
 		snprintf(what, sizeof what, "expected a number in %c%g, %g]", open_lo ? '(' : '[', lo, hi);

@@ -169,6 +169,10 @@ static const bad_case bad_cases[] = {
 	{"fault_mask = 0x08", "fault_mask = 0x21", ":27: status.fault_mask = 0x21: shares bits with ready_mask"},
 	{"[status]", "[statuss]", "unknown section [statuss]"},
 	{"gear = 2", "gearing = 2", ":10: unknown key position.gearing"},
+	/* numbers are decimal, as in scenes: strtod took a hex float and "inf" */
+	{"gear = 2", "gear = 0x1p1", ":10: position.gear = 0x1p1: expected a number in (0, 1e+06]"},
+	{"gear = 2", "gear = infinity", ":10: position.gear = infinity: expected a number in (0, 1e+06]"},
+	{"gear = 2", "gear = 2 N", ":10: position.gear = 2 N: expected a number in (0, 1e+06]"},
 	/* soft limits are required, and min < max */
 	{"soft_min_m = -0.05\n", "", "missing position.soft_min_m: the position soft limits"},
 	{"soft_max_m = 0.05\n", "", "missing position.soft_max_m: the position soft limits"},
