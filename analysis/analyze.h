@@ -80,6 +80,14 @@ enum {
 	ANA_OPT_SCALE,
 	ANA_OPT_DECIMAL,
 };
+/* Their case labels, for a verb's getopt switch (one list to extend). */
+#define ANA_INPUT_OPTION_CASES                                               \
+	case ANA_OPT_COLUMN:                                                 \
+	case ANA_OPT_DELIMITER:                                              \
+	case ANA_OPT_COMMENT:                                                \
+	case ANA_OPT_SET:                                                    \
+	case ANA_OPT_SCALE:                                                  \
+	case ANA_OPT_DECIMAL
 #define ANA_INPUT_LONG_OPTIONS                                               \
 	{"column", required_argument, NULL, ANA_OPT_COLUMN},                 \
 	{"delimiter", required_argument, NULL, ANA_OPT_DELIMITER},           \

@@ -386,12 +386,7 @@ int ana_cmd_energy(int argc, char **argv)
 		case OPT_CHECK: check = 1; break;
 		case OPT_ALLOW_UNEVEN: in.allow_uneven = 1; break;
 		case 'h': usage(stdout); goto out;
-		case ANA_OPT_COLUMN:
-		case ANA_OPT_DELIMITER:
-		case ANA_OPT_COMMENT:
-		case ANA_OPT_SET:
-		case ANA_OPT_SCALE:
-		case ANA_OPT_DECIMAL:
+		ANA_INPUT_OPTION_CASES:
 			if ((rc = ana_input_option(&in, c, optarg, "energy")) != 0)
 				goto out;
 			break;
