@@ -322,22 +322,6 @@ static int partial_step_failed(const sim_axis *s, double h_s, popc_error *err)
 			      c->stiffness_Npm / c->mass_kg, c->damping_Nspm / c->mass_kg);
 }
 
-/* The operator input for the whole period [t, t_end) from the cached intent
- * segment, when no breakpoint needs a split: then advance() would make one
- * popc_intent_input call and one full-period step with exactly this input.
- * Returns 0 when the period needs the general path. */
-static int whole_period_input(sim_axis *s, double t, double t_end, popc_plant_input *u)
-{
-	popc_intent_segment *g = &s->seg;
-	if (!(t >= g->t_lo_s && t < g->t_next_s && g->t_next_s >= t_end - s->tol_s)) {
-		popc_intent_segment_at(&s->intent, t, g);
-		if (!g->affine || !(g->t_next_s >= t_end - s->tol_s))
-			return 0;
-	}
-	popc_intent_segment_input(g, t, u);
-	return 1;
-}
-
 /* The energy-growth guard (ENERGY_SURPLUS_MAX) after the step to tick j:
  * books the period's surplus and judges the current window. Returns 1 when
  * the window's made-up energy passes the bound (*made_J, *held_J: the two,
@@ -395,7 +379,7 @@ static int sim_exchange(popc_axis *a, double f_c_N, popc_axis_sample *next, popc
 		/* the hot path of a long exact run: no lookup, no call, no shadow */
 		double t = (double)s->k * s->period_s, t_end = (double)(s->k + 1) * s->period_s;
 		popc_plant_input u;
-		if (whole_period_input(s, t, t_end, &u)) {
+		if (popc_intent_period_input(&s->intent, &s->seg, t, t_end, s->tol_s, &u)) {
 			u.u0_N -= f_c_N;
 			popc_plant_step_exact(&s->plant.full, &s->st, &u);
 		} else if (advance(s, &s->plant, &s->st, f_c_N, &h_failed) != 0) {
@@ -545,8 +529,7 @@ int popc_sim_axis_create(popc_axis **out, const popc_scene *sc, popc_error *err)
 	s->scene = *sc;
 	s->period_s = popc_scene_period_s(sc);
 	s->delta_m = sc->enc_resolution_m;
-	/* breakpoints closer than this to a tick are taken as on the tick */
-	s->tol_s = 1e-9 * s->period_s;
+	s->tol_s = POPC_INTENT_TICK_TOL_PERIODS * s->period_s;
 	popc_plant_config cfg;
 	popc_plant_config_from_scene(&cfg, sc);
 	int st = popc_plant_init(&s->plant, &cfg, err);

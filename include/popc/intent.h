@@ -68,6 +68,28 @@ static inline void popc_intent_segment_input(const popc_intent_segment *g, doubl
 	u->us_N = u->uc_N = 0.0;
 }
 
+/* A profile breakpoint closer than this many control periods to a tick is
+ * taken as on the tick (the simulated axis' rule). */
+#define POPC_INTENT_TICK_TOL_PERIODS 1e-9
+
+/* u over the whole period [t, t_end) from the cached segment *g, looked up
+ * again when t has left it, when no breakpoint falls inside the period (one
+ * within tol_s of t_end counts as on the tick): then popc_intent_input would
+ * give exactly this input with no split. Returns 0 when the period needs
+ * popc_intent_input's split path (or the intent is a sine). Inline: the
+ * simulated axis calls it every tick. */
+static inline int popc_intent_period_input(popc_intent *in, popc_intent_segment *g, double t,
+					   double t_end, double tol_s, popc_plant_input *u)
+{
+	if (!(t >= g->t_lo_s && t < g->t_next_s && g->t_next_s >= t_end - tol_s)) {
+		popc_intent_segment_at(in, t, g);
+		if (!g->affine || !(g->t_next_s >= t_end - tol_s))
+			return 0;
+	}
+	popc_intent_segment_input(g, t, u);
+	return 1;
+}
+
 /* Desired position x_d(t) (m) and the exogenous force f_op(t) (N), for logs and tests. */
 double popc_intent_xd(popc_intent *in, double t);
 

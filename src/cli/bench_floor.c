@@ -22,8 +22,8 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
+#include "bench.h"
 #include "popc/axis.h"
 #include "popc/compensated.h"
 #include "popc/encoder.h"
@@ -39,13 +39,6 @@ typedef struct fused_scene {
 	double period_s, delta_m, pc_bound_N, tol_s, x0_m;
 	long long n_ticks;
 } fused_scene;
-
-static double now_s(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 /* Where the sim axis starts the plant: its first sample's true position. */
 static int initial_position(const popc_scene *s, double *x0_m, popc_error *err)
@@ -120,13 +113,9 @@ static long long run_chain(fused_scene *f, const double *ref, double *x_end)
 			break;
 		/* the plant over the period, f_c held, from the intent's segment */
 		double t = (double)k * T, t_end = (double)(k + 1) * T;
-		if (!(t >= g.t_lo_s && t < g.t_next_s && g.t_next_s >= t_end - f->tol_s)) {
-			popc_intent_segment_at(&f->intent, t, &g);
-			if (!g.affine || !(g.t_next_s >= t_end - f->tol_s))
-				return -1;
-		}
 		popc_plant_input u;
-		popc_intent_segment_input(&g, t, &u);
+		if (!popc_intent_period_input(&f->intent, &g, t, t_end, f->tol_s, &u))
+			return -1;
 		u.u0_N -= f_c;
 		popc_plant_step_exact(c, &st, &u);
 	}
@@ -155,41 +144,38 @@ int popc_bench_tick_floor(const popc_scene *s, const double *f_c_ref, long long 
 	f.period_s = popc_scene_period_s(s);
 	f.delta_m = s->enc_resolution_m;
 	f.pc_bound_N = s->pc_bound_N;
-	f.tol_s = 1e-9 * f.period_s; /* as the sim axis: a breakpoint this close is on the tick */
+	f.tol_s = POPC_INTENT_TICK_TOL_PERIODS * f.period_s;
 	f.n_ticks = popc_scene_ticks(s) + 1;
-	if ((st = initial_position(s, &f.x0_m, err)) != 0) {
-		popc_intent_free(&f.intent);
-		return st;
-	}
+	if ((st = initial_position(s, &f.x0_m, err)) != 0)
+		goto done;
 	double x_end;
 	/* same commands as the real loop, bit for bit, or no figure */
 	long long agree = run_chain(&f, f_c_ref, &x_end);
 	if (agree < 0) {
 		out->not_covered = "only intents whose breakpoints fall on ticks";
-		popc_intent_free(&f.intent);
-		return 0;
+		goto done;
 	}
 	out->ticks_checked = agree;
 	out->bitwise_equal = agree == n_ref && n_ref == f.n_ticks - 1;
 	if (!out->bitwise_equal) {
 		out->first_difference = agree;
-		popc_intent_free(&f.intent);
-		return 0;
+		goto done;
 	}
 	double best = INFINITY;
 	for (int r = 0; r < repeats; r++) {
 		double wall = 0.0, sink = 0.0;
 		long long ticks = 0;
 		do {
-			double t0 = now_s();
+			double t0 = bench_now_s();
 			ticks += run_chain(&f, NULL, &x_end) + 1;
-			wall += now_s() - t0;
+			wall += bench_now_s() - t0;
 			sink += x_end;
 		} while (wall < min_time_s);
 		if (isfinite(sink) && 1e9 * wall / (double)ticks < best)
 			best = 1e9 * wall / (double)ticks;
 	}
 	out->ns_per_tick = best;
+done:
 	popc_intent_free(&f.intent);
-	return 0;
+	return st;
 }
