@@ -147,6 +147,20 @@ static void header_comment(popc_log_reader *r, const char *text, char *section, 
 		r->n_keys++;
 }
 
+/* Whether line is blank or a comment; a comment's "key = value" is recorded
+ * (header_comment), before the rows and after them. */
+static int blank_or_comment(popc_log_reader *r, const char *line)
+{
+	const char *s = line;
+	while (*s == ' ' || *s == '\t')
+		s++;
+	if (*s && *s != r->comment)
+		return 0;
+	if (*s)
+		header_comment(r, s + 1, r->section, sizeof r->section);
+	return 1;
+}
+
 static char detect_delimiter(const char *line, int decimal_comma)
 {
 	const char cand[3] = {',', ';', '\t'};
@@ -275,15 +289,8 @@ int popc_log_reader_open(popc_log_reader *r, const char *path, const popc_log_re
 			line += 3;
 			len -= 3;
 		}
-		const char *s = line;
-		while (*s == ' ' || *s == '\t')
-			s++;
-		if (!*s)
+		if (blank_or_comment(r, line))
 			continue;
-		if (*s == r->comment) {
-			header_comment(r, s + 1, r->section, sizeof r->section);
-			continue;
-		}
 		break;
 	}
 	/* the header's sections end with it: "# stop = ..." after the rows is
@@ -368,15 +375,8 @@ int popc_log_reader_next(popc_log_reader *r, double *values, popc_error *err)
 			return line_error(r, got, err);
 		if (got == 0)
 			return 0;
-		const char *s = line;
-		while (*s == ' ' || *s == '\t')
-			s++;
-		if (!*s)
+		if (blank_or_comment(r, line))
 			continue;
-		if (*s == r->comment) {
-			header_comment(r, s + 1, r->section, sizeof r->section);
-			continue;
-		}
 		break;
 	}
 	const char *cs[POPC_LOG_MAX_COLUMNS], *ce[POPC_LOG_MAX_COLUMNS];
