@@ -238,7 +238,11 @@ expect_exit 2 "Slurm array that is not regular" env SLURM_ARRAY_TASK_ID=7 SLURM_
 check "  says how to submit" err_has "--array=0-1"
 
 # ---- SIGINT: stops, keeps a whole summary, a second run completes the sweep
-BIG=(--vary operator.speed=0.01:0.1:4000 --vary controller.variant=ref-energy,improved --set run.duration=2)
+# 8000 runs of 5 s: about 1 s at -j 2 in the release build (5 s runs, not 2 s:
+# the first progress line comes at the first 250 ms look past 10 %, and with
+# 2 s runs the whole sweep took 0.4 s, so a loaded machine could finish it
+# before the signal landed; now 3/4 of it is still to run then)
+BIG=(--vary operator.speed=0.01:0.1:4000 --vary controller.variant=ref-energy,improved --set run.duration=5)
 mkfifo "$T/fifo"
 "$POPC" sweep "$SCENE" "${BIG[@]}" -o "$T/i" --no-log -j 2 2>"$T/fifo" &
 pid=$!
@@ -263,7 +267,7 @@ check "  no temporary files left" test -z "$(find "$T/i" -name '*.tmp.*')"
 expect_exit 0 "the same sweep again completes it" "$POPC" sweep "$SCENE" "${BIG[@]}" -o "$T/i" --no-log -j 2 -q
 check "  8000 rows" test "$(wc -l < "$T/i/summary.csv")" -eq 8001
 check "  each run once, in order" test "$(tail -n +2 "$T/i/summary.csv" | cut -d, -f1 | uniq | wc -l)" -eq 8000
-expect_exit 0 "the first 200 runs uninterrupted" "$POPC" sweep "$SCENE" --vary operator.speed=0.01:0.1:4000 --vary controller.variant=ref-energy,improved --set run.duration=2 --shard 0/40 -o "$T/ref" --no-log -q
+expect_exit 0 "the first 200 runs uninterrupted" "$POPC" sweep "$SCENE" "${BIG[@]}" --shard 0/40 -o "$T/ref" --no-log -q
 check "  equal rows in both" cmp -s <(nowall "$T/ref/summary-shard-0-of-40.csv" | tail -n +2) <(nowall "$T/i/summary.csv" | awk -F, 'NR > 1 && $1 % 40 == 0')
 
 # ---- a worker that dies: its run is recorded as failed, the sweep goes on
