@@ -10,12 +10,12 @@
 
 #include <stdio.h>
 
-#include "popc/chatter.h"
-#include "popc/controller.h"
-#include "popc/environment.h"
-#include "popc/error.h"
-#include "popc/log_reader.h"
-#include "popc/scene.h"
+#include "popc/core/chatter.h"
+#include "popc/core/controller.h"
+#include "popc/core/environment.h"
+#include "popc/util/error.h"
+#include "popc/log/log_reader.h"
+#include "popc/scene/scene.h"
 
 /* Options every verb that reads logs accepts (--column, --delimiter,
  * --decimal, --comment, --set, --scale). */

@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "analyze.h"
-#include "popc/metrics.h"
+#include "popc/core/metrics.h"
 
 int ana_summarize(const char *path, const ana_input_options *o, const popc_chatter_config *ccfg,
 		  double late_from_s, ana_summary *s, ana_row_fn on_row, void *ctx,

@@ -8,9 +8,10 @@
 #include <string.h>
 
 #include "analyze.h"
-#include "popc/encoder.h"
-#include "popc/log.h"
-#include "popc/numfmt.h"
+#include "popc/core/encoder.h"
+#include "popc/log/log.h"
+#include "popc/util/numfmt.h"
+#include "popc/scene/from_scene.h"
 
 #define MAX_VARIANTS POPC_VARIANT_COUNT
 

@@ -8,8 +8,9 @@
 #include <sys/stat.h>
 
 #include "analyze.h"
-#include "popc/encoder.h"
-#include "popc/numfmt.h"
+#include "popc/core/encoder.h"
+#include "popc/util/numfmt.h"
+#include "popc/scene/from_scene.h"
 
 int ana_fail(const char *verb, int status, const popc_error *err)
 {

@@ -6,11 +6,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "popc/axis.h"
-#include "popc/encoder.h"
-#include "popc/intent.h"
-#include "popc/log.h"
-#include "popc/plant.h"
+#include "popc/axes/axis.h"
+#include "popc/core/encoder.h"
+#include "popc/core/intent.h"
+#include "popc/log/log.h"
+#include "popc/core/plant.h"
+#include "popc/scene/from_scene.h"
 
 /* Divergence bound: a position beyond 10 x the largest position the scene
  * names (operator.x0, operator.x_end, x0 + amplitude, environment.position,
@@ -556,7 +557,7 @@ int popc_sim_axis_create(popc_axis **out, const popc_scene *sc, popc_error *err)
 		}
 	}
 	if (!st)
-		st = popc_intent_init(&s->intent, sc, err);
+		st = popc_intent_from_scene(&s->intent, sc, err);
 	if (st) {
 		popc_intent_free(&s->intent);
 		free(s);

@@ -2,9 +2,9 @@
 #ifndef POPC_CLI_BENCH_H
 #define POPC_CLI_BENCH_H
 
-#include "popc/axis.h"
-#include "popc/error.h"
-#include "popc/scene.h"
+#include "popc/axes/axis.h"
+#include "popc/util/error.h"
+#include "popc/scene/scene.h"
 
 typedef struct bench_opts {
 	const char *scene_path;   /* NULL: the built-in defaults (the paper's scene) */

@@ -7,7 +7,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "popc/run.h"
+#include "popc/run/run.h"
 
 double bench_now_s(void)
 {

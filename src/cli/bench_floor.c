@@ -24,12 +24,13 @@
 #include <string.h>
 
 #include "bench.h"
-#include "popc/axis.h"
-#include "popc/compensated.h"
-#include "popc/encoder.h"
-#include "popc/environment.h"
-#include "popc/intent.h"
-#include "popc/plant.h"
+#include "popc/axes/axis.h"
+#include "popc/core/compensated.h"
+#include "popc/core/encoder.h"
+#include "popc/core/environment.h"
+#include "popc/core/intent.h"
+#include "popc/core/plant.h"
+#include "popc/scene/from_scene.h"
 
 typedef struct fused_scene {
 	popc_plant plant;
@@ -137,7 +138,7 @@ int popc_bench_tick_floor(const popc_scene *s, const double *f_c_ref, long long 
 	int st = popc_plant_init(&f.plant, &cfg, err);
 	if (st)
 		return st;
-	if ((st = popc_intent_init(&f.intent, s, err)) != 0)
+	if ((st = popc_intent_from_scene(&f.intent, s, err)) != 0)
 		return st;
 	popc_environment_from_scene(&f.env, s);
 	f.variant = s->variant;

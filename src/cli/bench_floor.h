@@ -2,8 +2,8 @@
 #ifndef POPC_BENCH_FLOOR_H
 #define POPC_BENCH_FLOOR_H
 
-#include "popc/error.h"
-#include "popc/scene.h"
+#include "popc/util/error.h"
+#include "popc/scene/scene.h"
 
 typedef struct popc_tick_floor {
 	const char *not_covered;    /* non-NULL: the scene is outside the chain's reach */

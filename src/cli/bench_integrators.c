@@ -20,7 +20,7 @@
 #include <unistd.h>
 
 #include "cli.h"
-#include "popc/plant.h"
+#include "popc/core/plant.h"
 
 #define N_METHODS 5
 static const popc_integrator methods[N_METHODS] = {

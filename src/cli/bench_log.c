@@ -12,12 +12,13 @@
 #include <unistd.h>
 
 #include "cli.h"
-#include "popc/controller.h"
-#include "popc/encoder.h"
-#include "popc/log.h"
-#include "popc/log_reader.h"
-#include "popc/numfmt.h"
-#include "popc/run.h"
+#include "popc/core/controller.h"
+#include "popc/core/encoder.h"
+#include "popc/log/log.h"
+#include "popc/log/log_reader.h"
+#include "popc/util/numfmt.h"
+#include "popc/run/run.h"
+#include "popc/scene/from_scene.h"
 
 /* The rows of one run of the scene (its integrator, closed loop) lasting
  * n ticks. */

@@ -9,7 +9,8 @@
 
 #include "bench_floor.h"
 #include "cli.h"
-#include "popc/plant.h"
+#include "popc/core/plant.h"
+#include "popc/scene/from_scene.h"
 
 /* Plant step alone, ns per control period (constant input). */
 static double plant_ns(const popc_scene *s0, popc_integrator m, int substeps, const bench_opts *o)

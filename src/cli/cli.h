@@ -4,8 +4,8 @@
 
 #include <signal.h>
 
-#include "popc/error.h"
-#include "popc/scene.h"
+#include "popc/util/error.h"
+#include "popc/scene/scene.h"
 
 /* Set by SIGINT, SIGTERM, SIGHUP and SIGQUIT; the run loop polls it every
  * tick (SIGPIPE is ignored). */

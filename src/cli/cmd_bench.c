@@ -19,7 +19,7 @@
 
 #include "bench.h"
 #include "cli.h"
-#include "popc/sweep.h"
+#include "popc/sweep/sweep.h"
 
 static void usage(FILE *f)
 {

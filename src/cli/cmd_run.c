@@ -6,10 +6,10 @@
 #include <string.h>
 
 #include "cli.h"
-#include "popc/axis.h"
-#include "popc/log.h"
-#include "popc/modbus_axis.h"
-#include "popc/run.h"
+#include "popc/axes/axis.h"
+#include "popc/log/log.h"
+#include "popc/axes/modbus_axis.h"
+#include "popc/run/run.h"
 
 static void usage(FILE *f)
 {

@@ -5,7 +5,8 @@
 #include <string.h>
 
 #include "cli.h"
-#include "popc/intent.h"
+#include "popc/core/intent.h"
+#include "popc/scene/from_scene.h"
 
 static void usage(FILE *f)
 {
@@ -84,7 +85,7 @@ int popc_cmd_scene(int argc, char **argv)
 	if (!st && s.intent == POPC_INTENT_TABLE) {
 		/* the table is part of the scene: check it as popc run reads it */
 		popc_intent in;
-		st = popc_intent_init(&in, &s, &err);
+		st = popc_intent_from_scene(&in, &s, &err);
 		popc_intent_free(&in);
 	}
 	if (st)

@@ -31,7 +31,7 @@
 #include <unistd.h>
 
 #include "cli.h"
-#include "popc/sweep.h"
+#include "popc/sweep/sweep.h"
 
 static void usage(FILE *f)
 {

@@ -1,5 +1,5 @@
 /* Streaming chatter and limit-cycle detector (chatter.h; docs/ANALYSIS.md). */
-#include "popc/chatter.h"
+#include "popc/core/chatter.h"
 
 #include <errno.h>
 #include <math.h>

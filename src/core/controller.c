@@ -1,9 +1,28 @@
 /* PO/PC variants (controller.h; DESIGN section 4; seed eq. 3 and Table I). */
-#include "popc/controller.h"
-#include "popc/compensated.h"
+#include "popc/core/controller.h"
+#include "popc/core/compensated.h"
 
 #include <math.h>
 #include <string.h>
+
+const char *const popc_variant_names[] = {"none",   "po-pc", "ref-energy", "filtered-velocity",
+					  "ignore", "hold",  "improved",   NULL};
+const char *const popc_ignore_mode_names[] = {"literal", "undo", NULL};
+
+const char *popc_variant_name(popc_variant v)
+{
+	return (unsigned)v < POPC_VARIANT_COUNT ? popc_variant_names[v] : "?";
+}
+
+int popc_variant_from_name(const char *name, popc_variant *out)
+{
+	for (int i = 0; popc_variant_names[i]; i++)
+		if (strcmp(popc_variant_names[i], name) == 0) {
+			*out = (popc_variant)i;
+			return 0;
+		}
+	return POPC_ERR_INVALID;
+}
 
 void popc_observer_init(popc_observer *o, popc_variant variant, popc_ignore_mode mode)
 {
@@ -85,19 +104,6 @@ void popc_observer_commit(popc_observer *o, const popc_observation *obs, double 
 			  double f_c_N)
 {
 	observer_commit(o, obs, f_e_N, f_c_N);
-}
-
-void popc_controller_config_from_scene(popc_controller_config *c, const popc_scene *s)
-{
-	memset(c, 0, sizeof *c);
-	c->variant = s->variant;
-	c->pc_bound_N = s->pc_bound_N;
-	c->ignore_mode = s->ignore_mode;
-	c->resolution_m = s->enc_resolution_m;
-	c->period_s = popc_scene_period_s(s);
-	c->foaw_window = s->foaw_window;
-	c->foaw_noise_m = s->foaw_noise_m > 0 ? s->foaw_noise_m : s->enc_resolution_m;
-	popc_environment_from_scene(&c->env, s);
 }
 
 void popc_controller_init(popc_controller *c, const popc_controller_config *cfg)

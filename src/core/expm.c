@@ -2,7 +2,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "popc/plant.h"
+#include "popc/core/plant.h"
 
 #define NMAX 8
 

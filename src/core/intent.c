@@ -1,5 +1,5 @@
 /* The operator's intent (intent.h). */
-#include "popc/intent.h"
+#include "popc/core/intent.h"
 
 #include <errno.h>
 #include <math.h>
@@ -7,7 +7,6 @@
 #include <string.h>
 #include <sys/types.h>
 
-#include "popc/numfmt.h"
 
 #define POPC_TWO_PI 6.283185307179586476925286766559
 
@@ -23,183 +22,51 @@ static int set_points(popc_intent *in, size_t n, const double *t, const double *
 	return 0;
 }
 
-static const char *skip_blanks(const char *p)
-{
-	while (*p == ' ' || *p == '\t')
-		p++;
-	return p;
-}
+const char *const popc_intent_kind_names[] = {"ramp", "force", "table", "sine", NULL};
+const char *const popc_table_quantity_names[] = {"position", "force", NULL};
 
-/* Reads "t,value" rows: columns separated by ',', ';' or a tab (blanks around
- * them allowed), '#' comments and blank lines skipped, one header line allowed
- * before the first row, CRLF or LF. Numbers are decimal, C locale
- * (popc_parse_double), finite; times increase strictly; values within the
- * range of the scene key they stand for. Call with in->q_is_force set. Lines have any length
- * (getline), so every message names the real line. */
-static int load_table(popc_intent *in, const char *path, popc_error *err)
-{
-	/* the value column has the range of the scene key it stands for
-	 * (src/scene.c): a position as operator.x0, a force as operator.force */
-	const double q_max = in->q_is_force ? 1e6 : 1e3;
-	const char *q_unit = in->q_is_force ? "N" : "m";
-	const char *q_key = in->q_is_force ? "operator.force" : "operator.x0";
-	FILE *f = fopen(path, "r");
-	if (!f) /* a missing table is bad input, as a missing scene is (exit 2) */
-		return popc_error_set(err, POPC_ERR_INVALID, "%s: cannot open table: %s", path,
-				      strerror(errno));
-	size_t cap = 64, n = 0;
-	double *t = malloc(cap * sizeof *t), *q = malloc(cap * sizeof *q);
-	char *line = NULL;
-	size_t line_cap = 0;
-	ssize_t len;
-	int lineno = 0, status = 0, header_seen = 0, oom = 0;
-	while (t && q && (len = getline(&line, &line_cap, f)) >= 0) {
-		lineno++;
-		while (len > 0 && (line[len - 1] == '\n' || line[len - 1] == '\r'))
-			line[--len] = '\0';
-		if (memchr(line, '\0', (size_t)len)) { /* the text after it would be dropped */
-			status = popc_error_set(err, POPC_ERR_INVALID,
-						"%s:%d: a NUL byte in the line (a table is a text file)",
-						path, lineno);
-			break;
-		}
-		const char *p = line, *end = line + len;
-		if (lineno == 1 && strncmp(p, "\xEF\xBB\xBF", 3) == 0)
-			p += 3; /* a UTF-8 byte order mark */
-		p = skip_blanks(p);
-		if (*p == '#' || *p == '\0')
-			continue;
-		double tv, qv;
-		size_t used = popc_parse_double(p, end, &tv);
-		if (used == 0) {
-			if (n == 0 && !header_seen) {
-				header_seen = 1; /* the header: the first line that is not a row */
-				continue;
-			}
-			status = popc_error_set(err, POPC_ERR_INVALID,
-						"%s:%d: column 1: expected a time in seconds", path, lineno);
-			break;
-		}
-		/* the delimiter: ',' or ';' (blanks around it), or blanks holding a tab */
-		const char *d = p + used;
-		int tab = 0;
-		while (*d == ' ' || *d == '\t')
-			tab |= *d++ == '\t';
-		if (*d == ',' || *d == ';')
-			d++;
-		else if (!tab || *d == '\0') {
-			status = popc_error_set(err, POPC_ERR_INVALID,
-						"%s:%d: expected two columns t,value (separated by ',', ';' "
-						"or a tab)", path, lineno);
-			break;
-		}
-		p = skip_blanks(d);
-		used = popc_parse_double(p, end, &qv);
-		if (used == 0 || *skip_blanks(p + used) != '\0' || !isfinite(tv) || !isfinite(qv)) {
-			status = popc_error_set(err, POPC_ERR_INVALID,
-						"%s:%d: %s: expected a finite number", path, lineno,
-						isfinite(tv) ? "column 2" : "column 1");
-			break;
-		}
-		if (!(fabs(qv) <= q_max)) {
-			status = popc_error_set(err, POPC_ERR_INVALID,
-						"%s:%d: column 2: %g %s is out of range; allowed [%g, %g] "
-						"%s (as %s; operator.table_quantity = %s)",
-						path, lineno, qv, q_unit, -q_max, q_max, q_unit, q_key,
-						in->q_is_force ? "force" : "position");
-			break;
-		}
-		if (n > 0 && !(tv > t[n - 1])) {
-			status = popc_error_set(err, POPC_ERR_INVALID,
-						"%s:%d: time %g does not increase (previous %g)", path,
-						lineno, tv, t[n - 1]);
-			break;
-		}
-		if (n > 0) {
-			/* the operator's input between rows uses the slope (pl_value):
-			 * rows too close in time for their change in value (1 m in
-			 * 1e-310 s) make it infinite, and u = K_HO x_d + B_HO x_d' NaN */
-			double slope = (qv - q[n - 1]) / (tv - t[n - 1]);
-			double u1 = in->q_is_force ? slope : in->k_op * slope;
-			double u0 = in->q_is_force ? qv : in->k_op * qv + in->b_op * slope;
-			double u0_prev = in->q_is_force ? q[n - 1] : in->k_op * q[n - 1] + in->b_op * slope;
-			if (!isfinite(slope) || !isfinite(u1) || !isfinite(u0) || !isfinite(u0_prev)) {
-				status = popc_error_set(
-					err, POPC_ERR_INVALID,
-					"%s:%d: %g %s at time %g s after %g %s at %g s: the rows are too "
-					"close in time for the change (the operator's input would not be a "
-					"finite number)",
-					path, lineno, qv, q_unit, tv, q[n - 1], q_unit, t[n - 1]);
-				break;
-			}
-		}
-		if (n == cap) {
-			cap *= 2;
-			double *nt = realloc(t, cap * sizeof *t), *nq = realloc(q, cap * sizeof *q);
-			if (nt)
-				t = nt;
-			if (nq)
-				q = nq;
-			if (!nt || !nq) {
-				oom = 1;
-				break;
-			}
-		}
-		t[n] = tv;
-		q[n] = qv;
-		n++;
-	}
-	/* getline ends at the end of the file and on a read error (a directory:
-	 * EISDIR), which must not read as an empty table; a table that cannot
-	 * be read is bad input (exit 2), like one that cannot be opened */
-	int read_failed = ferror(f), read_errno = errno;
-	free(line);
-	fclose(f);
-	if (!status && read_failed)
-		status = popc_error_set(err, POPC_ERR_INVALID, "%s: cannot read table: %s", path,
-					strerror(read_errno));
-	if (!status && (!t || !q || oom))
-		status = popc_error_set(err, POPC_ERR_NOMEM, "%s: out of memory", path);
-	if (!status && n == 0)
-		status = popc_error_set(err, POPC_ERR_INVALID, "%s: the table has no rows", path);
-	if (!status)
-		status = set_points(in, n, t, q);
-	free(t);
-	free(q);
-	return status;
-}
-
-int popc_intent_init(popc_intent *in, const popc_scene *s, popc_error *err)
+int popc_intent_init(popc_intent *in, const popc_intent_config *cfg, popc_error *err)
 {
 	memset(in, 0, sizeof *in);
-	in->kind = s->intent;
-	in->k_op = s->op_stiffness_Npm;
-	in->b_op = s->op_damping_Nspm;
-	in->x0 = s->op_x0_m;
-	in->t0 = s->op_t0_s;
-	switch (s->intent) {
+	in->kind = cfg->kind;
+	in->k_op = cfg->k_op_Npm;
+	in->b_op = cfg->b_op_Nspm;
+	in->x0 = cfg->x0_m;
+	in->t0 = cfg->t0_s;
+	int status = POPC_ERR_INVALID;
+	switch (cfg->kind) {
 	case POPC_INTENT_RAMP: {
-		double t_end = s->op_t0_s + fabs(s->op_x_end_m - s->op_x0_m) / s->op_speed_mps;
-		double t[3] = {0.0, s->op_t0_s, t_end}, q[3] = {s->op_x0_m, s->op_x0_m, s->op_x_end_m};
-		return set_points(in, 3, t, q);
+		double t_end = cfg->t0_s + fabs(cfg->x_end_m - cfg->x0_m) / cfg->speed_mps;
+		double t[3] = {0.0, cfg->t0_s, t_end}, q[3] = {cfg->x0_m, cfg->x0_m, cfg->x_end_m};
+		status = set_points(in, 3, t, q);
+		break;
 	}
 	case POPC_INTENT_FORCE: {
 		in->q_is_force = 1;
-		double t_end = s->op_t0_s + fabs(s->op_force_N) / s->op_force_rate_Nps;
-		double t[3] = {0.0, s->op_t0_s, t_end}, q[3] = {0.0, 0.0, s->op_force_N};
-		return set_points(in, 3, t, q);
+		double t_end = cfg->t0_s + fabs(cfg->force_N) / cfg->force_rate_Nps;
+		double t[3] = {0.0, cfg->t0_s, t_end}, q[3] = {0.0, 0.0, cfg->force_N};
+		status = set_points(in, 3, t, q);
+		break;
 	}
 	case POPC_INTENT_TABLE:
-		in->q_is_force = s->op_table_quantity == POPC_TABLE_FORCE;
-		return load_table(in, s->op_table, err);
+		in->q_is_force = cfg->table_quantity == POPC_TABLE_FORCE;
+		if (cfg->table_n == 0)
+			return popc_error_set(err, POPC_ERR_INVALID, "the table has no rows");
+		status = set_points(in, cfg->table_n, cfg->table_t_s, cfg->table_q);
+		break;
 	case POPC_INTENT_SINE: {
-		in->amplitude = s->op_amplitude_m;
-		in->omega = POPC_TWO_PI * s->op_frequency_Hz;
-		double t[2] = {0.0, s->op_t0_s}, q[2] = {s->op_x0_m, s->op_x0_m};
-		return set_points(in, 2, t, q);
+		in->amplitude = cfg->amplitude_m;
+		in->omega = POPC_TWO_PI * cfg->frequency_Hz;
+		double t[2] = {0.0, cfg->t0_s}, q[2] = {cfg->x0_m, cfg->x0_m};
+		status = set_points(in, 2, t, q);
+		break;
 	}
+	default:
+		return popc_error_set(err, POPC_ERR_INVALID, "unknown operator intent");
 	}
-	return popc_error_set(err, POPC_ERR_INVALID, "unknown operator intent");
+	if (status == POPC_ERR_NOMEM)
+		return popc_error_set(err, POPC_ERR_NOMEM, "operator intent: out of memory");
+	return status;
 }
 
 void popc_intent_free(popc_intent *in)

@@ -1,5 +1,5 @@
 /* Streaming run metrics (metrics.h). */
-#include "popc/metrics.h"
+#include "popc/core/metrics.h"
 
 #include <math.h>
 #include <string.h>

@@ -1,22 +1,27 @@
 /* The lumped plant M x'' = u(t) - B x' - K x and its integrators (plant.h). */
-#include "popc/plant.h"
+#include "popc/core/plant.h"
 
 #include <math.h>
 #include <string.h>
 
 #define POPC_TWO_PI 6.283185307179586476925286766559
 
-void popc_plant_config_from_scene(popc_plant_config *cfg, const popc_scene *s)
+const char *const popc_integrator_names[] = {"exact", "trapezoid", "rk4", "semi-implicit-euler",
+					     "euler", NULL};
+
+const char *popc_integrator_name(popc_integrator m)
 {
-	memset(cfg, 0, sizeof *cfg);
-	/* One rigid body (DESIGN section 3): the hand holds the device. */
-	cfg->mass_kg = s->op_mass_kg + s->dev_mass_kg;
-	cfg->damping_Nspm = s->op_damping_Nspm + s->dev_damping_Nspm;
-	cfg->stiffness_Npm = s->op_stiffness_Npm + s->dev_stiffness_Npm;
-	cfg->omega_radps = s->intent == POPC_INTENT_SINE ? POPC_TWO_PI * s->op_frequency_Hz : 0.0;
-	cfg->method = s->integrator;
-	cfg->substeps = s->substeps;
-	cfg->period_s = popc_scene_period_s(s);
+	return (unsigned)m < POPC_INTEGRATOR_COUNT ? popc_integrator_names[m] : "?";
+}
+
+int popc_integrator_from_name(const char *name, popc_integrator *out)
+{
+	for (int i = 0; popc_integrator_names[i]; i++)
+		if (strcmp(popc_integrator_names[i], name) == 0) {
+			*out = (popc_integrator)i;
+			return 0;
+		}
+	return POPC_ERR_INVALID;
 }
 
 /* Exact step: the augmented system [x v y1 y2 p q] with y1' = y2 (affine input

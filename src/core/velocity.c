@@ -1,5 +1,5 @@
 /* End-fit FOAW velocity estimator (velocity.h). */
-#include "popc/velocity.h"
+#include "popc/core/velocity.h"
 
 #include <math.h>
 #include <string.h>

@@ -1,5 +1,5 @@
 /* Streaming CSV log reader (log_reader.h). */
-#include "popc/log_reader.h"
+#include "popc/log/log_reader.h"
 
 #include <errno.h>
 #include <math.h>
@@ -7,7 +7,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "popc/numfmt.h"
+#include "popc/util/numfmt.h"
 
 #define READ_BLOCK (1u << 20)
 #define LINE_MAX_BYTES (1u << 20)

@@ -5,8 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "popc/log.h"
-#include "popc/numfmt.h"
+#include "popc/log/log.h"
+#include "popc/util/numfmt.h"
 #include "popc_config.h"
 
 #define LOG_BUFFER_BYTES (1u << 16)

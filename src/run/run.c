@@ -1,13 +1,14 @@
 /* The experiment loop (run.h): sample -> controller -> log -> command. */
-#include "popc/run.h"
+#include "popc/run/run.h"
 
 #include <math.h>
 #include <string.h>
 #include <time.h>
 
-#include "popc/controller.h"
-#include "popc/encoder.h"
-#include "popc/numfmt.h"
+#include "popc/core/controller.h"
+#include "popc/core/encoder.h"
+#include "popc/util/numfmt.h"
+#include "popc/scene/from_scene.h"
 
 static double now_s(void)
 {

@@ -1,5 +1,5 @@
 /* Line reader for ini_parse_stream (ini_lines.h). */
-#include "ini_lines.h"
+#include "popc/scene/ini_lines.h"
 
 #include <string.h>
 

@@ -1,6 +1,6 @@
 /* Scene keys, defaults, INI loading, --set overrides and the resolved dump.
  * Every key is declared once, in scene_keys[] below. */
-#include "popc/scene.h"
+#include "popc/scene/scene.h"
 
 #include <errno.h>
 #include <ini.h>
@@ -10,9 +10,9 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "ini_lines.h"
-#include "popc/numfmt.h"
-#include "popc/velocity.h"
+#include "popc/scene/ini_lines.h"
+#include "popc/util/numfmt.h"
+#include "popc/core/velocity.h"
 
 typedef enum { KEY_DOUBLE, KEY_INT, KEY_ENUM, KEY_STRING } key_type;
 
@@ -27,14 +27,6 @@ typedef struct scene_key {
 	const char *help;
 } scene_key;
 
-static const char *const intent_names[] = {"ramp", "force", "table", "sine", NULL};
-static const char *const quantity_names[] = {"position", "force", NULL};
-static const char *const env_names[] = {"wall", "spring", NULL};
-static const char *const variant_names[] = {"none",   "po-pc", "ref-energy", "filtered-velocity",
-					    "ignore", "hold",  "improved",   NULL};
-static const char *const mode_names[] = {"literal", "undo", NULL};
-static const char *const integrator_names[] = {"exact", "trapezoid", "rk4", "semi-implicit-euler",
-					       "euler", NULL};
 static const char *const axis_names[] = {"sim", "modbus", NULL};
 
 #define OFF(field) offsetof(popc_scene, field)
@@ -48,7 +40,7 @@ static const scene_key scene_keys[] = {
 	NUM("operator", "mass", op_mass_kg, 0, 1e3, 0, "kg", "hand mass M_HO"),
 	NUM("operator", "damping", op_damping_Nspm, 0, 1e6, 0, "N s/m", "hand damping B_HO"),
 	NUM("operator", "stiffness", op_stiffness_Npm, 0, 1e9, 0, "N/m", "hand stiffness K_HO"),
-	{"operator", "intent", KEY_ENUM, OFF(intent), 0, 0, 0, "", intent_names,
+	{"operator", "intent", KEY_ENUM, OFF(intent), 0, 0, 0, "", popc_intent_kind_names,
 	 "what the operator wants: x_d(t) or a force"},
 	NUM("operator", "x0", op_x0_m, -1e3, 1e3, 0, "m", "rest position of the hand (start of x_d)"),
 	NUM("operator", "t0", op_t0_s, 0, 1e7, 0, "s", "start of the ramp, force or sine"),
@@ -61,14 +53,14 @@ static const scene_key scene_keys[] = {
 	{"operator", "table", KEY_STRING, OFF(op_table), 0, 0, 0, "path", NULL,
 	 "table intent: CSV of t,value rows (relative to the scene file; on the command "
 	 "line, to the working directory)"},
-	{"operator", "table_quantity", KEY_ENUM, OFF(op_table_quantity), 0, 0, 0, "", quantity_names,
+	{"operator", "table_quantity", KEY_ENUM, OFF(op_table_quantity), 0, 0, 0, "", popc_table_quantity_names,
 	 "table intent: the value column is x_d (m) or an exogenous force (N)"},
 
 	NUM("device", "mass", dev_mass_kg, 0, 1e3, 0, "kg", "device mass M_HI"),
 	NUM("device", "damping", dev_damping_Nspm, 0, 1e6, 0, "N s/m", "device damping B_HI"),
 	NUM("device", "stiffness", dev_stiffness_Npm, 0, 1e9, 0, "N/m", "device stiffness K_HI"),
 
-	{"environment", "kind", KEY_ENUM, OFF(env_kind), 0, 0, 0, "", env_names,
+	{"environment", "kind", KEY_ENUM, OFF(env_kind), 0, 0, 0, "", popc_environment_kind_names,
 	 "unilateral wall or bilateral spring"},
 	NUM("environment", "stiffness", env_stiffness_Npm, 0, 1e9, 0, "N/m", "K_e"),
 	NUM("environment", "damping", env_damping_Nspm, 0, 1e6, 0, "N s/m", "B_e (wall damping)"),
@@ -76,17 +68,17 @@ static const scene_key scene_keys[] = {
 
 	NUM("encoder", "resolution", enc_resolution_m, 0, 1, 1, "m", "delta: x_meas = delta floor(x/delta)"),
 
-	{"controller", "variant", KEY_ENUM, OFF(variant), 0, 0, 0, "", variant_names,
+	{"controller", "variant", KEY_ENUM, OFF(variant), 0, 0, 0, "", popc_variant_names,
 	 "PO/PC variant (DESIGN section 4)"},
 	NUM("controller", "pc_bound", pc_bound_N, 0, 1e6, 1, "N", "bound on |f_pc|"),
-	{"controller", "ignore_mode", KEY_ENUM, OFF(ignore_mode), 0, 0, 0, "", mode_names,
+	{"controller", "ignore_mode", KEY_ENUM, OFF(ignore_mode), 0, 0, 0, "", popc_ignore_mode_names,
 	 "Table I Prev_fc: literal f_e(k) or undo f_c(k-1)"},
 	{"controller", "foaw_window", KEY_INT, OFF(foaw_window), 1, POPC_FOAW_MAX_WINDOW, 0,
 	 "samples", NULL, "filtered-velocity: longest FOAW window"},
 	NUM("controller", "foaw_noise", foaw_noise_m, 0, 1, 0, "m",
 	    "filtered-velocity: FOAW noise band d (0: the encoder resolution)"),
 
-	{"integrator", "method", KEY_ENUM, OFF(integrator), 0, 0, 0, "", integrator_names,
+	{"integrator", "method", KEY_ENUM, OFF(integrator), 0, 0, 0, "", popc_integrator_names,
 	 "plant integration"},
 	{"integrator", "substeps", KEY_INT, OFF(substeps), 1, 1e6, 0, "", NULL,
 	 "fixed-step integrators: steps per control period"},
@@ -671,36 +663,6 @@ void popc_scene_print_keys(FILE *f)
 		snprintf(name, sizeof name, "%s.%s", k->section, k->key);
 		fprintf(f, "  %-26s default %-10s allowed %s\n      %s\n", name, def, range, k->help);
 	}
-}
-
-const char *popc_variant_name(popc_variant v)
-{
-	return (unsigned)v < POPC_VARIANT_COUNT ? variant_names[v] : "?";
-}
-
-int popc_variant_from_name(const char *name, popc_variant *out)
-{
-	for (int i = 0; variant_names[i]; i++)
-		if (strcmp(variant_names[i], name) == 0) {
-			*out = (popc_variant)i;
-			return 0;
-		}
-	return POPC_ERR_INVALID;
-}
-
-const char *popc_integrator_name(popc_integrator m)
-{
-	return (unsigned)m < POPC_INTEGRATOR_COUNT ? integrator_names[m] : "?";
-}
-
-int popc_integrator_from_name(const char *name, popc_integrator *out)
-{
-	for (int i = 0; integrator_names[i]; i++)
-		if (strcmp(integrator_names[i], name) == 0) {
-			*out = (popc_integrator)i;
-			return 0;
-		}
-	return POPC_ERR_INVALID;
 }
 
 double popc_scene_period_s(const popc_scene *s)

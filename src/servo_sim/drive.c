@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "popc/numfmt.h"
+#include "popc/util/numfmt.h"
 
 /* Every protocol address exists, so any register map fits (the Modbus data
  * model has 65536 addresses per table, Application Protocol V1.1b3, 4.4). */

@@ -27,9 +27,9 @@
 #include <stdint.h>
 #include <stdio.h>
 
-#include "popc/axis.h"
-#include "popc/register_map.h"
-#include "popc/scene.h"
+#include "popc/axes/axis.h"
+#include "popc/axes/register_map.h"
+#include "popc/scene/scene.h"
 
 #define DRIVE_RECORD_MAX 8
 

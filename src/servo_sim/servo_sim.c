@@ -23,7 +23,7 @@
 #include <modbus.h>
 
 #include "drive.h"
-#include "popc/modbus_axis.h"
+#include "popc/axes/modbus_axis.h"
 
 static volatile sig_atomic_t stop_requested = 0;
 

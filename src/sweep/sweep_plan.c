@@ -1,6 +1,6 @@
 /* The sweep planner (sweep.h): value lists and ranges, the cartesian product,
  * run ids, plan ids and shards. */
-#include "popc/sweep.h"
+#include "popc/sweep/sweep.h"
 
 #include <errno.h>
 #include <math.h>
@@ -9,7 +9,8 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "popc/intent.h"
+#include "popc/core/intent.h"
+#include "popc/scene/from_scene.h"
 
 uint64_t popc_sweep_fnv1a(uint64_t h, const void *data, size_t n)
 {
@@ -355,7 +356,7 @@ static int check_table(table_check *tc, const popc_scene *s, popc_error *err)
 		if (tc->quantity[k] == s->op_table_quantity && strcmp(tc->path[k], s->op_table) == 0)
 			return 0;
 	popc_intent in;
-	int st = popc_intent_init(&in, s, err);
+	int st = popc_intent_from_scene(&in, s, err);
 	popc_intent_free(&in);
 	if (st)
 		return st;

@@ -1,6 +1,6 @@
 /* One run of a sweep in this process (sweep.h): the same steps as `popc run`
  * (cmd_run.c) on the simulated axis, then the run's summary file. */
-#include "popc/sweep.h"
+#include "popc/sweep/sweep.h"
 
 #include <errno.h>
 #include <stdio.h>
@@ -9,11 +9,12 @@
 #include <sys/stat.h>
 #include <time.h>
 
-#include "popc/axis.h"
-#include "popc/controller.h"
-#include "popc/log.h"
-#include "popc/log_reader.h"
-#include "popc/run.h"
+#include "popc/axes/axis.h"
+#include "popc/core/controller.h"
+#include "popc/log/log.h"
+#include "popc/log/log_reader.h"
+#include "popc/run/run.h"
+#include "popc/scene/from_scene.h"
 
 /* ---- the chatter detector ----------------------------------------------------- *
  *

@@ -1,6 +1,6 @@
 /* Sweep summary rows and the sweep directory (sweep.h): plan file, per-run
  * summary files written atomically, summary.csv assembled in id order. */
-#include "popc/sweep.h"
+#include "popc/sweep/sweep.h"
 
 #include <dirent.h>
 #include <errno.h>
@@ -13,8 +13,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "popc/error.h"
-#include "popc/numfmt.h"
+#include "popc/util/error.h"
+#include "popc/util/numfmt.h"
 
 /* The compare metrics of a run, by their names in the popc run summary
  * (run.c: popc_run_summary_csv_header); DESIGN section 4's figures of merit. */

@@ -1,4 +1,4 @@
-#include "popc/error.h"
+#include "popc/util/error.h"
 
 #include <stdarg.h>
 #include <stdio.h>

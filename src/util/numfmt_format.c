@@ -23,7 +23,7 @@
 #include <stdint.h>
 #include <string.h>
 
-#include "popc/numfmt.h"
+#include "popc/util/numfmt.h"
 
 __extension__ typedef unsigned __int128 u128;
 

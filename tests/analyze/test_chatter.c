@@ -7,7 +7,7 @@
 #include <stdint.h>
 #include <cmocka.h>
 
-#include "popc/chatter.h"
+#include "popc/core/chatter.h"
 
 #define T_S 1e-3
 #define DELTA_M 1e-5

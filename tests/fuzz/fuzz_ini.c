@@ -14,9 +14,9 @@
 #include <string.h>
 
 #include "fuzz.h"
-#include "ini_lines.h"
-#include "popc/register_map.h"
-#include "popc/scene.h"
+#include "popc/scene/ini_lines.h"
+#include "popc/axes/register_map.h"
+#include "popc/scene/scene.h"
 
 /* The error names the file; a "PATH:N:" names a line of the file. */
 static void check_error(const uint8_t *data, size_t size, const char *msg, const char *path,

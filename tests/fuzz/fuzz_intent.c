@@ -11,8 +11,9 @@
 #include <string.h>
 
 #include "fuzz.h"
-#include "popc/intent.h"
-#include "popc/scene.h"
+#include "popc/core/intent.h"
+#include "popc/scene/scene.h"
+#include "popc/scene/from_scene.h"
 
 static uint64_t bits_of(double d)
 {
@@ -61,7 +62,7 @@ int popc_fuzz_intent(const uint8_t *data, size_t size)
 	popc_intent in;
 	popc_error err;
 	err.msg[0] = '\0';
-	if (popc_intent_init(&in, &s, &err) != 0) {
+	if (popc_intent_from_scene(&in, &s, &err) != 0) {
 		size_t n = strlen(path);
 		if (strncmp(err.msg, path, n) != 0)
 			popc_fuzz_fail(data, size, "error without the path: %s", err.msg);

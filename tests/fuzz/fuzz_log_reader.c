@@ -12,8 +12,8 @@
 #include <string.h>
 
 #include "fuzz.h"
-#include "popc/log_reader.h"
-#include "popc/scene.h"
+#include "popc/log/log_reader.h"
+#include "popc/scene/scene.h"
 
 /* as popc-analyze accepts them: one character, not a digit, '.', '+' or '-' */
 static const char delimiters[8] = {0, ',', ';', '\t', ' ', '|', 0, ';'};

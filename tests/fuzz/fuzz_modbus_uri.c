@@ -5,7 +5,7 @@
 #include <string.h>
 
 #include "fuzz.h"
-#include "popc/modbus_axis.h"
+#include "popc/axes/modbus_axis.h"
 
 int popc_fuzz_modbus_uri(const uint8_t *data, size_t size)
 {

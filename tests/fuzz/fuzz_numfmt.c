@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "fuzz.h"
-#include "popc/numfmt.h"
+#include "popc/util/numfmt.h"
 
 static uint64_t bits_of(double d)
 {

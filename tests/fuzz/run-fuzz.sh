@@ -36,15 +36,15 @@ mkdir -p "$work/obj" "$work/artifacts"
 # popc_config.h as meson writes it (log_writer.c includes it)
 printf '#define POPC_VERSION "fuzz"\n#define POPC_DATADIR "/nonexistent"\n' >"$work/popc_config.h"
 flags="-g -O1 -std=c11 -D_POSIX_C_SOURCE=200809L -fno-math-errno -fsanitize=address,undefined \
--fno-sanitize-recover=undefined -fno-omit-frame-pointer -I$root/include -I$root/src -I$work \
+-fno-sanitize-recover=undefined -fno-omit-frame-pointer -I$root/include -I$work \
 $(pkg-config --cflags libmodbus inih)"
 libs="$(pkg-config --libs libmodbus inih) -lm -lpthread"
 
-# libpopc's sources (src/meson.build's list), instrumented for coverage
-srcs=$(sed -n "/^popc_sources = files(/,/^)/p" "$root/src/meson.build" | grep -o "'[a-z_0-9]*\.c'" | tr -d "'")
+# the library's sources (every layer under src/ but the programs), instrumented for coverage
+srcs=$(cd "$root/src" && find . -name '*.c' -not -path './cli/*' -not -path './servo_sim/*' | sort)
 objs=""
 for s in $srcs; do
-	o="$work/obj/${s%.c}.o"
+	o="$work/obj/$(basename "${s%.c}").o"
 	# shellcheck disable=SC2086
 	$CC $flags -fsanitize=fuzzer-no-link -c "$root/src/$s" -o "$o"
 	objs="$objs $o"

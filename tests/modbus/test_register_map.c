@@ -13,8 +13,8 @@
 #include <unistd.h>
 
 #include "modbus_stats.h"
-#include "popc/modbus_axis.h"
-#include "popc/register_map.h"
+#include "popc/axes/modbus_axis.h"
+#include "popc/axes/register_map.h"
 
 /* ---- words ---------------------------------------------------------------- */
 

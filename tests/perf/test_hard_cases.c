@@ -25,8 +25,8 @@
 
 #include <cmocka.h>
 
-#include "popc/axis.h"
-#include "popc/run.h"
+#include "popc/axes/axis.h"
+#include "popc/run/run.h"
 
 /* ---- a checking axis: wraps the sim axis, checks what crosses it ---- */
 

@@ -23,9 +23,10 @@
 
 #include <cmocka.h>
 
-#include "popc/axis.h"
-#include "popc/controller.h"
-#include "popc/encoder.h"
+#include "popc/axes/axis.h"
+#include "popc/core/controller.h"
+#include "popc/core/encoder.h"
+#include "popc/scene/from_scene.h"
 
 #if defined(__SIZEOF_FLOAT128__)
 typedef __float128 wide;

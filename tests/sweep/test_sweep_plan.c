@@ -10,7 +10,7 @@
 
 #include <cmocka.h>
 
-#include "popc/sweep.h"
+#include "popc/sweep/sweep.h"
 
 static void test_expand_table(void **state)
 {

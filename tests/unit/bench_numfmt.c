@@ -22,7 +22,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "popc/numfmt.h"
+#include "popc/util/numfmt.h"
 
 #define COLS 10
 #define MAX_RUNS 51

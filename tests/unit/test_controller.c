@@ -10,7 +10,7 @@
 
 #include <cmocka.h>
 
-#include "popc/controller.h"
+#include "popc/core/controller.h"
 
 #define E_TOL 1e-20   /* J: values are ~1e-7 J; doubles resolve ~1e-23 J there */
 #define F_TOL 1e-13   /* N: forces ~1e-2 N */

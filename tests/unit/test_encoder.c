@@ -7,7 +7,7 @@
 
 #include <cmocka.h>
 
-#include "popc/encoder.h"
+#include "popc/core/encoder.h"
 
 static void test_quantizer_table(void **state)
 {

@@ -12,9 +12,10 @@
 
 #include <cmocka.h>
 
-#include "popc/axis.h"
-#include "popc/intent.h"
-#include "popc/run.h"
+#include "popc/axes/axis.h"
+#include "popc/core/intent.h"
+#include "popc/run/run.h"
+#include "popc/scene/from_scene.h"
 
 #include "test_tmpdir.h"
 
@@ -57,7 +58,7 @@ static void test_ramp_values(void **state)
 	popc_scene_defaults(&s);
 	popc_intent in;
 	popc_error err;
-	assert_int_equal(popc_intent_init(&in, &s, &err), 0);
+	assert_int_equal(popc_intent_from_scene(&in, &s, &err), 0);
 	assert_true(popc_intent_xd(&in, 0.0) == -0.01);
 	assert_true(popc_intent_xd(&in, 0.5) == -0.01);
 	assert_true(fabs(popc_intent_xd(&in, 0.9) - 0.01) < 1e-15);
@@ -176,7 +177,7 @@ static int load_table(const char *path, popc_intent *in, popc_error *err)
 	popc_scene_defaults(&s);
 	s.intent = POPC_INTENT_TABLE;
 	snprintf(s.op_table, sizeof s.op_table, "%s", path);
-	return popc_intent_init(in, &s, err);
+	return popc_intent_from_scene(in, &s, err);
 }
 
 /* A 600-character number: fgets into 512 bytes used to read it as two lines. */

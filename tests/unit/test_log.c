@@ -10,8 +10,8 @@
 
 #include <cmocka.h>
 
-#include "popc/log.h"
-#include "popc/log_reader.h"
+#include "popc/log/log.h"
+#include "popc/log/log_reader.h"
 
 #include "test_tmpdir.h"
 

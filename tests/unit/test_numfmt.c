@@ -17,7 +17,7 @@
 
 #include <cmocka.h>
 
-#include "popc/numfmt.h"
+#include "popc/util/numfmt.h"
 
 static uint64_t rng_state;
 

@@ -14,11 +14,11 @@
 
 #include <cmocka.h>
 
-#include "popc/axis.h"
-#include "popc/controller.h"
-#include "popc/log.h"
-#include "popc/log_reader.h"
-#include "popc/run.h"
+#include "popc/axes/axis.h"
+#include "popc/core/controller.h"
+#include "popc/log/log.h"
+#include "popc/log/log_reader.h"
+#include "popc/run/run.h"
 
 #define MAX_TICKS 5001
 

@@ -10,7 +10,7 @@
 
 #include <cmocka.h>
 
-#include "popc/plant.h"
+#include "popc/core/plant.h"
 
 static popc_plant make(double m, double b, double k, popc_integrator method, int substeps, double T)
 {

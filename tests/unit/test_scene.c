@@ -11,7 +11,7 @@
 
 #include <cmocka.h>
 
-#include "popc/scene.h"
+#include "popc/scene/scene.h"
 
 #include "test_tmpdir.h"
 

@@ -8,8 +8,8 @@
 #ifndef POPC_AXIS_H
 #define POPC_AXIS_H
 
-#include "popc/error.h"
-#include "popc/scene.h"
+#include "popc/util/error.h"
+#include "popc/scene/scene.h"
 
 typedef struct popc_axis_sample {
 	long long count;

@@ -29,9 +29,9 @@
 #include <signal.h>
 #include <stdio.h>
 
-#include "popc/axis.h"
-#include "popc/error.h"
-#include "popc/scene.h"
+#include "popc/axes/axis.h"
+#include "popc/util/error.h"
+#include "popc/scene/scene.h"
 
 /* A connection URI: tcp:HOST[:PORT] (PORT 502 by default; HOST may be an
  * IPv6 address in brackets) or rtu:DEVICE[:BAUD[:FORMAT]] with FORMAT like

@@ -21,8 +21,8 @@
 
 #include <stdint.h>
 
-#include "popc/error.h"
-#include "popc/scene.h"
+#include "popc/util/error.h"
+#include "popc/scene/scene.h"
 
 typedef enum popc_reg_table {
 	POPC_TABLE_HOLDING, /* FC03 read, FC06/FC16/FC23 write */

@@ -29,9 +29,9 @@
 #ifndef POPC_CHATTER_H
 #define POPC_CHATTER_H
 
-#include "popc/controller.h"
-#include "popc/environment.h"
-#include "popc/error.h"
+#include "popc/core/controller.h"
+#include "popc/core/environment.h"
+#include "popc/util/error.h"
 
 #define POPC_CHATTER_MAX_INTERVALS 32 /* stored; more are counted in n_intervals */
 #define POPC_CHATTER_SUBBLOCKS 10     /* the chatter window slides by 1/10 of its length */

@@ -8,9 +8,32 @@
 #ifndef POPC_CONTROLLER_H
 #define POPC_CONTROLLER_H
 
-#include "popc/environment.h"
-#include "popc/scene.h"
-#include "popc/velocity.h"
+#include "popc/core/environment.h"
+#include "popc/core/velocity.h"
+#include "popc/util/error.h"
+
+typedef enum popc_variant {
+	POPC_VARIANT_NONE,
+	POPC_VARIANT_PO_PC,
+	POPC_VARIANT_REF_ENERGY,
+	POPC_VARIANT_FILTERED_VELOCITY,
+	POPC_VARIANT_IGNORE,
+	POPC_VARIANT_HOLD,
+	POPC_VARIANT_IMPROVED,
+	POPC_VARIANT_COUNT
+} popc_variant;
+
+/* The variants' names in scenes, logs and on the command line (DESIGN
+ * section 4; stable), index = value, NULL-terminated. */
+extern const char *const popc_variant_names[];
+const char *popc_variant_name(popc_variant v);
+int popc_variant_from_name(const char *name, popc_variant *out);
+
+/* Table I's "Prev_fc = f_c(k)": literal reads it as the VE force f_e(k) stored
+ * before the PC is added; undo stores f_c(k-1), so that a one-count reversal
+ * removes exactly the previous step's PO increment. */
+typedef enum popc_ignore_mode { POPC_IGNORE_LITERAL, POPC_IGNORE_UNDO } popc_ignore_mode;
+extern const char *const popc_ignore_mode_names[];
 
 /* Controller events, OR-ed into the log's `flags` column. */
 enum popc_flag {
@@ -93,7 +116,6 @@ typedef struct popc_controller {
 	int started;
 } popc_controller;
 
-void popc_controller_config_from_scene(popc_controller_config *c, const popc_scene *s);
 void popc_controller_init(popc_controller *c, const popc_controller_config *cfg);
 
 /* One control tick: fills every field of *out but t_s. f_c is always finite

@@ -3,14 +3,18 @@
 #ifndef POPC_ENVIRONMENT_H
 #define POPC_ENVIRONMENT_H
 
-#include "popc/scene.h"
+typedef enum popc_environment_kind {
+	POPC_ENV_WALL,   /* unilateral: f_e = K_e (x - p) + B_e v for x >= p, else 0; f_e >= 0 */
+	POPC_ENV_SPRING, /* bilateral: f_e = K_e (x - p) + B_e v */
+} popc_environment_kind;
+
+/* Names in scenes ("wall", "spring"), index = value, NULL-terminated. */
+extern const char *const popc_environment_kind_names[];
 
 typedef struct popc_environment {
 	popc_environment_kind kind;
 	double stiffness_Npm, damping_Nspm, position_m;
 } popc_environment;
-
-void popc_environment_from_scene(popc_environment *e, const popc_scene *s);
 
 /* Wall: f_e = max(0, K_e (x - p) + B_e v) for x >= p, else 0 (unilateral, never pulls).
  * Spring: f_e = K_e (x - p) + B_e v. Inline: it runs every tick, in the

@@ -10,9 +10,36 @@
 
 #include <stddef.h>
 
-#include "popc/error.h"
-#include "popc/plant.h"
-#include "popc/scene.h"
+#include "popc/util/error.h"
+#include "popc/core/plant.h"
+
+typedef enum popc_intent_kind {
+	POPC_INTENT_RAMP,  /* hold x0 until t0, move at speed until x_end, hold */
+	POPC_INTENT_FORCE, /* exogenous force: 0 until t0, rise at force_rate to force, hold */
+	POPC_INTENT_TABLE, /* piecewise-linear x_d(t) or f(t) given as points */
+	POPC_INTENT_SINE,  /* x_d = x0 + amplitude sin(2 pi frequency (t - t0)) for t >= t0 */
+} popc_intent_kind;
+
+typedef enum popc_table_quantity { POPC_TABLE_POSITION, POPC_TABLE_FORCE } popc_table_quantity;
+
+/* Names in scenes, index = value, NULL-terminated. */
+extern const char *const popc_intent_kind_names[];
+extern const char *const popc_table_quantity_names[];
+
+/* What the operator wants, in SI units. A table's points are copied by
+ * popc_intent_init; reading them from a file is the scene layer's job
+ * (popc_intent_table_load in popc/scene/from_scene.h). */
+typedef struct popc_intent_config {
+	popc_intent_kind kind;
+	double k_op_Npm, b_op_Nspm;                 /* K_HO, B_HO */
+	double x0_m, t0_s;                          /* rest position, start time */
+	double speed_mps, x_end_m;                  /* ramp */
+	double force_N, force_rate_Nps;             /* force */
+	double amplitude_m, frequency_Hz;           /* sine */
+	popc_table_quantity table_quantity;         /* table: q is x_d (m) or f_op (N) */
+	size_t table_n;                             /* table: points (>= 1) */
+	const double *table_t_s, *table_q;          /* table: times strictly increasing */
+} popc_intent_config;
 
 typedef struct popc_intent {
 	popc_intent_kind kind;
@@ -26,12 +53,10 @@ typedef struct popc_intent {
 	size_t cursor;               /* segment hint: intents are evaluated at increasing t */
 } popc_intent;
 
-/* Builds the intent of scene s; a table intent reads its CSV file here. A
- * table that cannot be opened or holds a bad row (not two finite numbers,
- * times not increasing, a value outside its scene key's range) is
- * POPC_ERR_INVALID naming file:line and column; a read error is
- * POPC_ERR_IO. Free with popc_intent_free. */
-int popc_intent_init(popc_intent *in, const popc_scene *s, popc_error *err);
+/* Builds the intent from its configuration (a table's points are copied).
+ * Returns 0, POPC_ERR_NOMEM, or POPC_ERR_INVALID for an unknown kind or an
+ * empty table. Free with popc_intent_free. */
+int popc_intent_init(popc_intent *in, const popc_intent_config *cfg, popc_error *err);
 void popc_intent_free(popc_intent *in);
 
 /* The operator's input over [t, t + h) as plant input coefficients (without

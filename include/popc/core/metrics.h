@@ -6,8 +6,8 @@
 
 #include <stdio.h>
 
-#include "popc/controller.h"
-#include "popc/environment.h"
+#include "popc/core/controller.h"
+#include "popc/core/environment.h"
 
 typedef struct popc_metrics_window {
 	long long ticks, active_ticks;

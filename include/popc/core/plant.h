@@ -17,8 +17,22 @@
 #ifndef POPC_PLANT_H
 #define POPC_PLANT_H
 
-#include "popc/error.h"
-#include "popc/scene.h"
+#include "popc/util/error.h"
+
+typedef enum popc_integrator {
+	POPC_INTEGRATOR_EXACT,       /* ZOH/FOH exact discretization, expm */
+	POPC_INTEGRATOR_TRAPEZOID,   /* the paper's C program */
+	POPC_INTEGRATOR_RK4,
+	POPC_INTEGRATOR_SEMI_IMPLICIT_EULER,
+	POPC_INTEGRATOR_EULER,
+	POPC_INTEGRATOR_COUNT
+} popc_integrator;
+
+/* The names used in scenes, logs and on the command line, index = value,
+ * NULL-terminated. */
+extern const char *const popc_integrator_names[];
+const char *popc_integrator_name(popc_integrator m);
+int popc_integrator_from_name(const char *name, popc_integrator *out);
 
 typedef struct popc_plant_state {
 	double x_m;
@@ -77,9 +91,6 @@ static inline void popc_plant_step_exact(const popc_plant_step_coeffs *c, popc_p
  * scene keys behind a bad value; POPC_ERR_NUMERIC when the step matrices come
  * out non-finite (a plant too stiff for double precision). */
 int popc_plant_init(popc_plant *p, const popc_plant_config *cfg, popc_error *err);
-
-/* Builds the plant configuration for a scene. */
-void popc_plant_config_from_scene(popc_plant_config *cfg, const popc_scene *s);
 
 /* Advances the state by one control period T. */
 void popc_plant_step(const popc_plant *p, popc_plant_state *st, const popc_plant_input *u);

@@ -18,9 +18,9 @@
 
 #include <stdio.h>
 
-#include "popc/controller.h"
-#include "popc/error.h"
-#include "popc/scene.h"
+#include "popc/core/controller.h"
+#include "popc/util/error.h"
+#include "popc/scene/scene.h"
 
 #define POPC_LOG_FORMAT_VERSION 1
 

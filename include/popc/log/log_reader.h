@@ -22,8 +22,8 @@
 #include <stddef.h>
 #include <stdio.h>
 
-#include "popc/error.h"
-#include "popc/scene.h"
+#include "popc/util/error.h"
+#include "popc/scene/scene.h"
 
 #define POPC_LOG_MAX_COLUMNS 64
 #define POPC_LOG_MAX_HEADER_KEYS 128

@@ -5,10 +5,10 @@
 #include <signal.h>
 #include <stdio.h>
 
-#include "popc/axis.h"
-#include "popc/log.h"
-#include "popc/metrics.h"
-#include "popc/scene.h"
+#include "popc/axes/axis.h"
+#include "popc/log/log.h"
+#include "popc/core/metrics.h"
+#include "popc/scene/scene.h"
 
 typedef struct popc_run_summary {
 	double sim_time_s, wall_time_s;

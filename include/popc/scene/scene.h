@@ -9,49 +9,14 @@
 
 #include <stdio.h>
 
-#include "popc/error.h"
+#include "popc/core/controller.h"
+#include "popc/core/environment.h"
+#include "popc/core/intent.h"
+#include "popc/core/plant.h"
+#include "popc/util/error.h"
 
 #define POPC_PATH_MAX 1024
 #define POPC_NAME_MAX 64
-
-typedef enum popc_intent_kind {
-	POPC_INTENT_RAMP,  /* hold x0 until t0, move at speed until x_end, hold */
-	POPC_INTENT_FORCE, /* exogenous force: 0 until t0, rise at force_rate to force, hold */
-	POPC_INTENT_TABLE, /* piecewise-linear x_d(t) or f(t) from a CSV file */
-	POPC_INTENT_SINE,  /* x_d = x0 + amplitude sin(2 pi frequency (t - t0)) for t >= t0 */
-} popc_intent_kind;
-
-typedef enum popc_table_quantity { POPC_TABLE_POSITION, POPC_TABLE_FORCE } popc_table_quantity;
-
-typedef enum popc_environment_kind {
-	POPC_ENV_WALL,   /* unilateral: f_e = K_e (x - p) + B_e v for x >= p, else 0; f_e >= 0 */
-	POPC_ENV_SPRING, /* bilateral: f_e = K_e (x - p) + B_e v */
-} popc_environment_kind;
-
-typedef enum popc_variant {
-	POPC_VARIANT_NONE,
-	POPC_VARIANT_PO_PC,
-	POPC_VARIANT_REF_ENERGY,
-	POPC_VARIANT_FILTERED_VELOCITY,
-	POPC_VARIANT_IGNORE,
-	POPC_VARIANT_HOLD,
-	POPC_VARIANT_IMPROVED,
-	POPC_VARIANT_COUNT
-} popc_variant;
-
-/* Table I's "Prev_fc = f_c(k)": literal reads it as the VE force f_e(k) stored
- * before the PC is added; undo stores f_c(k-1), so that a one-count reversal
- * removes exactly the previous step's PO increment. */
-typedef enum popc_ignore_mode { POPC_IGNORE_LITERAL, POPC_IGNORE_UNDO } popc_ignore_mode;
-
-typedef enum popc_integrator {
-	POPC_INTEGRATOR_EXACT,       /* ZOH/FOH exact discretization, expm */
-	POPC_INTEGRATOR_TRAPEZOID,   /* the paper's C program */
-	POPC_INTEGRATOR_RK4,
-	POPC_INTEGRATOR_SEMI_IMPLICIT_EULER,
-	POPC_INTEGRATOR_EULER,
-	POPC_INTEGRATOR_COUNT
-} popc_integrator;
 
 typedef struct popc_scene {
 	/* [run] */
@@ -130,12 +95,6 @@ void popc_scene_write(const popc_scene *s, FILE *f, const char *prefix);
 
 /* The same text as popc_scene_write(s, f, ""), in a buffer the caller frees. */
 int popc_scene_to_text(const popc_scene *s, char **text, size_t *len, popc_error *err);
-
-/* Names used in files and on the command line. */
-const char *popc_variant_name(popc_variant v);
-int popc_variant_from_name(const char *name, popc_variant *out);
-const char *popc_integrator_name(popc_integrator m);
-int popc_integrator_from_name(const char *name, popc_integrator *out);
 
 /* The control period T = 1 / rate (s), and the number of control ticks. */
 double popc_scene_period_s(const popc_scene *s);

@@ -25,9 +25,9 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "popc/chatter.h"
-#include "popc/error.h"
-#include "popc/scene.h"
+#include "popc/core/chatter.h"
+#include "popc/util/error.h"
+#include "popc/scene/scene.h"
 
 /* Limits: a range has at most this many points, a sweep this many runs, and a
  * value this many characters. They bound memory and keep ids to 9 digits. */

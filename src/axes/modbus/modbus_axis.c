@@ -1,6 +1,6 @@
 /* The Modbus axis (modbus_axis.h): a servo drive through libmodbus, with its
  * register map, pacing on absolute deadlines and the safety supervisor. */
-#include "popc/modbus_axis.h"
+#include "popc/axes/modbus_axis.h"
 
 #include <errno.h>
 #include <math.h>
@@ -13,9 +13,9 @@
 #include <time.h>
 
 #include "modbus_stats.h"
-#include "popc/encoder.h"
-#include "popc/log.h"
-#include "popc/register_map.h"
+#include "popc/core/encoder.h"
+#include "popc/log/log.h"
+#include "popc/axes/register_map.h"
 
 /* Span of one block read that covers both position and status; a longer
  * span reads them separately. FC03/FC04 allow 125 registers (Modbus

@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "popc/modbus_axis.h"
+#include "popc/axes/modbus_axis.h"
 
 static int uri_bad(popc_error *err, const char *text, const char *what)
 {

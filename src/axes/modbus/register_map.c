@@ -1,6 +1,6 @@
 /* Register map files (register_map.h): INI via libinih, then validation with
  * file, line and key in every message, and the word conversions. */
-#include "popc/register_map.h"
+#include "popc/axes/register_map.h"
 
 #include <errno.h>
 #include <ini.h>
@@ -9,8 +9,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "ini_lines.h"
-#include "popc/numfmt.h"
+#include "popc/scene/ini_lines.h"
+#include "popc/util/numfmt.h"
 
 #define TWO_PI 6.283185307179586476925286766559
 

@@ -1,0 +1,40 @@
+/* Adapters from the scene (popc/scene/scene.h) to the core modules'
+ * configurations: the only place where scene keys meet the numerics, so that
+ * a change of the scene format never reaches the controller or the plant. */
+#ifndef POPC_SCENE_FROM_SCENE_H
+#define POPC_SCENE_FROM_SCENE_H
+
+#include <stddef.h>
+
+#include "popc/core/controller.h"
+#include "popc/core/environment.h"
+#include "popc/core/intent.h"
+#include "popc/core/plant.h"
+#include "popc/scene/scene.h"
+#include "popc/util/error.h"
+
+void popc_plant_config_from_scene(popc_plant_config *cfg, const popc_scene *s);
+void popc_environment_from_scene(popc_environment *e, const popc_scene *s);
+void popc_controller_config_from_scene(popc_controller_config *c, const popc_scene *s);
+
+/* A table intent's points, owned (free with popc_intent_points_free). */
+typedef struct popc_intent_points {
+	size_t n;
+	double *t_s, *q;
+} popc_intent_points;
+
+/* Reads a table intent's CSV file of "t,value" rows. A table that cannot be
+ * opened or read, or holds a bad row (not two finite numbers, times not
+ * increasing, a value outside the range of the scene key it stands for, rows
+ * too close in time for their change), is POPC_ERR_INVALID naming file:line
+ * and column. k_op and b_op (K_HO, B_HO) check that the operator's input
+ * between rows stays finite. */
+int popc_intent_table_load(const char *path, popc_table_quantity quantity, double k_op_Npm,
+			   double b_op_Nspm, popc_intent_points *out, popc_error *err);
+void popc_intent_points_free(popc_intent_points *p);
+
+/* Builds the intent of scene s; a table intent reads its file here
+ * (popc_intent_table_load). Free with popc_intent_free. */
+int popc_intent_from_scene(popc_intent *in, const popc_scene *s, popc_error *err);
+
+#endif
