@@ -266,7 +266,8 @@ int bench_log(const popc_scene *s, const bench_opts *o)
 	popc_log_row *rows = make_rows(s, n, &err);
 	if (!rows)
 		return popc_cli_fail("bench", POPC_ERR_NOMEM, &err);
-	double w_popc = INFINITY, w_printf = INFINITY, r_popc = INFINITY, r_strtod = INFINITY;
+	double w_popc = (double)INFINITY, w_printf = (double)INFINITY, r_popc = (double)INFINITY,
+	       r_strtod = (double)INFINITY;
 	int st = 0;
 	recompute a, b;
 	for (int r = 0; r < o->repeats && !st; r++) {
