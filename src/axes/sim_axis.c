@@ -590,7 +590,7 @@ double popc_sim_axis_max_error(const popc_axis *a)
 		return 0.0;
 	const sim_axis *s = a->priv;
 	if (s->scene.integrator != POPC_INTEGRATOR_EXACT && !s->shadow)
-		return NAN;
+		return (double)NAN;
 	return s->max_error_m;
 }
 

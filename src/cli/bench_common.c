@@ -117,7 +117,7 @@ int bench_loop_ns_per_tick(const popc_scene *s0, popc_integrator m, int substeps
 	popc_scene s = *s0;
 	s.integrator = m;
 	s.substeps = substeps;
-	double best = INFINITY;
+	double best = (double)INFINITY;
 	for (int r = 0; r < o->repeats; r++) {
 		double wall = 0.0;
 		long long ticks = 0;

@@ -64,7 +64,7 @@ static void test_saturation_and_rounding(void **state)
 	assert_int_equal(w[0], 0x7FFF);
 	assert_int_equal(popc_reg_encode(-1, POPC_REG_UINT16, POPC_WORDS_HI_LO, w), 1);
 	assert_int_equal(w[0], 0);
-	assert_int_equal(popc_reg_encode(NAN, POPC_REG_INT32, POPC_WORDS_HI_LO, w), 1);
+	assert_int_equal(popc_reg_encode((double)NAN, POPC_REG_INT32, POPC_WORDS_HI_LO, w), 1);
 	assert_int_equal(w[0] | w[1], 0);
 	assert_int_equal(popc_reg_encode(2.5, POPC_REG_INT16, POPC_WORDS_HI_LO, w), 0);
 	assert_int_equal(w[0], 2); /* nearest, ties to even */

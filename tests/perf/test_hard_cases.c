@@ -134,8 +134,8 @@ static void run_scene(const popc_scene *s, outcome *o)
 	if (popc_scene_validate(s, &err) != 0)
 		fail_msg("scene invalid: %s", err.msg);
 	memset(o, 0, sizeof *o);
-	o->ck.x_min_m = INFINITY;
-	o->ck.x_max_m = -INFINITY;
+	o->ck.x_min_m = (double)INFINITY;
+	o->ck.x_max_m = -(double)INFINITY;
 	assert_int_equal(popc_sim_axis_create(&o->ck.inner, s, &err), 0);
 	popc_axis ax = {.ops = &checker_ops, .priv = &o->ck};
 	o->status = popc_run(s, &ax, NULL, &o->sum, &o->err);
@@ -370,8 +370,8 @@ static void test_exact_bounded_where_physics_is(void **state)
 			assert_int_equal(popc_scene_validate(&s, &err), 0);
 			outcome o;
 			memset(&o, 0, sizeof o);
-			o.ck.x_min_m = INFINITY;
-			o.ck.x_max_m = -INFINITY;
+			o.ck.x_min_m = (double)INFINITY;
+			o.ck.x_max_m = -(double)INFINITY;
 			assert_int_equal(popc_sim_axis_create(&o.ck.inner, &s, &err), 0);
 			popc_axis ax = {.ops = &checker_ops, .priv = &o.ck};
 			o.status = popc_run(&s, &ax, NULL, &o.sum, &o.err);

@@ -318,7 +318,7 @@ static int decode_sample(mb_axis *a, const uint16_t *blk, uint16_t status, popc_
 				      "position %g m is outside the soft limits [%g, %g] m (%s)", x_m,
 				      m->pos.soft_min_m, m->pos.soft_max_m, m->path);
 	out->count = count;
-	out->x_true_m = NAN;
+	out->x_true_m = (double)NAN;
 	return 0;
 }
 

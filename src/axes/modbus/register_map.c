@@ -488,7 +488,7 @@ static int sequence_register(load_ctx *c, popc_register_map *m)
 
 static int validate(load_ctx *c, popc_register_map *m)
 {
-	long v;
+	long v = 0; /* set by get_int; gcc -O3 cannot see it (-Wmaybe-uninitialized) */
 	int e, st;
 	snprintf(m->name, sizeof m->name, "%s", c->at[K_DRIVE_NAME] ? c->value[K_DRIVE_NAME] : "unnamed drive");
 	/* Modbus over serial line spec V1.02, 2.2: unicast addresses 1..247 */
