@@ -604,8 +604,8 @@ int popc_sim_axis_create(popc_axis **out, const popc_scene *sc, popc_error *err)
 	return 0;
 }
 
-static int sim_kind_create(popc_axis **out, const popc_scene *s, const popc_axis_create_options *opt,
-			   popc_error *err)
+static int sim_kind_create(popc_axis **out, const popc_scene *s,
+			   const popc_axis_create_options *opt, popc_error *err)
 {
 	(void)opt; /* pacing and notes are a real axis' */
 	return popc_sim_axis_create(out, s, err);
