@@ -24,7 +24,7 @@
 #include <string.h>
 
 #include "bench.h"
-#include "popc/axes/axis.h"
+#include "popc/axes/sim_axis.h"
 #include "popc/core/compensated.h"
 #include "popc/core/encoder.h"
 #include "popc/core/environment.h"

@@ -137,8 +137,8 @@ int popc_sweep_run_one(const popc_sweep_plan *p, long long i, const char *dir, i
 		st = write_scene(path, &s, &rerr);
 	}
 	if (!st) {
-		if (strcmp(s.axis, "sim") == 0)
-			st = popc_sim_axis_create(&axis, &s, &rerr);
+		if (popc_axis_is_simulated(&s))
+			st = popc_axis_create(&axis, &s, NULL, &rerr);
 		else
 			st = popc_error_set(&rerr, POPC_ERR_INVALID,
 					    "axis = %s: a sweep runs the simulated axis only", s.axis);

@@ -25,7 +25,7 @@
 
 #include <cmocka.h>
 
-#include "popc/axes/axis.h"
+#include "popc/axes/sim_axis.h"
 #include "popc/run/run.h"
 
 /* ---- a checking axis: wraps the sim axis, checks what crosses it ---- */
@@ -140,7 +140,7 @@ static void run_scene(const popc_scene *s, outcome *o)
 	popc_axis ax = {.ops = &checker_ops, .priv = &o->ck};
 	o->status = popc_run(s, &ax, NULL, &o->sum, &o->err);
 	/* the summary asked the wrapper; the error lives in the sim axis */
-	o->sum.integrator_error_m = popc_sim_axis_max_error(o->ck.inner);
+	o->sum.integrator_error_m = o->ck.inner->ops->integrator_error_m(o->ck.inner);
 	popc_axis_destroy(&o->ck.inner);
 }
 

@@ -23,7 +23,7 @@
 
 #include <cmocka.h>
 
-#include "popc/axes/axis.h"
+#include "popc/axes/sim_axis.h"
 #include "popc/core/controller.h"
 #include "popc/core/encoder.h"
 #include "popc/scene/from_scene.h"

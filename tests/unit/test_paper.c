@@ -14,7 +14,7 @@
 
 #include <cmocka.h>
 
-#include "popc/axes/axis.h"
+#include "popc/axes/sim_axis.h"
 #include "popc/core/controller.h"
 #include "popc/log/log.h"
 #include "popc/log/log_reader.h"
