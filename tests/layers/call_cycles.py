@@ -9,7 +9,7 @@ graph (A -> B -> ... -> A) means no file of it can be read, tested or moved
 without the others, and the test fails printing each cycle with the symbols
 that make its edges.
 
-    call_cycles.py [--build-root DIR] [--nm NM] [--program PROG]...
+    call_cycles.py [--build-root DIR [--source-root DIR]] [--nm NM] [--program PROG]...
                    [--expect-cycle A,B,...] FILE...
 
 FILE is a static library (.a) or an object file (.o): the library. A
@@ -70,9 +70,9 @@ def read_symbols(nm, path):
     return objects
 
 
-def source_names(build_root):
-    """{object path: source path relative to the source root}, from Meson's
-    compilation database."""
+def source_names(build_root, source_root=None):
+    """{object path: source path relative to source_root (default: the
+    directory all sources share)}, from Meson's compilation database."""
     path = os.path.join(build_root, "compile_commands.json")
     try:
         with open(path) as f:
@@ -87,8 +87,7 @@ def source_names(build_root):
         names[os.path.realpath(obj)] = src
     if not names:
         return {}
-    # name sources relative to the directory they all share (the source root)
-    root = os.path.commonpath(list(names.values()))
+    root = source_root or os.path.commonpath(list(names.values()))
     return {o: os.path.relpath(s, root) for o, s in names.items()}
 
 
@@ -201,6 +200,7 @@ def describe(graph, comps):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--build-root", help="name objects by source file (compile_commands.json)")
+    ap.add_argument("--source-root", help="name sources relative to this directory")
     ap.add_argument("--nm", default=os.environ.get("NM", "nm"))
     ap.add_argument("--program", action="append", default=[],
                     help="one program's objects, checked with the library (repeatable)")
@@ -217,7 +217,7 @@ def main():
                 u |= undefined
         return objects
 
-    names = source_names(args.build_root) if args.build_root else {}
+    names = source_names(args.build_root, args.source_root) if args.build_root else {}
 
     def label(obj):
         return names.get(os.path.realpath(obj), os.path.relpath(obj))
