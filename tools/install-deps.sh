@@ -18,15 +18,16 @@
 set -euo pipefail
 
 # build popc (meson.build: a C compiler with the C library's headers, inih,
-# libmodbus, threads and libm from libc6-dev) and draw the report (gnuplot's
-# pngcairo/pdfcairo terminals are in gnuplot-nox)
-paper=(gcc libc6-dev meson ninja-build pkg-config libinih-dev libmodbus-dev gnuplot-nox)
-# the tests: cmocka (unit tests), socat (RTU over a pty pair), GNU parallel
+# libmodbus, threads and libm from libc6-dev; and cmocka, because meson setup
+# configures tests/ always and tests/meson.build requires it) and draw the
+# report (gnuplot's pngcairo/pdfcairo terminals are in gnuplot-nox)
+paper=(gcc libc6-dev meson ninja-build pkg-config libinih-dev libmodbus-dev libcmocka-dev gnuplot-nox)
+# the tests: socat (RTU over a pty pair), GNU parallel
 # (sweep-parallel; it depends on sysstat, a service), Slurm and munge (the
-# single-node cluster of sweep-slurm; services), gawk (sweep-slurm's free-port
-# scan uses strtonum, which Debian's default awk, mawk, lacks), python3
-# (run-tests.sh's tally) and clang (the second compiler)
-test=("${paper[@]}" libcmocka-dev socat parallel slurm-wlm munge gawk python3 clang)
+# single-node cluster of sweep-slurm; services), python3 (run-tests.sh's
+# tally) and clang (the second compiler). Not gawk: the tests run with
+# Debian's default awk, mawk (under gawk realtime.sh's field loop never ends).
+test=("${paper[@]}" socat parallel slurm-wlm munge python3 clang)
 
 usage() { echo "usage: tools/install-deps.sh [--list] [paper|test]..." >&2; exit 2; }
 list=
