@@ -71,7 +71,7 @@ mirror=${mirror:-http://deb.debian.org/debian}
 [ -n "$sources" ] && [ -z "${FRESH_ROOT_MIRROR:-}" ] || sources="$mirror bookworm"
 base=${FRESH_ROOT_DIR:-/var/tmp}
 mkdir -p "$base" 2>/dev/null && [ -w "$base" ] || skip "cannot write under $base (FRESH_ROOT_DIR)"
-need_kib=$((4 * 1024 * 1024)) # measured: 2.3 GiB used at the end of a run
+need_kib=$((4 * 1024 * 1024)) # measured: 1.3 GiB at the end of a run, and apt's downloads
 avail=$(df -Pk "$base" | awk 'NR == 2 { print $4 }')
 [ "${avail:-0}" -ge "$need_kib" ] || skip "$((avail / 1024)) MiB free under $base, a fresh root with both builds needs 4 GiB"
 W=$(mktemp -d "$base/popc-fresh-root.XXXXXX") || skip "cannot make a directory under $base"
@@ -210,7 +210,8 @@ if [ ${#cmds[@]} -ne 2 ] || [ "${cmds[0]}" != tools/paper.sh ] || [ "${cmds[1]}"
   say "FAIL: the README's Quick start block is not 'tools/paper.sh' then 'tools/run-tests.sh' (found: ${cmds[*]:-nothing}); this check knows what those two must leave"
   exit 1
 fi
-# a login's environment, nothing of this one's; no standard input, as in CI
+# a login's environment, nothing of this one's; no standard input, as in CI;
+# bounded (command 1 15 min, command 2 45 min) so that CI's 90 min hold
 in_root() { # timeout-seconds command
   timeout -k 30 "$1" chroot "$root" /usr/bin/env -i HOME=/root USER=root LOGNAME=root SHELL=/bin/bash \
     PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin \
@@ -219,7 +220,7 @@ in_root() { # timeout-seconds command
 show() { sed -u 's/^/  | /'; } # the inner output, indented: its closing line is not ours
 
 phase "command 1: ${cmds[0]}"
-in_root 1800 "${cmds[0]}" 2>&1 | tee "$W/paper.out" | show
+in_root 900 "${cmds[0]}" 2>&1 | tee "$W/paper.out" | show
 rc=${PIPESTATUS[0]}
 [ "$rc" -eq 0 ] || failed "${cmds[0]} exited $rc"
 for f in out/paper/report/index.html out/paper/compare.md; do
@@ -234,7 +235,7 @@ say "packages after command 1: $(chroot "$root" dpkg-query -W -f '${db:Status-Ab
 phase_end
 
 phase "command 2: ${cmds[1]}"
-in_root 3600 "${cmds[1]}" 2>&1 | tee "$W/tests.out" | show
+in_root 2700 "${cmds[1]}" 2>&1 | tee "$W/tests.out" | show
 rc=${PIPESTATUS[0]}
 [ "$rc" -eq 0 ] || failed "${cmds[1]} exited $rc"
 last=$(tail -n 1 "$W/tests.out")
@@ -250,6 +251,7 @@ grep -E '^ *[0-9]+/[0-9]+ .* (FAIL|TIMEOUT|ERROR|UNEXPECTEDPASS) ' "$W/tests.out
   say "service starts refused in the root (policy-rc.d): $(awk '{ print $1 }' "$root/var/log/policy-rc.d.log" | sort -u | tr '\n' ' ')"
 phase_end
 
+say "the root takes $(du -sm --one-file-system "$root" 2>/dev/null | cut -f1) MiB"
 print_timings
 if [ ${#failures[@]} -gt 0 ]; then
   say "FAILED (${#failures[@]}):"
