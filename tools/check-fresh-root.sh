@@ -69,17 +69,19 @@ sources=$(apt-get indextargets --format '$(SITE) $(RELEASE)' 'Created-By: Packag
 mirror=${FRESH_ROOT_MIRROR:-$(awk '$2 == "bookworm" { print $1; exit }' <<<"$sources")}
 mirror=${mirror:-http://deb.debian.org/debian}
 [ -n "$sources" ] && [ -z "${FRESH_ROOT_MIRROR:-}" ] || sources="$mirror bookworm"
+awk '$2 == "bookworm" { f = 1 } END { exit !f }' <<<"$sources" || sources=$(printf '%s bookworm\n%s' "$mirror" "$sources")
 base=${FRESH_ROOT_DIR:-/var/tmp}
 mkdir -p "$base" 2>/dev/null && [ -w "$base" ] || skip "cannot write under $base (FRESH_ROOT_DIR)"
 need_kib=$((4 * 1024 * 1024)) # measured: 1.3 GiB at the end of a run, and apt's downloads
 avail=$(df -Pk "$base" | awk 'NR == 2 { print $4 }')
 [ "${avail:-0}" -ge "$need_kib" ] || skip "$((avail / 1024)) MiB free under $base, a fresh root with both builds needs 4 GiB"
 W=$(mktemp -d "$base/popc-fresh-root.XXXXXX") || skip "cannot make a directory under $base"
+W=$(cd "$W" && pwd -P) # as /proc/PID/root names it
 root=$W/root
 say "root: $root; mirror: $mirror (suites: $(awk '{ printf "%s%s", sep, $2; sep = " " }' <<<"$sources"))"
 
 # ---- cleanup on every way out: processes in the root, mounts, the root
-mounts=()
+mounts=() deb_pid=
 mounted_under() { # mount points under $1, deepest first
   awk -v p="$1/" 'index($5 "/", p) == 1 { print length($5), $5 }' /proc/self/mountinfo | sort -rn | cut -d' ' -f2-
 }
@@ -94,6 +96,7 @@ cleanup() {
   local rc=$? m i left
   trap - EXIT INT TERM HUP
   [ -n "${root:-}" ] || exit "$rc"
+  if [ -n "${deb_pid:-}" ]; then kill -TERM -- "-$deb_pid" 2>/dev/null; wait "$deb_pid" 2>/dev/null; fi
   if kill_in_root TERM; then
     for i in $(seq 50); do kill_in_root 0 || break; sleep 0.1; done
     kill_in_root KILL && sleep 0.5
@@ -121,8 +124,14 @@ phase_end
 # debootstrap --variant=minbase: essential and required packages and apt only;
 # nothing of the project's. Not cached (see the header).
 phase "debootstrap --variant=minbase bookworm"
-if ! debootstrap --variant=minbase bookworm "$root" "$mirror" </dev/null >"$W/debootstrap.log" 2>&1; then
-  tail -25 "$W/debootstrap.log"
+# in the background and waited for, here and below: a signal to this script
+# then ends it at once (and the cleanup) instead of after the command
+# (debootstrap in a session of its own, so that its wget and dpkg end with it)
+setsid debootstrap --variant=minbase bookworm "$root" "$mirror" </dev/null >"$W/debootstrap.log" 2>&1 &
+deb_pid=$!
+if ! wait "$deb_pid"; then
+  deb_pid=
+  tail -40 "$W/debootstrap.log"
   if grep -qi 'no space left' "$W/debootstrap.log"; then
     skip "debootstrap: no space left under $base"
   elif grep -qiE "failed getting release|couldn't download|could not resolve|temporary failure in name|unable to resolve|network is unreachable|connection (refused|timed out)|failed: (connection|no route)|release signed by unknown key" "$W/debootstrap.log"; then
@@ -130,9 +139,10 @@ if ! debootstrap --variant=minbase bookworm "$root" "$mirror" </dev/null >"$W/de
   elif grep -qiE 'failure trying to run: chroot|operation not permitted' "$W/debootstrap.log"; then
     skip "debootstrap cannot chroot or mount here (above)"
   fi
-  say "FAIL: debootstrap failed (above; the whole log: $W/debootstrap.log)"
+  say "FAIL: debootstrap failed (above; KEEP=1 keeps the whole log, $W/debootstrap.log)"
   exit 1
 fi
+deb_pid=
 phase_end
 
 phase "prepare the root"
@@ -218,10 +228,15 @@ in_root() { # timeout-seconds command
     /bin/bash -c "cd /root/popc && $2" </dev/null
 }
 show() { sed -u 's/^/  | /'; } # the inner output, indented: its closing line is not ours
+run_in_root() { # timeout-seconds command output-file; sets rc, the command's exit code
+  rm -f "$W/rc"
+  { in_root "$1" "$2"; echo $? >"$W/rc"; } 2>&1 | tee "$3" | show &
+  wait $!
+  rc=$(cat "$W/rc" 2>/dev/null) || rc=1
+}
 
 phase "command 1: ${cmds[0]}"
-in_root 900 "${cmds[0]}" 2>&1 | tee "$W/paper.out" | show
-rc=${PIPESTATUS[0]}
+run_in_root 900 "${cmds[0]}" "$W/paper.out"
 [ "$rc" -eq 0 ] || failed "${cmds[0]} exited $rc"
 for f in out/paper/report/index.html out/paper/compare.md; do
   [ -s "$root/root/popc/$f" ] || failed "${cmds[0]} did not make $f"
@@ -235,8 +250,7 @@ say "packages after command 1: $(chroot "$root" dpkg-query -W -f '${db:Status-Ab
 phase_end
 
 phase "command 2: ${cmds[1]}"
-in_root 2700 "${cmds[1]}" 2>&1 | tee "$W/tests.out" | show
-rc=${PIPESTATUS[0]}
+run_in_root 2700 "${cmds[1]}" "$W/tests.out"
 [ "$rc" -eq 0 ] || failed "${cmds[1]} exited $rc"
 last=$(tail -n 1 "$W/tests.out")
 if [[ $last =~ ^[0-9]+\ passed,\ 0\ failed(,\ [0-9]+\ skipped)?$ ]]; then
