@@ -25,6 +25,7 @@
 #include "drive.h"
 #include "frame.h"
 #include "popc/axes/modbus_axis.h"
+#include "popc/util/stdfds.h"
 
 static volatile sig_atomic_t stop_requested = 0;
 
@@ -449,6 +450,8 @@ enum { OPT_MAP = 256, OPT_LISTEN, OPT_SCENE, OPT_LOCKSTEP, OPT_SET, OPT_WATCHDOG
 
 int main(int argc, char **argv)
 {
+	if (popc_stdfds_make_safe() != 0)
+		return 1; /* no /dev/null: a socket could land on a closed 0-2 */
 	static const struct option opts[] = {
 		{"map", required_argument, NULL, OPT_MAP},
 		{"listen", required_argument, NULL, OPT_LISTEN},
