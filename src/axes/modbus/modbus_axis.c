@@ -781,7 +781,7 @@ static int mb_stop(popc_axis *ax, popc_error *err)
 			 st1 ? e1.msg : "", st1 && st2 ? "; " : "", st2 ? "disable not confirmed: " : "",
 			 st2 ? e2.msg : "");
 		note(a, "safe stop incomplete:", msg);
-		return popc_error_set(err, POPC_ERR_COMM, "safe stop incomplete: %s", msg);
+		return popc_error_set(err, POPC_ERR_COMM, "%s", msg); /* the runner names it */
 	}
 	return 0;
 }
