@@ -120,5 +120,12 @@ else
 	refused length "$M" "--wrong-length $N,$MAXF" "reply's MBAP length field says 12 bytes, 11 followed"
 fi
 
+# an exception that means the map does not fit the drive (2, illegal data
+# address): not retried, exit 2 naming the map
+run exc2 "$M" "--exception $N,2"
+expect_rc exc2 $RC 2
+check_log "$WORK/exc2.csv" '^# stop = axis error: .*fc23.ini: the drive at .* rejected the command write \+ position read \(FC23\): Illegal data address \(check the register map'
+[ "$(rows "$WORK/exc2.csv")" -eq $((N - 5)) ] || fail "exc2: $(rows "$WORK/exc2.csv") ticks, want $((N - 5))"
+
 [ "$TRANSPORT" = rtu ] && stop_socat
 finish
