@@ -96,7 +96,9 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 	}
 	sum->wall_time_s = now_s() - t0;
 	sum->sim_time_s = sum->ticks > 0 ? (double)(sum->ticks - 1) * T : 0.0;
-	sum->integrator_error_m = popc_sim_axis_max_error(axis);
+	/* an axis without a model to check has no integrator error */
+	sum->integrator_error_m =
+		axis->ops->integrator_error_m ? axis->ops->integrator_error_m(axis) : 0.0;
 	sum->status = st;
 	if (st && err)
 		snprintf(sum->stop_reason, sizeof sum->stop_reason, "%s: %s", why, err->msg);

@@ -248,7 +248,7 @@ static int set_key(popc_scene *s, const scene_key *k, const char *value, const c
 		for (int i = 0; k->names[i]; i++) {
 			if (strcmp(k->names[i], value) == 0) {
 				if (k->offset == offsetof(popc_scene, axis))
-					snprintf(s->axis, sizeof s->axis, "%s", value);
+					snprintf(s->axis, sizeof s->axis, "%s", k->names[i]);
 				else
 					*(int *)(void *)field = i;
 				return 0;

@@ -75,6 +75,8 @@ static void usage(FILE *f)
 	      "  --fault-at N          set the drive's fault bits at request N\n"
 	      "  --start-faulted       report a fault from the start (it never clears)\n"
 	      "  --never-ready         never show the ready bits (an enable that never completes)\n"
+	      "  --map-keys            list every register map key with its default and\n"
+	      "                        allowed values, and exit (docs/MODBUS.md)\n"
 	      "  -h, --help            this help\n"
 	      "\n"
 	      "On exit it prints on standard error how many requests it served and how many\n"
@@ -445,8 +447,8 @@ static int run_server(server *sv)
 
 enum { OPT_MAP = 256, OPT_LISTEN, OPT_SCENE, OPT_LOCKSTEP, OPT_SET, OPT_WATCHDOG, OPT_RECORD,
        OPT_NOTIFY, OPT_PACE, OPT_DROP, OPT_DELAY, OPT_EXCEPTION, OPT_CORRUPT, OPT_CLOSE,
-       OPT_EXIT, OPT_FAULT_AT, OPT_START_FAULTED, OPT_NEVER_READY, OPT_DUPLICATE, OPT_REORDER,
-       OPT_WRONG_UNIT, OPT_WRONG_TID, OPT_WRONG_PROTOCOL, OPT_WRONG_LENGTH };
+       OPT_EXIT, OPT_FAULT_AT, OPT_START_FAULTED, OPT_NEVER_READY, OPT_MAP_KEYS, OPT_DUPLICATE,
+       OPT_REORDER, OPT_WRONG_UNIT, OPT_WRONG_TID, OPT_WRONG_PROTOCOL, OPT_WRONG_LENGTH };
 
 int main(int argc, char **argv)
 {
@@ -471,6 +473,7 @@ int main(int argc, char **argv)
 		{"fault-at", required_argument, NULL, OPT_FAULT_AT},
 		{"start-faulted", no_argument, NULL, OPT_START_FAULTED},
 		{"never-ready", no_argument, NULL, OPT_NEVER_READY},
+		{"map-keys", no_argument, NULL, OPT_MAP_KEYS},
 		{"duplicate", required_argument, NULL, OPT_DUPLICATE},
 		{"reorder", required_argument, NULL, OPT_REORDER},
 		{"wrong-unit", required_argument, NULL, OPT_WRONG_UNIT},
@@ -514,6 +517,7 @@ int main(int argc, char **argv)
 		case OPT_FAULT_AT: bad = parse_count(optarg, 1, &sv.fault_at); break;
 		case OPT_START_FAULTED: start_faulted = 1; break;
 		case OPT_NEVER_READY: never_ready = 1; break;
+		case OPT_MAP_KEYS: popc_register_map_print_keys(stdout); return 0;
 		case OPT_DUPLICATE: bad = parse_range(optarg, 0, &sv.duplicate); break;
 		case OPT_REORDER: bad = parse_range(optarg, 0, &sv.reorder); break;
 		case OPT_WRONG_UNIT: bad = parse_range(optarg, 0, &sv.wrong_unit); break;

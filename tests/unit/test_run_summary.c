@@ -13,6 +13,7 @@
 
 #include <cmocka.h>
 
+#include "popc/axes/sim_axis.h"
 #include "popc/run/run.h"
 #include "popc/util/numfmt.h"
 
