@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "analyze.h"
+#include "popc/util/stdfds.h"
 #include "popc_config.h"
 
 static void usage(FILE *f)
@@ -28,6 +29,8 @@ static void usage(FILE *f)
 
 int main(int argc, char **argv)
 {
+	if (popc_stdfds_make_safe() != 0) /* a closed 0-2 on /dev/null, before any open (stdfds.h) */
+		return 1;
 	if (argc < 2) {
 		usage(stderr);
 		return 2;

@@ -3,6 +3,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "popc/util/stdfds.h"
 #include "popc_config.h"
 
 static void usage(FILE *f)
@@ -24,6 +25,8 @@ static void usage(FILE *f)
 
 int main(int argc, char **argv)
 {
+	if (popc_stdfds_make_safe() != 0) /* a closed 0-2 on /dev/null, before any open (stdfds.h) */
+		return 1;
 	if (argc < 2) {
 		usage(stderr);
 		return 2;
