@@ -621,8 +621,8 @@ enum { REF_AUTO, REF_SERIES, REF_CLOSED };
 
 static void wide_reference(const popc_plant_config *cfg, int form, wide_coeffs *r)
 {
-	wide m = cfg->mass_kg, b = cfg->damping_Nspm, k = cfg->stiffness_Npm, h = cfg->period_s,
-	     w = cfg->omega_radps;
+	wide m = (wide)cfg->mass_kg, b = (wide)cfg->damping_Nspm, k = (wide)cfg->stiffness_Npm,
+	     h = (wide)cfg->period_s, w = (wide)cfg->omega_radps;
 	wide disc = b * b - 4 * k * m;
 	memset(r, 0, sizeof *r);
 	widec l1 = 0, l2 = 0;
@@ -712,7 +712,7 @@ static void light_plant_run(const popc_plant *p, const wide_coeffs *r, int kind,
 		    : cfg->damping_Nspm > 0 ? cfg->damping_Nspm * 1e-3
 					    : cfg->mass_kg * 1e-3;
 	popc_plant_state st = {x_rest, 0.0};
-	wide x = x_rest, v = 0, lo = x_rest, hi = x_rest;
+	wide x = (wide)x_rest, v = 0, lo = x, hi = x;
 	*err_m = 0.0;
 	for (int i = 0; i < GRID_STEPS; i++) {
 		popc_plant_input u = {u_rest, 0.0, 0.0, 0.0};
@@ -727,10 +727,10 @@ static void light_plant_run(const popc_plant *p, const wide_coeffs *r, int kind,
 			u.uc_N = df * sin(ph);
 		}
 		popc_plant_step(p, &st, &u);
-		wide in_x = r->gam[0][0] * u.u0_N + r->gam[0][1] * u.u1_Nps + r->gam[0][2] * u.uc_N +
-			    r->gam[0][3] * u.us_N;
-		wide in_v = r->gam[1][0] * u.u0_N + r->gam[1][1] * u.u1_Nps + r->gam[1][2] * u.uc_N +
-			    r->gam[1][3] * u.us_N;
+		wide in_x = r->gam[0][0] * (wide)u.u0_N + r->gam[0][1] * (wide)u.u1_Nps +
+			    r->gam[0][2] * (wide)u.uc_N + r->gam[0][3] * (wide)u.us_N;
+		wide in_v = r->gam[1][0] * (wide)u.u0_N + r->gam[1][1] * (wide)u.u1_Nps +
+			    r->gam[1][2] * (wide)u.uc_N + r->gam[1][3] * (wide)u.us_N;
 		wide x2 = r->phi[0][0] * x + r->phi[0][1] * v + in_x;
 		v = r->phi[1][0] * x + r->phi[1][1] * v + in_v;
 		x = x2;
@@ -838,7 +838,7 @@ static void test_light_plant_reference(void **state)
 					wide_coeffs cf, ts;
 					wide_reference(&cfg, REF_CLOSED, &cf);
 					wide_reference(&cfg, REF_SERIES, &ts);
-					wide h = cfg.period_s;
+					wide h = (wide)cfg.period_s;
 					wide scale[2][2] = {{1, h}, {1 / h, 1}};
 					for (int i = 0; i < 2; i++)
 						for (int j = 0; j < 2; j++)
