@@ -77,6 +77,36 @@ int popc_fuzz_scene(const uint8_t *data, size_t size)
 }
 
 #ifdef POPC_FUZZ_MODBUS
+/* Both directions of both conversions (issue 10): one count and every value
+ * the position register holds is a finite position, the soft limits lie
+ * strictly inside the register's range, +-limit_N goes on the wire as a
+ * register value that reads back finite and within limit_N (plus half a unit
+ * or float32's rounding), and every command register value reads as a finite
+ * force. */
+static int map_conversions_usable(const popc_register_map *m)
+{
+	static const double range[][2] = {{-32768.0, 32767.0}, {0.0, 65535.0},
+					  {-2147483648.0, 2147483647.0}, {0.0, 4294967295.0},
+					  {-3.4028234663852886e38, 3.4028234663852886e38},
+					  {-1.7976931348623157e308, 1.7976931348623157e308}};
+	const double *pr = range[m->pos.type], *cr = range[m->cmd.type];
+	double cpm = m->pos.counts_per_m, npu = m->cmd.newton_per_unit;
+	if (!(isfinite(1.0 / cpm) && 1.0 / cpm > 0) || !isfinite(pr[0] / cpm) ||
+	    !isfinite(pr[1] / cpm) || !(m->pos.soft_min_m * cpm > pr[0]) ||
+	    !(m->pos.soft_max_m * cpm < pr[1]) || !isfinite(cr[0] * npu) || !isfinite(cr[1] * npu))
+		return 0;
+	int integer = m->cmd.type <= POPC_REG_UINT32;
+	double slack = integer ? 0.5 * npu : m->cmd.limit_N * 1.2e-7;
+	for (int sign = -1; sign <= 1; sign += 2) {
+		uint16_t w[4];
+		popc_reg_encode(sign * m->cmd.limit_N / npu, m->cmd.type, m->cmd.order, w);
+		double back = popc_reg_decode(w, m->cmd.type, m->cmd.order) * npu;
+		if (!(isfinite(back) && fabs(back) <= m->cmd.limit_N + slack))
+			return 0;
+	}
+	return 1;
+}
+
 int popc_fuzz_register_map(const uint8_t *data, size_t size)
 {
 	char path[64];
@@ -93,6 +123,14 @@ int popc_fuzz_register_map(const uint8_t *data, size_t size)
 	if (popc_register_map_load(m, path, &err) != 0) {
 		check_error(data, size, err.msg, path, popc_fuzz_count_lines(data, size));
 	} else {
+		if (!map_conversions_usable(m))
+			popc_fuzz_fail(data, size,
+				       "map accepted whose conversions are not finite or not in range: "
+				       "counts_per_m %g (%s), soft [%g, %g] m, newton_per_unit %g (%s), "
+				       "limit %g N",
+				       m->pos.counts_per_m, popc_reg_type_name(m->pos.type),
+				       m->pos.soft_min_m, m->pos.soft_max_m, m->cmd.newton_per_unit,
+				       popc_reg_type_name(m->cmd.type), m->cmd.limit_N);
 		int first;
 		int n = popc_register_map_command_block(m, &first);
 		if (!(isfinite(m->pos.counts_per_m) && m->pos.counts_per_m > 0) ||

@@ -24,6 +24,43 @@ for map in "$DRIVES"/*.ini; do
 	cols "$WORK/$name.csv" | awk '$2 > 0 { c = 1 } END { exit !c }' || fail "$name: no contact"
 done
 
+# Issue 10: a command on the wire is finite and within limit_N. A float64
+# command with newton_per_unit = 1e-320 put f / 1e-320 = -inf on the wire
+# (the server, on the same layout with newton_per_unit = 1, recorded
+# 'command -inf'); now popc refuses the map at load (exit 2, the keys and
+# their lines named) and the drive receives no command at all.
+sed 's/^newton_per_unit = 1$/newton_per_unit = 1e-320/' "$EXACT_MAP" >"$WORK/npu-tiny.ini"
+start_server --map "$EXACT_MAP" --listen tcp:127.0.0.1:0 --scene "$SCENE" --lockstep \
+	--record "$WORK/rec-npu-tiny.txt"
+rc=0
+"$POPC" run "$SCENE" -q --set run.duration=1.5 --axis modbus --map "$WORK/npu-tiny.ini" \
+	--connect "$SRV_URI" --free-run --log "$WORK/npu-tiny.csv" 2>"$WORK/npu-tiny.err" || rc=$?
+stop_server
+expect_rc npu-tiny $rc 2
+grep -q "$WORK/npu-tiny.ini:[0-9]*: command.newton_per_unit = 1e-320 (line [0-9]*), command.limit_N = 100 (line [0-9]*): limit_N is inf command units" \
+	"$WORK/npu-tiny.err" || fail "npu-tiny message: $(cat "$WORK/npu-tiny.err")"
+! grep -q '^command' "$WORK/rec-npu-tiny.txt" || fail "npu-tiny: the drive received $(cat "$WORK/rec-npu-tiny.txt")"
+# the smallest scale that is usable (1e-300: 2e301 units on the wire for
+# 20 N) runs, clamped at limit_N = 1 N (the paper's contact needs about 2.4 N):
+# every command the drive recorded is finite and within 1 N, and the run ends
+# with zero force and disable
+sed -e 's/^newton_per_unit = 1$/newton_per_unit = 1e-300/' -e 's/^limit_N = .*/limit_N = 1/' \
+	"$EXACT_MAP" >"$WORK/npu-small.ini"
+start_server --map "$WORK/npu-small.ini" --listen tcp:127.0.0.1:0 --scene "$SCENE" --lockstep \
+	--record "$WORK/rec-npu-small.txt"
+rc=0
+"$POPC" run "$SCENE" -q --set run.duration=1.5 --axis modbus --map "$WORK/npu-small.ini" \
+	--connect "$SRV_URI" --free-run --log "$WORK/npu-small.csv" || rc=$?
+stop_server
+expect_rc npu-small $rc 0
+check_last_writes "$WORK/rec-npu-small.txt" 0x0000
+awk '$1 == "command" { n++; v = $2 + 0; if (!(v >= -1 && v <= 1) || $2 ~ /inf|nan/) bad = 1 }
+	END { exit bad || n < 4 }' "$WORK/rec-npu-small.txt" ||
+	fail "npu-small: commands beyond 1 N or not finite: $(tr '\n' '|' <"$WORK/rec-npu-small.txt")"
+# (1 N / 1e-300 x 1e-300 reads back as 0.9999999999999999 N)
+awk '$1 == "command" && $2 + 0 <= -0.999 { c = 1 } END { exit !c }' "$WORK/rec-npu-small.txt" ||
+	fail "npu-small: the clamp never acted: $(tr '\n' '|' <"$WORK/rec-npu-small.txt")"
+
 # a map with an error: exit 2, the message names file:line and key
 sed 's/^type = int32/type = int24/' "$DRIVES/generic.ini" >"$WORK/bad.ini"
 rc=0

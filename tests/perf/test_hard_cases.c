@@ -14,6 +14,8 @@
  *   - where the physics is bounded (no contact, undamped hand spring), the
  *     exact integrator stays within the energy bound of the motion.
  * "--slow" adds the one-hour runs (3.6e6 ticks). */
+#include <complex.h>
+#include <float.h>
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -494,6 +496,397 @@ static void test_starts_at_rest_with_device_spring(void **state)
 	assert_true(fabs(o.ck.x_min_m - s.op_x0_m) < 1e-15 && fabs(o.ck.x_max_m - s.op_x0_m) < 1e-15);
 }
 
+/* ---- light plants: the exact step against a long double reference ----
+ *
+ * Issue 10: inside their ranges, operator.mass + device.mass = 1e-17 kg with
+ * the paper's damping and stiffness rested 33 counts (of 1e-5 m) from its
+ * equilibrium u0 / K, 1e-20 kg drifted 0.4 m in 0.4 s, and 1e-9 kg with
+ * 1e6 N s/m missed it by a count: scaling and squaring loses the slow mode of
+ * a stiff overdamped plant (plant.c). Over a grid of M in [1e-20, 1] kg, B in
+ * [0, 2e6] N s/m, K in [0, 2e9] N/m and run.rate in [1, 1e6] Hz, each point
+ * is either refused by popc_plant_init (an underdamped plant turning more than
+ * POPC_PLANT_TURN_MAX_RAD per period; the message names the keys) or its
+ * exact step follows a reference step for 2000 periods within
+ * GRID_BOUND_COUNTS + GRID_BOUND_REL x the motion: from rest at the
+ * equilibrium, after a force step, under a force ramp (the u1 column) and a
+ * sine (the uc, us columns).
+ *
+ * The reference: the same step, x+ = Phi x + Gam u, with Phi and Gam from the
+ * closed form of a 2 x 2 matrix function (f(A) = divided differences of f over
+ * the eigenvalues, complex ones included) in long double (64-bit mantissa,
+ * 2^11 finer than double), and for near-equal eigenvalues a Taylor series
+ * with scaling and squaring of the augmented matrix (no stiffness there); its
+ * state is carried in long double. Checked in test_light_plant_reference (the
+ * two forms agree to 1.9e-15 normwise where both hold digits) and, offline,
+ * by the same reference in __float128 (libquadmath), which gave the same
+ * largest errors below to three digits. */
+#if LDBL_MANT_DIG >= 64
+typedef long double wide;
+typedef long double _Complex widec;
+
+typedef struct wide_coeffs {
+	wide phi[2][2], gam[2][4];
+} wide_coeffs;
+
+/* (e^(l h) - 1) / l and (e^(l h) - 1 - l h) / l^2 by their series below
+ * |l h| = 1/2 (40 terms: 0.5^40 / 40! is far below the long double unit
+ * roundoff), directly above. */
+static widec w_f0(widec l, wide h)
+{
+	widec z = l * h;
+	if (cabsl(z) < 0.5L) {
+		widec sum = 0, term = h;
+		for (int k = 1; k < 40; k++) {
+			sum += term;
+			term *= z / (wide)(k + 1);
+		}
+		return sum;
+	}
+	return (cexpl(z) - 1) / l;
+}
+
+static widec w_f1(widec l, wide h)
+{
+	widec z = l * h;
+	if (cabsl(z) < 0.5L) {
+		widec sum = 0, term = h * h / 2;
+		for (int k = 2; k < 40; k++) {
+			sum += term;
+			term *= z / (wide)(k + 1);
+		}
+		return sum;
+	}
+	return (cexpl(z) - 1 - z) / (l * l);
+}
+
+/* int_0^h e^(l (h - t)) e^(i w t) dt = e^(l h) (e^(d h) - 1) / d, d = i w - l */
+static widec w_fg(widec l, wide h, wide w)
+{
+	widec d = w * (widec)I - l;
+	if (cabsl(d * h) < 0.5L)
+		return cexpl(l * h) * w_f0(d, h);
+	return (cexpl(w * h * (widec)I) - cexpl(l * h)) / d;
+}
+
+static void w_matmul(int n, const wide *a, const wide *b, wide *out)
+{
+	wide t[36];
+	for (int i = 0; i < n; i++)
+		for (int j = 0; j < n; j++) {
+			wide acc = 0;
+			for (int k = 0; k < n; k++)
+				acc += a[i * n + k] * b[k * n + j];
+			t[i * n + j] = acc;
+		}
+	memcpy(out, t, sizeof(wide) * (size_t)(n * n));
+}
+
+/* Taylor series to 30 terms of A / 2^s with ||A / 2^s||_1 <= 1/4, squared s times. */
+static void w_expm(int n, const wide *a, wide *out)
+{
+	wide norm = 0;
+	for (int j = 0; j < n; j++) {
+		wide col = 0;
+		for (int i = 0; i < n; i++)
+			col += fabsl(a[i * n + j]);
+		norm = col > norm ? col : norm;
+	}
+	int s = 0;
+	while (norm > 0.25L) {
+		norm /= 2;
+		s++;
+	}
+	wide x[36], term[36], sum[36];
+	for (int i = 0; i < n * n; i++) {
+		x[i] = ldexpl(a[i], -s);
+		sum[i] = term[i] = (i % (n + 1) == 0) ? 1 : 0;
+	}
+	for (int k = 1; k <= 30; k++) {
+		w_matmul(n, term, x, term);
+		for (int i = 0; i < n * n; i++) {
+			term[i] /= (wide)k;
+			sum[i] += term[i];
+		}
+	}
+	for (int i = 0; i < s; i++)
+		w_matmul(n, sum, sum, sum);
+	memcpy(out, sum, sizeof(wide) * (size_t)(n * n));
+}
+
+/* Which form the reference takes: the closed form where the eigenvalues are
+ * apart and the step is stiff (the largest |lambda| h >= 1: the divided
+ * differences do not cancel), else the series (no stiffness); or one of them
+ * forced (the cross-check). */
+enum { REF_AUTO, REF_SERIES, REF_CLOSED };
+
+static void wide_reference(const popc_plant_config *cfg, int form, wide_coeffs *r)
+{
+	wide m = (wide)cfg->mass_kg, b = (wide)cfg->damping_Nspm, k = (wide)cfg->stiffness_Npm,
+	     h = (wide)cfg->period_s, w = (wide)cfg->omega_radps;
+	wide disc = b * b - 4 * k * m;
+	memset(r, 0, sizeof *r);
+	widec l1 = 0, l2 = 0;
+	int closed = 0;
+	if (disc > 0 && sqrtl(disc) > 1e-3L * (b + sqrtl(disc))) {
+		wide sq = sqrtl(disc);
+		l1 = -(b + sq) / (2 * m);
+		l2 = -2 * k / (b + sq);
+		closed = 1;
+	} else if (disc < 0 && sqrtl(-disc) > 1e-3L * sqrtl(b * b + 4 * k * m)) {
+		wide re = -b / (2 * m), im = sqrtl(-disc) / (2 * m);
+		l1 = re + im * (widec)I;
+		l2 = re - im * (widec)I;
+		closed = 1;
+	}
+	if (closed && form == REF_AUTO)
+		closed = fmaxl(cabsl(l1), cabsl(l2)) * h >= 1;
+	if (closed && form != REF_SERIES) {
+		widec d = l1 - l2, e1 = cexpl(l1 * h), e2 = cexpl(l2 * h);
+		widec beta = (e1 - e2) / d;
+		r->phi[0][0] = creall((l1 * e2 - l2 * e1) / d);
+		r->phi[0][1] = creall(beta);
+		r->phi[1][0] = -(k / m) * creall(beta);
+		r->phi[1][1] = creall((l1 * e1 - l2 * e2) / d);
+		widec f0 = (w_f0(l1, h) - w_f0(l2, h)) / d;
+		r->gam[0][0] = creall(f0) / m;
+		r->gam[1][0] = creall(beta) / m;
+		r->gam[0][1] = creall((w_f1(l1, h) - w_f1(l2, h)) / d) / m;
+		r->gam[1][1] = creall(f0) / m;
+		if (w != 0) {
+			widec g1 = w_fg(l1, h, w), g2 = w_fg(l2, h, w);
+			widec gx = (g1 - g2) / d / m, gv = (l1 * g1 - l2 * g2) / d / m;
+			r->gam[0][2] = creall(gx);
+			r->gam[0][3] = cimagl(gx);
+			r->gam[1][2] = creall(gv);
+			r->gam[1][3] = cimagl(gv);
+		}
+		return;
+	}
+	/* the input states in units of u / M (an exact diagonal similarity):
+	 * h / M beside a small plant block would force needless squarings */
+	int n = w != 0 ? 6 : 4;
+	wide a[36] = {0}, e[36];
+	a[0 * n + 1] = h;
+	a[1 * n + 0] = -k / m * h;
+	a[1 * n + 1] = -b / m * h;
+	a[1 * n + 2] = h;
+	a[2 * n + 3] = h;
+	if (n == 6) {
+		a[1 * n + 4] = h;
+		a[4 * n + 5] = w * h;
+		a[5 * n + 4] = -w * h;
+	}
+	w_expm(n, a, e);
+	for (int i = 0; i < 2; i++) {
+		r->phi[i][0] = e[i * n + 0];
+		r->phi[i][1] = e[i * n + 1];
+		r->gam[i][0] = e[i * n + 2] / m;
+		r->gam[i][1] = e[i * n + 3] / m;
+		r->gam[i][2] = n == 6 ? e[i * n + 4] / m : 0;
+		r->gam[i][3] = n == 6 ? e[i * n + 5] / m : 0;
+	}
+}
+
+/* The bound: 1e-3 counts (a thousandth of the encoder's resolution) plus
+ * 3e-8 of the motion. Measured on the grid below: at most 1.1e-3 counts of a
+ * 1.9e5-count step response (M 1e-16 kg, B 1e-18 N s/m, K 0, 1 Hz; relative
+ * 5.6e-9) and 0.95 counts of a 1.8e8-count ramp (relative 5.2e-9), every rest
+ * within 1e-9 counts; the largest ratio error / bound 0.32. Before issue 10
+ * the rest error alone reached 3e71 counts. */
+#define GRID_BOUND_COUNTS 1e-3
+#define GRID_BOUND_REL 3e-8
+#define GRID_RESOLUTION_M 1e-5
+#define GRID_STEPS 2000
+
+enum { REST, STEP, RAMP, SINE, N_INPUTS };
+
+/* Runs one input kind for GRID_STEPS periods with the exact step and the
+ * reference; returns the largest |x - x_ref| and the motion's range, m. */
+static void light_plant_run(const popc_plant *p, const wide_coeffs *r, int kind, double *err_m,
+			    double *range_m)
+{
+	const popc_plant_config *cfg = &p->cfg;
+	double x_rest = -0.01, T = cfg->period_s;
+	double u_rest = cfg->stiffness_Npm * x_rest; /* K x_rest: rest there */
+	double df = cfg->stiffness_Npm > 0 ? cfg->stiffness_Npm * 1e-3
+		    : cfg->damping_Nspm > 0 ? cfg->damping_Nspm * 1e-3
+					    : cfg->mass_kg * 1e-3;
+	popc_plant_state st = {x_rest, 0.0};
+	wide x = (wide)x_rest, v = 0, lo = x, hi = x;
+	*err_m = 0.0;
+	for (int i = 0; i < GRID_STEPS; i++) {
+		popc_plant_input u = {u_rest, 0.0, 0.0, 0.0};
+		if (kind == STEP)
+			u.u0_N = u_rest + df;
+		else if (kind == RAMP) {
+			u.u0_N = u_rest + df * (i * T);
+			u.u1_Nps = df;
+		} else if (kind == SINE) {
+			double ph = cfg->omega_radps * (i * T);
+			u.us_N = df * cos(ph);
+			u.uc_N = df * sin(ph);
+		}
+		popc_plant_step(p, &st, &u);
+		wide in_x = r->gam[0][0] * (wide)u.u0_N + r->gam[0][1] * (wide)u.u1_Nps +
+			    r->gam[0][2] * (wide)u.uc_N + r->gam[0][3] * (wide)u.us_N;
+		wide in_v = r->gam[1][0] * (wide)u.u0_N + r->gam[1][1] * (wide)u.u1_Nps +
+			    r->gam[1][2] * (wide)u.uc_N + r->gam[1][3] * (wide)u.us_N;
+		wide x2 = r->phi[0][0] * x + r->phi[0][1] * v + in_x;
+		v = r->phi[1][0] * x + r->phi[1][1] * v + in_v;
+		x = x2;
+		lo = x < lo ? x : lo;
+		hi = x > hi ? x : hi;
+		double e = (double)fabsl((wide)st.x_m - x);
+		if (!(e <= *err_m))
+			*err_m = e; /* NaN sticks */
+	}
+	*range_m = (double)(hi - lo);
+}
+
+static void test_light_plant_grid(void **state)
+{
+	(void)state;
+	static const double light_masses[] = {1e-20, 1e-19, 1e-18, 1e-17, 1e-16, 1e-15, 1e-14,
+					1e-13, 1e-12, 1e-11, 1e-10, 1e-9,  1e-8,  1e-7,
+					1e-6,  1e-5,  1e-4,  1e-3,  1e-2,  1e-1,  1.0};
+	static const double dampings[] = {0, 1e-18, 1e-12, 1e-6, 1e-3, 0.5, 1e2, 1e4, 1e6, 2e6};
+	static const double stiffnesses[] = {0, 1, 50, 1e3, 1e6, 1e9, 2e9};
+	static const double grid_rates[] = {1, 100, 1e3, 1e4, 1e6};
+	static const char *const kinds[] = {"rest", "step", "ramp", "sine"};
+	long points = 0, refused = 0;
+	double worst_ratio = 0.0, worst_err[N_INPUTS] = {0};
+	for (size_t a = 0; a < N(light_masses); a++)
+		for (size_t b = 0; b < N(dampings); b++)
+			for (size_t c = 0; c < N(stiffnesses); c++)
+				for (size_t d = 0; d < N(grid_rates); d++)
+					for (int kind = 0; kind < N_INPUTS; kind++) {
+						popc_plant_config cfg = {
+							.mass_kg = light_masses[a],
+							.damping_Nspm = dampings[b],
+							.stiffness_Npm = stiffnesses[c],
+							/* an eighth of the rate (scenes allow a quarter) */
+							.omega_radps = kind == SINE ? 6.283185307179586 * grid_rates[d] / 8 : 0.0,
+							.method = POPC_INTEGRATOR_EXACT,
+							.substeps = 1,
+							.period_s = 1.0 / grid_rates[d],
+						};
+						popc_plant p;
+						popc_error err;
+						int st = popc_plant_init(&p, &cfg, &err);
+						if (st) {
+							if (st != POPC_ERR_INVALID ||
+							    !strstr(err.msg, "operator.mass + device.mass") ||
+							    !strstr(err.msg, "operator.stiffness + device.stiffness") ||
+							    !strstr(err.msg, "operator.damping + device.damping") ||
+							    !strstr(err.msg, "rad per period"))
+								fail_msg("M %g, B %g, K %g, %g Hz: status %d: %s",
+									 cfg.mass_kg, cfg.damping_Nspm,
+									 cfg.stiffness_Npm, grid_rates[d], st, err.msg);
+							refused += kind == REST;
+							continue;
+						}
+						points += kind == REST;
+						wide_coeffs r;
+						wide_reference(&cfg, REF_AUTO, &r);
+						double err_m, range_m;
+						light_plant_run(&p, &r, kind, &err_m, &range_m);
+						double err_counts = err_m / GRID_RESOLUTION_M;
+						double bound = GRID_BOUND_COUNTS +
+							       GRID_BOUND_REL * range_m / GRID_RESOLUTION_M;
+						if (!(err_counts <= bound))
+							fail_msg("M %g kg, B %g N s/m, K %g N/m, %g Hz, %s: %.3g "
+								 "counts from the reference (bound %.3g; the motion "
+								 "spans %.3g m)",
+								 cfg.mass_kg, cfg.damping_Nspm, cfg.stiffness_Npm,
+								 grid_rates[d], kinds[kind], err_counts, bound,
+								 range_m);
+						worst_ratio = fmax(worst_ratio, err_counts / bound);
+						worst_err[kind] = fmax(worst_err[kind], err_counts);
+					}
+	printf("# light plants: %ld points accepted, %ld refused (turning past %g rad a period); "
+	       "largest error: rest %.3g, step %.3g, ramp %.3g, sine %.3g counts; largest "
+	       "error / bound %.3g\n",
+	       points, refused, POPC_PLANT_TURN_MAX_RAD, worst_err[REST], worst_err[STEP],
+	       worst_err[RAMP], worst_err[SINE], worst_ratio);
+	/* the grid reaches the refusal: the undamped 1e-20 kg on 2e9 N/m at 1 Hz
+	 * turns 4.5e14 rad a period */
+	assert_true(refused > 0 && points > 1000);
+}
+
+/* The reference against itself: the closed form (the divided differences the
+ * stiff points take) and the series agree where both hold digits (M in
+ * [0.1, 10] kg, B, K moderate, |lambda| h <= 0.3), normwise: Phi's entries
+ * scaled by 1, h and 1/h, Gam's columns by their largest entry. A wrong
+ * closed form would differ in the first digit; measured 1.9e-15 at most (the
+ * divided differences of near eigenvalues cancel a few digits of the long
+ * double closed form there, which is why the grid's non-stiff points take the
+ * series). */
+static void test_light_plant_reference(void **state)
+{
+	(void)state;
+	static const double ms[] = {0.1, 1, 10}, bs[] = {0, 0.5, 10, 100}, ks[] = {0, 50, 1e3, 1e4},
+			    ws[] = {0, 30};
+	double worst = 0.0;
+	for (size_t a = 0; a < N(ms); a++)
+		for (size_t b = 0; b < N(bs); b++)
+			for (size_t c = 0; c < N(ks); c++)
+				for (size_t d = 0; d < N(ws); d++) {
+					popc_plant_config cfg = {.mass_kg = ms[a], .damping_Nspm = bs[b],
+								 .stiffness_Npm = ks[c], .omega_radps = ws[d],
+								 .method = POPC_INTEGRATOR_EXACT,
+								 .substeps = 1, .period_s = 1e-3};
+					wide_coeffs cf, ts;
+					wide_reference(&cfg, REF_CLOSED, &cf);
+					wide_reference(&cfg, REF_SERIES, &ts);
+					wide h = (wide)cfg.period_s;
+					wide scale[2][2] = {{1, h}, {1 / h, 1}};
+					for (int i = 0; i < 2; i++)
+						for (int j = 0; j < 2; j++)
+							worst = fmax(worst, (double)(fabsl(cf.phi[i][j] -
+											    ts.phi[i][j]) /
+										     scale[i][j]));
+					for (int j = 0; j < 4; j++) {
+						wide col = fabsl(ts.gam[0][j]) / h + fabsl(ts.gam[1][j]);
+						if (col == 0)
+							continue;
+						for (int i = 0; i < 2; i++)
+							worst = fmax(worst,
+								     (double)(fabsl(cf.gam[i][j] - ts.gam[i][j]) /
+									      (i ? col : col * h)));
+					}
+				}
+	printf("# light-plant reference: closed form against series, largest normwise difference %.3g\n",
+	       worst);
+	assert_true(worst < 1e-14);
+}
+
+/* The scenes of the issue through popc run: the hand rests where it must
+ * (x_d(0) = -0.01 m, count -1000), to rounding, before the ramp starts. */
+static void test_light_plant_rests(void **state)
+{
+	(void)state;
+	static const struct {
+		double each_mass_kg, op_damping_Nspm;
+	} cases[] = {{5e-18, 0.5}, {5e-21, 0.5}, {5e-10, 1e6}};
+	for (size_t i = 0; i < N(cases); i++) {
+		popc_scene s;
+		popc_scene_defaults(&s);
+		s.op_mass_kg = s.dev_mass_kg = cases[i].each_mass_kg;
+		s.op_damping_Nspm = cases[i].op_damping_Nspm;
+		s.duration_s = 0.4; /* before the ramp (t0 = 0.5 s) */
+		outcome o;
+		run_scene(&s, &o);
+		if (o.status)
+			fail_msg("M %g kg: %s", 2 * cases[i].each_mass_kg, o.err.msg);
+		/* before issue 10: [-0.01, -0.00967] (33 counts), [-0.41, -0.01], and
+		 * [-0.010010, -0.01] m */
+		if (!(fabs(o.ck.x_min_m - s.op_x0_m) < 1e-15 && fabs(o.ck.x_max_m - s.op_x0_m) < 1e-15))
+			fail_msg("M %g kg, B %g N s/m: x in [%.17g, %.17g], rest at %g", 2 * cases[i].each_mass_kg,
+				 s.op_damping_Nspm, o.ck.x_min_m, o.ck.x_max_m, s.op_x0_m);
+	}
+}
+#endif
+
 /* One hour at 1 kHz (3.6e6 ticks). */
 static void one_hour(popc_integrator m, int substeps, double damping, outcome *o)
 {
@@ -569,6 +962,11 @@ int main(int argc, char **argv)
 		cmocka_unit_test(test_long_stable_runs_are_not_stopped),
 		cmocka_unit_test(test_overflowing_growth_is_unstable),
 		cmocka_unit_test(test_starts_at_rest_with_device_spring),
+#if LDBL_MANT_DIG >= 64
+		cmocka_unit_test(test_light_plant_grid),
+		cmocka_unit_test(test_light_plant_reference),
+		cmocka_unit_test(test_light_plant_rests),
+#endif
 	};
 	const struct CMUnitTest hour[] = {
 		cmocka_unit_test(test_one_hour_exact_paper),

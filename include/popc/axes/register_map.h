@@ -110,9 +110,12 @@ typedef struct popc_register_map {
 
 /* Reads and validates a map file. Unknown or duplicate keys, bad values,
  * missing keys and inconsistent combinations (overlapping registers, two
- * scales given, a command that cannot reach limit_N, ...) are rejected with a
- * message naming the file, the line (none when the problem is a missing key)
- * and the key. A line longer than the reader's buffer is refused with its
+ * scales given, a command that cannot reach limit_N, a derived scale that is
+ * not finite and above 0, a conversion that is not finite or in range in
+ * either direction for the commands |f| <= limit_N, the soft limits or any
+ * value a register can hold: docs/MODBUS.md, "Derived scales") are rejected
+ * with a message naming the file, the line (none when the problem is a
+ * missing key) and the key (every key behind a derived scale, with its line). A line longer than the reader's buffer is refused with its
  * line number (libinih would split it and count the pieces as lines).
  * Single keys are checked first, in file order, then the rules between keys.
  * Returns 0 or a negative popc_status. */

@@ -85,11 +85,21 @@ static inline void popc_plant_step_exact(const popc_plant_step_coeffs *c, popc_p
 	st->v_mps = (c->phi[1][0] * x + c->phi[1][1] * v) + in_v;
 }
 
+/* The largest rotation per control period, w_d T e^(-B T / (2 M)), that the
+ * exact step accepts for an underdamped plant: 2^22 rad, where its error of
+ * about 16 eps per radian (eps = 2^-52) reaches 2^-26, half the digits of
+ * double precision (plant.c, underdamped_turn). */
+#define POPC_PLANT_TURN_MAX_RAD 4194304.0
+
 /* Validates the configuration (M > 0, B >= 0, K >= 0, finite, substeps >= 1;
  * K/M, B/M, 1/M and (K/M) T^2 finite, so that no step overflows before it
- * starts) and precomputes the full-period step. POPC_ERR_INVALID names the
- * scene keys behind a bad value; POPC_ERR_NUMERIC when the step matrices come
- * out non-finite (a plant too stiff for double precision). */
+ * starts; for the exact method an underdamped plant turning at most
+ * POPC_PLANT_TURN_MAX_RAD per period) and precomputes the full-period step.
+ * An overdamped plant whose fast mode dies within the period (M/B far below
+ * T) steps by a closed form (plant.c), where scaling and squaring lost the
+ * slow mode. POPC_ERR_INVALID names the scene keys behind a bad value;
+ * POPC_ERR_NUMERIC when the step matrices come out non-finite (a plant too
+ * stiff for double precision). */
 int popc_plant_init(popc_plant *p, const popc_plant_config *cfg, popc_error *err);
 
 /* Advances the state by one control period T. */

@@ -4,6 +4,7 @@
 #include "popc/axes/register_map.h"
 
 #include <errno.h>
+#include <float.h>
 #include <ini.h>
 #include <math.h>
 #include <stdio.h>
@@ -471,19 +472,229 @@ static int command_scale(load_ctx *c, popc_register_map *m)
 	return 0;
 }
 
-/* The clamp must be representable: limit_N in command units within a
- * signed type, and at least one unit. */
+/* ---- derived scales: finite and usable both ways ---------------------------
+ *
+ * A scale inside its keys' ranges can still be unusable once keys combine or
+ * divide: counts_per_rev 1e12 x gear 1e6 / lead_m 1e-300 is an infinite
+ * counts_per_m (every position read as 0 m, so the soft limits never
+ * tripped), newton_per_unit = 1e-320 put 20 N / 1e-320 = inf on the wire of a
+ * float64 command, and a percent-of-rated scale underflowed to 0. So each
+ * derived scale must be finite and above 0, and both directions of each
+ * conversion must stay finite and in range for every value they can meet:
+ * the commands |f| <= limit_N, every value the position and command
+ * registers can hold, and the soft limits. Each message names the keys behind
+ * the scale with their lines (a default: "(default)"); its own line is the
+ * latest of them. */
+
+/* "position.gear = 2 (line 10)", "position.gear = 1 (default)" */
+static void key_term(const load_ctx *c, int k, char *buf, size_t cap)
+{
+	const popc_map_key *d = &rows[k].key;
+	if (c->at[k])
+		snprintf(buf, cap, "%s.%s = %s (line %d)", d->section, d->key, c->value[k], c->at[k]);
+	else
+		snprintf(buf, cap, "%s.%s = %s (default)", d->section, d->key,
+			 d->default_text ? d->default_text : "?");
+}
+
+static int latest_line(const load_ctx *c, const int *keys, int n)
+{
+	int at = 0;
+	for (int i = 0; i < n; i++)
+		if (c->at[keys[i]] > at)
+			at = c->at[keys[i]];
+	return at;
+}
+
+/* The keys that make a scale, as "a x b / c"; ops[i] joins key i to i + 1. */
+typedef struct scale_keys {
+	int keys[5], n;
+	const char *ops[4];
+} scale_keys;
+
+static scale_keys position_scale_keys(const load_ctx *c)
+{
+	if (c->at[K_POS_CPM])
+		return (scale_keys){{K_POS_CPM}, 1, {NULL}};
+	return (scale_keys){{K_POS_CPR, K_POS_GEAR, K_POS_LEAD}, 3, {" x ", " / "}};
+}
+
+static scale_keys command_scale_keys(const load_ctx *c)
+{
+	if (c->at[K_CMD_NPU])
+		return (scale_keys){{K_CMD_NPU}, 1, {NULL}};
+	return (scale_keys){{K_CMD_PPU, K_CMD_RATED, K_CMD_GEAR, K_CMD_LEAD},
+			    4,
+			    {" / 100 x ", " x 2 pi x ", " / "}};
+}
+
+static void describe_scale(const load_ctx *c, const scale_keys *s, char *buf, size_t cap)
+{
+	size_t n = 0;
+	buf[0] = '\0';
+	for (int i = 0; i < s->n && n < cap; i++) {
+		char term[200];
+		key_term(c, s->keys[i], term, sizeof term);
+		n += (size_t)snprintf(buf + n, cap - n, "%s%s", term, i + 1 < s->n ? s->ops[i] : "");
+	}
+}
+
+/* A refusal that blames a derived scale (and the extra keys, e.g. the
+ * register's type): "FILE:LINE: SCALE KEYS: what". */
+static int bad_scale(load_ctx *c, const scale_keys *s, const int *extra, int n_extra,
+		     const char *what)
+{
+	char scale[700], extras[400] = "";
+	describe_scale(c, s, scale, sizeof scale);
+	size_t n = 0;
+	for (int i = 0; i < n_extra && n < sizeof extras; i++) {
+		char term[200];
+		key_term(c, extra[i], term, sizeof term);
+		n += (size_t)snprintf(extras + n, sizeof extras - n, ", %s", term);
+	}
+	int line = latest_line(c, s->keys, s->n), le = latest_line(c, extra, n_extra);
+	return popc_error_set(c->err, POPC_ERR_INVALID, "%s:%d: %s%s: %s", c->path,
+			      le > line ? le : line, scale, extras, what);
+}
+
+/* The smallest and largest value a register of type t can hold (finite
+ * values: a float register's inf and NaN are no position and no force). */
+static void type_range(popc_reg_type t, double *lo, double *hi)
+{
+	switch (t) {
+	case POPC_REG_INT16: *lo = -32768.0, *hi = 32767.0; return;
+	case POPC_REG_UINT16: *lo = 0.0, *hi = 65535.0; return;
+	case POPC_REG_INT32: *lo = -2147483648.0, *hi = 2147483647.0; return;
+	case POPC_REG_UINT32: *lo = 0.0, *hi = 4294967295.0; return;
+	case POPC_REG_FLOAT32: *hi = (double)FLT_MAX, *lo = -*hi; return;
+	case POPC_REG_FLOAT64: *hi = DBL_MAX, *lo = -*hi; return;
+	}
+	*lo = *hi = 0.0;
+}
+
+/* counts_per_m: finite and above 0; one count a finite length above 0; every
+ * value the position register can hold a finite position (register value /
+ * counts_per_m, as popc reads it). */
+static int position_scale_usable(load_ctx *c, const popc_register_map *m)
+{
+	scale_keys s = position_scale_keys(c);
+	char what[256];
+	double cpm = m->pos.counts_per_m;
+	if (!(isfinite(cpm) && cpm > 0.0)) {
+		snprintf(what, sizeof what,
+			 "gives counts_per_m = %g; the position scale must be a finite number above 0",
+			 cpm);
+		return bad_scale(c, &s, NULL, 0, what);
+	}
+	double one_count_m = 1.0 / cpm;
+	if (!(isfinite(one_count_m) && one_count_m > 0.0)) {
+		snprintf(what, sizeof what,
+			 "one count is %g m at counts_per_m = %g; it must be a finite length above 0",
+			 one_count_m, cpm);
+		return bad_scale(c, &s, NULL, 0, what);
+	}
+	double lo, hi;
+	type_range(m->pos.type, &lo, &hi);
+	if (!isfinite(lo / cpm) || !isfinite(hi / cpm)) {
+		static const int type_key[] = {K_POS_TYPE};
+		snprintf(what, sizeof what,
+			 "the %s position register's value %g reads as %g m at counts_per_m = %g; "
+			 "every value it can hold must read as a finite position",
+			 popc_reg_type_name(m->pos.type), hi, hi / cpm, cpm);
+		return bad_scale(c, &s, type_key, 1, what);
+	}
+	return 0;
+}
+
+/* The soft limits in register units lie strictly inside the position
+ * register's range: a drive past a limit must be able to report a value past
+ * it (a register that saturates at the limit, or cannot hold a negative
+ * position, would hold the reading inside and the limit would never trip). */
+static int soft_limits_in_register(load_ctx *c, const popc_register_map *m)
+{
+	double lo, hi, cpm = m->pos.counts_per_m;
+	type_range(m->pos.type, &lo, &hi);
+	double min_units = m->pos.soft_min_m * cpm, max_units = m->pos.soft_max_m * cpm;
+	int low = !(min_units > lo);
+	if (!low && max_units < hi)
+		return 0;
+	scale_keys s = position_scale_keys(c);
+	const int extra[] = {low ? K_POS_MIN : K_POS_MAX, K_POS_TYPE};
+	char what[300];
+	snprintf(what, sizeof what,
+		 "the soft limit is %.17g register units, not %s the %s position register's %s "
+		 "value %.17g: a position past the limit could not be read, so the limit could "
+		 "never trip",
+		 low ? min_units : max_units, low ? "above" : "below", popc_reg_type_name(m->pos.type),
+		 low ? "smallest" : "largest", low ? lo : hi);
+	return bad_scale(c, &s, extra, 2, what);
+}
+
+/* newton_per_unit: finite and above 0 (a percent-of-rated product can
+ * underflow to 0 or overflow). */
+static int command_scale_usable(load_ctx *c, const popc_register_map *m)
+{
+	double npu = m->cmd.newton_per_unit;
+	if (isfinite(npu) && npu > 0.0)
+		return 0;
+	scale_keys s = command_scale_keys(c);
+	char what[160];
+	snprintf(what, sizeof what,
+		 "gives newton_per_unit = %g; the command scale must be a finite number above 0", npu);
+	return bad_scale(c, &s, NULL, 0, what);
+}
+
+/* The command on the wire. popc clamps every force to [-limit_N, limit_N]
+ * and writes f / newton_per_unit (modbus_axis.c), a monotone map, so the two
+ * extremes bound every command: +-limit_N in command units must be finite,
+ * fit the (signed) type and be at least one unit, and read back from the
+ * register as a finite force within limit_N (plus half a unit, the nearest
+ * rounding of the integer types, and float32's rounding). And every value the
+ * register can hold must read as a finite force (a drive, or popc-servo-sim,
+ * multiplies it by newton_per_unit): for float64, newton_per_unit <= 1. */
 static int command_limit(load_ctx *c, const popc_register_map *m)
 {
+	static const int limit_key[] = {K_CMD_LIMIT}, type_key[] = {K_CMD_TYPE};
+	scale_keys s = command_scale_keys(c);
+	double npu = m->cmd.newton_per_unit, units = m->cmd.limit_N / npu;
+	char what[300];
+	if (!isfinite(units)) {
+		snprintf(what, sizeof what,
+			 "limit_N is %g command units at newton_per_unit = %g; a command on the wire "
+			 "must be a finite value",
+			 units, npu);
+		return bad_scale(c, &s, limit_key, 1, what);
+	}
 	uint16_t w[4];
 	int is_unsigned = m->cmd.type == POPC_REG_UINT16 || m->cmd.type == POPC_REG_UINT32;
-	if (popc_reg_encode(m->cmd.limit_N / m->cmd.newton_per_unit, m->cmd.type, m->cmd.order, w) ||
-	    is_unsigned)
+	if (popc_reg_encode(units, m->cmd.type, m->cmd.order, w) || is_unsigned)
 		return bad(c, K_CMD_LIMIT,
 			   is_unsigned ? "an unsigned command type cannot carry a force of either sign"
 				       : "limit_N in command units does not fit the command type");
-	if (m->cmd.limit_N / m->cmd.newton_per_unit < 1.0)
+	if (units < 1.0)
 		return bad(c, K_CMD_LIMIT, "limit_N is below one command unit (newton_per_unit)");
+	int integer = m->cmd.type != POPC_REG_FLOAT32 && m->cmd.type != POPC_REG_FLOAT64;
+	double slack_N = (integer ? 0.5 * npu : 0.0) +
+			 m->cmd.limit_N * (m->cmd.type == POPC_REG_FLOAT32 ? (double)FLT_EPSILON : 4 * DBL_EPSILON);
+	for (int sign = -1; sign <= 1; sign += 2) {
+		popc_reg_encode(sign * units, m->cmd.type, m->cmd.order, w);
+		double back_N = popc_reg_decode(w, m->cmd.type, m->cmd.order) * npu;
+		if (!(isfinite(back_N) && fabs(back_N) <= m->cmd.limit_N + slack_N)) {
+			snprintf(what, sizeof what,
+				 "a command of %g N reads back from the register as %g N, beyond limit_N",
+				 sign * m->cmd.limit_N, back_N);
+			return bad_scale(c, &s, limit_key, 1, what);
+		}
+	}
+	double lo, hi;
+	type_range(m->cmd.type, &lo, &hi);
+	if (!isfinite(lo * npu) || !isfinite(hi * npu)) {
+		snprintf(what, sizeof what,
+			 "the %s command register's value %g reads as %g N at newton_per_unit = %g; "
+			 "every value it can hold must read as a finite force",
+			 popc_reg_type_name(m->cmd.type), hi, hi * npu, npu);
+		return bad_scale(c, &s, type_key, 1, what);
+	}
 	return 0;
 }
 
@@ -583,9 +794,11 @@ static int validate(load_ctx *c, popc_register_map *m)
 	if (st)
 		return st;
 	store_keys(c, m);
-	if ((st = link_silence(c, m)) || (st = position_scale(c, m)) || (st = soft_limits(c, m)) ||
-	    (st = command_scale(c, m)) || (st = command_limit(c, m)) || (st = enable_words(c, m)) ||
-	    (st = status_masks(c, m)) || (st = register_layout(c, m)))
+	if ((st = link_silence(c, m)) || (st = position_scale(c, m)) ||
+	    (st = position_scale_usable(c, m)) || (st = soft_limits(c, m)) ||
+	    (st = soft_limits_in_register(c, m)) || (st = command_scale(c, m)) ||
+	    (st = command_scale_usable(c, m)) || (st = command_limit(c, m)) ||
+	    (st = enable_words(c, m)) || (st = status_masks(c, m)) || (st = register_layout(c, m)))
 		return st;
 	return sequence_register(c, m);
 }
