@@ -1,7 +1,7 @@
 /* popc-analyze: shared helpers of the verbs (one cmd_*.c per verb).
  *
  * ana_log wraps the library's streaming log reader for every verb: it maps
- * popc's column names (t, x, count, v, f_e, f_pc, f_c, W, E_ref, ...) to the
+ * popc's column names (POPC_LOG_COLUMN_TABLE: t, x, count, ...) to the
  * file's headers, rebuilds the scene from a popc log's header (then --set),
  * derives the columns a foreign log lacks, and hands out one popc_tick per row.
  * Memory is constant in the length of the log. */
@@ -14,6 +14,7 @@
 #include "popc/core/controller.h"
 #include "popc/core/environment.h"
 #include "popc/util/error.h"
+#include "popc/log/log_columns.h"
 #include "popc/log/log_reader.h"
 #include "popc/scene/scene.h"
 
@@ -95,9 +96,12 @@ enum {
 	{"set", required_argument, NULL, ANA_OPT_SET},                       \
 	{"scale", required_argument, NULL, ANA_OPT_SCALE},                   \
 	{"decimal", required_argument, NULL, ANA_OPT_DECIMAL}
+/* popc's column names, each after a space: " t x count ..." */
+#define ANA_COLUMN_NAME(ID, name, unit, fill, format, field, meaning) " " #name
+#define ANA_COLUMN_NAMES POPC_LOG_COLUMN_TABLE(ANA_COLUMN_NAME)
 #define ANA_INPUT_HELP                                                                         \
 	"  --column NAME=HEADER     popc's column NAME is the file's column HEADER (repeatable;\n" \
-	"                           names: t x count x_true v f_e f_pc f_c W E_ref flags dt rtt)\n" \
+	"                           names:" ANA_COLUMN_NAMES ")\n"                               \
 	"  --scale NAME=FACTOR      the file's column NAME times FACTOR is in SI units, e.g.\n"  \
 	"                           t=1e-3 (ms), x=1e-3 (mm), f_c=-1 (other sign convention)\n" \
 	"  --delimiter C            cell delimiter: ',' ';' tab ('\\t' or 'tab') or 'space'\n"    \
@@ -126,9 +130,11 @@ typedef struct ana_log {
 	int allow_uneven;         /* the time steps are not checked against period_s */
 	double t_prev_s;          /* the previous row's time, for the step check */
 	long long t_prev_line;
-	/* column indices, -1 when the file lacks them */
-	int c_t, c_x, c_count, c_x_true, c_v, c_f_e, c_f_pc, c_f_c, c_W, c_E_ref, c_flags;
-	int c_dt, c_rtt;
+	/* column indices, -1 when the file lacks them: c_t, c_x, ... c_rtt, one
+	 * per column of popc's log (POPC_LOG_COLUMN_TABLE) */
+#define ANA_COLUMN_INDEX(ID, name, unit, fill, format, field, meaning) int c_##name;
+	POPC_LOG_COLUMN_TABLE(ANA_COLUMN_INDEX)
+#undef ANA_COLUMN_INDEX
 	/* the PC force is logged (f_pc) or follows from the command (f_pc = f_c - f_e);
 	 * without either, ana_log_next's f_pc is 0 and f_c = f_e, which is no
 	 * measurement: a verb must not base a verdict on it (ana_no_pc_force) */

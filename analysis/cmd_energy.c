@@ -186,7 +186,7 @@ static int energy_one(const char *path, const ana_input_options *in, const int *
 	for (int i = 0; i < n_want; i++) {
 		memset(&s[i], 0, sizeof s[i]);
 		s[i].def = (definition)want[i];
-		s[i].wme_min_J = INFINITY;
+		s[i].wme_min_J = (double)INFINITY;
 		observer_for(&l, s[i].def, &s[i].obs);
 	}
 	const int logged = l.c_W >= 0 && l.c_E_ref >= 0;

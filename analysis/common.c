@@ -94,12 +94,32 @@ static int parse_char_option(const char *arg, char *out)
 /* popc's column names (the --column and --scale NAMEs) */
 static int column_name_known(const char *name)
 {
-	static const char *const names[] = {"t",   "x",    "count", "x_true", "v",  "f_e", "f_pc",
-					    "f_c", "W",    "E_ref", "flags", "dt", "rtt"};
-	for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
-		if (strcmp(names[i], name) == 0)
-			return 1;
-	return 0;
+	return popc_log_column_find(name) >= 0;
+}
+
+/* A column that --scale may scale: a number in a unit, not a bit set */
+static int column_scalable(const char *name)
+{
+	const int id = popc_log_column_find(name);
+	return id >= 0 && popc_log_columns[id].format != POPC_LOG_CELL_FLAGS;
+}
+
+/* The names of popc's columns, each after a space; scalable_only: those
+ * --scale takes */
+static const char *column_names(char *buf, size_t cap, int scalable_only)
+{
+	size_t len = 0;
+	buf[0] = '\0';
+	for (int id = 0; id < POPC_LOG_N_COLUMNS; id++) {
+		const char *name = popc_log_columns[id].name;
+		if (scalable_only && !column_scalable(name))
+			continue;
+		int n = snprintf(buf + len, cap - len, " %s", name);
+		if (n < 0 || (size_t)n >= cap - len)
+			break;
+		len += (size_t)n;
+	}
+	return buf;
 }
 
 static int scale_option(ana_input_options *o, char *arg, const char *verb)
@@ -113,12 +133,13 @@ static int scale_option(ana_input_options *o, char *arg, const char *verb)
 		f = strtod(eq + 1, &end);
 	}
 	if (!eq || end == eq + 1 || *end || errno || !isfinite(f) || f == 0.0 ||
-	    !column_name_known(arg) || strcmp(arg, "flags") == 0 || (strcmp(arg, "t") == 0 && f < 0.0)) {
+	    !column_scalable(arg) ||
+	    (popc_log_column_find(arg) == POPC_LOG_COLUMN_T && f < 0.0)) {
+		char names[POPC_LOG_NAMES_LINE_MAX];
 		fprintf(stderr,
-			"popc-analyze %s: --scale %s%s%s: expected NAME=FACTOR, NAME one of t x count "
-			"x_true v f_e f_pc f_c W E_ref dt rtt, FACTOR a finite nonzero number (> 0 "
-			"for t)\n",
-			verb, arg, eq ? "=" : "", eq ? eq + 1 : "");
+			"popc-analyze %s: --scale %s%s%s: expected NAME=FACTOR, NAME one of%s, "
+			"FACTOR a finite nonzero number (> 0 for t)\n",
+			verb, arg, eq ? "=" : "", eq ? eq + 1 : "", column_names(names, sizeof names, 1));
 		if (eq)
 			*eq = '=';
 		return 2;
@@ -153,10 +174,11 @@ int ana_input_option(ana_input_options *o, int opt, char *arg, const char *verb)
 		const int last = o->reader.n_map - 1;
 		const char *name = o->reader.map_name[last];
 		if (!column_name_known(name)) {
+			char names[POPC_LOG_NAMES_LINE_MAX];
 			fprintf(stderr,
-				"popc-analyze %s: --column %s=%s: '%s' is not a popc column name (t x "
-				"count x_true v f_e f_pc f_c W E_ref flags dt rtt)\n",
-				verb, name, o->reader.map_header[last], name);
+				"popc-analyze %s: --column %s=%s: '%s' is not a popc column name (%s)\n",
+				verb, name, o->reader.map_header[last], name,
+				column_names(names, sizeof names, 0) + 1);
 			return 2;
 		}
 		for (int i = 0; i < last; i++)
@@ -410,24 +432,16 @@ int ana_log_open(ana_log *l, const char *path, const ana_input_options *o, popc_
 	else
 		snprintf(l->variant, sizeof l->variant, "unknown");
 
-	l->c_t = popc_log_reader_column(r, "t");
-	l->c_x = popc_log_reader_column(r, "x");
-	l->c_count = popc_log_reader_column(r, "count");
-	l->c_x_true = popc_log_reader_column(r, "x_true");
-	l->c_v = popc_log_reader_column(r, "v");
-	l->c_f_e = popc_log_reader_column(r, "f_e");
-	l->c_f_pc = popc_log_reader_column(r, "f_pc");
-	l->c_f_c = popc_log_reader_column(r, "f_c");
-	l->c_W = popc_log_reader_column(r, "W");
-	l->c_E_ref = popc_log_reader_column(r, "E_ref");
-	l->c_flags = popc_log_reader_column(r, "flags");
-	l->c_dt = popc_log_reader_column(r, "dt");
-	l->c_rtt = popc_log_reader_column(r, "rtt");
+	/* every column of popc's log the file has: l->c_t, l->c_x, ... */
+#define LOOK_UP(ID, name, unit, fill, format, field, meaning)                                        \
+	l->c_##name = popc_log_reader_column(r, #name);
+	POPC_LOG_COLUMN_TABLE(LOOK_UP)
+#undef LOOK_UP
 	/* only the columns read here are parsed: a recorded log's other columns
 	 * (a state word as text, a date) need not be numbers */
-	const int cols[] = {l->c_t,  l->c_x,     l->c_count, l->c_x_true, l->c_v,
-			    l->c_f_e, l->c_f_pc, l->c_f_c,   l->c_W,      l->c_E_ref,
-			    l->c_flags, l->c_dt, l->c_rtt};
+#define INDEX(ID, name, unit, fill, format, field, meaning) l->c_##name,
+	const int cols[] = {POPC_LOG_COLUMN_TABLE(INDEX)};
+#undef INDEX
 	int used[sizeof cols / sizeof cols[0]], n_used = 0;
 	for (size_t i = 0; i < sizeof cols / sizeof cols[0]; i++)
 		if (cols[i] >= 0)
@@ -450,7 +464,8 @@ int ana_log_open(ana_log *l, const char *path, const ana_input_options *o, popc_
 	}
 	l->has_pc_force = l->c_f_pc >= 0 || l->c_f_c >= 0;
 	l->has_w = l->has_pc_force || (l->c_W >= 0 && l->c_E_ref >= 0);
-	if ((st = popc_log_reader_require(r, "t", &l->c_t, err)) != 0)
+	st = popc_log_reader_require(r, popc_log_columns[POPC_LOG_COLUMN_T].name, &l->c_t, err);
+	if (st != 0)
 		goto fail;
 	if (l->c_x < 0 && l->c_count < 0) {
 		st = popc_error_set(err, POPC_ERR_INVALID,

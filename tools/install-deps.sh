@@ -4,6 +4,7 @@
 set -euo pipefail
 pkgs=(gcc meson ninja-build pkg-config libinih-dev libmodbus-dev libcmocka-dev
       gnuplot-nox socat parallel slurm-wlm munge python3)
+pkgs+=("$@") # more for one caller: tools/run-tests.sh asks for clang
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

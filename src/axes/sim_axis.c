@@ -1,4 +1,4 @@
-/* The simulated axis: operator intent, plant and encoder of a scene (axis.h). */
+/* The simulated axis: operator intent, plant and encoder of a scene (sim_axis.h). */
 #include <float.h>
 #include <limits.h>
 #include <math.h>
@@ -6,7 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "popc/axes/axis.h"
+#include "popc/axes/sim_axis.h"
+#include "axis_kind.h"
 #include "popc/core/encoder.h"
 #include "popc/core/intent.h"
 #include "popc/log/log.h"
@@ -460,6 +461,23 @@ static void sim_destroy(popc_axis *a)
 	free(a);
 }
 
+/* NaN with the shadow of a fixed-step integrator off: nothing measured it */
+static double sim_integrator_error_m(const popc_axis *a)
+{
+	const sim_axis *s = a->priv;
+	if (s->scene.integrator != POPC_INTEGRATOR_EXACT && !s->shadow)
+		return (double)NAN;
+	return s->max_error_m;
+}
+
+/* The exact integrator has no shadow to turn on or off */
+static void sim_set_shadow(popc_axis *a, int on)
+{
+	sim_axis *s = a->priv;
+	if (s->scene.integrator != POPC_INTEGRATOR_EXACT)
+		s->shadow = on != 0;
+}
+
 static const popc_axis_ops sim_ops = {
 	.name = "sim",
 	.log_columns = POPC_LOG_COL_X_TRUE,
@@ -467,8 +485,10 @@ static const popc_axis_ops sim_ops = {
 	.sample = sim_sample,
 	.exchange = sim_exchange,
 	.stop = sim_stop,
-	.report = NULL,
 	.destroy = sim_destroy,
+	.integrator_error_m = sim_integrator_error_m,
+	.report = NULL,
+	.set_shadow = sim_set_shadow,
 };
 
 /* The divergence bound of a scene (DIVERGED_FACTOR): 10 x the largest
@@ -584,29 +604,11 @@ int popc_sim_axis_create(popc_axis **out, const popc_scene *sc, popc_error *err)
 	return 0;
 }
 
-double popc_sim_axis_max_error(const popc_axis *a)
+static int sim_kind_create(popc_axis **out, const popc_scene *s,
+			   const popc_axis_create_options *opt, popc_error *err)
 {
-	if (!a || a->ops != &sim_ops)
-		return 0.0;
-	const sim_axis *s = a->priv;
-	if (s->scene.integrator != POPC_INTEGRATOR_EXACT && !s->shadow)
-		return NAN;
-	return s->max_error_m;
+	(void)opt; /* pacing and notes are a real axis' */
+	return popc_sim_axis_create(out, s, err);
 }
 
-void popc_sim_axis_set_shadow(popc_axis *a, int on)
-{
-	if (!a || a->ops != &sim_ops)
-		return;
-	sim_axis *s = a->priv;
-	if (s->scene.integrator != POPC_INTEGRATOR_EXACT)
-		s->shadow = on != 0;
-}
-
-void popc_axis_destroy(popc_axis **a)
-{
-	if (a && *a) {
-		(*a)->ops->destroy(*a);
-		*a = NULL;
-	}
-}
+const popc_axis_kind popc_axis_kind_sim = {"sim", 1, sim_kind_create};

@@ -2,7 +2,7 @@
 #ifndef POPC_CLI_BENCH_H
 #define POPC_CLI_BENCH_H
 
-#include "popc/axes/axis.h"
+#include "popc/axes/sim_axis.h"
 #include "popc/util/error.h"
 #include "popc/scene/scene.h"
 

@@ -101,7 +101,7 @@ int bench_replay_error(const popc_scene *s0, popc_integrator m, int substeps, co
 	long long k = 0;
 	for (; !st && k < rec->n; k++)
 		st = ax->ops->exchange(ax, rec->f_c[k], &smp, err);
-	*err_m = popc_sim_axis_max_error(ax);
+	*err_m = ax->ops->integrator_error_m(ax);
 	*tick_out = k;
 	popc_error e2;
 	ax->ops->stop(ax, &e2);
@@ -117,7 +117,7 @@ int bench_loop_ns_per_tick(const popc_scene *s0, popc_integrator m, int substeps
 	popc_scene s = *s0;
 	s.integrator = m;
 	s.substeps = substeps;
-	double best = INFINITY;
+	double best = (double)INFINITY;
 	for (int r = 0; r < o->repeats; r++) {
 		double wall = 0.0;
 		long long ticks = 0;
@@ -126,7 +126,7 @@ int bench_loop_ns_per_tick(const popc_scene *s0, popc_integrator m, int substeps
 			int st = popc_sim_axis_create(&ax, &s, err);
 			if (st)
 				return st;
-			popc_sim_axis_set_shadow(ax, 0);
+			ax->ops->set_shadow(ax, 0);
 			popc_run_summary sum;
 			st = popc_run(&s, ax, NULL, &sum, err);
 			popc_axis_destroy(&ax);

@@ -24,7 +24,7 @@
 #include <string.h>
 
 #include "bench.h"
-#include "popc/axes/axis.h"
+#include "popc/axes/sim_axis.h"
 #include "popc/core/compensated.h"
 #include "popc/core/encoder.h"
 #include "popc/core/environment.h"
@@ -128,7 +128,7 @@ int popc_bench_tick_floor(const popc_scene *s, const double *f_c_ref, long long 
 			  double min_time_s, int repeats, popc_tick_floor *out, popc_error *err)
 {
 	memset(out, 0, sizeof *out);
-	out->ns_per_tick = NAN;
+	out->ns_per_tick = (double)NAN;
 	if (!applies(s, &out->not_covered))
 		return 0;
 	fused_scene f;
@@ -162,7 +162,7 @@ int popc_bench_tick_floor(const popc_scene *s, const double *f_c_ref, long long 
 		out->first_difference = agree;
 		goto done;
 	}
-	double best = INFINITY;
+	double best = (double)INFINITY;
 	for (int r = 0; r < repeats; r++) {
 		double wall = 0.0, sink = 0.0;
 		long long ticks = 0;

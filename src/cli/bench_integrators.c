@@ -57,7 +57,7 @@ static double fit_order(const wp_point *p, int n, double floor_m, int *used)
 	}
 	*used = k;
 	if (k < 2)
-		return NAN;
+		return (double)NAN;
 	return (k * sxy - sx * sy) / (k * sxx - sx * sx);
 }
 
@@ -182,7 +182,7 @@ int bench_integrators(const popc_scene *s, const bench_opts *o)
 				free(rec.f_c);
 				return popc_cli_fail("bench", rst, &e2);
 			}
-			p->ns = NAN;
+			p->ns = (double)NAN;
 			if (!p->unstable) {
 				rst = bench_loop_ns_per_tick(s, methods[m], sweep[i], o, &p->ns, &e2);
 				if (rst && rst != POPC_ERR_NUMERIC && rst != POPC_ERR_DIVERGED) {

@@ -98,18 +98,28 @@ static int write_popc(const char *path, const popc_scene *s, const popc_log_row 
 	return st ? st : cst;
 }
 
+/* The baseline writes the simulated axis' columns (POPC_LOG_COL_X_TRUE) with
+ * one fprintf per row, its format and arguments pasted from the column table:
+ * IN_SIM_LOG_<fill>(text) is the text for a column such a log has. */
+#define IN_SIM_LOG_ALWAYS(...) __VA_ARGS__
+#define IN_SIM_LOG_X_TRUE(...) __VA_ARGS__
+#define IN_SIM_LOG_TIMING(...)
+#define PRINTF_DOUBLE ",%.17g"
+#define PRINTF_COUNT ",%lld"
+#define PRINTF_FLAGS ",%u"
+#define CELL_FORMAT(ID, name, unit, fill, format, field, meaning) IN_SIM_LOG_##fill(PRINTF_##format)
+#define CELL_VALUE(ID, name, unit, fill, format, field, meaning) IN_SIM_LOG_##fill(, rows[i].field)
+
 static int write_printf(const char *path, const popc_log_row *rows, long n)
 {
 	FILE *f = fopen(path, "w");
 	if (!f)
 		return -1;
-	fprintf(f, "%s\n", popc_log_column_names(POPC_LOG_COL_X_TRUE));
-	for (long i = 0; i < n; i++) {
-		const popc_tick *t = &rows[i].tick;
-		fprintf(f, "%.17g,%.17g,%lld,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%u\n", t->t_s,
-			t->x_m, t->count, rows[i].x_true_m, t->v_mps, t->f_e_N, t->f_pc_N, t->f_c_N,
-			t->W_J, t->E_ref_J, t->flags);
-	}
+	char names[POPC_LOG_NAMES_LINE_MAX];
+	popc_log_column_names(POPC_LOG_COL_X_TRUE, names, sizeof names);
+	fprintf(f, "%s\n", names);
+	for (long i = 0; i < n; i++) /* [1]: no comma before the first cell */
+		fprintf(f, &POPC_LOG_COLUMN_TABLE(CELL_FORMAT) "\n"[1] POPC_LOG_COLUMN_TABLE(CELL_VALUE));
 	return fclose(f);
 }
 
@@ -151,16 +161,17 @@ static int read_popc(const char *path, const popc_scene *s, recompute *rc, popc_
 	popc_observer_init(&rc->obs, s->variant, s->ignore_mode);
 	rc->period_s = popc_scene_period_s(s);
 	rc->rows = 0;
+	const popc_log_column *c = popc_log_columns;
 	if (!st)
-		st = popc_log_reader_require(&r, "x", &rc->ix, err);
+		st = popc_log_reader_require(&r, c[POPC_LOG_COLUMN_X].name, &rc->ix, err);
 	if (!st)
-		st = popc_log_reader_require(&r, "count", &rc->icount, err);
+		st = popc_log_reader_require(&r, c[POPC_LOG_COLUMN_COUNT].name, &rc->icount, err);
 	if (!st)
-		st = popc_log_reader_require(&r, "v", &rc->iv, err);
+		st = popc_log_reader_require(&r, c[POPC_LOG_COLUMN_V].name, &rc->iv, err);
 	if (!st)
-		st = popc_log_reader_require(&r, "f_e", &rc->ife, err);
+		st = popc_log_reader_require(&r, c[POPC_LOG_COLUMN_F_E].name, &rc->ife, err);
 	if (!st)
-		st = popc_log_reader_require(&r, "f_c", &rc->ifc, err);
+		st = popc_log_reader_require(&r, c[POPC_LOG_COLUMN_F_C].name, &rc->ifc, err);
 	double v[POPC_LOG_MAX_COLUMNS];
 	while (!st && (st = popc_log_reader_next(&r, v, err)) == 1) {
 		recompute_row(rc, v);
@@ -179,8 +190,13 @@ static int read_strtod(const char *path, const popc_scene *s, recompute *rc)
 	popc_observer_init(&rc->obs, s->variant, s->ignore_mode);
 	rc->period_s = popc_scene_period_s(s);
 	rc->rows = 0;
-	/* popc's column order with x_true: t,x,count,x_true,v,f_e,f_pc,f_c,W,E_ref,flags */
-	rc->ix = 1, rc->icount = 2, rc->iv = 4, rc->ife = 5, rc->ifc = 7;
+	/* the cells of a simulated axis' log, by their place in it */
+	const unsigned cols = POPC_LOG_COL_X_TRUE;
+	rc->ix = popc_log_column_index(cols, POPC_LOG_COLUMN_X);
+	rc->icount = popc_log_column_index(cols, POPC_LOG_COLUMN_COUNT);
+	rc->iv = popc_log_column_index(cols, POPC_LOG_COLUMN_V);
+	rc->ife = popc_log_column_index(cols, POPC_LOG_COLUMN_F_E);
+	rc->ifc = popc_log_column_index(cols, POPC_LOG_COLUMN_F_C);
 	char line[1024];
 	int header = 1;
 	while (fgets(line, sizeof line, f)) {
@@ -190,10 +206,10 @@ static int read_strtod(const char *path, const popc_scene *s, recompute *rc)
 			header = 0;
 			continue;
 		}
-		double v[16];
+		double v[POPC_LOG_N_COLUMNS];
 		char *p = line, *end;
 		int n = 0;
-		while (n < 16) {
+		while (n < POPC_LOG_N_COLUMNS) {
 			v[n++] = strtod(p, &end);
 			if (*end != ',')
 				break;
@@ -250,7 +266,8 @@ int bench_log(const popc_scene *s, const bench_opts *o)
 	popc_log_row *rows = make_rows(s, n, &err);
 	if (!rows)
 		return popc_cli_fail("bench", POPC_ERR_NOMEM, &err);
-	double w_popc = INFINITY, w_printf = INFINITY, r_popc = INFINITY, r_strtod = INFINITY;
+	double w_popc = (double)INFINITY, w_printf = (double)INFINITY, r_popc = (double)INFINITY,
+	       r_strtod = (double)INFINITY;
 	int st = 0;
 	recompute a, b;
 	for (int r = 0; r < o->repeats && !st; r++) {

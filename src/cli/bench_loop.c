@@ -22,9 +22,9 @@ static double plant_ns(const popc_scene *s0, popc_integrator m, int substeps, co
 	popc_plant_config_from_scene(&cfg, &s);
 	popc_plant p;
 	if (popc_plant_init(&p, &cfg, NULL) != 0)
-		return NAN;
+		return (double)NAN;
 	popc_plant_input u = {0.5, 0.0, 0.0, 0.0};
-	double best = INFINITY;
+	double best = (double)INFINITY;
 	for (int r = 0; r < o->repeats; r++) {
 		popc_plant_state st = {-0.01, 0.0};
 		long long n = 0;
@@ -36,7 +36,7 @@ static double plant_ns(const popc_scene *s0, popc_integrator m, int substeps, co
 			dt = bench_now_s() - t0;
 		} while (dt < o->min_time_s / 4);
 		if (!isfinite(st.x_m)) /* keeps the loop and tells if the step diverged */
-			return NAN;
+			return (double)NAN;
 		if (1e9 * dt / (double)n < best)
 			best = 1e9 * dt / (double)n;
 	}
@@ -60,7 +60,7 @@ int bench_loop(const popc_scene *s0, const bench_opts *o)
 	 * trapezoid's error (over the scene's own duration) and of the stripped tick */
 	recorder rec;
 	st = bench_reference_forces(s0, &rec, &err);
-	double tr_err = NAN;
+	double tr_err = (double)NAN;
 	long long tick;
 	if (!st)
 		st = bench_replay_error(s0, POPC_INTEGRATOR_TRAPEZOID, 100, &rec, &tr_err, &tick, &err);

@@ -146,7 +146,7 @@ int popc_cmd_bench(int argc, char **argv)
 	free(o.sets);
 	if (st)
 		return popc_cli_fail("bench", st, &err);
-	if (strcmp(s.axis, "sim") != 0) {
+	if (!popc_axis_is_simulated(&s)) {
 		fprintf(stderr, "popc bench: the benchmarks run the simulated axis (axis = %s)\n", s.axis);
 		return 2;
 	}

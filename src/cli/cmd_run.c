@@ -8,7 +8,6 @@
 #include "cli.h"
 #include "popc/axes/axis.h"
 #include "popc/log/log.h"
-#include "popc/axes/modbus_axis.h"
 #include "popc/run/run.h"
 
 static void usage(FILE *f)
@@ -108,10 +107,8 @@ int popc_cmd_run(int argc, char **argv)
 	int n_sets = 0, quiet = 0, c;
 	const char *variant = NULL, *log_path = NULL, *summary_path = NULL;
 	const char *axis_opt[3] = {NULL, NULL, NULL}; /* --axis, --map, --connect */
-	popc_modbus_options mbo;
-	popc_modbus_options_defaults(&mbo);
-	mbo.notes = stderr;
-	mbo.stop_flag = &popc_cli_stop; /* a signal ends the axis' retries and waits too */
+	/* a signal ends a real axis' retries and waits too */
+	popc_axis_create_options axis_create = {.notes = stderr, .stop_flag = &popc_cli_stop};
 	optind = 1;
 	while ((c = getopt_long(argc, argv, "qh", opts, NULL)) != -1) {
 		switch (c) {
@@ -128,8 +125,8 @@ int popc_cmd_run(int argc, char **argv)
 		case OPT_AXIS: axis_opt[0] = optarg; break;
 		case OPT_MAP: axis_opt[1] = optarg; break;
 		case OPT_CONNECT: axis_opt[2] = optarg; break;
-		case OPT_FREE_RUN: mbo.pace = 0; break;
-		case OPT_RT: mbo.realtime = 1; break;
+		case OPT_FREE_RUN: axis_create.free_run = 1; break;
+		case OPT_RT: axis_create.realtime = 1; break;
 		case 'q': quiet = 1; break;
 		case 'h': usage(stdout); free(sets); return 0;
 		default: usage(stderr); free(sets); return 2;
@@ -163,14 +160,7 @@ int popc_cmd_run(int argc, char **argv)
 		return popc_cli_fail("run", st, &err);
 
 	popc_axis *axis = NULL;
-	if (strcmp(s.axis, "sim") == 0) {
-		st = popc_sim_axis_create(&axis, &s, &err);
-	} else if (strcmp(s.axis, "modbus") == 0) {
-		st = popc_modbus_axis_create(&axis, &s, &mbo, &err);
-	} else {
-		st = popc_error_set(&err, POPC_ERR_INVALID, "%s: axis.kind = %s: this build has no such axis",
-				    s.source, s.axis);
-	}
+	st = popc_axis_create(&axis, &s, &axis_create, &err);
 	if (st)
 		return popc_cli_fail("run", st, &err);
 

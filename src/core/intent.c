@@ -103,7 +103,7 @@ static void pl_value(popc_intent *in, double t, double *q, double *slope, double
 	} else if ((size_t)i + 1 >= in->n) {
 		*q = in->q[in->n - 1];
 		*slope = 0.0;
-		*next_break = INFINITY;
+		*next_break = (double)INFINITY;
 	} else {
 		double t0 = in->t[i], t1 = in->t[i + 1];
 		*slope = (in->q[i + 1] - in->q[i]) / (t1 - t0);
@@ -126,7 +126,7 @@ void popc_intent_input(popc_intent *in, double t, popc_plant_input *u, double *n
 		u->u1_Nps = 0.0;
 		u->us_N = ka * cp - bw * sp;
 		u->uc_N = ka * sp + bw * cp;
-		*next_break = INFINITY;
+		*next_break = (double)INFINITY;
 	} else if (in->q_is_force) {
 		/* the hand rests at x0 and pushes with f(t) */
 		u->u0_N = in->k_op * in->x0 + q;
@@ -153,13 +153,13 @@ void popc_intent_segment_at(popc_intent *in, double t, popc_intent_segment *g)
 	if (i < 0) {
 		g->constant = 1;
 		g->q_i = in->q[0];
-		g->t_lo_s = -INFINITY;
+		g->t_lo_s = -(double)INFINITY;
 		g->t_next_s = in->t[0];
 	} else if ((size_t)i + 1 >= in->n) {
 		g->constant = 1;
 		g->q_i = in->q[in->n - 1];
 		g->t_lo_s = in->t[i];
-		g->t_next_s = INFINITY;
+		g->t_next_s = (double)INFINITY;
 	} else {
 		/* the operations of pl_value, split into per-segment and per-step parts */
 		g->t_i = in->t[i];

@@ -11,7 +11,7 @@ void popc_metrics_init(popc_metrics *m, const popc_environment *env, double peri
 	m->env = *env;
 	m->period_s = period_s;
 	m->late_from_s = late_from_s;
-	m->w_minus_eref_min_J = INFINITY;
+	m->w_minus_eref_min_J = (double)INFINITY;
 }
 
 static void window_add(popc_metrics_window *w, const popc_tick *t, int in_contact, int sign_change)

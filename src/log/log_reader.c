@@ -7,6 +7,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "popc/log/log_columns.h"
 #include "popc/util/numfmt.h"
 
 #define READ_BLOCK (1u << 20)
@@ -343,7 +344,7 @@ int popc_log_reader_open(popc_log_reader *r, const char *path, const popc_log_re
 			popc_log_reader_close(r);
 			return POPC_ERR_INVALID;
 		}
-	r->t_col = popc_log_reader_column(r, "t");
+	r->t_col = popc_log_reader_column(r, popc_log_columns[POPC_LOG_COLUMN_T].name);
 	for (int i = 0; i < r->n_cols; i++)
 		r->parse[i] = 1;
 	r->popc_log = popc_log_reader_header(r, "format") != NULL;

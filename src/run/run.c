@@ -91,7 +91,9 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 	}
 	sum->wall_time_s = now_s() - t0;
 	sum->sim_time_s = sum->ticks > 0 ? (double)(sum->ticks - 1) * T : 0.0;
-	sum->integrator_error_m = popc_sim_axis_max_error(axis);
+	/* an axis without a model to check has no integrator error */
+	sum->integrator_error_m =
+		axis->ops->integrator_error_m ? axis->ops->integrator_error_m(axis) : 0.0;
 	sum->status = st;
 	if (st && err)
 		snprintf(sum->stop_reason, sizeof sum->stop_reason, "%s: %s", why, err->msg);
@@ -111,66 +113,137 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 	return st;
 }
 
-static void fmt(char *buf, double v)
+/* The run summary's fields, in the order of its CSV header and row; the
+ * human summary prints the same values. Adding a metric is one line here.
+ *
+ * FIELD(ID, name, unit, format, value, meaning): value is an expression of
+ * sum (the popc_run_summary), s (the scene) and m (sum's metrics); format is
+ * TEXT (a name), INT (a decimal integer) or REAL (shortest round-trip form). */
+#define RUN_SUMMARY_FIELDS(FIELD)                                                                   \
+	FIELD(VARIANT, variant, "", TEXT, popc_variant_name(s->variant), "controller variant")     \
+	FIELD(INTEGRATOR, integrator, "", TEXT, popc_integrator_name(sum->integrator),              \
+	      "plant integrator")                                                                   \
+	FIELD(SUBSTEPS, substeps, "", INT, sum->substeps, "integrator substeps per tick")           \
+	FIELD(STATUS, status, "", INT, sum->status, "0, or the popc_status that stopped the run")  \
+	FIELD(TICKS, ticks, "", INT, sum->ticks, "ticks run, t = 0 included")                       \
+	FIELD(SIM_TIME, sim_time_s, "s", REAL, sum->sim_time_s, "time of the last tick")            \
+	FIELD(WALL_TIME, wall_time_s, "s", REAL, sum->wall_time_s, "wall-clock time of the loop")   \
+	FIELD(REALTIME_FACTOR, realtime_factor, "", REAL,                                           \
+	      sum->wall_time_s > 0 ? sum->sim_time_s / sum->wall_time_s : 0.0,                      \
+	      "simulated over wall time (0 without wall time)")                                     \
+	FIELD(NS_PER_TICK, ns_per_tick, "ns", REAL,                                                 \
+	      sum->ticks ? 1e9 * sum->wall_time_s / (double)sum->ticks : 0.0,                       \
+	      "wall time per tick")                                                                 \
+	FIELD(INTEGRATOR_ERROR, integrator_error_m, "m", REAL, sum->integrator_error_m,             \
+	      "max |x - x_exact| at the samples (0: exact)")                                        \
+	FIELD(PC_ACTIVE, pc_active, "", REAL, popc_metrics_active_fraction(&m->all),                \
+	      "share of ticks with f_pc != 0")                                                      \
+	FIELD(PC_RMS, pc_rms, "N", REAL, popc_metrics_pc_rms(&m->all), "RMS of f_pc")               \
+	FIELD(PC_MAX, pc_max, "N", REAL, m->all.pc_max_N, "max |f_pc|")                             \
+	FIELD(PC_RMS_LATE, pc_rms_late, "N", REAL, popc_metrics_pc_rms(&m->late),                   \
+	      "RMS of f_pc over the second half of the run")                                        \
+	FIELD(PC_ENERGY, pc_energy, "J", REAL, m->pc_energy_J, "energy the PC dissipated")          \
+	FIELD(W_MINUS_EREF_MIN, w_minus_eref_min, "J", REAL,                                        \
+	      isfinite(m->w_minus_eref_min_J) ? m->w_minus_eref_min_J : 0.0,                        \
+	      "minimum of W - E_ref (0 before the first tick)")                                     \
+	FIELD(W_MINUS_EREF_END, w_minus_eref_end, "J", REAL, m->w_minus_eref_end_J,                 \
+	      "W - E_ref at the last tick")                                                         \
+	FIELD(VSIGN_RATE, vsign_rate, "1/s", REAL, popc_metrics_vsign_rate(&m->all, m->period_s),   \
+	      "velocity sign changes in contact per second")                                        \
+	FIELD(VSIGN_RATE_LATE, vsign_rate_late, "1/s", REAL,                                        \
+	      popc_metrics_vsign_rate(&m->late, m->period_s),                                       \
+	      "velocity sign changes in contact per second, second half")
+
+enum summary_field_id {
+#define FIELD_ID(ID, name, unit, format, value, meaning) SUMMARY_##ID,
+	RUN_SUMMARY_FIELDS(FIELD_ID)
+#undef FIELD_ID
+	SUMMARY_N_FIELDS
+};
+
+typedef enum summary_format { SUMMARY_TEXT, SUMMARY_INT, SUMMARY_REAL } summary_format;
+
+static const struct summary_field {
+	const char *name, *unit, *meaning;
+	summary_format format;
+} summary_fields[SUMMARY_N_FIELDS] = {
+#define FIELD_ENTRY(ID, name, unit, format, value, meaning)                                         \
+	[SUMMARY_##ID] = {#name, unit, meaning, SUMMARY_##format},
+	RUN_SUMMARY_FIELDS(FIELD_ENTRY)
+#undef FIELD_ENTRY
+};
+
+/* One field's value: the member its format names. */
+typedef struct summary_value {
+	const char *text;
+	long long integer;
+	double real;
+} summary_value;
+
+static void summary_values(const popc_run_summary *sum, const popc_scene *s,
+			   summary_value v[SUMMARY_N_FIELDS])
 {
-	popc_format_double(v, buf);
+	const popc_metrics *m = &sum->metrics;
+#define VALUE_TEXT(e) .text = (e)
+#define VALUE_INT(e) .integer = (e)
+#define VALUE_REAL(e) .real = (e)
+#define FIELD_VALUE(ID, name, unit, format, value, meaning)                                         \
+	v[SUMMARY_##ID] = (summary_value){VALUE_##format(value)};
+	RUN_SUMMARY_FIELDS(FIELD_VALUE)
+#undef FIELD_VALUE
 }
 
 void popc_run_summary_print(const popc_run_summary *sum, const popc_scene *s, FILE *f)
 {
-	const popc_metrics *m = &sum->metrics;
-	double rtf = sum->wall_time_s > 0 ? sum->sim_time_s / sum->wall_time_s : (double)INFINITY;
+	summary_value v[SUMMARY_N_FIELDS];
+	summary_values(sum, s, v);
+	/* no wall time reads as infinitely fast here, as 0 in the CSV row */
+	double rtf = sum->wall_time_s > 0 ? v[SUMMARY_REALTIME_FACTOR].real : (double)INFINITY;
 	fprintf(f, "popc run: %s, variant %s, %lld ticks at %g Hz\n", sum->stop_reason,
-		popc_variant_name(s->variant), sum->ticks, s->rate_Hz);
+		v[SUMMARY_VARIANT].text, v[SUMMARY_TICKS].integer, s->rate_Hz);
 	fprintf(f, "  simulated %.6g s in %.6g s wall: %.4g x real time, %.4g ns per tick\n",
-		sum->sim_time_s, sum->wall_time_s, rtf,
-		sum->ticks ? 1e9 * sum->wall_time_s / (double)sum->ticks : 0.0);
+		v[SUMMARY_SIM_TIME].real, v[SUMMARY_WALL_TIME].real, rtf, v[SUMMARY_NS_PER_TICK].real);
 	if (sum->integrator == POPC_INTEGRATOR_EXACT)
 		fprintf(f, "  integrator: exact (ZOH/FOH discretization)\n");
 	else
-		fprintf(f, "  integrator: %s, %d substeps; max position error against exact: %.3g m\n",
-			popc_integrator_name(sum->integrator), sum->substeps, sum->integrator_error_m);
+		fprintf(f, "  integrator: %s, %lld substeps; max position error against exact: %.3g m\n",
+			v[SUMMARY_INTEGRATOR].text, v[SUMMARY_SUBSTEPS].integer,
+			v[SUMMARY_INTEGRATOR_ERROR].real);
 	fprintf(f, "  PC active %.4g %% of ticks; f_pc RMS %.4g N, max %.4g N; late half RMS %.4g N\n",
-		100.0 * popc_metrics_active_fraction(&m->all), popc_metrics_pc_rms(&m->all),
-		m->all.pc_max_N, popc_metrics_pc_rms(&m->late));
+		100.0 * v[SUMMARY_PC_ACTIVE].real, v[SUMMARY_PC_RMS].real, v[SUMMARY_PC_MAX].real,
+		v[SUMMARY_PC_RMS_LATE].real);
 	fprintf(f, "  W - E_ref: final %.4g J, minimum %.4g J; velocity sign changes in contact %.4g /s\n",
-		m->w_minus_eref_end_J, isfinite(m->w_minus_eref_min_J) ? m->w_minus_eref_min_J : 0.0,
-		popc_metrics_vsign_rate(&m->all, m->period_s));
+		v[SUMMARY_W_MINUS_EREF_END].real, v[SUMMARY_W_MINUS_EREF_MIN].real,
+		v[SUMMARY_VSIGN_RATE].real);
 }
 
 void popc_run_summary_csv_header(FILE *f)
 {
-	fputs("variant,integrator,substeps,status,ticks,sim_time_s,wall_time_s,realtime_factor,"
-	      "ns_per_tick,integrator_error_m,pc_active,pc_rms,pc_max,pc_rms_late,pc_energy,"
-	      "w_minus_eref_min,w_minus_eref_end,vsign_rate,vsign_rate_late\n",
-	      f);
+	for (int i = 0; i < SUMMARY_N_FIELDS; i++) {
+		if (i > 0)
+			fputc(',', f);
+		fputs(summary_fields[i].name, f);
+	}
+	fputc('\n', f);
 }
 
 void popc_run_summary_csv_row(const popc_run_summary *sum, const popc_scene *s, FILE *f)
 {
-	const popc_metrics *m = &sum->metrics;
-	double v[14] = {
-		sum->sim_time_s,
-		sum->wall_time_s,
-		sum->wall_time_s > 0 ? sum->sim_time_s / sum->wall_time_s : 0.0,
-		sum->ticks ? 1e9 * sum->wall_time_s / (double)sum->ticks : 0.0,
-		sum->integrator_error_m,
-		popc_metrics_active_fraction(&m->all),
-		popc_metrics_pc_rms(&m->all),
-		m->all.pc_max_N,
-		popc_metrics_pc_rms(&m->late),
-		m->pc_energy_J,
-		isfinite(m->w_minus_eref_min_J) ? m->w_minus_eref_min_J : 0.0,
-		m->w_minus_eref_end_J,
-		popc_metrics_vsign_rate(&m->all, m->period_s),
-		popc_metrics_vsign_rate(&m->late, m->period_s),
-	};
-	fprintf(f, "%s,%s,%d,%d,%lld", popc_variant_name(s->variant),
-		popc_integrator_name(sum->integrator), sum->substeps, sum->status, sum->ticks);
-	for (size_t i = 0; i < sizeof v / sizeof v[0]; i++) {
-		char b[POPC_DOUBLE_TEXT_MAX + 1];
-		fmt(b, v[i]);
-		fprintf(f, ",%s", b);
+	summary_value v[SUMMARY_N_FIELDS];
+	summary_values(sum, s, v);
+	for (int i = 0; i < SUMMARY_N_FIELDS; i++) {
+		if (i > 0)
+			fputc(',', f);
+		switch (summary_fields[i].format) {
+		case SUMMARY_TEXT: fputs(v[i].text, f); break;
+		case SUMMARY_INT: fprintf(f, "%lld", v[i].integer); break;
+		case SUMMARY_REAL: {
+			char b[POPC_DOUBLE_TEXT_MAX + 1];
+			popc_format_double(v[i].real, b);
+			fputs(b, f);
+			break;
+		}
+		}
 	}
 	fputc('\n', f);
 }

@@ -25,105 +25,89 @@ typedef struct scene_key {
 	const char *unit;
 	const char *const *names; /* KEY_ENUM: NULL-terminated names, index = value */
 	const char *help;
+	const char *def;          /* the default, as a scene file spells it (set_key reads it) */
 } scene_key;
 
 static const char *const axis_names[] = {"sim", "modbus", NULL};
 
 #define OFF(field) offsetof(popc_scene, field)
-#define NUM(sec, k, field, lo, hi, open, unit, help) \
-	{sec, k, KEY_DOUBLE, OFF(field), lo, hi, open, unit, NULL, help}
+#define NUM(sec, k, field, def, lo, hi, open, unit, help) \
+	{sec, k, KEY_DOUBLE, OFF(field), lo, hi, open, unit, NULL, help, def}
 
 static const scene_key scene_keys[] = {
-	NUM("run", "duration", duration_s, 0, 1e7, 1, "s", "simulated time"),
-	NUM("run", "rate", rate_Hz, 1, 1e6, 0, "Hz", "control rate 1/T"),
+	NUM("run", "duration", duration_s, "5", 0, 1e7, 1, "s", "simulated time"),
+	NUM("run", "rate", rate_Hz, "1000", 1, 1e6, 0, "Hz", "control rate 1/T"),
 
-	NUM("operator", "mass", op_mass_kg, 0, 1e3, 0, "kg", "hand mass M_HO"),
-	NUM("operator", "damping", op_damping_Nspm, 0, 1e6, 0, "N s/m", "hand damping B_HO"),
-	NUM("operator", "stiffness", op_stiffness_Npm, 0, 1e9, 0, "N/m", "hand stiffness K_HO"),
+	NUM("operator", "mass", op_mass_kg, "0.1", 0, 1e3, 0, "kg", "hand mass M_HO"),
+	NUM("operator", "damping", op_damping_Nspm, "0.5", 0, 1e6, 0, "N s/m", "hand damping B_HO"),
+	NUM("operator", "stiffness", op_stiffness_Npm, "50", 0, 1e9, 0, "N/m", "hand stiffness K_HO"),
 	{"operator", "intent", KEY_ENUM, OFF(intent), 0, 0, 0, "", popc_intent_kind_names,
-	 "what the operator wants: x_d(t) or a force"},
-	NUM("operator", "x0", op_x0_m, -1e3, 1e3, 0, "m", "rest position of the hand (start of x_d)"),
-	NUM("operator", "t0", op_t0_s, 0, 1e7, 0, "s", "start of the ramp, force or sine"),
-	NUM("operator", "speed", op_speed_mps, 0, 1e3, 1, "m/s", "ramp speed"),
-	NUM("operator", "x_end", op_x_end_m, -1e3, 1e3, 0, "m", "ramp end position"),
-	NUM("operator", "force", op_force_N, -1e6, 1e6, 0, "N", "force intent: held force"),
-	NUM("operator", "force_rate", op_force_rate_Nps, 0, 1e9, 1, "N/s", "force intent: rise rate"),
-	NUM("operator", "amplitude", op_amplitude_m, 0, 1e3, 0, "m", "sine amplitude"),
-	NUM("operator", "frequency", op_frequency_Hz, 0, 1e5, 0, "Hz", "sine frequency"),
+	 "what the operator wants: x_d(t) or a force", "ramp"},
+	NUM("operator", "x0", op_x0_m, "-0.01", -1e3, 1e3, 0, "m", "rest position of the hand (start of x_d)"),
+	NUM("operator", "t0", op_t0_s, "0.5", 0, 1e7, 0, "s", "start of the ramp, force or sine"),
+	NUM("operator", "speed", op_speed_mps, "0.05", 0, 1e3, 1, "m/s", "ramp speed"),
+	NUM("operator", "x_end", op_x_end_m, "0.03", -1e3, 1e3, 0, "m", "ramp end position"),
+	NUM("operator", "force", op_force_N, "1", -1e6, 1e6, 0, "N", "force intent: held force"),
+	NUM("operator", "force_rate", op_force_rate_Nps, "10", 0, 1e9, 1, "N/s", "force intent: rise rate"),
+	NUM("operator", "amplitude", op_amplitude_m, "0.005", 0, 1e3, 0, "m", "sine amplitude"),
+	NUM("operator", "frequency", op_frequency_Hz, "1", 0, 1e5, 0, "Hz", "sine frequency"),
 	{"operator", "table", KEY_STRING, OFF(op_table), 0, 0, 0, "path", NULL,
 	 "table intent: CSV of t,value rows (relative to the scene file; on the command "
-	 "line, to the working directory)"},
+	 "line, to the working directory)", ""},
 	{"operator", "table_quantity", KEY_ENUM, OFF(op_table_quantity), 0, 0, 0, "", popc_table_quantity_names,
-	 "table intent: the value column is x_d (m) or an exogenous force (N)"},
+	 "table intent: the value column is x_d (m) or an exogenous force (N)", "position"},
 
-	NUM("device", "mass", dev_mass_kg, 0, 1e3, 0, "kg", "device mass M_HI"),
-	NUM("device", "damping", dev_damping_Nspm, 0, 1e6, 0, "N s/m", "device damping B_HI"),
-	NUM("device", "stiffness", dev_stiffness_Npm, 0, 1e9, 0, "N/m", "device stiffness K_HI"),
+	NUM("device", "mass", dev_mass_kg, "0.2", 0, 1e3, 0, "kg", "device mass M_HI"),
+	NUM("device", "damping", dev_damping_Nspm, "0", 0, 1e6, 0, "N s/m", "device damping B_HI"),
+	NUM("device", "stiffness", dev_stiffness_Npm, "0", 0, 1e9, 0, "N/m", "device stiffness K_HI"),
 
 	{"environment", "kind", KEY_ENUM, OFF(env_kind), 0, 0, 0, "", popc_environment_kind_names,
-	 "unilateral wall or bilateral spring"},
-	NUM("environment", "stiffness", env_stiffness_Npm, 0, 1e9, 0, "N/m", "K_e"),
-	NUM("environment", "damping", env_damping_Nspm, 0, 1e6, 0, "N s/m", "B_e (wall damping)"),
-	NUM("environment", "position", env_position_m, -1e3, 1e3, 0, "m", "wall surface / spring rest"),
+	 "unilateral wall or bilateral spring", "wall"},
+	NUM("environment", "stiffness", env_stiffness_Npm, "1000", 0, 1e9, 0, "N/m", "K_e"),
+	NUM("environment", "damping", env_damping_Nspm, "0", 0, 1e6, 0, "N s/m", "B_e (wall damping)"),
+	NUM("environment", "position", env_position_m, "0", -1e3, 1e3, 0, "m", "wall surface / spring rest"),
 
-	NUM("encoder", "resolution", enc_resolution_m, 0, 1, 1, "m", "delta: x_meas = delta floor(x/delta)"),
+	NUM("encoder", "resolution", enc_resolution_m, "1e-5", 0, 1, 1, "m", "delta: x_meas = delta floor(x/delta)"),
 
 	{"controller", "variant", KEY_ENUM, OFF(variant), 0, 0, 0, "", popc_variant_names,
-	 "PO/PC variant (DESIGN section 4)"},
-	NUM("controller", "pc_bound", pc_bound_N, 0, 1e6, 1, "N", "bound on |f_pc|"),
+	 "PO/PC variant (DESIGN section 4)", "ref-energy"},
+	NUM("controller", "pc_bound", pc_bound_N, "5", 0, 1e6, 1, "N", "bound on |f_pc|"),
 	{"controller", "ignore_mode", KEY_ENUM, OFF(ignore_mode), 0, 0, 0, "", popc_ignore_mode_names,
-	 "Table I Prev_fc: literal f_e(k) or undo f_c(k-1)"},
+	 "Table I Prev_fc: literal f_e(k) or undo f_c(k-1)", "literal"},
 	{"controller", "foaw_window", KEY_INT, OFF(foaw_window), 1, POPC_FOAW_MAX_WINDOW, 0,
-	 "samples", NULL, "filtered-velocity: longest FOAW window"},
-	NUM("controller", "foaw_noise", foaw_noise_m, 0, 1, 0, "m",
+	 "samples", NULL, "filtered-velocity: longest FOAW window", "16"},
+	NUM("controller", "foaw_noise", foaw_noise_m, "0", 0, 1, 0, "m",
 	    "filtered-velocity: FOAW noise band d (0: the encoder resolution)"),
 
 	{"integrator", "method", KEY_ENUM, OFF(integrator), 0, 0, 0, "", popc_integrator_names,
-	 "plant integration"},
+	 "plant integration", "exact"},
 	{"integrator", "substeps", KEY_INT, OFF(substeps), 1, 1e6, 0, "", NULL,
-	 "fixed-step integrators: steps per control period"},
+	 "fixed-step integrators: steps per control period", "100"},
 
 	{"axis", "kind", KEY_ENUM, OFF(axis), 0, 0, 0, "", axis_names,
-	 "sim (the plant above) or modbus (a servo drive)"},
+	 "sim (the plant above) or modbus (a servo drive)", "sim"},
 	{"axis", "map", KEY_STRING, OFF(axis_map), 0, 0, 0, "path", NULL,
-	 "modbus: register map file (relative as operator.table)"},
+	 "modbus: register map file (relative as operator.table)", ""},
 	{"axis", "connect", KEY_STRING, OFF(axis_connect), 0, 0, 0, "uri", NULL,
-	 "modbus: tcp:HOST:PORT or rtu:DEVICE[:BAUD[:8N1]]"},
+	 "modbus: tcp:HOST:PORT or rtu:DEVICE[:BAUD[:8N1]]", ""},
 };
 
 #define N_KEYS (sizeof scene_keys / sizeof scene_keys[0])
 
+static int set_key(popc_scene *s, const scene_key *k, const char *value, const char *where,
+		   const char *option, popc_error *err);
+
+/* The paper's scene (seed Sec. III) with the ramp of DESIGN section 3: every
+ * key's default from the table, read as a scene file's value would be, so a
+ * default is in its key's range by construction. */
 void popc_scene_defaults(popc_scene *s)
 {
 	memset(s, 0, sizeof *s);
-	/* The paper's scene (seed Sec. III) with the ramp of DESIGN section 3. */
-	s->duration_s = 5.0;
-	s->rate_Hz = 1000.0;
-	s->op_mass_kg = 0.1;
-	s->op_damping_Nspm = 0.5;
-	s->op_stiffness_Npm = 50.0;
-	s->intent = POPC_INTENT_RAMP;
-	s->op_x0_m = -0.01;
-	s->op_t0_s = 0.5;
-	s->op_speed_mps = 0.05;
-	s->op_x_end_m = 0.03;
-	s->op_force_N = 1.0;
-	s->op_force_rate_Nps = 10.0;
-	s->op_amplitude_m = 0.005;
-	s->op_frequency_Hz = 1.0;
-	s->op_table_quantity = POPC_TABLE_POSITION;
-	s->dev_mass_kg = 0.2;
-	s->env_kind = POPC_ENV_WALL;
-	s->env_stiffness_Npm = 1000.0;
-	s->enc_resolution_m = 1e-5;
-	s->variant = POPC_VARIANT_REF_ENERGY;
-	s->pc_bound_N = 5.0;
-	s->ignore_mode = POPC_IGNORE_LITERAL;
-	s->foaw_window = 16;
-	s->foaw_noise_m = 0.0;
-	s->integrator = POPC_INTEGRATOR_EXACT;
-	s->substeps = 100;
-	strcpy(s->axis, "sim");
+	for (size_t i = 0; i < N_KEYS; i++) {
+		popc_error err;
+		if (set_key(s, &scene_keys[i], scene_keys[i].def, "default ", NULL, &err) != 0)
+			abort(); /* a default outside its own key's range: the table is wrong */
+	}
 }
 
 static const scene_key *find_key(const char *section, const char *key, int *section_known)
@@ -264,7 +248,7 @@ static int set_key(popc_scene *s, const scene_key *k, const char *value, const c
 		for (int i = 0; k->names[i]; i++) {
 			if (strcmp(k->names[i], value) == 0) {
 				if (k->offset == offsetof(popc_scene, axis))
-					snprintf(s->axis, sizeof s->axis, "%s", value);
+					snprintf(s->axis, sizeof s->axis, "%s", k->names[i]);
 				else
 					*(int *)(void *)field = i;
 				return 0;

@@ -65,6 +65,8 @@ static void usage(FILE *f)
 	      "  --fault-at N          set the drive's fault bits at request N\n"
 	      "  --start-faulted       report a fault from the start (it never clears)\n"
 	      "  --never-ready         never show the ready bits (an enable that never completes)\n"
+	      "  --map-keys            list every register map key with its default and\n"
+	      "                        allowed values, and exit (docs/MODBUS.md)\n"
 	      "  -h, --help            this help\n"
 	      "\n"
 	      "Exit status: 0 stopped by a signal or --exit-after, 2 usage, 1 failure.\n",
@@ -357,7 +359,7 @@ static int run_server(server *sv)
 
 enum { OPT_MAP = 256, OPT_LISTEN, OPT_SCENE, OPT_LOCKSTEP, OPT_SET, OPT_WATCHDOG, OPT_RECORD,
        OPT_NOTIFY, OPT_PACE, OPT_DROP, OPT_DELAY, OPT_EXCEPTION, OPT_CORRUPT, OPT_CLOSE,
-       OPT_EXIT, OPT_FAULT_AT, OPT_START_FAULTED, OPT_NEVER_READY };
+       OPT_EXIT, OPT_FAULT_AT, OPT_START_FAULTED, OPT_NEVER_READY, OPT_MAP_KEYS };
 
 int main(int argc, char **argv)
 {
@@ -380,6 +382,7 @@ int main(int argc, char **argv)
 		{"fault-at", required_argument, NULL, OPT_FAULT_AT},
 		{"start-faulted", no_argument, NULL, OPT_START_FAULTED},
 		{"never-ready", no_argument, NULL, OPT_NEVER_READY},
+		{"map-keys", no_argument, NULL, OPT_MAP_KEYS},
 		{"help", no_argument, NULL, 'h'},
 		{NULL, 0, NULL, 0},
 	};
@@ -417,6 +420,7 @@ int main(int argc, char **argv)
 		case OPT_FAULT_AT: bad = parse_count(optarg, 1, &sv.fault_at); break;
 		case OPT_START_FAULTED: start_faulted = 1; break;
 		case OPT_NEVER_READY: never_ready = 1; break;
+		case OPT_MAP_KEYS: popc_register_map_print_keys(stdout); return 0;
 		case 'h': usage(stdout); return 0;
 		default: usage(stderr); return 2;
 		}

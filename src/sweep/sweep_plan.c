@@ -9,6 +9,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "popc/axes/axis.h"
 #include "popc/core/intent.h"
 #include "popc/scene/from_scene.h"
 
@@ -469,7 +470,7 @@ int popc_sweep_plan_init(popc_sweep_plan *p, const popc_scene *base, popc_sweep_
 			st = popc_sweep_run_scene(p, i, &s, &e);
 			/* the runs share no drive: a real axis is driven by popc run,
 			 * one experiment at a time (popc_sweep_run_one refuses it too) */
-			if (!st && strcmp(s.axis, "sim") != 0)
+			if (!st && !popc_axis_is_simulated(&s))
 				st = popc_error_set(&e, POPC_ERR_INVALID,
 						    "axis.kind = %s: a sweep runs the simulated axis "
 						    "only (drive a real axis with popc run)",

@@ -43,10 +43,14 @@ int popc_sweep_chatter_from_log(const char *log_path, popc_chatter_result *res, 
 	popc_scene s;
 	popc_scene_defaults(&s);
 	st = popc_log_reader_scene(&r, &s, err);
-	int col[5];
-	static const char *const names[5] = {"t", "x", "f_pc", "W", "E_ref"};
-	for (int k = 0; k < 5 && !st; k++)
-		st = popc_log_reader_require(&r, names[k], &col[k], err);
+	/* the columns the detector reads (popc_chatter_add) */
+	static const popc_log_column_id used[] = {POPC_LOG_COLUMN_T, POPC_LOG_COLUMN_X,
+						  POPC_LOG_COLUMN_F_PC, POPC_LOG_COLUMN_W,
+						  POPC_LOG_COLUMN_E_REF};
+	enum { N_USED = sizeof used / sizeof used[0] };
+	int col[N_USED];
+	for (int k = 0; k < N_USED && !st; k++)
+		st = popc_log_reader_require(&r, popc_log_columns[used[k]].name, &col[k], err);
 	popc_controller_config ccfg;
 	popc_chatter det;
 	if (!st) {
@@ -55,14 +59,11 @@ int popc_sweep_chatter_from_log(const char *log_path, popc_chatter_result *res, 
 	}
 	double v[POPC_LOG_MAX_COLUMNS];
 	while (!st && (st = popc_log_reader_next(&r, v, err)) == 1) {
-		popc_tick t;
-		memset(&t, 0, sizeof t);
-		t.t_s = v[col[0]];
-		t.x_m = v[col[1]];
-		t.f_pc_N = v[col[2]];
-		t.W_J = v[col[3]];
-		t.E_ref_J = v[col[4]];
-		popc_chatter_add(&det, &t);
+		popc_log_row row;
+		memset(&row, 0, sizeof row);
+		for (int k = 0; k < N_USED; k++)
+			popc_log_row_set(&row, used[k], v[col[k]]);
+		popc_chatter_add(&det, &row.tick);
 		st = 0;
 	}
 	popc_log_reader_close(&r);
@@ -136,8 +137,8 @@ int popc_sweep_run_one(const popc_sweep_plan *p, long long i, const char *dir, i
 		st = write_scene(path, &s, &rerr);
 	}
 	if (!st) {
-		if (strcmp(s.axis, "sim") == 0)
-			st = popc_sim_axis_create(&axis, &s, &rerr);
+		if (popc_axis_is_simulated(&s))
+			st = popc_axis_create(&axis, &s, NULL, &rerr);
 		else
 			st = popc_error_set(&rerr, POPC_ERR_INVALID,
 					    "axis = %s: a sweep runs the simulated axis only", s.axis);

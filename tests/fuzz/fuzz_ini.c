@@ -15,7 +15,9 @@
 
 #include "fuzz.h"
 #include "popc/scene/ini_lines.h"
+#ifdef POPC_FUZZ_MODBUS /* a build with the Modbus family (meson option modbus) */
 #include "popc/axes/register_map.h"
+#endif
 #include "popc/scene/scene.h"
 
 /* The error names the file; a "PATH:N:" names a line of the file. */
@@ -74,6 +76,7 @@ int popc_fuzz_scene(const uint8_t *data, size_t size)
 	return 0;
 }
 
+#ifdef POPC_FUZZ_MODBUS
 int popc_fuzz_register_map(const uint8_t *data, size_t size)
 {
 	char path[64];
@@ -111,6 +114,7 @@ int popc_fuzz_register_map(const uint8_t *data, size_t size)
 	popc_fuzz_file_close(fd);
 	return 0;
 }
+#endif
 
 /* libinih's buffer in Debian's build (INI_MAX_LINE); byte 0 of the input
  * picks a smaller one too, so that short inputs reach the limit */

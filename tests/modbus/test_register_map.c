@@ -64,7 +64,7 @@ static void test_saturation_and_rounding(void **state)
 	assert_int_equal(w[0], 0x7FFF);
 	assert_int_equal(popc_reg_encode(-1, POPC_REG_UINT16, POPC_WORDS_HI_LO, w), 1);
 	assert_int_equal(w[0], 0);
-	assert_int_equal(popc_reg_encode(NAN, POPC_REG_INT32, POPC_WORDS_HI_LO, w), 1);
+	assert_int_equal(popc_reg_encode((double)NAN, POPC_REG_INT32, POPC_WORDS_HI_LO, w), 1);
 	assert_int_equal(w[0] | w[1], 0);
 	assert_int_equal(popc_reg_encode(2.5, POPC_REG_INT16, POPC_WORDS_HI_LO, w), 0);
 	assert_int_equal(w[0], 2); /* nearest, ties to even */
@@ -328,6 +328,172 @@ static void test_shipped_maps(void **state)
 	}
 }
 
+/* ---- the key table -------------------------------------------------------- */
+
+static const popc_map_key *find_key(const char *section, const char *key)
+{
+	for (size_t i = 0; popc_register_map_key(i); i++) {
+		const popc_map_key *k = popc_register_map_key(i);
+		if (strcmp(k->section, section) == 0 && strcmp(k->key, key) == 0)
+			return k;
+	}
+	fail_msg("no key %s.%s in the table", section, key);
+	return NULL;
+}
+
+/* A default's value as the loader reads it: an integer in decimal or 0x hex,
+ * a number, or a choice's index. */
+static double default_value(const popc_map_key *k)
+{
+	assert_non_null(k->default_text);
+	if (k->type == POPC_MAP_CHOICE) {
+		for (int i = 0; k->choices[i]; i++)
+			if (strcmp(k->choices[i], k->default_text) == 0)
+				return i;
+		fail_msg("%s.%s: default '%s' is not one of its choices", k->section, k->key,
+			 k->default_text);
+	}
+	char *end;
+	double v = k->type == POPC_MAP_INT ? (double)strtol(k->default_text, &end, 0)
+					   : strtod(k->default_text, &end);
+	if (*end || end == k->default_text)
+		fail_msg("%s.%s: default '%s' is not a number", k->section, k->key, k->default_text);
+	return v;
+}
+
+/* The table is consistent: one row per key, the sections grouped in file
+ * order, every default a value its own key accepts, no key both required and
+ * defaulted. (The loader takes an absent key's default through the same
+ * parser as a value in the file, so a default out of range would make every
+ * map without that key fail.) */
+static void test_key_table(void **state)
+{
+	(void)state;
+	static const char *const sections[] = {"drive", "position", "command", "enable", "status"};
+	size_t n = 0, sec = 0;
+	for (; popc_register_map_key(n); n++) {
+		const popc_map_key *k = popc_register_map_key(n);
+		while (sec < 5 && strcmp(k->section, sections[sec]) != 0)
+			sec++;
+		if (sec == 5)
+			fail_msg("row %zu: section [%s] out of order or unknown", n, k->section);
+		assert_true(k->key[0] && k->help && k->help[0]);
+		for (size_t j = 0; j < n; j++) {
+			const popc_map_key *o = popc_register_map_key(j);
+			if (strcmp(o->section, k->section) == 0 && strcmp(o->key, k->key) == 0)
+				fail_msg("%s.%s twice in the table", k->section, k->key);
+		}
+		if (k->required && k->default_text)
+			fail_msg("%s.%s: both required and defaulted", k->section, k->key);
+		if (k->type == POPC_MAP_CHOICE)
+			assert_true(k->choices && k->choices[0]);
+		if (k->type == POPC_MAP_INT || k->type == POPC_MAP_NUMBER || k->type == POPC_MAP_WORDS)
+			assert_true(k->lo <= k->hi);
+		if (!k->default_text || k->type == POPC_MAP_TEXT)
+			continue;
+		double v = default_value(k);
+		if (k->type != POPC_MAP_CHOICE &&
+		    (v < k->lo || v > k->hi || (k->lo_open && v == k->lo)))
+			fail_msg("%s.%s: default %s outside its range", k->section, k->key, k->default_text);
+	}
+	assert_int_equal(n, 36);
+	assert_null(popc_register_map_key(n));
+}
+
+/* A map of only the required keys (and one scale each) gets the table's
+ * defaults in its fields. */
+static void test_defaults_from_table(void **state)
+{
+	(void)state;
+	const char *path = write_map("[position]\nregister = 100\ntype = int32\ncounts_per_m = 1e5\n"
+				     "soft_min_m = -0.05\nsoft_max_m = 0.05\n"
+				     "[command]\nregister = 200\ntype = int16\nnewton_per_unit = 0.01\n"
+				     "limit_N = 20\n"
+				     "[enable]\nregister = 300\non = 1\noff = 0\n"
+				     "[status]\nregister = 102\nfault_mask = 0x08\n");
+	popc_register_map m;
+	popc_error err;
+	int st = popc_register_map_load(&m, path, &err);
+	unlink(path);
+	if (st)
+		fail_msg("%s", err.msg);
+	assert_string_equal(m.name, find_key("drive", "name")->default_text);
+	const struct {
+		const char *section, *key;
+		double got;
+	} fields[] = {
+		{"drive", "slave", m.slave},
+		{"drive", "fc23", m.fc23},
+		{"drive", "timeout_ms", m.timeout_ms},
+		{"drive", "max_failures", m.max_failures},
+		{"drive", "enable_timeout_ms", m.enable_timeout_ms},
+		{"drive", "watchdog_ms", m.watchdog_ms},
+		{"position", "table", m.pos.table},
+		{"position", "word_order", m.pos.order},
+		{"command", "word_order", m.cmd.order},
+		{"enable", "table", m.enable.table},
+		{"status", "table", m.status.table},
+		{"status", "ready_mask", m.status.ready_mask},
+	};
+	for (size_t i = 0; i < sizeof fields / sizeof fields[0]; i++) {
+		double want = default_value(find_key(fields[i].section, fields[i].key));
+		if (fields[i].got != want)
+			fail_msg("%s.%s = %g, the table's default is %g", fields[i].section, fields[i].key,
+				 fields[i].got, want);
+	}
+	assert_int_equal(m.cmd.seq_reg, -1);
+	/* and the values the table names for these defaults, as the docs say */
+	assert_int_equal(m.slave, 1);
+	assert_int_equal(m.timeout_ms, 20);
+	assert_int_equal(m.enable_timeout_ms, 500);
+	assert_int_equal(m.pos.order, POPC_WORDS_HI_LO);
+}
+
+/* The listing has one entry per key with its default and range, and
+ * docs/MODBUS.md's key table names every key. */
+static void test_key_listing(void **state)
+{
+	(void)state;
+	char *text = NULL;
+	size_t len = 0;
+	FILE *f = open_memstream(&text, &len);
+	assert_non_null(f);
+	popc_register_map_print_keys(f);
+	fclose(f);
+	assert_non_null(strstr(text, "  drive.slave "));
+	assert_non_null(strstr(text, "default 1             allowed [1, 247]\n"));
+	assert_non_null(strstr(text, "  position.gear "));
+	assert_non_null(strstr(text, "allowed (0, 1e+06]\n"));
+	assert_non_null(strstr(text, "  command.limit_N                    default (required)"));
+	/* an entry's first line has two blanks before the key, its help six */
+	size_t entries = 0;
+	for (const char *p = text; *p; p = strchr(p, '\n') + 1)
+		if (p[0] == ' ' && p[1] == ' ' && p[2] != ' ')
+			entries++;
+	assert_int_equal(entries, 36);
+	free(text);
+
+	const char *root = getenv("POPC_SOURCE_ROOT");
+	if (!root)
+		skip();
+	char path[1024];
+	snprintf(path, sizeof path, "%s/docs/MODBUS.md", root);
+	FILE *d = fopen(path, "r");
+	assert_non_null(d);
+	static char doc[1 << 16];
+	size_t n = fread(doc, 1, sizeof doc - 1, d);
+	fclose(d);
+	doc[n] = '\0';
+	for (size_t i = 0; popc_register_map_key(i); i++) {
+		const popc_map_key *k = popc_register_map_key(i);
+		char quoted[64], first[80];
+		snprintf(quoted, sizeof quoted, "`%s`", k->key);
+		snprintf(first, sizeof first, "`[%s] %s`", k->section, k->key);
+		if (!strstr(doc, quoted) && !strstr(doc, first))
+			fail_msg("docs/MODBUS.md does not document %s.%s", k->section, k->key);
+	}
+}
+
 /* ---- URIs ----------------------------------------------------------------- */
 
 typedef struct uri_case {
@@ -419,6 +585,9 @@ int main(void)
 		cmocka_unit_test(test_sequence_register),
 		cmocka_unit_test(test_unreadable_maps),
 		cmocka_unit_test(test_shipped_maps),
+		cmocka_unit_test(test_key_table),
+		cmocka_unit_test(test_defaults_from_table),
+		cmocka_unit_test(test_key_listing),
 		cmocka_unit_test(test_uris),
 		cmocka_unit_test(test_histogram),
 	};

@@ -23,7 +23,7 @@
 
 #include <cmocka.h>
 
-#include "popc/axes/axis.h"
+#include "popc/axes/sim_axis.h"
 #include "popc/core/controller.h"
 #include "popc/core/encoder.h"
 #include "popc/scene/from_scene.h"
@@ -66,7 +66,7 @@ static void reference_add(reference *r, double x, double f_e, double f_c)
 static double ulps(double got, wide exact)
 {
 	double e = (double)exact;
-	double ulp = nextafter(fabs(e), INFINITY) - fabs(e);
+	double ulp = nextafter(fabs(e), (double)INFINITY) - fabs(e);
 	return (double)fabsl((long double)((wide)got - exact)) / ulp;
 }
 

@@ -160,9 +160,9 @@ static void test_bound_and_guards(void **state)
 			if (t.flags & POPC_FLAG_CLAMP)
 				assert_true(fabs(t.f_pc_N) == 0.004);
 		}
-		popc_controller_step(&c, 0, NAN, &t);
+		popc_controller_step(&c, 0, (double)NAN, &t);
 		assert_true(isfinite(t.f_c_N));
-		popc_controller_step(&c, 0, INFINITY, &t);
+		popc_controller_step(&c, 0, (double)INFINITY, &t);
 		assert_true(isfinite(t.f_c_N));
 	}
 }
@@ -264,8 +264,8 @@ static void test_environments(void **state)
 	}
 	/* an undamped wall ignores the velocity, even an infinite one (0 inf is NaN) */
 	wall.damping_Nspm = 0.0;
-	assert_true(popc_environment_force(&wall, 1e-3, INFINITY) == 1000.0 * 1e-3);
-	assert_true(popc_environment_force(&wall, 1e-3, -INFINITY) == 1000.0 * 1e-3);
+	assert_true(popc_environment_force(&wall, 1e-3, (double)INFINITY) == 1000.0 * 1e-3);
+	assert_true(popc_environment_force(&wall, 1e-3, -(double)INFINITY) == 1000.0 * 1e-3);
 	/* in the controller: the backward-difference velocity feeds the damping;
 	 * 100 counts in, then back 1 and 49 counts: 1 + 2 1 = 3 N, 0.99 - 2 0.01 = 0.97 N,
 	 * 0.5 - 2 0.49 < 0: 0 N */

@@ -31,9 +31,9 @@ static void test_quantizer_table(void **state)
 		{1.0, 1e-8, 1, 100000000},
 		{5e-4, 1e-3, 1, 0},
 		{1e3, 1e-8, 1, 100000000000LL},
-		{NAN, 1e-5, 0, 0},
-		{INFINITY, 1e-5, 0, 0},
-		{-INFINITY, 1e-5, 0, 0},
+		{(double)NAN, 1e-5, 0, 0},
+		{(double)INFINITY, 1e-5, 0, 0},
+		{-(double)INFINITY, 1e-5, 0, 0},
 		{1e300, 1e-5, 0, 0},            /* far beyond 2^53 counts */
 		/* the limit, with a power-of-two delta so the quotients are exact:
 		 * 2^53 - 1 counts is the last exact one, 2^53 is refused */

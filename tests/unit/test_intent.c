@@ -12,7 +12,7 @@
 
 #include <cmocka.h>
 
-#include "popc/axes/axis.h"
+#include "popc/axes/sim_axis.h"
 #include "popc/core/intent.h"
 #include "popc/run/run.h"
 #include "popc/scene/from_scene.h"
@@ -46,7 +46,7 @@ static int run_positions(const popc_scene *s, double *x, int n)
 			fail_msg("%s", err.msg);
 		x[k] = smp.x_true_m;
 	}
-	double e = popc_sim_axis_max_error(axis);
+	double e = axis->ops->integrator_error_m(axis);
 	popc_axis_destroy(&axis);
 	return e > 0; /* whether a shadow measured any error */
 }

@@ -1,4 +1,5 @@
-/* CSV log: bitwise round trip writer -> reader, and the reader's errors. */
+/* CSV log: the column table, bitwise round trip writer -> reader of every
+ * column, and the reader's errors. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -53,77 +54,191 @@ static int same_bits(double a, double b)
 	return memcmp(&a, &b, sizeof a) == 0;
 }
 
+/* The column sets an axis can log: every combination of the fill bits. */
+static const unsigned column_sets[] = {
+	POPC_LOG_COL_ALWAYS, POPC_LOG_COL_X_TRUE, POPC_LOG_COL_TIMING,
+	POPC_LOG_COL_X_TRUE | POPC_LOG_COL_TIMING,
+};
+enum { N_SETS = sizeof column_sets / sizeof column_sets[0] };
+
+/* A random value a column of this format holds exactly: any finite double,
+ * a count of up to 62 bits (an integer double: every digit is written), a
+ * 32-bit flag word. */
+static double random_cell(popc_log_cell_format format)
+{
+	switch (format) {
+	case POPC_LOG_CELL_COUNT: {
+		uint64_t u = next_u64();
+		double c = (double)(long long)(u >> 2);
+		return (u & 1) ? -c : c;
+	}
+	case POPC_LOG_CELL_FLAGS: return (double)(uint32_t)next_u64();
+	case POPC_LOG_CELL_DOUBLE: break;
+	}
+	return random_double();
+}
+
+/* The table itself: names unique and found, every column described, and
+ * each popc_log_row field reached by get and set. */
+static void test_column_table(void **state)
+{
+	(void)state;
+	for (int id = 0; id < POPC_LOG_N_COLUMNS; id++) {
+		const popc_log_column *c = &popc_log_columns[id];
+		assert_non_null(c->name);
+		assert_true(c->name[0] != '\0');
+		assert_int_equal(popc_log_column_find(c->name), id);
+		assert_non_null(c->unit);
+		if (c->format == POPC_LOG_CELL_DOUBLE && c->unit[0] == '\0')
+			fail_msg("column %s: a number without a unit", c->name);
+		assert_non_null(c->meaning);
+		assert_true(strlen(c->meaning) > 5);
+		assert_true((c->fill & ~(unsigned)(POPC_LOG_COL_X_TRUE | POPC_LOG_COL_TIMING)) == 0);
+		/* set then get: the same value, and no other column moved */
+		popc_log_row row;
+		memset(&row, 0, sizeof row);
+		const double v = c->format == POPC_LOG_CELL_DOUBLE ? -1.25e-3 : 77.0;
+		popc_log_row_set(&row, (popc_log_column_id)id, v);
+		for (int k = 0; k < POPC_LOG_N_COLUMNS; k++)
+			if (!same_bits(popc_log_row_get(&row, (popc_log_column_id)k), k == id ? v : 0.0))
+				fail_msg("set %s moved column %s", c->name, popc_log_columns[k].name);
+	}
+	assert_int_equal(popc_log_column_find("T"), -1);
+	assert_int_equal(popc_log_column_find(""), -1);
+	assert_int_equal(popc_log_column_find("x "), -1);
+	/* the time column is first: the reader checks that it increases */
+	assert_int_equal(POPC_LOG_COLUMN_T, 0);
+	assert_string_equal(popc_log_columns[POPC_LOG_COLUMN_T].name, "t");
+}
+
+/* The line of column names popc writes is the table's names joined, for
+ * every column set, and each name's place is popc_log_column_index. Today's
+ * lines are spelt out too: a reordered table would change every log. */
+static void test_column_names_line(void **state)
+{
+	(void)state;
+	static const char *const expected[N_SETS] = {
+		"t,x,count,v,f_e,f_pc,f_c,W,E_ref,flags",
+		"t,x,count,x_true,v,f_e,f_pc,f_c,W,E_ref,flags",
+		"t,x,count,v,f_e,f_pc,f_c,W,E_ref,flags,dt,rtt",
+		"t,x,count,x_true,v,f_e,f_pc,f_c,W,E_ref,flags,dt,rtt",
+	};
+	for (int k = 0; k < N_SETS; k++) {
+		const unsigned set = column_sets[k];
+		char joined[POPC_LOG_NAMES_LINE_MAX] = "";
+		int place[POPC_LOG_N_COLUMNS], n = 0;
+		for (int id = 0; id < POPC_LOG_N_COLUMNS; id++) {
+			place[id] = -1;
+			if ((popc_log_columns[id].fill & ~set) != 0)
+				continue;
+			if (n > 0)
+				strcat(joined, ",");
+			strcat(joined, popc_log_columns[id].name);
+			place[id] = n++;
+		}
+		assert_string_equal(joined, expected[k]);
+		char names[POPC_LOG_NAMES_LINE_MAX];
+		assert_int_equal(popc_log_column_names(set, names, sizeof names), strlen(joined));
+		assert_string_equal(names, joined);
+		for (int id = 0; id < POPC_LOG_N_COLUMNS; id++)
+			assert_int_equal(popc_log_column_index(set, (popc_log_column_id)id), place[id]);
+
+		/* the writer's header: the same line after the comments */
+		char path[512];
+		snprintf(path, sizeof path, "%s/names%d.csv", tmpdir, k);
+		popc_scene s;
+		popc_scene_defaults(&s);
+		popc_log_writer w;
+		popc_error err;
+		assert_int_equal(popc_log_open(&w, path, set, &err), 0);
+		assert_int_equal(popc_log_write_header(&w, "sim", &s, NULL, &err), 0);
+		assert_int_equal(popc_log_close(&w, &err), 0);
+		FILE *f = fopen(path, "r");
+		assert_non_null(f);
+		char line[1024];
+		while (fgets(line, sizeof line, f) && line[0] == '#')
+			;
+		fclose(f);
+		line[strcspn(line, "\n")] = '\0';
+		assert_string_equal(line, joined);
+	}
+	/* a buffer too small holds the names that fit, terminated */
+	char small[8];
+	assert_int_equal(popc_log_column_names(POPC_LOG_COL_ALWAYS, small, sizeof small), 3);
+	assert_string_equal(small, "t,x");
+	assert_int_equal(popc_log_column_index(POPC_LOG_COL_ALWAYS, POPC_LOG_N_COLUMNS), -1);
+}
+
+/* Every column of the table, for every column set, written and read back
+ * bitwise: edge values, then random ones of the column's format. */
 static void test_round_trip_bitwise(void **state)
 {
 	(void)state;
-	char path[512];
-	snprintf(path, sizeof path, "%s/rt.csv", tmpdir);
-	popc_scene s;
-	popc_scene_defaults(&s);
-	popc_log_writer w;
-	popc_error err;
-	const unsigned cols = POPC_LOG_COL_X_TRUE | POPC_LOG_COL_TIMING;
-	assert_int_equal(popc_log_open(&w, path, cols, &err), 0);
-	assert_int_equal(popc_log_write_header(&w, "sim", &s, NULL, &err), 0);
 	enum { N = 20000 };
 	static popc_log_row rows[N];
 	const double edge[] = {0.0, -0.0, 5e-324, -5e-324, 2.2250738585072014e-308, 1.7976931348623157e308,
 			       -1.7976931348623157e308, 0.1, 1e-5, 1e22, 1e23, 9007199254740993.0};
-	for (int i = 0; i < N; i++) {
-		popc_log_row *r = &rows[i];
-		r->tick.t_s = i * 1e-3;
-		r->tick.x_m = i < 12 ? edge[i] : random_double();
-		r->tick.count = (long long)(next_u64() >> 2) * ((i & 1) ? -1 : 1);
-		r->x_true_m = random_double();
-		r->tick.v_mps = random_double();
-		r->tick.f_e_N = random_double();
-		r->tick.f_pc_N = random_double();
-		r->tick.f_c_N = random_double();
-		r->tick.W_J = random_double();
-		r->tick.E_ref_J = random_double();
-		r->tick.flags = (unsigned)(next_u64() & 31);
-		r->dt_s = random_double();
-		r->rtt_s = random_double();
-		assert_int_equal(popc_log_write_row(&w, r, &err), 0);
-	}
-	assert_int_equal(popc_log_write_comment(&w, "stop", "completed", &err), 0);
-	assert_int_equal(popc_log_close(&w, &err), 0);
-
-	popc_log_reader rd;
-	assert_int_equal(popc_log_reader_open(&rd, path, NULL, &err), 0);
-	assert_string_equal(popc_log_reader_header(&rd, "source"), "sim");
-	assert_string_equal(popc_log_reader_header(&rd, "variant"), "ref-energy");
-	assert_true(strtod(popc_log_reader_header(&rd, "encoder.resolution"), NULL) == 1e-5);
-	popc_scene back;
-	popc_scene_defaults(&back);
-	back.enc_resolution_m = 1.0;
-	assert_int_equal(popc_log_reader_scene(&rd, &back, &err), 0);
-	assert_true(back.enc_resolution_m == 1e-5);
-	const char *names[] = {"t", "x", "count", "x_true", "v", "f_e", "f_pc", "f_c", "W", "E_ref", "flags", "dt", "rtt"};
-	int idx[13];
-	for (int j = 0; j < 13; j++)
-		assert_int_equal(popc_log_reader_require(&rd, names[j], &idx[j], &err), 0);
-	double v[POPC_LOG_MAX_COLUMNS];
-	for (int i = 0; i < N; i++) {
-		assert_int_equal(popc_log_reader_next(&rd, v, &err), 1);
-		const popc_log_row *r = &rows[i];
-		const double want[13] = {r->tick.t_s, r->tick.x_m, 0, r->x_true_m, r->tick.v_mps,
-					 r->tick.f_e_N, r->tick.f_pc_N, r->tick.f_c_N, r->tick.W_J,
-					 r->tick.E_ref_J, (double)r->tick.flags, r->dt_s, r->rtt_s};
-		for (int j = 0; j < 13; j++) {
-			if (j == 2)
-				continue;
-			if (!same_bits(v[idx[j]], want[j]))
-				fail_msg("row %d column %s: %.17g read back as %.17g", i, names[j], want[j],
-					 v[idx[j]]);
+	enum { N_EDGE = sizeof edge / sizeof edge[0] };
+	for (int k = 0; k < N_SETS; k++) {
+		const unsigned set = column_sets[k];
+		char path[512];
+		snprintf(path, sizeof path, "%s/rt%d.csv", tmpdir, k);
+		popc_scene s;
+		popc_scene_defaults(&s);
+		popc_log_writer w;
+		popc_error err;
+		assert_int_equal(popc_log_open(&w, path, set, &err), 0);
+		assert_int_equal(popc_log_write_header(&w, "sim", &s, NULL, &err), 0);
+		for (int i = 0; i < N; i++) {
+			popc_log_row *r = &rows[i];
+			memset(r, 0, sizeof *r);
+			for (int id = 0; id < POPC_LOG_N_COLUMNS; id++) {
+				const popc_log_cell_format format = popc_log_columns[id].format;
+				double v = random_cell(format);
+				if (id == POPC_LOG_COLUMN_T)
+					v = i * 1e-3; /* time increases */
+				else if (i < N_EDGE && format == POPC_LOG_CELL_DOUBLE)
+					v = edge[i];
+				popc_log_row_set(r, (popc_log_column_id)id, v);
+			}
+			assert_int_equal(popc_log_write_row(&w, r, &err), 0);
 		}
-		/* counts are exact as long as they fit 53 bits; 62-bit random counts round
-		 * like any double: compare through the same conversion */
-		assert_true(same_bits(v[idx[2]], (double)r->tick.count));
+		assert_int_equal(popc_log_write_comment(&w, "stop", "completed", &err), 0);
+		assert_int_equal(popc_log_close(&w, &err), 0);
+
+		popc_log_reader rd;
+		assert_int_equal(popc_log_reader_open(&rd, path, NULL, &err), 0);
+		assert_string_equal(popc_log_reader_header(&rd, "source"), "sim");
+		assert_string_equal(popc_log_reader_header(&rd, "variant"), "ref-energy");
+		assert_true(strtod(popc_log_reader_header(&rd, "encoder.resolution"), NULL) == 1e-5);
+		popc_scene back;
+		popc_scene_defaults(&back);
+		back.enc_resolution_m = 1.0;
+		assert_int_equal(popc_log_reader_scene(&rd, &back, &err), 0);
+		assert_true(back.enc_resolution_m == 1e-5);
+		int idx[POPC_LOG_N_COLUMNS], n_written = 0;
+		for (int id = 0; id < POPC_LOG_N_COLUMNS; id++) {
+			idx[id] = popc_log_reader_column(&rd, popc_log_columns[id].name);
+			assert_int_equal(idx[id], popc_log_column_index(set, (popc_log_column_id)id));
+			n_written += idx[id] >= 0;
+		}
+		assert_int_equal(rd.n_cols, n_written);
+		double v[POPC_LOG_MAX_COLUMNS];
+		for (int i = 0; i < N; i++) {
+			assert_int_equal(popc_log_reader_next(&rd, v, &err), 1);
+			for (int id = 0; id < POPC_LOG_N_COLUMNS; id++) {
+				if (idx[id] < 0)
+					continue;
+				const double want = popc_log_row_get(&rows[i], (popc_log_column_id)id);
+				if (!same_bits(v[idx[id]], want))
+					fail_msg("set %u row %d column %s: %.17g read back as %.17g", set, i,
+						 popc_log_columns[id].name, want, v[idx[id]]);
+			}
+		}
+		assert_int_equal(popc_log_reader_next(&rd, v, &err), 0);
+		assert_string_equal(rd.stop_reason, "completed");
+		popc_log_reader_close(&rd);
 	}
-	assert_int_equal(popc_log_reader_next(&rd, v, &err), 0);
-	assert_string_equal(rd.stop_reason, "completed");
-	popc_log_reader_close(&rd);
 }
 
 static const char *write_file(const char *name, const char *text)
@@ -283,6 +398,8 @@ static void test_foreign_log_mapping(void **state)
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_column_table),
+		cmocka_unit_test(test_column_names_line),
 		cmocka_unit_test(test_round_trip_bitwise),
 		cmocka_unit_test(test_reader_errors),
 		cmocka_unit_test(test_reader_bom),

@@ -14,7 +14,7 @@
 
 #include <cmocka.h>
 
-#include "popc/axes/axis.h"
+#include "popc/axes/sim_axis.h"
 #include "popc/core/controller.h"
 #include "popc/log/log.h"
 #include "popc/log/log_reader.h"
@@ -55,7 +55,7 @@ static int setup(void **state)
 		popc_error err;
 		if (popc_sim_axis_create(&axis, &s, &err))
 			return -1;
-		snprintf(r->log_path, sizeof r->log_path, "%s/%s.csv", tmpdir, popc_variant_name(v));
+		snprintf(r->log_path, sizeof r->log_path, "%s/%s.csv", tmpdir, popc_variant_name((popc_variant)v));
 		popc_log_writer w;
 		if (popc_log_open(&w, r->log_path, axis->ops->log_columns, &err) ||
 		    popc_log_write_header(&w, "sim", &s, NULL, &err))
@@ -105,7 +105,7 @@ static double late_rms(popc_variant v)
 /* Range of the measured position over t >= from. */
 static double x_range(popc_variant v, double from)
 {
-	double lo = INFINITY, hi = -INFINITY;
+	double lo = (double)INFINITY, hi = -(double)INFINITY;
 	for (long long k = 0; k < runs[v].n; k++)
 		if (runs[v].rows[k].tick.t_s >= from) {
 			lo = fmin(lo, runs[v].rows[k].tick.x_m);
@@ -230,7 +230,7 @@ static void test_offline_recompute_is_exact(void **state)
 			if (memcmp(&o.W_J, &t->W_J, sizeof(double)) != 0 ||
 			    memcmp(&o.E_ref_J, &t->E_ref_J, sizeof(double)) != 0)
 				fail_msg("%s tick %lld: recomputed W %.17g E_ref %.17g, logged %.17g %.17g",
-					 popc_variant_name(v), k, o.W_J, o.E_ref_J, t->W_J, t->E_ref_J);
+					 popc_variant_name((popc_variant)v), k, o.W_J, o.E_ref_J, t->W_J, t->E_ref_J);
 		}
 	}
 }

@@ -238,9 +238,9 @@ static void test_init_rejects_bad_config(void **state)
 	popc_error err;
 	popc_plant_config bad[] = {
 		{.mass_kg = 0, .period_s = 1e-3, .substeps = 1},
-		{.mass_kg = NAN, .period_s = 1e-3, .substeps = 1},
+		{.mass_kg = (double)NAN, .period_s = 1e-3, .substeps = 1},
 		{.mass_kg = 1, .damping_Nspm = -1, .period_s = 1e-3, .substeps = 1},
-		{.mass_kg = 1, .stiffness_Npm = INFINITY, .period_s = 1e-3, .substeps = 1},
+		{.mass_kg = 1, .stiffness_Npm = (double)INFINITY, .period_s = 1e-3, .substeps = 1},
 		{.mass_kg = 1, .period_s = 1e-3, .substeps = 0},
 	};
 	for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++)
@@ -282,7 +282,7 @@ static void test_expm_reports_overflow(void **state)
 	(void)state;
 	double a[4] = {1e300, 0, 0, -1e300}, e[4];
 	assert_int_equal(popc_expm(2, a, e), POPC_ERR_NUMERIC);
-	double nan_in[4] = {NAN, 0, 0, 0};
+	double nan_in[4] = {(double)NAN, 0, 0, 0};
 	assert_int_equal(popc_expm(2, nan_in, e), POPC_ERR_NUMERIC);
 	assert_int_equal(popc_expm(9, a, e), POPC_ERR_INVALID);
 }

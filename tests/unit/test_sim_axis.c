@@ -15,7 +15,7 @@
 
 #include <cmocka.h>
 
-#include "popc/axes/axis.h"
+#include "popc/axes/sim_axis.h"
 
 #include "test_tmpdir.h"
 

@@ -1,5 +1,7 @@
 /* An axis closes the control loop: the simulated plant, or a servo drive over
- * Modbus. A small vtable plus private state (the dav1d plug-in pattern).
+ * Modbus. A small vtable plus private state (the dav1d plug-in pattern), made
+ * by one factory from the scene's axis.kind, so that no program or runner
+ * needs to know which kinds exist.
  *
  * The runner calls sample() once for tick 0, then exchange() once per tick:
  * it applies the command f_c(k) for the coming period and returns the sample
@@ -7,6 +9,9 @@
  * disabled) and is called on every way out. */
 #ifndef POPC_AXIS_H
 #define POPC_AXIS_H
+
+#include <signal.h>
+#include <stdio.h>
 
 #include "popc/util/error.h"
 #include "popc/scene/scene.h"
@@ -27,9 +32,24 @@ typedef struct popc_axis_ops {
 	int (*sample)(popc_axis *a, popc_axis_sample *out, popc_error *err);
 	int (*exchange)(popc_axis *a, double f_c_N, popc_axis_sample *next, popc_error *err);
 	int (*stop)(popc_axis *a, popc_error *err);
-	/* Appends a human summary and CSV fields of axis statistics (may be NULL). */
-	void (*report)(popc_axis *a, FILE *human, char *csv_names, char *csv_values, size_t cap);
 	void (*destroy)(popc_axis *a);
+
+	/* Optional operations: NULL where the axis has nothing to say, and the
+	 * caller then does without (the runner reports an integrator error of 0). */
+
+	/* The largest |x - x_exact| at the samples so far, m, of an axis that
+	 * integrates a model and checks it against the exact discretization
+	 * (the simulated plant); 0 for the exact method, NaN with the check off
+	 * (set_shadow). */
+	double (*integrator_error_m)(const popc_axis *a);
+	/* Appends a human summary (to human, unless NULL) and CSV fields
+	 * (",name..." and ",value...", each buffer cap bytes) of the axis'
+	 * statistics: period and latency percentiles of a real axis. */
+	void (*report)(popc_axis *a, FILE *human, char *csv_names, char *csv_values, size_t cap);
+	/* Turns that exact check off (on = 0) or back on, so that a benchmark
+	 * times the model alone; with it off integrator_error_m reports NaN and
+	 * only the axis' other stability guards watch the run. */
+	void (*set_shadow)(popc_axis *a, int on);
 } popc_axis_ops;
 
 struct popc_axis {
@@ -39,19 +59,37 @@ struct popc_axis {
 				 runner clamps and flags the command to it */
 };
 
-/* The simulated axis: plant, operator intent and encoder of the scene. */
-int popc_sim_axis_create(popc_axis **out, const popc_scene *s, popc_error *err);
+/* What only the program knows about the axis it makes: how a real axis is
+ * paced and where its notes go. All zero (or a NULL pointer to the options)
+ * is the default: paced, no real-time scheduling, no notes, no stop flag. A
+ * simulated axis ignores them. The drive's map and URI are scene keys
+ * (axis.map, axis.connect; --map and --connect set them), so that the log
+ * header's resolved scene names them. */
+typedef struct popc_axis_create_options {
+	int free_run;       /* 1: no deadlines, each tick as soon as the last one is
+			       done (lockstep dry runs); 0: absolute deadlines at run.rate */
+	int realtime;       /* 1: try SCHED_FIFO and mlockall (a note says if denied) */
+	FILE *notes;        /* where notes go (real-time granted or not, reconnects); may be NULL */
+	/* set by the program's signal handler (NULL: none): a real axis looks at
+	 * it between the attempts of a failing transaction and while it waits
+	 * for the drive, since its link calls are not interrupted by signals */
+	volatile sig_atomic_t *stop_flag;
+} popc_axis_create_options;
 
-/* Integrator error against the exact discretization, measured by the sim axis
- * alongside the run (0 for the exact method). */
-double popc_sim_axis_max_error(const popc_axis *a);
+/* Creates the axis the scene's axis.kind names: checks what it needs (a
+ * drive's register map and URI) but does not connect (start() does). A kind
+ * this build was made without (Modbus without libmodbus) is refused with
+ * POPC_ERR_INVALID naming it. The caller frees the axis with
+ * popc_axis_destroy. Returns 0 or a negative popc_status. */
+int popc_axis_create(popc_axis **out, const popc_scene *s, const popc_axis_create_options *opt,
+		     popc_error *err);
 
-/* Turns the exact shadow of a simulated axis with a fixed-step integrator off
- * (on = 0) or back on, so that a benchmark times the integrator alone; with
- * the shadow off popc_sim_axis_max_error reports NaN and only the growth bound
- * and the divergence check guard the run. No effect on an exact or non-sim axis. */
-void popc_sim_axis_set_shadow(popc_axis *a, int on);
+/* 1 when the scene's axis is simulated: no hardware, deterministic, any
+ * number of runs at once (a sweep, a benchmark); 0 for a real axis. Known
+ * from axis.kind alone, without creating the axis. */
+int popc_axis_is_simulated(const popc_scene *s);
 
+/* Destroys *a (NULL or an axis) and sets *a to NULL. */
 void popc_axis_destroy(popc_axis **a);
 
 #endif

@@ -19,7 +19,9 @@
 #ifndef POPC_REGISTER_MAP_H
 #define POPC_REGISTER_MAP_H
 
+#include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #include "popc/util/error.h"
 #include "popc/scene/scene.h"
@@ -112,8 +114,47 @@ typedef struct popc_register_map {
  * message naming the file, the line (none when the problem is a missing key)
  * and the key. A line longer than the reader's buffer is refused with its
  * line number (libinih would split it and count the pieces as lines).
+ * Single keys are checked first, in file order, then the rules between keys.
  * Returns 0 or a negative popc_status. */
 int popc_register_map_load(popc_register_map *m, const char *path, popc_error *err);
+
+/* The keys a map file may hold: one row each (src/axes/modbus/
+ * register_map_keys.def), from which loading, the defaults, the range checks
+ * and the listing below all come. */
+typedef enum popc_map_value {
+	POPC_MAP_TEXT,      /* any text (up to 127 characters) */
+	POPC_MAP_INT,       /* an integer in [lo, hi]: decimal, or hexadecimal with 0x (a
+			       leading zero is decimal: "0100" is 100, not octal 64) */
+	POPC_MAP_NUMBER,    /* a decimal number in [lo, hi], or (lo, hi] with lo_open, as in
+			       scenes: no hex floats, no inf or nan */
+	POPC_MAP_CHOICE,    /* one of choices */
+	POPC_MAP_WORDS,     /* 1 to POPC_MAP_ENABLE_MAX integers in [lo, hi], separated by
+			       commas or blanks */
+} popc_map_value;
+
+typedef struct popc_map_key {
+	const char *section, *key;
+	popc_map_value type;
+	double lo, hi;               /* INT, NUMBER, WORDS: the allowed range */
+	int lo_open;                 /* NUMBER: lo itself is refused */
+	const char *const *choices;  /* CHOICE: NULL-terminated; the index is the value */
+	const char *default_text;    /* the value of an absent key, as a map would write it;
+					NULL: none */
+	const char *required;        /* NULL: optional; else an absent key is refused, and a
+					non-empty text says why */
+	const char *refusal;         /* CHOICE: the message for any other value, where "expected
+					one of" would not say why (NULL: that message) */
+	const char *unit;            /* NULL: none */
+	const char *help;
+} popc_map_key;
+
+/* Row i of the table, in file order ([drive], [position], [command],
+ * [enable], [status]); NULL past the last row. */
+const popc_map_key *popc_register_map_key(size_t i);
+
+/* Every key with its default and allowed range, as popc scene keys lists a
+ * scene's (popc-servo-sim --map-keys). */
+void popc_register_map_print_keys(FILE *f);
 
 /* The registers every command write covers: the command and, when the map
  * has one, the sequence register next to it. Sets *first to the lowest
@@ -124,6 +165,9 @@ int popc_register_map_command_block(const popc_register_map *m, int *first);
 /* Number of 16-bit registers a value of this type occupies (1, 2 or 4). */
 int popc_reg_type_words(popc_reg_type t);
 const char *popc_reg_type_name(popc_reg_type t);
+/* The names of the types, indexed by popc_reg_type, NULL-terminated (a
+ * map's position.type and command.type take them). */
+extern const char *const popc_reg_type_names[];
 
 /* Words -> value. Integer types are exact in a double (|v| < 2^53). */
 double popc_reg_decode(const uint16_t *words, popc_reg_type t, popc_word_order o);

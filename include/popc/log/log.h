@@ -9,6 +9,8 @@
  *   t,x,count,x_true,v,f_e,f_pc,f_c,W,E_ref,flags[,dt,rtt]
  *   0,-0.01,-1000,-0.01,0,0,0,0,0,0,0
  *
+ * The columns, their units and which axes fill them: log_columns.h.
+ *
  * Numbers are written in their shortest round-trip form (popc_format_double),
  * so a reader gets back the same doubles and an offline recompute equals the
  * online value bit for bit. A run that stops early ends with a comment line
@@ -19,21 +21,11 @@
 #include <stdio.h>
 
 #include "popc/core/controller.h"
+#include "popc/log/log_columns.h"
 #include "popc/util/error.h"
 #include "popc/scene/scene.h"
 
 #define POPC_LOG_FORMAT_VERSION 1
-
-enum popc_log_columns {
-	POPC_LOG_COL_X_TRUE = 1,  /* simulated true position */
-	POPC_LOG_COL_TIMING = 2,  /* dt (measured period) and rtt (Modbus transaction time) */
-};
-
-typedef struct popc_log_row {
-	popc_tick tick;
-	double x_true_m;
-	double dt_s, rtt_s;
-} popc_log_row;
 
 typedef struct popc_log_writer {
 	FILE *f;
@@ -64,8 +56,5 @@ int popc_log_flush(popc_log_writer *w, popc_error *err);
 
 /* Flushes and closes; safe to call twice. */
 int popc_log_close(popc_log_writer *w, popc_error *err);
-
-/* The column header line for a set of columns, without newline. */
-const char *popc_log_column_names(unsigned columns);
 
 #endif

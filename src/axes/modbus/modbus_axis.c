@@ -12,6 +12,7 @@
 #include <sys/select.h>
 #include <time.h>
 
+#include "../axis_kind.h"
 #include "modbus_stats.h"
 #include "popc/core/encoder.h"
 #include "popc/log/log.h"
@@ -318,7 +319,7 @@ static int decode_sample(mb_axis *a, const uint16_t *blk, uint16_t status, popc_
 				      "position %g m is outside the soft limits [%g, %g] m (%s)", x_m,
 				      m->pos.soft_min_m, m->pos.soft_max_m, m->path);
 	out->count = count;
-	out->x_true_m = NAN;
+	out->x_true_m = (double)NAN;
 	return 0;
 }
 
@@ -645,8 +646,10 @@ static const popc_axis_ops modbus_ops = {
 	.sample = mb_sample,
 	.exchange = mb_exchange,
 	.stop = mb_stop,
-	.report = mb_report,
 	.destroy = mb_destroy,
+	.integrator_error_m = NULL, /* a drive integrates no model */
+	.report = mb_report,
+	.set_shadow = NULL,
 };
 
 void popc_modbus_options_defaults(popc_modbus_options *o)
@@ -730,3 +733,18 @@ int popc_modbus_axis_create(popc_axis **out, const popc_scene *s, const popc_mod
 	*out = ax;
 	return 0;
 }
+
+/* The factory's Modbus kind (axis.c): the program's options as this axis'. */
+static int modbus_kind_create(popc_axis **out, const popc_scene *s,
+			      const popc_axis_create_options *opt, popc_error *err)
+{
+	popc_modbus_options o;
+	popc_modbus_options_defaults(&o);
+	o.pace = !opt->free_run;
+	o.realtime = opt->realtime;
+	o.notes = opt->notes;
+	o.stop_flag = opt->stop_flag;
+	return popc_modbus_axis_create(out, s, &o, err);
+}
+
+const popc_axis_kind popc_axis_kind_modbus = {"modbus", 0, modbus_kind_create};

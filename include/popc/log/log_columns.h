@@ -1,0 +1,108 @@
+/* The columns of popc's CSV log (log.h), declared once.
+ *
+ * POPC_LOG_COLUMN_TABLE is the schema: one line per column, in the order of
+ * the log. The writer's row, the column names line, the reader's lookup of
+ * popc's own names, popc-analyze's --column and --scale names, the sweep's
+ * chatter replay and `popc bench log` all expand or read it, so adding a
+ * column is one line here, the popc_log_row field it reads, and its test
+ * (tests/unit/test_log.c checks every column of the table round trip).
+ *
+ * COLUMN(ID, name, unit, fill, format, field, meaning):
+ *   ID      suffix of the column's POPC_LOG_COLUMN_<ID> index
+ *   name    the column name in the log, as a C identifier (#name is the text)
+ *   unit    SI unit of the cells ("" for a count or a bit set)
+ *   fill    which axes write it: ALWAYS, X_TRUE (an axis with a simulated true
+ *           position) or TIMING (a real axis' measured period and round trip)
+ *           -- the POPC_LOG_COL_<fill> bit an axis sets in its log_columns
+ *   format  DOUBLE (shortest round-trip text), COUNT (signed integer) or
+ *           FLAGS (unsigned bit set, POPC_FLAG_*)
+ *   field   the popc_log_row member the cell holds
+ *   meaning one line for documentation and help */
+#ifndef POPC_LOG_COLUMNS_H
+#define POPC_LOG_COLUMNS_H
+
+#include <stddef.h>
+
+#include "popc/core/controller.h"
+
+#define POPC_LOG_COLUMN_TABLE(COLUMN)                                                                        \
+	COLUMN(T,      t,      "s",   ALWAYS, DOUBLE, tick.t_s,     "time since the start, k T")             \
+	COLUMN(X,      x,      "m",   ALWAYS, DOUBLE, tick.x_m,     "measured position, count x resolution") \
+	COLUMN(COUNT,  count,  "",    ALWAYS, COUNT,  tick.count,   "encoder count")                         \
+	COLUMN(X_TRUE, x_true, "m",   X_TRUE, DOUBLE, x_true_m,     "true position of the simulated plant")  \
+	COLUMN(V,      v,      "m/s", ALWAYS, DOUBLE, tick.v_mps,   "velocity the controller used")          \
+	COLUMN(F_E,    f_e,    "N",   ALWAYS, DOUBLE, tick.f_e_N,   "virtual environment force")             \
+	COLUMN(F_PC,   f_pc,   "N",   ALWAYS, DOUBLE, tick.f_pc_N,  "passivity controller force")            \
+	COLUMN(F_C,    f_c,    "N",   ALWAYS, DOUBLE, tick.f_c_N,   "force command to the axis")             \
+	COLUMN(W,      W,      "J",   ALWAYS, DOUBLE, tick.W_J,     "passivity observer energy")             \
+	COLUMN(E_REF,  E_ref,  "J",   ALWAYS, DOUBLE, tick.E_ref_J, "reference energy")                      \
+	COLUMN(FLAGS,  flags,  "",    ALWAYS, FLAGS,  tick.flags,   "controller events, POPC_FLAG_*")        \
+	COLUMN(DT,     dt,     "s",   TIMING, DOUBLE, dt_s,         "measured period of the tick")           \
+	COLUMN(RTT,    rtt,    "s",   TIMING, DOUBLE, rtt_s,        "round trip of the axis transaction")
+
+/* Which axes fill a column: the bits of an axis' log_columns. A column is
+ * written when all its bits are in the log's set (ALWAYS has none). */
+enum popc_log_columns {
+	POPC_LOG_COL_ALWAYS = 0,
+	POPC_LOG_COL_X_TRUE = 1,  /* simulated true position */
+	POPC_LOG_COL_TIMING = 2,  /* dt (measured period) and rtt (Modbus transaction time) */
+};
+
+typedef enum popc_log_cell_format {
+	POPC_LOG_CELL_DOUBLE,     /* popc_format_double: shortest round trip */
+	POPC_LOG_CELL_COUNT,      /* signed decimal integer */
+	POPC_LOG_CELL_FLAGS,      /* unsigned decimal integer, a bit set */
+} popc_log_cell_format;
+
+/* One row of the log: a controller tick and what the axis measured. */
+typedef struct popc_log_row {
+	popc_tick tick;
+	double x_true_m;
+	double dt_s, rtt_s;
+} popc_log_row;
+
+/* POPC_LOG_COLUMN_T, POPC_LOG_COLUMN_X, ...: a column's index in the table. */
+typedef enum popc_log_column_id {
+#define POPC_LOG_COLUMN_ID_(ID, name, unit, fill, format, field, meaning) POPC_LOG_COLUMN_##ID,
+	POPC_LOG_COLUMN_TABLE(POPC_LOG_COLUMN_ID_)
+#undef POPC_LOG_COLUMN_ID_
+	POPC_LOG_N_COLUMNS
+} popc_log_column_id;
+
+typedef struct popc_log_column {
+	const char *name;
+	const char *unit;
+	const char *meaning;
+	unsigned fill;                /* POPC_LOG_COL_* bits, 0: always */
+	popc_log_cell_format format;
+} popc_log_column;
+
+/* The table as data, indexed by popc_log_column_id. */
+extern const popc_log_column popc_log_columns[POPC_LOG_N_COLUMNS];
+
+/* The longest column names line: every name and a comma after each. */
+#define POPC_LOG_NAMES_LINE_MAX 256
+
+/* Whether a column filled by `fill` is in a log of the column set `columns`. */
+static inline int popc_log_column_written(unsigned fill, unsigned columns)
+{
+	return (fill & ~columns) == 0u;
+}
+
+/* The id of popc's column name (exact spelling), or -1. */
+int popc_log_column_find(const char *name);
+
+/* The position of column id in a log of the column set `columns` (0 for t),
+ * or -1 when such a log has no such column. */
+int popc_log_column_index(unsigned columns, popc_log_column_id id);
+
+/* The column names line of a column set ("t,x,count,..."), without newline,
+ * into buf (cap >= POPC_LOG_NAMES_LINE_MAX holds any); returns its length. */
+size_t popc_log_column_names(unsigned columns, char *buf, size_t cap);
+
+/* A column's cell of a row as a double (a count or flags converted), and a
+ * double into it (for count and flags an integer the field can hold). */
+double popc_log_row_get(const popc_log_row *r, popc_log_column_id id);
+void popc_log_row_set(popc_log_row *r, popc_log_column_id id, double value);
+
+#endif
