@@ -1,6 +1,6 @@
-/* The sweep planner (sweep.h): value lists and ranges, the cartesian product,
- * run ids, plan ids and shards. */
-#include "popc/sweep/sweep.h"
+/* The sweep planner (sweep_plan.h): value lists and ranges, the cartesian
+ * product, run ids, plan ids and shards. */
+#include "popc/sweep/sweep_plan.h"
 
 #include <errno.h>
 #include <math.h>
@@ -12,6 +12,7 @@
 #include "popc/axes/axis.h"
 #include "popc/core/intent.h"
 #include "popc/scene/from_scene.h"
+#include "popc/sweep/sweep_columns.h"
 
 uint64_t popc_sweep_fnv1a(uint64_t h, const void *data, size_t n)
 {
@@ -379,16 +380,16 @@ static int check_table(table_check *tc, const popc_scene *s, popc_error *err)
 	return 0;
 }
 
-static int describe_run(const popc_sweep_plan *p, long long i, char *buf, size_t cap)
+void popc_sweep_run_describe(const popc_sweep_plan *p, long long i, char *buf, size_t cap)
 {
 	int idx[64];
 	popc_sweep_run_values(p, i, idx);
 	size_t len = 0;
+	buf[0] = '\0';
 	for (int a = 0; a < p->n_axes && len < cap; a++)
 		len += (size_t)snprintf(buf + len, cap - len, "%s%s.%s=%s", a ? " " : "",
 					p->axes[a].section, p->axes[a].key,
 					p->axes[a].values[idx[a]]);
-	return 0;
 }
 
 int popc_sweep_plan_init(popc_sweep_plan *p, const popc_scene *base, popc_sweep_axis *axes,
@@ -480,7 +481,7 @@ int popc_sweep_plan_init(popc_sweep_plan *p, const popc_scene *base, popc_sweep_
 			if (st) {
 				char id[POPC_SWEEP_ID_MAX], what[1024];
 				popc_sweep_run_id(p, i, id);
-				describe_run(p, i, what, sizeof what);
+				popc_sweep_run_describe(p, i, what, sizeof what);
 				st = popc_error_set(err, st, "run %s (%s): %s", id, what, e.msg);
 			}
 		}

@@ -1,6 +1,6 @@
-/* One run of a sweep in this process (sweep.h): the same steps as `popc run`
+/* One run of a sweep in this process (sweep_run.h): the same steps as `popc run`
  * (cmd_run.c) on the simulated axis, then the run's summary file. */
-#include "popc/sweep/sweep.h"
+#include "popc/sweep/sweep_run.h"
 
 #include <errno.h>
 #include <stdio.h>
@@ -12,9 +12,13 @@
 #include "popc/axes/axis.h"
 #include "popc/core/controller.h"
 #include "popc/log/log.h"
-#include "popc/log/log_reader.h"
 #include "popc/run/run.h"
 #include "popc/scene/from_scene.h"
+#include "popc/sweep/sweep_chatter.h"
+#include "popc/sweep/sweep_columns.h"
+#include "popc/sweep/sweep_dir.h"
+#include "popc/sweep/sweep_files.h"
+#include "popc/sweep/sweep_row.h"
 
 /* ---- the chatter detector ----------------------------------------------------- *
  *
@@ -23,54 +27,6 @@
 static void feed_chatter(void *user, const popc_tick *tick)
 {
 	popc_chatter_add(user, tick);
-}
-
-static int chatter_init(popc_chatter *det, const popc_scene *s, const popc_controller_config *ccfg,
-			popc_error *err)
-{
-	popc_chatter_config cc;
-	popc_chatter_config_defaults(&cc);
-	cc.resolution_m = s->enc_resolution_m;
-	return popc_chatter_init(det, &cc, popc_scene_period_s(s), &ccfg->env, err);
-}
-
-int popc_sweep_chatter_from_log(const char *log_path, popc_chatter_result *res, popc_error *err)
-{
-	popc_log_reader r;
-	int st = popc_log_reader_open(&r, log_path, NULL, err);
-	if (st)
-		return st;
-	popc_scene s;
-	popc_scene_defaults(&s);
-	st = popc_log_reader_scene(&r, &s, err);
-	/* the columns the detector reads (popc_chatter_add) */
-	static const popc_log_column_id used[] = {POPC_LOG_COLUMN_T, POPC_LOG_COLUMN_X,
-						  POPC_LOG_COLUMN_F_PC, POPC_LOG_COLUMN_W,
-						  POPC_LOG_COLUMN_E_REF};
-	enum { N_USED = sizeof used / sizeof used[0] };
-	int col[N_USED];
-	for (int k = 0; k < N_USED && !st; k++)
-		st = popc_log_reader_require(&r, popc_log_columns[used[k]].name, &col[k], err);
-	popc_controller_config ccfg;
-	popc_chatter det;
-	if (!st) {
-		popc_controller_config_from_scene(&ccfg, &s);
-		st = chatter_init(&det, &s, &ccfg, err);
-	}
-	double v[POPC_LOG_MAX_COLUMNS];
-	while (!st && (st = popc_log_reader_next(&r, v, err)) == 1) {
-		popc_log_row row;
-		memset(&row, 0, sizeof row);
-		for (int k = 0; k < N_USED; k++)
-			popc_log_row_set(&row, used[k], v[col[k]]);
-		popc_chatter_add(&det, &row.tick);
-		st = 0;
-	}
-	popc_log_reader_close(&r);
-	if (st < 0)
-		return st;
-	popc_chatter_finish(&det, res);
-	return 0;
 }
 
 static double now_s(void)
@@ -157,7 +113,7 @@ int popc_sweep_run_one(const popc_sweep_plan *p, long long i, const char *dir, i
 	if (!st) {
 		popc_controller_config ccfg;
 		popc_controller_config_from_scene(&ccfg, &s);
-		st = chatter_init(&det, &s, &ccfg, &rerr);
+		st = popc_sweep_chatter_init(&det, &s, &ccfg, &rerr);
 	}
 	if (!st) {
 		popc_run_options ro = {.log = log_open ? &log : NULL, .stop_flag = stop_flag,

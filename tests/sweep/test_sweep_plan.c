@@ -1,4 +1,4 @@
-/* The sweep planner (sweep.h): value lists and ranges, the product, run ids,
+/* The sweep planner (sweep_plan.h, sweep_row.h): value lists and ranges, the product, run ids,
  * shards (cover, no overlap), the Slurm array mapping and summary rows. */
 #include <math.h>
 #include <setjmp.h>

@@ -1,0 +1,19 @@
+/* The chatter columns' detector (src/sweep/sweep_chatter.c): chatter.h with
+ * its default thresholds and the scene's encoder resolution, as popc-analyze
+ * compare runs it, fed online by a sweep's run or offline from a run's log. */
+#ifndef POPC_SWEEP_CHATTER_H
+#define POPC_SWEEP_CHATTER_H
+
+#include "popc/core/chatter.h"
+#include "popc/core/controller.h"
+#include "popc/scene/scene.h"
+#include "popc/util/error.h"
+
+/* The detector for a run of scene s (ccfg: its controller configuration). */
+int popc_sweep_chatter_init(popc_chatter *det, const popc_scene *s,
+			    const popc_controller_config *ccfg, popc_error *err);
+
+/* The detector over a popc log (its header's scene). */
+int popc_sweep_chatter_from_log(const char *log_path, popc_chatter_result *res, popc_error *err);
+
+#endif

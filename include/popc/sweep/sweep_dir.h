@@ -1,0 +1,61 @@
+/* The sweep directory (src/sweep/sweep_dir.c): the plan file, run
+ * directories and rows files.
+ *
+ *   DIR/sweep.plan        the plan (plan id, runs, vary specs, columns)
+ *   DIR/scene.ini         the resolved base scene
+ *   DIR/rows/HOST.PID.csv the rows of the runs one worker process made: the
+ *                         header, then per run an optional "# <id> stop =
+ *                         <reason>" line and the row, appended with one
+ *                         write() (O_APPEND) each. One writer per file, so no
+ *                         two processes (nor two machines on NFS) ever append
+ *                         to the same file; a worker killed mid-write leaves
+ *                         at most an incomplete last line, which readers skip.
+ *                         When the name is taken (a pid used again: containers,
+ *                         Slurm nodes), HOST.PID.1.csv, HOST.PID.2.csv, ...: a
+ *                         file is written by one process lifetime only, so a
+ *                         row never joins a line an earlier process left cut.
+ *                         A file whose header was cut (no rows) is skipped.
+ *   DIR/runs/<id>/        scene.ini, log.csv and summary.csv (unless --no-log);
+ *                         for --list, scene.ini (the run's resolved scene,
+ *                         which its `popc run` line runs), then log.csv and
+ *                         run.csv from the line
+ *   DIR/summary.csv       every row in id order (summary-shard-I-of-N.csv for
+ *                         a shard), written to a temporary name and renamed,
+ *                         so it is always whole (sweep_results.h)
+ *
+ * A run is finished when some row of it has exit_status 0; where a run has
+ * several rows (retries, or the same run in two shard directories), the first
+ * successful one counts, else the last failed one. */
+#ifndef POPC_SWEEP_DIR_H
+#define POPC_SWEEP_DIR_H
+
+#include <stddef.h>
+
+#include "popc/sweep/sweep_plan.h"
+#include "popc/util/error.h"
+
+/* Writes DIR/sweep.plan and DIR/scene.ini (creating DIR, DIR/rows and
+ * DIR/runs), or, when DIR already holds a plan, checks it is the same plan. */
+int popc_sweep_dir_prepare(const popc_sweep_plan *p, const char *dir, const char *scene_path,
+			   popc_error *err);
+
+/* A plan rebuilt from a sweep directory's plan file (no scene needed): rows
+ * can be read and converted, runs cannot be made. */
+int popc_sweep_plan_from_dir(popc_sweep_plan *p, const char *dir, popc_error *err);
+
+/* Path of run i's directory (DIR/runs/<id>) into buf. */
+int popc_sweep_run_dir(const popc_sweep_plan *p, const char *dir, long long i, char *buf,
+		       size_t cap);
+
+/* Creates a new rows file for this process in DIR/rows, named after the host
+ * and name_pid (getpid(), or a test's stand-in), with O_CREAT | O_EXCL: the
+ * first free one of HOST.PID.csv, HOST.PID.1.csv, HOST.PID.2.csv, ...; writes
+ * the header; returns its descriptor (>= 0) or a negative popc_status. */
+int popc_sweep_rows_open(const popc_sweep_plan *p, const char *dir, long name_pid,
+			 popc_error *err);
+
+/* Appends run i's row (and, for a failed run, its reason) with one write(). */
+int popc_sweep_rows_append(const popc_sweep_plan *p, int fd, long long i, const char *row,
+			   int exit_status, const char *reason, popc_error *err);
+
+#endif

@@ -1,0 +1,41 @@
+/* A run's summary row (src/sweep/sweep_row.c): built from a `popc run
+ * --summary` CSV row by the column table (sweep_columns.h), and read back.
+ *
+ * The sweep's in-process runs and runs made by `popc run` command lines
+ * (--list, GNU parallel) go through the same function, so both give the same
+ * bytes; only wall_time_s, the last column, differs from one run to the next. */
+#ifndef POPC_SWEEP_ROW_H
+#define POPC_SWEEP_ROW_H
+
+#include <stddef.h>
+
+#include "popc/core/chatter.h"
+#include "popc/sweep/sweep_columns.h"
+#include "popc/sweep/sweep_plan.h"
+#include "popc/util/error.h"
+
+/* Builds the sweep row of run i (with '\n') from a popc run summary header and
+ * row (as popc_run_summary_csv_header/_row write them, with or without the
+ * trailing newline) and the chatter detector's result (chatter_s,
+ * chatter_intervals, limit_cycle). run_row or chatter may be NULL for a run
+ * that produced no summary (setup failed, worker died): those cells are empty
+ * (the table's empty rules). exit_status is the run's exit code
+ * (popc/util/error.h); wall_time_s the run's time. Returns the length, or a
+ * negative popc_status when a column is missing or the row does not fit in
+ * cap. */
+int popc_sweep_row(const popc_sweep_plan *p, long long i, int exit_status, const char *run_header,
+		   const char *run_row, const popc_chatter_result *chatter, double wall_time_s,
+		   char *buf, size_t cap, popc_error *err);
+
+/* Reads the exit_status cell of a sweep row; -1 if the row is malformed. */
+int popc_sweep_row_exit_status(const popc_sweep_plan *p, const char *row);
+
+/* The popc_status in the "status" column of a popc run summary row (header
+ * names the columns). Returns 0 and sets *status, or -1. */
+int popc_sweep_run_csv_status(const char *run_header, const char *run_row, int *status);
+
+/* The "wall_time_s" cell of a popc run summary row, read as strtod reads it;
+ * 0 when the header has no such column. */
+double popc_sweep_run_csv_wall_time_s(const char *run_header, const char *run_row);
+
+#endif

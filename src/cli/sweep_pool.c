@@ -1,0 +1,408 @@
+/* popc sweep's worker pool (sweep_pool.h).
+ *
+ * Why forked workers and not fork/exec of `popc run` per run: a paper-scene
+ * run takes about 1 ms; exec, dynamic loading and re-reading the scene cost
+ * about as much again (docs/SWEEPS.md, "Overhead", has the figures). Why
+ * processes and not threads: a run that crashes takes down its worker only;
+ * the sweep records the run as failed, starts a new worker and goes on.
+ *
+ * The runs to make are a list of indices; workers take the next one from a
+ * counter in shared memory (no message per run: a pipe round trip and two
+ * context switches cost a few percent of a paper-scene run), run it and
+ * append its row to their own rows file. The parent only watches: each worker
+ * holds the write end of a "life" pipe, whose EOF tells the parent the worker
+ * is gone; the worker's slot says which run it had in hand, if any.
+ *
+ * No run that a worker took may be lost. Taking a run (the fetch-add on the
+ * counter) and saying so in the slot are two steps, and a worker can die
+ * between them; a worker sent SIGTERM or SIGINT alone drops its run unrecorded
+ * (as the whole sweep does on ^C). So each entry of the list also has a
+ * "recorded" flag in shared memory, set once its row is written (by the
+ * worker, or by the parent for a run whose worker died). When the workers are
+ * done, the parent runs the taken-but-unrecorded entries again, in up to
+ * RETRY_ROUNDS more rounds, and records what is still left as failed. A worker
+ * that ends while runs remain and the sweep is not stopping is replaced. */
+#define _DEFAULT_SOURCE   /* MAP_ANONYMOUS: POSIX.1-2024, and Linux, the BSDs, macOS before it */
+#include "sweep_pool.h"
+
+#include <errno.h>
+#include <limits.h>
+#include <poll.h>
+#include <signal.h>
+#include <stdatomic.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/mman.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "cli.h"
+#include "popc/sweep/sweep_columns.h"
+#include "popc/sweep/sweep_dir.h"
+#include "popc/sweep/sweep_row.h"
+#include "popc/sweep/sweep_run.h"
+
+#if ATOMIC_LLONG_LOCK_FREE != 2 || ATOMIC_CHAR_LOCK_FREE != 2
+#error "the worker pool needs lock-free atomics in shared memory"
+#endif
+
+enum { RETRY_ROUNDS = 3 };
+
+typedef struct pool_shared {
+	atomic_llong next;            /* next index into the todo list; those below are taken */
+	atomic_llong done, failed;    /* runs recorded by workers */
+	atomic_int trouble;           /* a row could not be written */
+	atomic_int hook_fired;        /* the claim test hook fired (once per sweep) */
+	atomic_llong current[];       /* per worker slot: todo index in hand, -1 none */
+} pool_shared;
+
+typedef struct worker {
+	pid_t pid;                    /* 0: slot empty */
+	int life_fd;                  /* read end of the life pipe, -1 closed */
+} worker;
+
+typedef struct pool_ctx {
+	const popc_sweep_plan *plan;
+	const char *dir;
+	int keep_log;
+	const long long *todo;
+	long long n_todo;
+	worker *w;
+	int n_workers;
+	pool_shared *sh;
+	atomic_uchar *recorded;       /* per todo entry: its row is written */
+	int crash_fd;                 /* the parent's rows file, for lost runs */
+	long rows_pid;                /* the pid in rows file names: 0 the process' own (test hook) */
+	long long die_after_claim;    /* test hook: run index, -1 off */
+	long long parent_recorded;    /* runs the parent recorded as failed (record_lost) */
+	sweep_progress *prog;
+} pool_ctx;
+
+static void worker_main(pool_ctx *c, int slot)
+{
+	popc_error err;
+	int fd = popc_sweep_rows_open(c->plan, c->dir, c->rows_pid ? c->rows_pid : (long)getpid(), &err);
+	if (fd < 0) {
+		fprintf(stderr, "popc sweep: %s\n", err.msg);
+		atomic_store(&c->sh->trouble, 1);
+		_exit(1);
+	}
+	while (!popc_cli_stop) {
+		long long k = atomic_fetch_add(&c->sh->next, 1);
+		if (k >= c->n_todo)
+			break;
+		long long i = c->todo[k];
+		/* test hook: die in the window between taking a run and saying so */
+		if (i == c->die_after_claim && atomic_exchange(&c->sh->hook_fired, 1) == 0)
+			raise(SIGKILL);
+		atomic_store(&c->sh->current[slot], k);
+		popc_sweep_result res;
+		int st = popc_sweep_run_one(c->plan, i, c->dir, c->keep_log, fd, &popc_cli_stop, &res, &err);
+		if (st != 0) {
+			/* its row could not be written (the sweep exits 1 listing
+			 * it as without a result; no retry), or only the run's own
+			 * summary.csv (the row counts): said here, and exit 1 */
+			fprintf(stderr, "popc sweep: %s\n", err.msg);
+			atomic_store(&c->sh->trouble, 1);
+		}
+		if (st == 0 && res.interrupted) {
+			atomic_store(&c->sh->current[slot], -1);
+			break; /* not recorded: run again (next round, or a resumed sweep) */
+		}
+		if ((st == 0 || res.recorded) && res.exit_status != 0) {
+			atomic_fetch_add(&c->sh->failed, 1);
+			sweep_progress_failure(c->prog, c->plan, i, res.exit_status, res.reason);
+		}
+		atomic_store(&c->recorded[k], 1);
+		atomic_fetch_add(&c->sh->done, 1);
+		atomic_store(&c->sh->current[slot], -1);
+	}
+	close(fd);
+	/* no atexit handlers, no second flush of the parent's stdio; 5 tells the
+	 * parent a signal stopped this worker */
+	_exit(popc_cli_stop ? POPC_EXIT_INTERRUPTED : 0);
+}
+
+static int spawn_worker(pool_ctx *c, int slot)
+{
+	int life[2];
+	if (pipe(life) != 0)
+		return -1;
+	atomic_store(&c->sh->current[slot], -1);
+	fflush(stdout);
+	fflush(stderr);
+	pid_t pid = fork();
+	if (pid < 0) {
+		close(life[0]);
+		close(life[1]);
+		return -1;
+	}
+	if (pid == 0) {
+		/* a sibling's life pipe must see EOF when the sibling dies */
+		for (int k = 0; k < c->n_workers; k++)
+			if (c->w[k].life_fd >= 0)
+				close(c->w[k].life_fd);
+		close(life[0]);
+		if (c->crash_fd >= 0)
+			close(c->crash_fd);
+		worker_main(c, slot);
+	}
+	close(life[1]);
+	c->w[slot] = (worker){.pid = pid, .life_fd = life[0]};
+	return 0;
+}
+
+/* Run i has no result of this sweep and will get none: record it as failed
+ * in the parent's rows file, with the reason. Returns 1 on trouble. */
+static int record_lost(pool_ctx *c, long long i, const char *reason)
+{
+	char row[POPC_SWEEP_ROW_MAX];
+	popc_error err;
+	if (c->crash_fd < 0)
+		c->crash_fd = popc_sweep_rows_open(c->plan, c->dir,
+						   c->rows_pid ? c->rows_pid : (long)getpid(), &err);
+	int n = c->crash_fd < 0 ? c->crash_fd
+				: popc_sweep_row(c->plan, i, POPC_EXIT_RUN_FAILED, NULL, NULL, NULL, 0.0, row,
+						 sizeof row, &err);
+	if (n < 0 || popc_sweep_rows_append(c->plan, c->crash_fd, i, row, POPC_EXIT_RUN_FAILED, reason,
+					    &err) != 0) {
+		fprintf(stderr, "popc sweep: %s\n", err.msg);
+		return 1;
+	}
+	c->parent_recorded++;
+	sweep_progress_failure(c->prog, c->plan, i, POPC_EXIT_RUN_FAILED, reason);
+	return 0;
+}
+
+/* A worker died with run i in hand: the run is what killed it (or it was
+ * killed while making it); recorded as failed, not run again. */
+static int record_crash(pool_ctx *c, long long i, int wstatus)
+{
+	char reason[POPC_ERROR_MSG_MAX];
+	if (WIFSIGNALED(wstatus))
+		snprintf(reason, sizeof reason, "the worker process died of signal %d (%s)",
+			 WTERMSIG(wstatus), strsignal(WTERMSIG(wstatus)));
+	else
+		snprintf(reason, sizeof reason, "the worker process exited (status %d) during the run",
+			 WIFEXITED(wstatus) ? WEXITSTATUS(wstatus) : -1);
+	return record_lost(c, i, reason);
+}
+
+/* A worker has ended (wstatus from waitpid) while the sweep is not stopping:
+ * record the run it had in hand, say what happened, replace it when runs
+ * remain. Returns 1 on trouble. */
+static int worker_ended(pool_ctx *c, int slot, int wstatus, int *respawns)
+{
+	int trouble = 0;
+	long long k = atomic_load(&c->sh->current[slot]);
+	if (k >= 0 && !atomic_load(&c->recorded[k])) {
+		trouble = record_crash(c, c->todo[k], wstatus);
+		atomic_store(&c->recorded[k], 1);
+	} else if (WIFSIGNALED(wstatus)) {
+		fprintf(stderr, "popc sweep: a worker process died of signal %d (%s) between runs; "
+				"a new one takes over\n",
+			WTERMSIG(wstatus), strsignal(WTERMSIG(wstatus)));
+	} else if (WIFEXITED(wstatus) && WEXITSTATUS(wstatus) == POPC_EXIT_INTERRUPTED) {
+		fprintf(stderr, "popc sweep: a worker process was stopped by a signal sent to it "
+				"alone; a new one takes over\n");
+	} else if (!WIFEXITED(wstatus) || WEXITSTATUS(wstatus) != 0) {
+		return 1; /* it could not open its rows file: said, and not replaced */
+	}
+	/* every replacement follows a death from outside or one that cost a
+	 * run: the cap only stops a loop nothing else would */
+	if (atomic_load(&c->sh->next) < c->n_todo && (*respawns)++ < c->n_todo + c->n_workers) {
+		if (spawn_worker(c, slot) != 0) {
+			fprintf(stderr, "popc sweep: cannot start a worker: %s\n", strerror(errno));
+			trouble = 1;
+		}
+	}
+	return trouble;
+}
+
+/* One round: makes the runs of the todo list. Sets *lost (malloc'd) to the
+ * runs taken but not recorded (none when interrupted). Returns 0, or 1 when a
+ * row could not be written or a worker could not be started. */
+static int run_pool(pool_ctx *c, int jobs, long long **lost, long long *n_lost)
+{
+	*lost = NULL;
+	*n_lost = 0;
+	c->n_workers = (int)(c->n_todo < jobs ? c->n_todo : jobs);
+	size_t sh_size = sizeof(pool_shared) + (size_t)c->n_workers * sizeof(atomic_llong);
+	size_t rec_size = (size_t)c->n_todo * sizeof(atomic_uchar);
+	void *mem = mmap(NULL, sh_size, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
+	void *rec = mmap(NULL, rec_size, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
+	c->w = calloc((size_t)c->n_workers, sizeof *c->w);
+	struct pollfd *pfd = calloc((size_t)c->n_workers, sizeof *pfd);
+	int *slot_of = calloc((size_t)c->n_workers, sizeof *slot_of);
+	if (mem == MAP_FAILED || rec == MAP_FAILED || !c->w || !pfd || !slot_of) {
+		fprintf(stderr, "popc sweep: out of memory\n");
+		if (mem != MAP_FAILED)
+			munmap(mem, sh_size);
+		if (rec != MAP_FAILED)
+			munmap(rec, rec_size);
+		free(c->w);
+		free(pfd);
+		free(slot_of);
+		return 1;
+	}
+	c->sh = mem;
+	c->recorded = rec; /* an anonymous mapping is zero: nothing recorded */
+	atomic_init(&c->sh->next, 0);
+	atomic_init(&c->sh->done, 0);
+	atomic_init(&c->sh->failed, 0);
+	atomic_init(&c->sh->trouble, 0);
+	atomic_init(&c->sh->hook_fired, c->die_after_claim < 0);
+	for (int k = 0; k < c->n_workers; k++)
+		c->w[k] = (worker){.pid = 0, .life_fd = -1};
+	int trouble = 0, stopping = 0, respawns = 0;
+	long long done0 = c->prog->done, done_now0 = c->prog->done_now, failed_now0 = c->prog->failed_now;
+	long long parent0 = c->parent_recorded;
+	for (int k = 0; k < c->n_workers && !trouble; k++) {
+		if (spawn_worker(c, k) != 0) {
+			fprintf(stderr, "popc sweep: cannot start a worker: %s\n", strerror(errno));
+			trouble = 1;
+		}
+	}
+	for (;;) {
+		if (popc_cli_stop && !stopping) {
+			/* a terminal's ^C reached the workers too; a signal to the
+			 * parent alone is passed on. Running runs stop at their next
+			 * tick and are not recorded. */
+			stopping = 1;
+			for (int k = 0; k < c->n_workers; k++)
+				if (c->w[k].pid > 0)
+					kill(c->w[k].pid, SIGINT);
+		}
+		int alive = 0;
+		for (int k = 0; k < c->n_workers; k++) {
+			if (c->w[k].pid <= 0)
+				continue;
+			pfd[alive] = (struct pollfd){.fd = c->w[k].life_fd, .events = POLLIN};
+			slot_of[alive++] = k;
+		}
+		long long d = atomic_load(&c->sh->done), pr = c->parent_recorded - parent0;
+		c->prog->done = done0 + d + pr;
+		c->prog->done_now = done_now0 + d + pr;
+		c->prog->failed_now = failed_now0 + atomic_load(&c->sh->failed) + pr;
+		if (alive == 0)
+			break;
+		sweep_progress_show(c->prog, 0);
+		int r = poll(pfd, (nfds_t)alive, c->prog->tty ? 100 : 250);
+		if (r < 0 && errno != EINTR) {
+			fprintf(stderr, "popc sweep: poll: %s\n", strerror(errno));
+			trouble = 1;
+			stopping = 1;
+			popc_cli_stop = 1;
+		}
+		for (int m = 0; r > 0 && m < alive; m++) {
+			if (!pfd[m].revents)
+				continue;
+			worker *w = &c->w[slot_of[m]];
+			char b;
+			if (read(w->life_fd, &b, 1) > 0)
+				continue; /* workers write nothing; ignore */
+			int wstatus = 0;
+			while (waitpid(w->pid, &wstatus, 0) < 0 && errno == EINTR)
+				;
+			close(w->life_fd);
+			w->pid = 0;
+			w->life_fd = -1;
+			if (!stopping && !popc_cli_stop)
+				trouble |= worker_ended(c, slot_of[m], wstatus, &respawns);
+		}
+	}
+	trouble |= atomic_load(&c->sh->trouble);
+	/* the reconciliation: taken (below next), never recorded */
+	long long taken = atomic_load(&c->sh->next);
+	if (taken > c->n_todo)
+		taken = c->n_todo;
+	if (!popc_cli_stop) {
+		for (long long k = 0; k < taken; k++)
+			*n_lost += !atomic_load(&c->recorded[k]);
+		if (*n_lost > 0 && !(*lost = malloc((size_t)*n_lost * sizeof **lost))) {
+			fprintf(stderr, "popc sweep: out of memory\n");
+			*n_lost = 0;
+			trouble = 1;
+		}
+		for (long long k = 0, m = 0; *lost && k < taken; k++)
+			if (!atomic_load(&c->recorded[k]))
+				(*lost)[m++] = c->todo[k];
+	}
+	munmap(mem, sh_size);
+	munmap(rec, rec_size);
+	c->sh = NULL;
+	c->recorded = NULL;
+	free(pfd);
+	free(slot_of);
+	free(c->w);
+	c->w = NULL;
+	return trouble;
+}
+
+/* Makes the runs of c->todo: a round, then rounds for the runs that workers
+ * took and dropped (killed in the window, or stopped by a signal of their
+ * own), then records what is still left as failed. Returns 0 or 1 (trouble). */
+static int run_sweep(pool_ctx *c, int jobs)
+{
+	const long long *todo0 = c->todo;
+	long long n_todo0 = c->n_todo;
+	long long *lost = NULL, n_lost = 0;
+	c->crash_fd = -1;
+	int trouble = run_pool(c, jobs, &lost, &n_lost);
+	c->die_after_claim = -1; /* the test hook fires in the first round only */
+	for (int round = 1; round <= RETRY_ROUNDS && n_lost > 0 && !popc_cli_stop; round++) {
+		fprintf(stderr, "popc sweep: %lld run%s taken by a worker that stopped before recording "
+				"%s: running %s again\n",
+			n_lost, n_lost == 1 ? "" : "s", n_lost == 1 ? "it" : "them",
+			n_lost == 1 ? "it" : "them");
+		c->todo = lost;
+		c->n_todo = n_lost;
+		long long *again = NULL, n_again = 0;
+		trouble |= run_pool(c, jobs, &again, &n_again);
+		free(lost);
+		lost = again;
+		n_lost = n_again;
+	}
+	if (n_lost > 0 && !popc_cli_stop) {
+		char reason[200];
+		snprintf(reason, sizeof reason,
+			 "no result: each of %d workers that took it stopped before recording it",
+			 RETRY_ROUNDS + 1);
+		long long before = c->parent_recorded;
+		for (long long m = 0; m < n_lost; m++)
+			trouble |= record_lost(c, lost[m], reason);
+		c->prog->done += c->parent_recorded - before;
+		c->prog->done_now += c->parent_recorded - before;
+		c->prog->failed_now += c->parent_recorded - before;
+	}
+	free(lost);
+	c->todo = todo0;
+	c->n_todo = n_todo0;
+	if (c->crash_fd >= 0)
+		close(c->crash_fd);
+	c->crash_fd = -1;
+	sweep_progress_show(c->prog, 1);
+	return trouble;
+}
+
+int sweep_pool_run(const sweep_pool_config *cfg, const long long *todo, long long n_todo,
+		   sweep_progress *prog)
+{
+	pool_ctx c = {.plan = cfg->plan, .dir = cfg->dir, .keep_log = cfg->keep_log, .todo = todo,
+		       .n_todo = n_todo, .rows_pid = cfg->rows_pid,
+		       .die_after_claim = cfg->die_after_claim, .prog = prog};
+	return run_sweep(&c, cfg->jobs);
+}
+
+void sweep_pool_test_hooks(sweep_pool_config *cfg)
+{
+	const char *v = getenv("POPC_SWEEP_TEST_ROWS_PID");
+	long n;
+	if (v && popc_cli_parse_long(v, 1, LONG_MAX, &n) == 0)
+		cfg->rows_pid = n;
+	v = getenv("POPC_SWEEP_TEST_DIE_AFTER_CLAIM");
+	if (v && popc_cli_parse_long(v, 0, LONG_MAX, &n) == 0)
+		cfg->die_after_claim = n;
+}

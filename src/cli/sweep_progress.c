@@ -1,0 +1,90 @@
+/* popc sweep's progress display (sweep_progress.h). */
+#include "sweep_progress.h"
+
+#include <stdio.h>
+#include <time.h>
+#include <unistd.h>
+
+static double now_s(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static void fmt_duration(double s, char *buf, size_t cap)
+{
+	if (!(s >= 0) || s > 1e8) {
+		snprintf(buf, cap, "--:--");
+		return;
+	}
+	long t = (long)(s + 0.5);
+	if (t >= 3600)
+		snprintf(buf, cap, "%ld:%02ld:%02ld", t / 3600, t / 60 % 60, t % 60);
+	else
+		snprintf(buf, cap, "%ld:%02ld", t / 60, t % 60);
+}
+
+void sweep_progress_show(sweep_progress *p, int final)
+{
+	if (p->quiet || p->total == 0)
+		return;
+	double t = now_s();
+	if (p->tty && !final && t - p->t_last < 0.1)
+		return; /* redraw at most 10 times a second */
+	double el = t - p->t_start;
+	double rate = el > 0 ? (double)p->done_now / el : 0.0;
+	double eta = rate > 0 ? (double)(p->total - p->done) / rate : -1.0;
+	char eta_text[32];
+	fmt_duration(eta, eta_text, sizeof eta_text);
+	int pct = (int)(100 * p->done / p->total);
+	if (p->tty) {
+		enum { WIDTH = 24 };
+		char bar[WIDTH + 1];
+		int fill = (int)(WIDTH * p->done / p->total);
+		for (int i = 0; i < WIDTH; i++)
+			bar[i] = i < fill ? '#' : '.';
+		bar[WIDTH] = '\0';
+		fprintf(stderr, "\r[%s] %lld/%lld %3d%% %.1f runs/s ETA %s failed %lld\033[K", bar,
+			p->done, p->total, pct, rate, eta_text, p->failed_now);
+		if (final)
+			fputc('\n', stderr);
+		p->t_last = t;
+		return;
+	}
+	/* not a terminal: a plain line at every tenth of the way, and at the end */
+	int decile = (int)(10 * p->done / p->total);
+	if (decile == p->last_decile && (!final || p->done == p->last_done))
+		return;
+	p->last_decile = decile;
+	p->last_done = p->done;
+	fprintf(stderr, "popc sweep: %lld/%lld runs (%d%%), %lld failed, %.1f runs/s, ETA %s\n",
+		p->done, p->total, pct, p->failed_now, rate, eta_text);
+}
+
+void sweep_progress_start(sweep_progress *p, int quiet, long long total, long long done_before)
+{
+	*p = (sweep_progress){.quiet = quiet, .tty = isatty(STDERR_FILENO), .total = total,
+			      .done = done_before, .t_start = now_s()};
+	p->last_decile = (int)(10 * p->done / (total ? total : 1));
+	p->last_done = p->done;
+}
+
+double sweep_progress_elapsed_s(const sweep_progress *p)
+{
+	return now_s() - p->t_start;
+}
+
+void sweep_progress_failure(const sweep_progress *p, const popc_sweep_plan *plan, long long i,
+			    int exit_status, const char *reason)
+{
+	if (p->quiet || p->tty)
+		return;
+	char id[POPC_SWEEP_ID_MAX], what[512], line[1400];
+	popc_sweep_run_id(plan, i, id);
+	popc_sweep_run_describe(plan, i, what, sizeof what);
+	int n = snprintf(line, sizeof line, "popc sweep: run %s (%s) failed, exit %d: %s\n", id, what,
+			 exit_status, reason);
+	if (n > 0 && write(STDERR_FILENO, line, (size_t)n < sizeof line ? (size_t)n : sizeof line - 1) < 0)
+		return;
+}

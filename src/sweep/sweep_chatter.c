@@ -1,0 +1,56 @@
+/* The chatter columns' detector (sweep_chatter.h). */
+#include "popc/sweep/sweep_chatter.h"
+
+#include <string.h>
+
+#include "popc/log/log.h"
+#include "popc/log/log_reader.h"
+#include "popc/scene/from_scene.h"
+
+int popc_sweep_chatter_init(popc_chatter *det, const popc_scene *s,
+			    const popc_controller_config *ccfg, popc_error *err)
+{
+	popc_chatter_config cc;
+	popc_chatter_config_defaults(&cc);
+	cc.resolution_m = s->enc_resolution_m;
+	return popc_chatter_init(det, &cc, popc_scene_period_s(s), &ccfg->env, err);
+}
+
+int popc_sweep_chatter_from_log(const char *log_path, popc_chatter_result *res, popc_error *err)
+{
+	popc_log_reader r;
+	int st = popc_log_reader_open(&r, log_path, NULL, err);
+	if (st)
+		return st;
+	popc_scene s;
+	popc_scene_defaults(&s);
+	st = popc_log_reader_scene(&r, &s, err);
+	/* the columns the detector reads (popc_chatter_add) */
+	static const popc_log_column_id used[] = {POPC_LOG_COLUMN_T, POPC_LOG_COLUMN_X,
+						  POPC_LOG_COLUMN_F_PC, POPC_LOG_COLUMN_W,
+						  POPC_LOG_COLUMN_E_REF};
+	enum { N_USED = sizeof used / sizeof used[0] };
+	int col[N_USED];
+	for (int k = 0; k < N_USED && !st; k++)
+		st = popc_log_reader_require(&r, popc_log_columns[used[k]].name, &col[k], err);
+	popc_controller_config ccfg;
+	popc_chatter det;
+	if (!st) {
+		popc_controller_config_from_scene(&ccfg, &s);
+		st = popc_sweep_chatter_init(&det, &s, &ccfg, err);
+	}
+	double v[POPC_LOG_MAX_COLUMNS];
+	while (!st && (st = popc_log_reader_next(&r, v, err)) == 1) {
+		popc_log_row row;
+		memset(&row, 0, sizeof row);
+		for (int k = 0; k < N_USED; k++)
+			popc_log_row_set(&row, used[k], v[col[k]]);
+		popc_chatter_add(&det, &row.tick);
+		st = 0;
+	}
+	popc_log_reader_close(&r);
+	if (st < 0)
+		return st;
+	popc_chatter_finish(&det, res);
+	return 0;
+}

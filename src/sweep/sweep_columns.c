@@ -1,0 +1,81 @@
+/* summary.csv's columns (sweep_columns.h): the table, and what derives from it
+ * without a plan (the header, the cell count, where a column is). */
+#include "popc/sweep/sweep_columns.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+
+#define RUN_METRIC(name)                                                                           \
+	{ name, POPC_SWEEP_CELL_RUN_SUMMARY, POPC_SWEEP_FORMAT_TEXT, POPC_SWEEP_EMPTY_WITHOUT_SUMMARY }
+
+/* The metrics are the compare metrics of a run, by their names in the popc run
+ * summary (run.c: popc_run_summary_csv_header); DESIGN section 4's figures of
+ * merit. */
+const popc_sweep_column popc_sweep_columns[] = {
+	{"run", POPC_SWEEP_CELL_RUN_ID, POPC_SWEEP_FORMAT_TEXT, POPC_SWEEP_EMPTY_NEVER},
+	{NULL, POPC_SWEEP_CELL_AXES, POPC_SWEEP_FORMAT_TEXT, POPC_SWEEP_EMPTY_NEVER},
+	{"exit_status", POPC_SWEEP_CELL_EXIT_STATUS, POPC_SWEEP_FORMAT_INT, POPC_SWEEP_EMPTY_NEVER},
+	RUN_METRIC("ticks"),
+	RUN_METRIC("pc_rms"),
+	RUN_METRIC("pc_max"),
+	RUN_METRIC("pc_active"),
+	RUN_METRIC("pc_energy"),
+	RUN_METRIC("w_minus_eref_min"),
+	RUN_METRIC("w_minus_eref_end"),
+	RUN_METRIC("vsign_rate"),
+	RUN_METRIC("pc_rms_late"),
+	RUN_METRIC("vsign_rate_late"),
+	RUN_METRIC("integrator_error_m"),
+	{"chatter_s", POPC_SWEEP_CELL_CHATTER_S, POPC_SWEEP_FORMAT_DOUBLE,
+	 POPC_SWEEP_EMPTY_CHATTER_UNCHECKED},
+	{"chatter_intervals", POPC_SWEEP_CELL_CHATTER_INTERVALS, POPC_SWEEP_FORMAT_INT,
+	 POPC_SWEEP_EMPTY_CHATTER_UNCHECKED},
+	{"limit_cycle", POPC_SWEEP_CELL_LIMIT_CYCLE, POPC_SWEEP_FORMAT_INT,
+	 POPC_SWEEP_EMPTY_LC_UNCHECKED},
+	{"wall_time_s", POPC_SWEEP_CELL_WALL_TIME_S, POPC_SWEEP_FORMAT_DOUBLE, POPC_SWEEP_EMPTY_NEVER},
+};
+const int popc_sweep_n_columns = (int)(sizeof popc_sweep_columns / sizeof popc_sweep_columns[0]);
+
+char *popc_sweep_columns_header(const popc_sweep_axis *axes, int n_axes)
+{
+	char *text = NULL;
+	size_t len = 0;
+	FILE *f = open_memstream(&text, &len);
+	if (!f)
+		return NULL;
+	int cells = 0;
+	for (int c = 0; c < popc_sweep_n_columns; c++) {
+		const popc_sweep_column *col = &popc_sweep_columns[c];
+		if (col->source != POPC_SWEEP_CELL_AXES) {
+			fprintf(f, "%s%s", cells++ ? "," : "", col->name);
+			continue;
+		}
+		for (int a = 0; a < n_axes; a++)
+			fprintf(f, "%s%s.%s", cells++ ? "," : "", axes[a].section, axes[a].key);
+	}
+	fputc('\n', f);
+	if (fclose(f) != 0) {
+		free(text);
+		return NULL;
+	}
+	return text;
+}
+
+int popc_sweep_columns_count(int n_axes)
+{
+	int n = 0;
+	for (int c = 0; c < popc_sweep_n_columns; c++)
+		n += popc_sweep_columns[c].source == POPC_SWEEP_CELL_AXES ? n_axes : 1;
+	return n;
+}
+
+int popc_sweep_column_index(int n_axes, popc_sweep_cell_source source)
+{
+	int cell = 0;
+	for (int c = 0; c < popc_sweep_n_columns; c++) {
+		if (popc_sweep_columns[c].source == source)
+			return cell;
+		cell += popc_sweep_columns[c].source == POPC_SWEEP_CELL_AXES ? n_axes : 1;
+	}
+	return -1;
+}

@@ -1,0 +1,283 @@
+/* The sweep directory (sweep_dir.h): the plan file, run directories, rows
+ * files. */
+#include "popc/sweep/sweep_dir.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <inttypes.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "popc/sweep/sweep_columns.h"
+#include "popc/sweep/sweep_files.h"
+
+/* ---- the plan file ---------------------------------------------------------- */
+
+int popc_sweep_dir_prepare(const popc_sweep_plan *p, const char *dir, const char *scene_path,
+			   popc_error *err)
+{
+	char path[POPC_PATH_MAX + 32];
+	int st = popc_sweep_mkdir_p(dir, err);
+	if (st)
+		return st;
+	static const char *const sub[] = {"runs", "rows"};
+	for (size_t k = 0; k < 2; k++) {
+		snprintf(path, sizeof path, "%s/%s", dir, sub[k]);
+		if (mkdir(path, 0777) != 0 && errno != EEXIST) {
+			int e = errno;
+			return popc_error_set(err, POPC_ERR_IO, "cannot create directory %s: %s%s", path,
+					      strerror(e), e == ENOTDIR ? " (is -o a file?)" : "");
+		}
+	}
+
+	snprintf(path, sizeof path, "%s/sweep.plan", dir);
+	struct stat sb;
+	if (stat(path, &sb) == 0) {
+		popc_sweep_plan old;
+		st = popc_sweep_plan_from_dir(&old, dir, err);
+		if (st)
+			return st;
+		uint64_t old_id = old.plan_id;
+		popc_sweep_plan_free(&old);
+		if (old_id != p->plan_id)
+			return popc_error_set(err, POPC_ERR_INVALID,
+					      "%s holds another sweep (plan %016" PRIx64 "; this one is "
+					      "%016" PRIx64 ": a different scene, --vary list or popc "
+					      "version): choose another -o DIR",
+					      path, old_id, p->plan_id);
+		return 0;
+	}
+
+	char *text = NULL;
+	size_t len = 0;
+	FILE *f = open_memstream(&text, &len);
+	if (!f)
+		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+	fprintf(f, "# popc sweep plan: written by popc sweep, read when the sweep resumes and by\n"
+		   "# popc sweep merge. Runs are DIR/runs/<id>; summary.csv has one row per run.\n");
+	fprintf(f, "format = 1\nplan_id = %016" PRIx64 "\nruns = %lld\nscene = %s\n", p->plan_id,
+		p->n_runs, scene_path);
+	for (int a = 0; a < p->n_axes; a++)
+		fprintf(f, "vary = %s.%s=%s\n", p->axes[a].section, p->axes[a].key, p->axes[a].spec);
+	fprintf(f, "columns = %s", p->columns);
+	if (fclose(f) != 0) {
+		free(text);
+		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+	}
+	st = popc_sweep_write_atomic(path, text, len, err);
+	free(text);
+	if (st)
+		return st;
+
+	f = open_memstream(&text, &len);
+	if (!f)
+		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+	fprintf(f, "; the base scene of the sweep in %s, resolved (every key)\n", dir);
+	popc_scene_write(&p->base, f, "");
+	if (fclose(f) != 0) {
+		free(text);
+		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+	}
+	snprintf(path, sizeof path, "%s/scene.ini", dir);
+	st = popc_sweep_write_atomic(path, text, len, err);
+	free(text);
+	return st;
+}
+
+int popc_sweep_plan_from_dir(popc_sweep_plan *p, const char *dir, popc_error *err)
+{
+	memset(p, 0, sizeof *p);
+	char path[POPC_PATH_MAX + 32];
+	snprintf(path, sizeof path, "%s/sweep.plan", dir);
+	char *text;
+	size_t len;
+	int st = popc_sweep_read_file(path, &text, &len, err);
+	if (st == 0)
+		return popc_error_set(err, POPC_ERR_INVALID, "%s: no such file: is %s a popc sweep directory?",
+				      path, dir);
+	if (st < 0)
+		return st;
+	popc_sweep_axis *axes = NULL;
+	int n_axes = 0, have_id = 0, format = 0;
+	long long runs = -1;
+	uint64_t plan_id = 0;
+	char *columns = NULL;
+	int lineno = 0;
+	st = 0;
+	for (char *line = text, *next; line && *line && !st; line = next) {
+		lineno++;
+		next = strchr(line, '\n');
+		if (next)
+			*next++ = '\0';
+		if (line[0] == '#' || line[0] == '\0')
+			continue;
+		char *eq = strstr(line, " = ");
+		if (!eq) {
+			st = popc_error_set(err, POPC_ERR_INVALID, "%s:%d: expected 'key = value'", path, lineno);
+			break;
+		}
+		*eq = '\0';
+		const char *key = line, *value = eq + 3;
+		if (strcmp(key, "format") == 0) {
+			format = atoi(value);
+		} else if (strcmp(key, "plan_id") == 0) {
+			char *end;
+			plan_id = strtoull(value, &end, 16);
+			have_id = *end == '\0' && end != value;
+		} else if (strcmp(key, "runs") == 0) {
+			runs = strtoll(value, NULL, 10);
+		} else if (strcmp(key, "vary") == 0) {
+			popc_sweep_axis *grown = realloc(axes, (size_t)(n_axes + 1) * sizeof *axes);
+			if (!grown) {
+				st = popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+				break;
+			}
+			axes = grown;
+			popc_error e;
+			if (popc_sweep_axis_parse(value, &axes[n_axes], &e) != 0) {
+				st = popc_error_set(err, POPC_ERR_INVALID, "%s:%d: %s", path, lineno, e.msg);
+				break;
+			}
+			n_axes++;
+		} else if (strcmp(key, "columns") == 0) {
+			free(columns);
+			columns = strdup(value);
+		}
+	}
+	free(text);
+	if (!st && (format != 1 || !have_id || runs < 1 || !columns))
+		st = popc_error_set(err, POPC_ERR_INVALID,
+				    "%s: not a popc sweep plan of format 1 (needs format, plan_id, runs, "
+				    "columns)",
+				    path);
+	p->axes = axes;
+	p->n_axes = n_axes;
+	if (st) {
+		popc_sweep_plan_free(p);
+		free(columns);
+		return st;
+	}
+	popc_scene_defaults(&p->base);
+	p->n_runs = 1;
+	for (int a = 0; a < n_axes; a++)
+		p->n_runs *= axes[a].n_values;
+	p->id_width = 4;
+	for (long long m = 10000; m < p->n_runs; m *= 10)
+		p->id_width++;
+	p->plan_id = plan_id;
+	p->columns = popc_sweep_columns_header(axes, n_axes);
+	if (!p->columns)
+		st = popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+	else if (p->n_runs != runs)
+		st = popc_error_set(err, POPC_ERR_INVALID, "%s: runs = %lld, but its vary lines make %lld",
+				    path, runs, p->n_runs);
+	else if (strncmp(p->columns, columns, strlen(columns)) != 0 ||
+		 strlen(p->columns) != strlen(columns) + 1)
+		st = popc_error_set(err, POPC_ERR_INVALID,
+				    "%s: its columns are not those of this popc version's summary "
+				    "(written by another version?)",
+				    path);
+	free(columns);
+	if (st)
+		popc_sweep_plan_free(p);
+	return st;
+}
+
+/* ---- rows files ------------------------------------------------------------ */
+
+int popc_sweep_run_dir(const popc_sweep_plan *p, const char *dir, long long i, char *buf, size_t cap)
+{
+	char id[POPC_SWEEP_ID_MAX];
+	popc_sweep_run_id(p, i, id);
+	return (size_t)snprintf(buf, cap, "%s/runs/%s", dir, id) < cap ? 0 : -1;
+}
+
+/* Writes all of data, or fails (EINTR retried). */
+static int write_all(int fd, const char *data, size_t n)
+{
+	size_t done = 0;
+	while (done < n) {
+		ssize_t w = write(fd, data + done, n - done);
+		if (w < 0 && errno == EINTR)
+			continue;
+		if (w <= 0)
+			return -1;
+		done += (size_t)w;
+	}
+	return 0;
+}
+
+/* The most names tried: HOST.PID.csv, then HOST.PID.1.csv ... .999. More
+ * than a few means something else is wrong (a full directory, a loop). */
+enum { ROWS_NAMES_MAX = 1000 };
+
+int popc_sweep_rows_open(const popc_sweep_plan *p, const char *dir, long name_pid, popc_error *err)
+{
+	char host[256], path[POPC_PATH_MAX + 300];
+	if (gethostname(host, sizeof host) != 0)
+		strcpy(host, "host");
+	host[sizeof host - 1] = '\0';
+	for (char *c = host; *c; c++)
+		if (*c == '/')
+			*c = '_';
+	/* A name of our own, created with O_EXCL: never append to a file an
+	 * earlier process of the same pid left (pids repeat across containers,
+	 * Slurm nodes and reboots). Such a file may end in a line cut by a kill,
+	 * which our first row would join and lose, or in a cut header, which
+	 * would make the whole file unreadable. */
+	int fd = -1;
+	for (int n = 0; n < ROWS_NAMES_MAX && fd < 0; n++) {
+		if (n == 0)
+			snprintf(path, sizeof path, "%s/rows/%s.%ld.csv", dir, host, name_pid);
+		else
+			snprintf(path, sizeof path, "%s/rows/%s.%ld.%d.csv", dir, host, name_pid, n);
+		fd = open(path, O_WRONLY | O_CREAT | O_EXCL | O_APPEND, 0666);
+		if (fd < 0 && errno != EEXIST)
+			return popc_error_set(err, POPC_ERR_IO, "%s: %s", path, strerror(errno));
+	}
+	if (fd < 0)
+		return popc_error_set(err, POPC_ERR_IO,
+				      "%s: %d rows files of %s.%ld exist already: clean DIR/rows", path,
+				      ROWS_NAMES_MAX, host, name_pid);
+	if (write_all(fd, p->columns, strlen(p->columns)) != 0) {
+		int e = errno;
+		close(fd);
+		unlink(path);
+		return popc_error_set(err, POPC_ERR_IO, "%s: %s", path, strerror(e));
+	}
+	return fd;
+}
+
+int popc_sweep_rows_append(const popc_sweep_plan *p, int fd, long long i, const char *row,
+			   int exit_status, const char *reason, popc_error *err)
+{
+	char buf[POPC_SWEEP_ROW_MAX + 640];
+	size_t len = 0;
+	if (exit_status != 0 && reason && reason[0]) {
+		char id[POPC_SWEEP_ID_MAX];
+		popc_sweep_run_id(p, i, id);
+		len = (size_t)snprintf(buf, 64, "# %s stop = ", id);
+		/* one line: a line break would end the comment */
+		for (const char *c = reason; *c && len < 600; c++)
+			buf[len++] = (*c == '\n' || *c == '\r') ? ' ' : *c;
+		buf[len++] = '\n';
+	}
+	size_t lr = strlen(row);
+	if (len + lr > sizeof buf)
+		return popc_error_set(err, POPC_ERR_INVALID, "summary row too long");
+	memcpy(buf + len, row, lr);
+	len += lr;
+	/* one write(): the row is whole in the file or (killed mid-write) its
+	 * incomplete tail is the file's last line, which readers skip */
+	ssize_t w;
+	do
+		w = write(fd, buf, len);
+	while (w < 0 && errno == EINTR);
+	if (w != (ssize_t)len)
+		return popc_error_set(err, POPC_ERR_IO, "summary rows: %s",
+				      w < 0 ? strerror(errno) : "short write");
+	return 0;
+}

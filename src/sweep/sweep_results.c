@@ -1,0 +1,325 @@
+/* The results of a sweep (sweep_results.h): the best row of every run, from
+ * rows files and --list runs' run.csv files; summary.csv in id order. */
+#include "popc/sweep/sweep_results.h"
+
+#include <dirent.h>
+#include <errno.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "popc/sweep/sweep_chatter.h"
+#include "popc/sweep/sweep_columns.h"
+#include "popc/sweep/sweep_dir.h"
+#include "popc/sweep/sweep_files.h"
+#include "popc/sweep/sweep_row.h"
+
+void popc_sweep_results_free(popc_sweep_results *r)
+{
+	for (int k = 0; k < r->n_texts; k++)
+		free(r->texts[k]);
+	free(r->texts);
+	free(r->run);
+	memset(r, 0, sizeof *r);
+}
+
+static int keep_text(popc_sweep_results *r, char *text, popc_error *err)
+{
+	char **grown = realloc(r->texts, (size_t)(r->n_texts + 1) * sizeof *grown);
+	if (!grown) {
+		free(text);
+		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+	}
+	r->texts = grown;
+	r->texts[r->n_texts++] = text;
+	return 0;
+}
+
+/* A result for run i: a success sticks, a failure replaces a failure. */
+static void offer(popc_sweep_results *r, long long i, const char *row, int len, int exit_status,
+		  const char *reason, int reason_len)
+{
+	popc_sweep_result_entry *e = &r->run[i];
+	if (e->row && e->exit_status == 0)
+		return;
+	*e = (popc_sweep_result_entry){.row = row, .len = len, .exit_status = exit_status,
+				       .reason = reason, .reason_len = reason_len};
+}
+
+/* A rows file read with something to say (not an error): counted, the
+ * first one kept for the caller to show. */
+__attribute__((format(printf, 2, 3))) static void note(popc_sweep_results *r, const char *fmt, ...)
+{
+	if (r->n_notes++ == 0) {
+		va_list ap;
+		va_start(ap, fmt);
+		vsnprintf(r->note, sizeof r->note, fmt, ap);
+		va_end(ap);
+	}
+}
+
+static int load_rows_file(popc_sweep_results *r, const popc_sweep_plan *p, const char *path,
+			  popc_error *err)
+{
+	char *text;
+	size_t len;
+	int st = popc_sweep_read_file(path, &text, &len, err);
+	if (st <= 0)
+		return st;
+	st = keep_text(r, text, err);
+	if (st)
+		return st;
+	size_t lc = strlen(p->columns);
+	char *body = text + lc;
+	if (len < lc || memcmp(text, p->columns, lc) != 0) {
+		/* a header cut by a kill: the start of ours, nothing after it */
+		if (len < lc && memcmp(text, p->columns, len) == 0) {
+			note(r, "%s: a rows file whose header was cut (its worker was stopped "
+				"while writing it): no rows, ignored", path);
+			return 0;
+		}
+		/* popc before rows files had names of their own appended to such a
+		 * file: a cut header (k bytes of ours) and then the whole one */
+		size_t k = 1;
+		while (k < lc && k + lc <= len &&
+		       !(memcmp(text + k, p->columns, lc) == 0 && memcmp(text, p->columns, k) == 0))
+			k++;
+		if (k >= lc || k + lc > len)
+			return popc_error_set(err, POPC_ERR_INVALID,
+					      "%s: not a rows file of this sweep (its header differs)",
+					      path);
+		note(r, "%s: a header cut by a kill and a whole one after it: rows read from "
+			"the second", path);
+		body = text + k + lc;
+	}
+	int want_cells = popc_sweep_columns_count(p->n_axes);
+	const char *reason = NULL;
+	int reason_len = 0;
+	long long reason_id = -1;
+	for (char *line = body; *line;) {
+		char *nl = strchr(line, '\n');
+		if (!nl)
+			break; /* an incomplete last line: a writer was stopped mid-write */
+		int ll = (int)(nl - line);
+		if (line[0] == '#') {
+			/* "# <id> stop = <reason>" */
+			char id[POPC_SWEEP_ID_MAX];
+			int k = 0;
+			while (k < ll - 2 && k < POPC_SWEEP_ID_MAX - 1 && line[2 + k] != ' ') {
+				id[k] = line[2 + k];
+				k++;
+			}
+			id[k] = '\0';
+			reason_id = popc_sweep_id_parse(p, id);
+			if (reason_id >= 0 && ll > 2 + k + 9 && strncmp(line + 2 + k, " stop = ", 8) == 0) {
+				reason = line + 2 + k + 8;
+				reason_len = ll - (2 + k + 8);
+			} else {
+				reason_id = -1;
+			}
+		} else {
+			int cells = 1;
+			for (int k = 0; k < ll; k++)
+				cells += line[k] == ',';
+			char id[POPC_SWEEP_ID_MAX];
+			size_t il = strcspn(line, ",\n");
+			long long i = -1;
+			if (il < sizeof id) {
+				memcpy(id, line, il);
+				id[il] = '\0';
+				i = popc_sweep_id_parse(p, id);
+			}
+			int ex = cells == want_cells && i >= 0 ? popc_sweep_row_exit_status(p, line) : -1;
+			if (ex >= 0) {
+				int has_reason = reason_id == i;
+				offer(r, i, line, ll + 1, ex, has_reason ? reason : NULL,
+				      has_reason ? reason_len : 0);
+			}
+			reason_id = -1;
+		}
+		line = nl + 1;
+	}
+	return 0;
+}
+
+static int cmp_name(const void *a, const void *b)
+{
+	return strcmp(*(char *const *)a, *(char *const *)b);
+}
+
+static int load_rows_dir(popc_sweep_results *r, const popc_sweep_plan *p, const char *dir,
+			 popc_error *err)
+{
+	char path[POPC_PATH_MAX + 300];
+	snprintf(path, sizeof path, "%s/rows", dir);
+	DIR *d = opendir(path);
+	if (!d)
+		return errno == ENOENT ? 0 : popc_error_set(err, POPC_ERR_IO, "%s: %s", path, strerror(errno));
+	char **names = NULL;
+	size_t n = 0;
+	int st = 0;
+	for (struct dirent *e; (e = readdir(d)) != NULL;) {
+		size_t l = strlen(e->d_name);
+		if (l < 5 || strcmp(e->d_name + l - 4, ".csv") != 0)
+			continue;
+		char **grown = realloc(names, (n + 1) * sizeof *names);
+		if (!grown || !(grown[n] = strdup(e->d_name))) {
+			names = grown ? grown : names;
+			st = popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+			break;
+		}
+		names = grown;
+		n++;
+	}
+	closedir(d);
+	if (!st && n > 1)
+		qsort(names, n, sizeof *names, cmp_name);
+	for (size_t k = 0; k < n; k++) {
+		if (!st) {
+			snprintf(path, sizeof path, "%s/rows/%s", dir, names[k]);
+			st = load_rows_file(r, p, path, err);
+		}
+		free(names[k]);
+	}
+	free(names);
+	return st;
+}
+
+/* Runs made by --list `popc run` lines: DIR/runs/<id>/run.csv, the last
+ * complete row of a popc run summary, converted to a sweep row. */
+static int load_run_csv(popc_sweep_results *r, const popc_sweep_plan *p, const char *dir, long long i,
+			popc_error *err)
+{
+	char path[POPC_PATH_MAX + 64];
+	if (popc_sweep_run_dir(p, dir, i, path, sizeof path - 16) != 0)
+		return popc_error_set(err, POPC_ERR_IO, "%s: path too long", dir);
+	strcat(path, "/run.csv");
+	char *text;
+	size_t len;
+	int st = popc_sweep_read_file(path, &text, &len, err);
+	if (st <= 0)
+		return st;
+	/* the last complete line that is not the header: a retried run
+	 * appended a second row */
+	size_t end = len;
+	while (end > 0 && text[end - 1] != '\n')
+		end--;
+	size_t start = end > 0 ? end - 1 : 0;
+	while (start > 0 && text[start - 1] != '\n')
+		start--;
+	int status;
+	if (end == 0 || start == 0 || popc_sweep_run_csv_status(text, text + start, &status) != 0) {
+		free(text);
+		return 0; /* nothing complete yet */
+	}
+	text[end] = '\0';
+	const char *row = text + start;
+	double wall = popc_sweep_run_csv_wall_time_s(text, row);
+	int ex = popc_status_exit_code(status);
+	/* the chatter columns: from the run's log, as the in-process run
+	 * computes them online (exact: the log's numbers read back bitwise) */
+	popc_chatter_result chat;
+	strcpy(path + strlen(path) - strlen("run.csv"), "log.csv");
+	int have_chat = popc_sweep_chatter_from_log(path, &chat, err) == 0;
+	char *out = malloc(POPC_SWEEP_ROW_MAX);
+	popc_error e;
+	int n = out ? popc_sweep_row(p, i, ex, text, row, have_chat ? &chat : NULL, wall, out,
+				     POPC_SWEEP_ROW_MAX, &e)
+		    : -1;
+	free(text);
+	if (n < 0) {
+		free(out);
+		return out ? popc_error_set(err, POPC_ERR_INVALID, "%s: %s", path, e.msg)
+			   : popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+	}
+	st = keep_text(r, out, err);
+	if (st)
+		return st;
+	offer(r, i, out, n, ex, NULL, 0);
+	return 0;
+}
+
+static int load_run_dirs(popc_sweep_results *r, const popc_sweep_plan *p, const char *dir,
+			 popc_error *err)
+{
+	char path[POPC_PATH_MAX + 300];
+	snprintf(path, sizeof path, "%s/runs", dir);
+	DIR *d = opendir(path);
+	if (!d)
+		return errno == ENOENT ? 0 : popc_error_set(err, POPC_ERR_IO, "%s: %s", path, strerror(errno));
+	int st = 0;
+	for (struct dirent *e; !st && (e = readdir(d)) != NULL;) {
+		long long i = popc_sweep_id_parse(p, e->d_name);
+		if (i >= 0 && !(r->run[i].row && r->run[i].exit_status == 0))
+			st = load_run_csv(r, p, dir, i, err);
+	}
+	closedir(d);
+	return st;
+}
+
+int popc_sweep_results_load(popc_sweep_results *r, const popc_sweep_plan *p,
+			    const char *const *dirs, int n_dirs, int check_run_csv, popc_error *err)
+{
+	memset(r, 0, sizeof *r);
+	r->n = p->n_runs;
+	r->run = calloc((size_t)p->n_runs, sizeof *r->run);
+	if (!r->run)
+		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+	int st = 0;
+	for (int d = 0; d < n_dirs && !st; d++)
+		st = load_rows_dir(r, p, dirs[d], err);
+	for (int d = 0; d < n_dirs && !st && check_run_csv; d++)
+		st = load_run_dirs(r, p, dirs[d], err);
+	if (st)
+		popc_sweep_results_free(r);
+	return st;
+}
+
+int popc_sweep_results_write(const popc_sweep_results *r, const popc_sweep_plan *p,
+			     const popc_sweep_shard *shard, const char *out_path,
+			     popc_sweep_tally *t, popc_sweep_visit visit, void *user,
+			     popc_error *err)
+{
+	memset(t, 0, sizeof *t);
+	char tmp[POPC_PATH_MAX + 96];
+	if (popc_sweep_temp_name(tmp, sizeof tmp, out_path) != 0)
+		return popc_error_set(err, POPC_ERR_IO, "%s: path too long", out_path);
+	FILE *f = fopen(tmp, "w");
+	if (!f)
+		return popc_error_set(err, POPC_ERR_IO, "%s: %s", tmp, strerror(errno));
+	fputs(p->columns, f);
+	char reason[640];
+	for (long long i = 0; i < p->n_runs; i++) {
+		if (shard && !popc_sweep_in_shard(shard, i))
+			continue;
+		t->planned++;
+		const popc_sweep_result_entry *e = &r->run[i];
+		if (!e->row) {
+			t->missing++;
+			if (visit)
+				visit(user, i, -1, "");
+			continue;
+		}
+		fwrite(e->row, 1, (size_t)e->len, f);
+		if (e->exit_status == 0) {
+			t->ok++;
+			continue;
+		}
+		t->failed++;
+		if (visit) {
+			snprintf(reason, sizeof reason, "%.*s", e->reason ? e->reason_len : 0,
+				 e->reason ? e->reason : "");
+			visit(user, i, e->exit_status, reason);
+		}
+	}
+	int st = 0;
+	if (ferror(f) | (fclose(f) != 0))
+		st = popc_error_set(err, POPC_ERR_IO, "%s: %s", tmp, strerror(errno));
+	if (!st && rename(tmp, out_path) != 0)
+		st = popc_error_set(err, POPC_ERR_IO, "%s: %s", out_path, strerror(errno));
+	if (st)
+		unlink(tmp);
+	return st;
+}

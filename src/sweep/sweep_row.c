@@ -1,0 +1,233 @@
+/* A run's summary row (sweep_row.h): made by walking the column table
+ * (sweep_columns.h), and read back. */
+#include "popc/sweep/sweep_row.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "popc/util/numfmt.h"
+
+/* Splits one CSV line (ending at '\n', '\r' or NUL; no quoting: popc's
+ * summaries hold none) into at most max cells. Returns the cell count. */
+static int split_cells(const char *line, const char **cell, size_t *len, int max)
+{
+	int n = 0;
+	const char *p = line;
+	for (;;) {
+		size_t l = strcspn(p, ",\r\n");
+		if (n < max) {
+			cell[n] = p;
+			len[n] = l;
+		}
+		n++;
+		if (p[l] != ',')
+			break;
+		p += l + 1;
+	}
+	return n;
+}
+
+static int find_cell(const char *const *cell, const size_t *len, int n, const char *name)
+{
+	size_t nl = strlen(name);
+	for (int c = 0; c < n; c++)
+		if (len[c] == nl && memcmp(cell[c], name, nl) == 0)
+			return c;
+	return -1;
+}
+
+#define RUN_CSV_MAX_COLUMNS 64
+
+/* What a row is made from: run i of the plan and what its run gave. */
+typedef struct row_input {
+	const char *id;
+	int exit_status;
+	const char *run_row;          /* NULL: no run summary */
+	const char *const *hcell, *const *rcell;
+	const size_t *hlen, *rlen;
+	int n_cells;
+	const popc_chatter_result *chatter; /* NULL: no detector result */
+	double wall_time_s;
+} row_input;
+
+/* A cell's value: text, a whole number or a double, as its source gives it. */
+typedef struct cell_value {
+	popc_sweep_cell_format kind;
+	const char *text;
+	size_t len;
+	int whole;
+	double real;
+} cell_value;
+
+static int cell_is_empty(popc_sweep_cell_empty rule, const row_input *in)
+{
+	switch (rule) {
+	case POPC_SWEEP_EMPTY_NEVER: return 0;
+	case POPC_SWEEP_EMPTY_WITHOUT_SUMMARY: return !in->run_row;
+	case POPC_SWEEP_EMPTY_CHATTER_UNCHECKED:
+		return !(in->chatter && popc_chatter_checked(in->chatter));
+	case POPC_SWEEP_EMPTY_LC_UNCHECKED:
+		return !(in->chatter && popc_chatter_lc_checked(in->chatter));
+	}
+	return 1;
+}
+
+/* The value of a one-cell column (every source but the axes). */
+static int cell_get(const popc_sweep_column *col, const row_input *in, cell_value *v,
+		    popc_error *err)
+{
+	memset(v, 0, sizeof *v);
+	v->kind = POPC_SWEEP_FORMAT_INT;
+	switch (col->source) {
+	case POPC_SWEEP_CELL_RUN_ID:
+		v->kind = POPC_SWEEP_FORMAT_TEXT;
+		v->text = in->id;
+		v->len = strlen(in->id);
+		return 0;
+	case POPC_SWEEP_CELL_EXIT_STATUS: v->whole = in->exit_status; return 0;
+	case POPC_SWEEP_CELL_RUN_SUMMARY: {
+		int c = find_cell(in->hcell, in->hlen, in->n_cells, col->name);
+		if (c < 0)
+			return popc_error_set(err, POPC_ERR_INVALID, "run summary: no column '%s'",
+					      col->name);
+		v->kind = POPC_SWEEP_FORMAT_TEXT;
+		v->text = in->rcell[c];
+		v->len = in->rlen[c];
+		return 0;
+	}
+	case POPC_SWEEP_CELL_CHATTER_S:
+		v->kind = POPC_SWEEP_FORMAT_DOUBLE;
+		v->real = in->chatter->chatter_s;
+		return 0;
+	case POPC_SWEEP_CELL_CHATTER_INTERVALS: v->whole = in->chatter->n_intervals; return 0;
+	case POPC_SWEEP_CELL_LIMIT_CYCLE: v->whole = in->chatter->limit_cycle; return 0;
+	case POPC_SWEEP_CELL_WALL_TIME_S:
+		v->kind = POPC_SWEEP_FORMAT_DOUBLE;
+		v->real = in->wall_time_s;
+		return 0;
+	case POPC_SWEEP_CELL_AXES: break;
+	}
+	return popc_error_set(err, POPC_ERR_INVALID, "summary column %s: no single value",
+			      col->name ? col->name : "(axes)");
+}
+
+int popc_sweep_row(const popc_sweep_plan *p, long long i, int exit_status, const char *run_header,
+		   const char *run_row, const popc_chatter_result *chatter, double wall_time_s,
+		   char *buf, size_t cap, popc_error *err)
+{
+	const char *hcell[RUN_CSV_MAX_COLUMNS], *rcell[RUN_CSV_MAX_COLUMNS];
+	size_t hlen[RUN_CSV_MAX_COLUMNS], rlen[RUN_CSV_MAX_COLUMNS];
+	int nh = 0, nr = 0;
+	if (run_row) {
+		nh = split_cells(run_header, hcell, hlen, RUN_CSV_MAX_COLUMNS);
+		nr = split_cells(run_row, rcell, rlen, RUN_CSV_MAX_COLUMNS);
+		if (nh > RUN_CSV_MAX_COLUMNS || nr != nh)
+			return popc_error_set(err, POPC_ERR_INVALID,
+					      "run summary: %d cells in the row, %d in the header", nr, nh);
+	}
+	char id[POPC_SWEEP_ID_MAX];
+	popc_sweep_run_id(p, i, id);
+	int idx[64];
+	popc_sweep_run_values(p, i, idx);
+	const row_input in = {.id = id, .exit_status = exit_status, .run_row = run_row,
+			      .hcell = hcell, .rcell = rcell, .hlen = hlen, .rlen = rlen,
+			      .n_cells = nh, .chatter = chatter, .wall_time_s = wall_time_s};
+	size_t len = 0;
+#define PUT(...)                                                                                   \
+	do {                                                                                       \
+		int w_ = snprintf(buf + len, len < cap ? cap - len : 0, __VA_ARGS__);              \
+		len += w_ > 0 ? (size_t)w_ : 0;                                                    \
+	} while (0)
+	int cells = 0;
+	for (int c = 0; c < popc_sweep_n_columns; c++) {
+		const popc_sweep_column *col = &popc_sweep_columns[c];
+		if (col->source == POPC_SWEEP_CELL_AXES) {
+			for (int a = 0; a < p->n_axes; a++)
+				PUT("%s%s", cells++ ? "," : "", p->axes[a].values[idx[a]]);
+			continue;
+		}
+		const char *sep = cells++ ? "," : "";
+		if (cell_is_empty(col->empty, &in)) {
+			PUT("%s", sep);
+			continue;
+		}
+		cell_value v;
+		int st = cell_get(col, &in, &v, err);
+		if (st)
+			return st;
+		/* a format that does not fit the source's value is a mistake in
+		 * the table, not a cell to guess */
+		if (v.kind != col->format && !(v.kind == POPC_SWEEP_FORMAT_INT &&
+					       col->format == POPC_SWEEP_FORMAT_DOUBLE))
+			return popc_error_set(err, POPC_ERR_INVALID,
+					      "summary column %s: its format does not fit its source",
+					      col->name);
+		char real[POPC_DOUBLE_TEXT_MAX + 1];
+		switch (col->format) {
+		case POPC_SWEEP_FORMAT_TEXT: PUT("%s%.*s", sep, (int)v.len, v.text); break;
+		case POPC_SWEEP_FORMAT_INT: PUT("%s%d", sep, v.whole); break;
+		case POPC_SWEEP_FORMAT_DOUBLE:
+			popc_format_double(v.kind == POPC_SWEEP_FORMAT_INT ? (double)v.whole : v.real,
+					   real);
+			PUT("%s%s", sep, real);
+			break;
+		}
+	}
+	PUT("\n");
+#undef PUT
+	if (len >= cap)
+		return popc_error_set(err, POPC_ERR_INVALID, "summary row of run %s longer than %zu bytes",
+				      id, cap);
+	return (int)len;
+}
+
+int popc_sweep_row_exit_status(const popc_sweep_plan *p, const char *row)
+{
+	const char *cell[RUN_CSV_MAX_COLUMNS + 64];
+	size_t len[RUN_CSV_MAX_COLUMNS + 64];
+	int n = split_cells(row, cell, len, RUN_CSV_MAX_COLUMNS + 64);
+	int c = popc_sweep_column_index(p->n_axes, POPC_SWEEP_CELL_EXIT_STATUS);
+	if (c < 0 || c >= RUN_CSV_MAX_COLUMNS + 64 || n <= c || len[c] == 0 || len[c] > 3)
+		return -1;
+	int v = 0;
+	for (size_t k = 0; k < len[c]; k++) {
+		if (cell[c][k] < '0' || cell[c][k] > '9')
+			return -1;
+		v = v * 10 + (cell[c][k] - '0');
+	}
+	return v;
+}
+
+int popc_sweep_run_csv_status(const char *run_header, const char *run_row, int *status)
+{
+	const char *hcell[RUN_CSV_MAX_COLUMNS], *rcell[RUN_CSV_MAX_COLUMNS];
+	size_t hlen[RUN_CSV_MAX_COLUMNS], rlen[RUN_CSV_MAX_COLUMNS];
+	int nh = split_cells(run_header, hcell, hlen, RUN_CSV_MAX_COLUMNS);
+	int nr = split_cells(run_row, rcell, rlen, RUN_CSV_MAX_COLUMNS);
+	if (nh > RUN_CSV_MAX_COLUMNS || nr != nh)
+		return -1;
+	int c = find_cell(hcell, hlen, nh, "status");
+	if (c < 0 || rlen[c] == 0 || rlen[c] > 4)
+		return -1;
+	char tmp[8];
+	memcpy(tmp, rcell[c], rlen[c]);
+	tmp[rlen[c]] = '\0';
+	char *end;
+	long v = strtol(tmp, &end, 10);
+	if (*end)
+		return -1;
+	*status = (int)v;
+	return 0;
+}
+
+double popc_sweep_run_csv_wall_time_s(const char *run_header, const char *run_row)
+{
+	const char *hcell[RUN_CSV_MAX_COLUMNS], *rcell[RUN_CSV_MAX_COLUMNS];
+	size_t hlen[RUN_CSV_MAX_COLUMNS], rlen[RUN_CSV_MAX_COLUMNS];
+	int nh = split_cells(run_header, hcell, hlen, RUN_CSV_MAX_COLUMNS);
+	int nr = split_cells(run_row, rcell, rlen, RUN_CSV_MAX_COLUMNS);
+	int c = find_cell(hcell, hlen, nh < RUN_CSV_MAX_COLUMNS ? nh : RUN_CSV_MAX_COLUMNS,
+			  "wall_time_s");
+	return c >= 0 && c < nr ? strtod(rcell[c], NULL) : 0.0;
+}

@@ -1,0 +1,7 @@
+/* One half of the fixture cycle (call_cycles_fixture.h). */
+#include "call_cycles_fixture.h"
+
+int call_cycles_fixture_a(int n)
+{
+	return n > 0 ? call_cycles_fixture_b(n - 1) : 0;
+}

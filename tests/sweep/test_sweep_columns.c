@@ -1,0 +1,190 @@
+/* summary.csv's column table (sweep_columns.h): the header, the rows, the
+ * cell count and the exit_status cell all follow it, and its run-summary
+ * metrics are columns that popc run's summary really has. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "popc/run/run.h"
+#include "popc/sweep/sweep_columns.h"
+#include "popc/sweep/sweep_plan.h"
+#include "popc/sweep/sweep_row.h"
+
+static popc_sweep_plan make_plan(const char *const *vary, int n_axes)
+{
+	popc_scene base;
+	popc_scene_defaults(&base);
+	popc_sweep_axis *axes = calloc((size_t)n_axes, sizeof *axes);
+	assert_non_null(axes);
+	popc_error err;
+	for (int a = 0; a < n_axes; a++)
+		if (popc_sweep_axis_parse(vary[a], &axes[a], &err) != 0)
+			fail_msg("%s: %s", vary[a], err.msg);
+	popc_sweep_plan p;
+	if (popc_sweep_plan_init(&p, &base, axes, n_axes, 0, &err) != 0)
+		fail_msg("plan: %s", err.msg);
+	return p;
+}
+
+static int count_cells(const char *line)
+{
+	int n = 1;
+	for (const char *c = line; *c && *c != '\n'; c++)
+		n += *c == ',';
+	return n;
+}
+
+/* The header cell by cell: the table's names, the axes' keys in their place. */
+static void test_header_follows_table(void **state)
+{
+	(void)state;
+	const char *vary[] = {"operator.speed=0.01,0.02", "controller.variant=none,improved"};
+	popc_sweep_plan p = make_plan(vary, 2);
+	/* the header summary.csv has had since issue 6: a change here changes
+	 * every sweep's plan id and every reader of summary.csv */
+	assert_string_equal(p.columns,
+			    "run,operator.speed,controller.variant,exit_status,ticks,pc_rms,pc_max,"
+			    "pc_active,pc_energy,w_minus_eref_min,w_minus_eref_end,vsign_rate,"
+			    "pc_rms_late,vsign_rate_late,integrator_error_m,chatter_s,"
+			    "chatter_intervals,limit_cycle,wall_time_s\n");
+	assert_int_equal(count_cells(p.columns), popc_sweep_columns_count(2));
+	const char *cell = p.columns;
+	int k = 0;
+	for (int c = 0; c < popc_sweep_n_columns; c++) {
+		const popc_sweep_column *col = &popc_sweep_columns[c];
+		int n = col->source == POPC_SWEEP_CELL_AXES ? 2 : 1;
+		if (col->source != POPC_SWEEP_CELL_AXES) {
+			assert_non_null(col->name);
+			size_t l = strcspn(cell, ",\n");
+			assert_int_equal(l, strlen(col->name));
+			assert_memory_equal(cell, col->name, l);
+		}
+		/* the index of a source is its first column (the metrics share one) */
+		if (c == 0 || popc_sweep_columns[c - 1].source != col->source)
+			assert_int_equal(popc_sweep_column_index(2, col->source), k);
+		for (int m = 0; m < n; m++) {
+			cell += strcspn(cell, ",\n");
+			cell += *cell == ',';
+		}
+		k += n;
+	}
+	assert_int_equal(*cell, '\n');
+	assert_int_equal(k, popc_sweep_columns_count(2));
+	/* no axes: the axis columns vanish, nothing else moves */
+	char *h0 = popc_sweep_columns_header(NULL, 0);
+	assert_non_null(h0);
+	assert_string_equal(h0, "run,exit_status,ticks,pc_rms,pc_max,pc_active,pc_energy,"
+				"w_minus_eref_min,w_minus_eref_end,vsign_rate,pc_rms_late,"
+				"vsign_rate_late,integrator_error_m,chatter_s,chatter_intervals,"
+				"limit_cycle,wall_time_s\n");
+	assert_int_equal(popc_sweep_columns_count(0), count_cells(h0));
+	assert_int_equal(popc_sweep_column_index(0, POPC_SWEEP_CELL_EXIT_STATUS), 1);
+	free(h0);
+	popc_sweep_plan_free(&p);
+}
+
+/* Every metric the table takes from popc run's summary is a column of it: a
+ * renamed run-summary column fails here, not in a sweep of every run. */
+static void test_metrics_in_run_summary(void **state)
+{
+	(void)state;
+	char *header = NULL;
+	size_t len = 0;
+	FILE *f = open_memstream(&header, &len);
+	assert_non_null(f);
+	popc_run_summary_csv_header(f);
+	assert_int_equal(fclose(f), 0);
+	int n_metrics = 0;
+	for (int c = 0; c < popc_sweep_n_columns; c++) {
+		const popc_sweep_column *col = &popc_sweep_columns[c];
+		if (col->source != POPC_SWEEP_CELL_RUN_SUMMARY)
+			continue;
+		n_metrics++;
+		size_t l = strlen(col->name);
+		int found = 0;
+		for (const char *p = header; *p && !found; p += strcspn(p, ",\n"), p += *p != '\0')
+			found = strncmp(p, col->name, l) == 0 && (p[l] == ',' || p[l] == '\n');
+		if (!found)
+			fail_msg("sweep column '%s' is not in the run summary header %s", col->name,
+				 header);
+		/* copied text, empty for a run without a summary */
+		assert_int_equal(col->format, POPC_SWEEP_FORMAT_TEXT);
+		assert_int_equal(col->empty, POPC_SWEEP_EMPTY_WITHOUT_SUMMARY);
+	}
+	assert_int_equal(n_metrics, 11);
+	free(header);
+}
+
+/* Rows with and without a summary and a detector verdict all have the
+ * header's cell count, and their exit_status reads back. */
+static void test_rows_have_header_cells(void **state)
+{
+	(void)state;
+	const char *vary[] = {"operator.speed=0.01,0.02,0.03"};
+	popc_sweep_plan p = make_plan(vary, 1);
+	const char *header = "status,pc_rms,pc_max,pc_active,pc_energy,w_minus_eref_min,"
+			     "w_minus_eref_end,vsign_rate,pc_rms_late,vsign_rate_late,"
+			     "integrator_error_m,ticks,wall_time_s\n";
+	const char *row = "0,1.5,5,0.25,-0.001,-2e-05,3,12.5,1.25,13,0,5001,0.002\n";
+	popc_chatter_result full, none;
+	memset(&full, 0, sizeof full);
+	full.windows = 491;
+	full.window_ticks = 100;
+	full.lc_ticks = 2001;
+	full.lc_min_ticks = 1000;
+	full.chatter_s = 0.125;
+	none = full;
+	none.windows = 0;
+	none.lc_ticks = 0;
+	const struct {
+		const char *run_row;
+		const popc_chatter_result *chat;
+		int exit_status;
+	} cases[] = {
+		{row, &full, 0}, {row, &none, 6}, {row, NULL, 1}, {NULL, NULL, 1},
+	};
+	for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+		char buf[POPC_SWEEP_ROW_MAX];
+		popc_error err;
+		int n = popc_sweep_row(&p, 2, cases[k].exit_status, header, cases[k].run_row,
+				       cases[k].chat, 0.5, buf, sizeof buf, &err);
+		assert_true(n > 0);
+		assert_int_equal(count_cells(buf), popc_sweep_columns_count(1));
+		assert_int_equal(popc_sweep_row_exit_status(&p, buf), cases[k].exit_status);
+		assert_int_equal(buf[n - 1], '\n');
+	}
+	popc_sweep_plan_free(&p);
+}
+
+/* A popc run summary's cells read back by name. */
+static void test_run_csv_cells(void **state)
+{
+	(void)state;
+	const char *header = "variant,status,ticks,wall_time_s\n";
+	int status = 0;
+	assert_int_equal(popc_sweep_run_csv_status(header, "none,-6,5,0.25\n", &status), 0);
+	assert_int_equal(status, -6);
+	assert_true(popc_sweep_run_csv_wall_time_s(header, "none,-6,5,0.25\n") == 0.25);
+	/* no wall_time_s column, or a row cut short: 0 */
+	assert_true(popc_sweep_run_csv_wall_time_s("variant,status\n", "none,0\n") == 0.0);
+	assert_true(popc_sweep_run_csv_wall_time_s(header, "none,0\n") == 0.0);
+	assert_int_equal(popc_sweep_run_csv_status(header, "none,x,5,0.25\n", &status), -1);
+	assert_int_equal(popc_sweep_run_csv_status(header, "none,0,5\n", &status), -1);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_header_follows_table),
+		cmocka_unit_test(test_metrics_in_run_summary),
+		cmocka_unit_test(test_rows_have_header_cells),
+		cmocka_unit_test(test_run_csv_cells),
+	};
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}
