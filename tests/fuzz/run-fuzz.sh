@@ -6,14 +6,20 @@
 #   tests/fuzz/run-fuzz.sh [SECONDS] [HARNESS...]
 #
 # SECONDS per harness (default 300), on one core each, one after another.
-# HARNESS: numfmt_parse numfmt_format log_reader scene ini_lines intent
-# register_map modbus_uri (default: all). Needs Debian's clang (apt-get
-# install clang: libFuzzer ships in its compiler-rt) and the build deps.
+# HARNESS: one of fuzz_harnesses in tests/fuzz/meson.build (numfmt_parse
+# numfmt_format log_reader scene ini_lines intent register_map modbus_uri;
+# default: all). Needs Debian's clang (apt-get install clang: libFuzzer ships
+# in its compiler-rt) and the build deps.
 #
-# Work goes to $POPC_FUZZ_WORK (default /tmp/popc-fuzz): the binaries, a
-# growing corpus per harness (seeded from tests/fuzz/corpus, the shipped
-# scenes and drive maps) and, on a failure, artifacts/HARNESS-crash-*: replay
-# one with the fuzz binary or with the normal build's
+# The harnesses are built by Meson: a build directory $POPC_FUZZ_WORK/build
+# (default /tmp/popc-fuzz/build) configured with -Dfuzzing=libfuzzer (every
+# object instrumented for coverage, meson_options.txt), ASan and UBSan
+# stopping at the first report, -O1 -g; ninja rebuilds what changed on every
+# run. Work goes to $POPC_FUZZ_WORK: fuzz_HARNESS (a link to the build's
+# tests/fuzz/fuzz_HARNESS), a growing corpus per harness (seeded from
+# tests/fuzz/corpus, the shipped scenes and drive maps) and, on a failure,
+# artifacts/HARNESS-crash-*: replay one with the fuzz binary or with the
+# normal build's
 #   build/tests/fuzz/fuzz_replay HARNESS FILE
 # Fix it, then add the (minimized: fuzz_HARNESS -minimize_crash=1 FILE) input
 # to tests/fuzz/corpus/HARNESS/. To refresh the checked-in corpus with the
@@ -25,42 +31,45 @@ set -eu
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
 work=${POPC_FUZZ_WORK:-/tmp/popc-fuzz}
+build=$work/build
 seconds=${1:-300}
 [ $# -gt 0 ] && shift
-all="numfmt_parse numfmt_format log_reader scene ini_lines intent register_map modbus_uri"
-harnesses=${*:-$all}
 CC=${CC:-clang}
 command -v "$CC" >/dev/null || { echo "run-fuzz.sh: $CC not found (apt-get install clang)" >&2; exit 2; }
 
-mkdir -p "$work/obj" "$work/artifacts"
-# popc_config.h as meson writes it (log_writer.c includes it)
-printf '#define POPC_VERSION "fuzz"\n#define POPC_DATADIR "/nonexistent"\n' >"$work/popc_config.h"
-flags="-g -O1 -std=c11 -D_POSIX_C_SOURCE=200809L -fno-math-errno -fsanitize=address,undefined \
--fno-sanitize-recover=undefined -fno-omit-frame-pointer -I$root/include -I$work -DPOPC_FUZZ_MODBUS \
-$(pkg-config --cflags libmodbus inih)"
-libs="$(pkg-config --libs libmodbus inih) -lm -lpthread"
+# a build directory configured from another source tree (another checkout
+# sharing $POPC_FUZZ_WORK) would fuzz that tree's code: start it afresh
+if [ -f "$build/meson-info/meson-info.json" ]; then
+	configured=$(python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["directories"]["source"])' \
+		"$build/meson-info/meson-info.json")
+	[ "$configured" = "$root" ] || rm -rf "$build"
+fi
+mkdir -p "$work/artifacts"
+if [ ! -f "$build/build.ninja" ]; then
+	CC=$CC meson setup "$build" "$root" -Dfuzzing=libfuzzer -Db_sanitize=address,undefined \
+		-Db_lundef=false -Doptimization=1 -Ddebug=true \
+		-Dc_args='-fno-sanitize-recover=undefined -fno-omit-frame-pointer' >"$work/setup.log" 2>&1 ||
+		{ cat "$work/setup.log" >&2; exit 2; }
+fi
 
-# the library's sources (every layer under src/ but the programs, with the
-# Modbus family: not its stand-in for builds without libmodbus), instrumented for coverage
-srcs=$(cd "$root/src" && find . -name '*.c' -not -path './cli/*' -not -path './servo_sim/*' \
-	-not -name modbus_absent.c | sort)
-objs=""
-for s in $srcs; do
-	o="$work/obj/$(basename "${s%.c}").o"
-	# shellcheck disable=SC2086
-	$CC $flags -fsanitize=fuzzer-no-link -c "$root/src/$s" -o "$o"
-	objs="$objs $o"
+# the harnesses meson.build declares (executables fuzz_*, but the corpus replay)
+all=$(meson introspect --targets "$build" | python3 -c '
+import json, sys
+names = sorted(t["name"] for t in json.load(sys.stdin) if t["type"] == "executable")
+print(" ".join(n[len("fuzz_"):] for n in names if n.startswith("fuzz_") and n != "fuzz_replay"))')
+harnesses=${*:-$all}
+targets=""
+for h in $harnesses; do
+	case " $all " in
+	*" $h "*) targets="$targets tests/fuzz/fuzz_$h" ;;
+	*) echo "run-fuzz.sh: no harness '$h' (harnesses: $all)" >&2; exit 2 ;;
+	esac
 done
-for f in fuzz_common fuzz_numfmt fuzz_log_reader fuzz_ini fuzz_intent fuzz_modbus_uri; do
-	# shellcheck disable=SC2086
-	$CC $flags -fsanitize=fuzzer-no-link -c "$here/$f.c" -o "$work/obj/$f.o"
-	objs="$objs $work/obj/$f.o"
-done
+# shellcheck disable=SC2086
+ninja -C "$build" $targets
 
 for h in $harnesses; do
-	# shellcheck disable=SC2086
-	$CC $flags -fsanitize=fuzzer -DPOPC_FUZZ_TARGET="popc_fuzz_$h" "$here/libfuzzer_entry.c" \
-		$objs $libs -o "$work/fuzz_$h"
+	ln -sf "$build/tests/fuzz/fuzz_$h" "$work/fuzz_$h"
 	mkdir -p "$work/corpus/$h"
 	case $h in
 	scene) cp "$root"/data/scenes/*.ini "$work/corpus/$h/" ;;
