@@ -5,11 +5,11 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
 #include "analyze.h"
 #include "popc/core/encoder.h"
 #include "popc/util/numfmt.h"
+#include "popc/util/same_file.h"
 #include "popc/scene/from_scene.h"
 
 int ana_fail(const char *verb, int status, const popc_error *err)
@@ -23,15 +23,9 @@ int ana_fail(const char *verb, int status, const popc_error *err)
 
 int ana_output_is_input(const char *out, char *const *inputs, int n)
 {
-	struct stat so;
-	if (strcmp(out, "-") == 0 || stat(out, &so) != 0)
-		return -1; /* standard output, or a file that does not exist yet */
-	for (int i = 0; i < n; i++) {
-		struct stat si;
-		if (strcmp(inputs[i], "-") != 0 && stat(inputs[i], &si) == 0 && si.st_dev == so.st_dev &&
-		    si.st_ino == so.st_ino)
+	for (int i = 0; i < n; i++)
+		if (popc_same_file(out, inputs[i]))
 			return i;
-	}
 	return -1;
 }
 
