@@ -152,6 +152,8 @@ typedef struct ana_log {
 	long long k;              /* ticks handed out */
 	double x_prev_m;
 	popc_observer obs;        /* recomputes W and E_ref when the file lacks them */
+	const char *verb;         /* for the note on an unfinished log */
+	int unfinished;           /* popc_log_reader_unfinished at the end, once noted */
 } ana_log;
 
 /* One row as analysed: the tick plus the optional columns. */
@@ -170,7 +172,10 @@ int ana_log_open(ana_log *l, const char *path, const ana_input_options *o, popc_
 /* Next row: 1, 0 at the end, or a negative popc_status. A log whose period
  * comes from its time column (no rate) must have even steps (within
  * ANA_PERIOD_REL_TOL of the first) unless allow_uneven: the first step that is
- * not is an error naming its line. */
+ * not is an error naming its line. At the end of an unfinished popc log (no
+ * stop line, or a last line cut short: popc_log_reader_unfinished) a note on
+ * stderr names the file and the line where its rows end; every verb reads
+ * such a log's whole rows (docs/ANALYSIS.md), and l->unfinished says it. */
 int ana_log_next(ana_log *l, ana_row *row, popc_error *err);
 
 void ana_log_close(ana_log *l);

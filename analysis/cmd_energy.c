@@ -270,7 +270,8 @@ static int energy_one(const char *path, const ana_input_options *in, const int *
 	 * keeps every row written so far and says so, so it cannot pass for a
 	 * complete recompute of a shorter log */
 	if (out)
-		fprintf(out, "# stop = %s\n", st < 0 ? "input error" : "completed");
+		fprintf(out, "# stop = %s\n",
+			st < 0 ? "input error" : l.unfinished ? "input unfinished" : "completed");
 	int write_failed = 0;
 	if (out && out != stdout)
 		write_failed = fclose(out) != 0;

@@ -210,7 +210,9 @@ int ana_cmd_replay(int argc, char **argv)
 		goto out;
 	}
 	for (int i = 0; i < n_var; i++) {
-		st = popc_log_write_comment(&outs[i].w, "stop", "completed", &err);
+		/* an unfinished input gives replays as short as it is, and says so */
+		st = popc_log_write_comment(&outs[i].w, "stop",
+					    l.unfinished ? "input unfinished" : "completed", &err);
 		if (!st)
 			st = popc_log_close(&outs[i].w, &err);
 		outs[i].open = 0;

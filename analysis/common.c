@@ -401,6 +401,7 @@ static int apply_scale(const ana_log *l, double *row, long long line, popc_error
 int ana_log_open(ana_log *l, const char *path, const ana_input_options *o, popc_error *err)
 {
 	memset(l, 0, sizeof *l);
+	l->verb = o->verb;
 	base_name(path, l->name, sizeof l->name);
 	int st = popc_log_reader_open(&l->r, path, &o->reader, err);
 	if (st)
@@ -513,6 +514,23 @@ fail:
 	return st;
 }
 
+/* An unfinished popc log is read to its last whole row, and says so: its
+ * results are those of a shorter run than the one popc was asked for. */
+static void note_unfinished(ana_log *l)
+{
+	l->unfinished = popc_log_reader_unfinished(&l->r);
+	if (!l->unfinished)
+		return;
+	char cut[96] = "";
+	if (l->unfinished == POPC_LOG_CUT_LINE)
+		snprintf(cut, sizeof cut, "line %lld, the last, is cut short (no newline) and not read; ",
+			 l->r.cut_line);
+	fprintf(stderr,
+		"popc-analyze %s: note: %s: unfinished log: %sno '# stop = ...' line; its %lld whole "
+		"rows to line %lld are read (the run was cut short: a full disk, a killed process)\n",
+		l->verb ? l->verb : "analyze", l->r.path, cut, l->r.rows, l->r.last_row_line);
+}
+
 int ana_log_next(ana_log *l, ana_row *out, popc_error *err)
 {
 	const double *row;
@@ -522,6 +540,8 @@ int ana_log_next(ana_log *l, ana_row *out, popc_error *err)
 		row = l->ahead[l->ahead_pos++];
 	} else {
 		int got = popc_log_reader_next(&l->r, l->row, err);
+		if (got == 0 && !l->unfinished)
+			note_unfinished(l);
 		if (got <= 0)
 			return got;
 		line = l->r.lineno;

@@ -376,6 +376,15 @@ int popc_log_reader_next(popc_log_reader *r, double *values, popc_error *err)
 			return line_error(r, got, err);
 		if (got == 0)
 			return 0;
+		/* popc ends every line with a newline: a last line without one was
+		 * cut (a full disk under an older popc, a killed process, a copy
+		 * cut short), even if its cells are all there (its last number may
+		 * be short). The whole rows before it are the log: the end, noted
+		 * (popc_log_reader_unfinished). */
+		if (!complete && r->popc_log) {
+			r->cut_line = r->lineno;
+			return 0;
+		}
 		if (blank_or_comment(r, line))
 			continue;
 		break;
@@ -391,13 +400,6 @@ int popc_log_reader_next(popc_log_reader *r, double *values, popc_error *err)
 		return popc_error_set(err, POPC_ERR_INVALID, "%s:%lld: more than %d cells", r->path,
 				      r->lineno, r->n_cols);
 	}
-	/* popc ends every row with a newline and the log with '# stop': a last
-	 * line without one was cut, even if its cells are all there (the last
-	 * number may be cut short) */
-	if (!complete && r->popc_log)
-		return popc_error_set(err, POPC_ERR_INVALID,
-				      "%s:%lld: truncated last line (no newline at the end of a popc log)",
-				      r->path, r->lineno);
 	for (int i = 0; i < n; i++) {
 		if (!r->parse[i]) {
 			values[i] = (double)NAN; /* a column nobody reads: text is fine */
@@ -445,7 +447,17 @@ int popc_log_reader_next(popc_log_reader *r, double *values, popc_error *err)
 		r->t_prev = t;
 	}
 	r->rows++;
+	r->last_row_line = r->lineno;
 	return 1;
+}
+
+int popc_log_reader_unfinished(const popc_log_reader *r)
+{
+	if (!r->popc_log)
+		return 0;
+	if (r->cut_line)
+		return POPC_LOG_CUT_LINE;
+	return r->stop_reason[0] ? 0 : POPC_LOG_NO_STOP;
 }
 
 int popc_log_reader_column(const popc_log_reader *r, const char *name)

@@ -15,7 +15,14 @@
  *
  * Errors name the file, line and column: an empty file, a repeated column name,
  * a row with too few or too many cells, a cell that is not a finite number, a
- * missing column, a popc log whose last line has no newline (cut short). */
+ * missing column.
+ *
+ * An unfinished popc log (one whose header has "format"), cut short by a full
+ * disk or a killed process, reads as its whole rows: a last line without a
+ * newline is the end of the log, not a row, and a log may lack its
+ * "# stop = ..." line; popc_log_reader_unfinished says which, after the last
+ * row, for the caller to note. A foreign log may end without a newline (RFC
+ * 4180): its last line is a row. */
 #ifndef POPC_LOG_READER_H
 #define POPC_LOG_READER_H
 
@@ -67,7 +74,16 @@ typedef struct popc_log_reader {
 	unsigned char parse[POPC_LOG_MAX_COLUMNS]; /* 0: a column nobody reads (NaN) */
 	int popc_log;                   /* the header has "format": popc wrote it */
 	double t_prev;
+	long long last_row_line;        /* line of the last row returned (0: none) */
+	long long cut_line;             /* a popc log's last line, cut (no newline); 0: none */
 } popc_log_reader;
+
+/* How a popc log ended, when it did not end as popc ends one (a whole last
+ * line, then "# stop = <reason>"). */
+enum {
+	POPC_LOG_NO_STOP = 1,  /* whole rows, but no stop line after them */
+	POPC_LOG_CUT_LINE = 2, /* the last line has no newline: cut (cut_line), not read */
+};
 
 /* Opens a log ("-" is standard input) and reads its header and column names. */
 int popc_log_reader_open(popc_log_reader *r, const char *path, const popc_log_reader_options *opt,
@@ -97,6 +113,11 @@ const char *popc_log_reader_header(const popc_log_reader *r, const char *key);
 /* Rebuilds the scene of a popc log from its header on top of s (defaults
  * first). Keys the header lacks keep their values in s. */
 int popc_log_reader_scene(const popc_log_reader *r, popc_scene *s, popc_error *err);
+
+/* After popc_log_reader_next returned 0: 0 for a popc log that ended with its
+ * stop line and for every foreign log; else POPC_LOG_NO_STOP or
+ * POPC_LOG_CUT_LINE (the rows read end at last_row_line). */
+int popc_log_reader_unfinished(const popc_log_reader *r);
 
 void popc_log_reader_close(popc_log_reader *r);
 
