@@ -163,13 +163,20 @@ typedef struct ana_row {
 	double dt_s, rtt_s;       /* NAN when absent */
 	double W_logged_J, E_ref_logged_J; /* NAN when absent */
 	int pc_force_known, w_known;       /* the ana_log's has_pc_force, has_w */
+	long long line;                    /* the row's line in the file, for messages */
 } ana_row;
 
 /* Opens a log: reader, scene (defaults, header, --set; validated), columns.
- * Requires t and a position (x or count). Errors name the file, line, column. */
+ * Requires t and a position (x or count). Errors name the file, line, column.
+ * A period taken from the time column must be a normal double (a step of
+ * 5e-324 s has no finite rate 1/T: every rate, velocity and window built on it
+ * would be inf or NaN). */
 int ana_log_open(ana_log *l, const char *path, const ana_input_options *o, popc_error *err);
 
-/* Next row: 1, 0 at the end, or a negative popc_status. A log whose period
+/* Next row: 1, 0 at the end, or a negative popc_status. Every quantity of
+ * the tick is finite: a derived one (v = dx/T, f_e, f_pc = f_c - f_e, the
+ * recomputed W and E_ref) and W - E_ref that overflow a double from finite
+ * cells are an error naming the line. A log whose period
  * comes from its time column (no rate) must have even steps (within
  * ANA_PERIOD_REL_TOL of the first) unless allow_uneven: the first step that is
  * not is an error naming its line. At the end of an unfinished popc log (no

@@ -132,7 +132,22 @@ int ana_cmd_replay(int argc, char **argv)
 			rc = 2;
 			goto out;
 		}
-		base.rate_Hz = 1.0 / l.period_s;
+		/* the replay logs' header holds the rate, which must read back as a
+		 * scene's run.rate: a period outside its range would give logs that
+		 * every verb refuses (1/5e-324 s was written as run.rate = inf) */
+		char rate[POPC_DOUBLE_TEXT_MAX + 1];
+		popc_format_double(1.0 / l.period_s, rate);
+		char what[1200];
+		snprintf(what, sizeof what, "%s: the period %g s (the first time step) is a rate of",
+			 path, l.period_s);
+		if ((st = popc_scene_set_option(&base, what, "run", "rate", rate, &err)) != 0) {
+			fprintf(stderr, "popc-analyze replay: %s, which the replay logs' header must hold "
+					"as run.rate (give --set run.rate=HZ if the time column is not in "
+					"seconds)\n",
+				err.msg);
+			rc = 2;
+			goto out;
+		}
 	}
 	unsigned columns = (l.c_x_true >= 0 ? POPC_LOG_COL_X_TRUE : 0u) |
 			   (l.c_dt >= 0 && l.c_rtt >= 0 ? POPC_LOG_COL_TIMING : 0u);
