@@ -297,6 +297,15 @@ static void test_reader_errors(void **state)
 		/* a repeated column name: both columns and the line named */
 		{"t,x,x\n0,1,2\n", NULL, {":1: column 3 (x)", "repeats the name of column 2 (line 1)"}},
 		{"# a = 1\n\"t\";x;f_c;x\n0;1;2;3\n", NULL, {":2: column 4 (x)", "column 2 (line 2)"}},
+		/* a popc log's header key given twice: both lines named (the scene
+		 * took the last, a header lookup the first) */
+		{"# format = 1\n# [run]\n# rate = 1000\n# rate = 2000\nt,x\n0,1\n", NULL,
+		 {":4: header key run.rate given twice", "(first on line 3)"}},
+		{"# format = 1\n# variant = none\n# variant = hold\nt,x\n0,1\n", NULL,
+		 {":3: header key variant given twice (first on line 2)", NULL}},
+		/* CR-only line ends: the whole file is one line */
+		{"# format = 1\r# source = sim\rt,x\r0,1\r", NULL, {":1: a carriage return (CR) inside the line", "CR-only"}},
+		{"t,x\r0,1\r0.001,2\r", NULL, {":1: a carriage return (CR) inside the line", NULL}},
 		/* a byte order mark is skipped only at the very start of the file */
 		{"t,x\n\xEF\xBB\xBF" "0,1\n", NULL, {":2: column 1 (t)", "not a finite number"}},
 	};
@@ -539,6 +548,44 @@ static void test_reader_unfinished(void **state)
 	}
 }
 
+/* A popc log's header that the scene refuses: the file, the key's own line
+ * and the key as the header spells it (it said "LOG: header: --set run.rate
+ * = ..." without a line); a foreign log's repeated comment keys are text. */
+static void test_reader_header_errors(void **state)
+{
+	(void)state;
+	const struct {
+		const char *text, *message;
+	} cases[] = {
+		{"# format = 1\n# source = sim\n# [run]\n# duration = 5\n# rate = 1e7\nt,x\n0,1\n",
+		 ":5: header: run.rate = 1e7: out of range; allowed [1, 1e+06] Hz"},
+		{"# format = 1\n# source = sim\n# [run]\n# rate = inf\nt,x\n0,1\n",
+		 ":4: header: run.rate = 'inf': not a finite number"},
+		{"# format = 1\n# [run]\n# rat = 10\nt,x\n0,1\n",
+		 ":3: header: unknown key run.rat; [run] has: duration, rate"},
+		{"# format = 1\n# [nosuch]\n# a = 1\nt,x\n0,1\n", ":3: header: unknown section [nosuch]"},
+	};
+	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+		const char *path = write_file("header.csv", cases[i].text);
+		popc_log_reader r;
+		popc_error err;
+		assert_int_equal(popc_log_reader_open(&r, path, NULL, &err), 0);
+		popc_scene s;
+		popc_scene_defaults(&s);
+		assert_int_equal(popc_log_reader_scene(&r, &s, &err), POPC_ERR_INVALID);
+		char want[512];
+		snprintf(want, sizeof want, "%s%s", path, cases[i].message);
+		if (strncmp(err.msg, want, strlen(want)) != 0)
+			fail_msg("case %zu: '%s', expected '%s...'", i, err.msg, want);
+		popc_log_reader_close(&r);
+	}
+	const char *path = write_file("foreign.csv", "# note = a\n# note = b\nt,x\n0,1\n");
+	popc_log_reader r;
+	popc_error err;
+	assert_int_equal(popc_log_reader_open(&r, path, NULL, &err), 0);
+	popc_log_reader_close(&r);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -551,6 +598,7 @@ int main(void)
 		cmocka_unit_test(test_foreign_log_mapping),
 		cmocka_unit_test(test_writer_full_disk),
 		cmocka_unit_test(test_reader_unfinished),
+		cmocka_unit_test(test_reader_header_errors),
 	};
 	return cmocka_run_group_tests(tests, setup, teardown);
 }

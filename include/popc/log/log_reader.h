@@ -22,7 +22,12 @@
  * newline is the end of the log, not a row, and a log may lack its
  * "# stop = ..." line; popc_log_reader_unfinished says which, after the last
  * row, for the caller to note. A foreign log may end without a newline (RFC
- * 4180): its last line is a row. */
+ * 4180): its last line is a row.
+ *
+ * A popc log's header gives each key once (a key given twice is an error
+ * naming both lines: the scene would take the last, a header lookup the
+ * first). A carriage return inside a header or column names line is an error:
+ * a file with CR-only line ends (classic Mac OS) would read as one line. */
 #ifndef POPC_LOG_READER_H
 #define POPC_LOG_READER_H
 
@@ -61,6 +66,7 @@ typedef struct popc_log_reader {
 	/* header "key = value" comments (keys qualified "section.key" below a [section]) */
 	int n_keys;
 	char *key[POPC_LOG_MAX_HEADER_KEYS], *value[POPC_LOG_MAX_HEADER_KEYS];
+	long long key_line[POPC_LOG_MAX_HEADER_KEYS]; /* the line of each key */
 	char section[64];               /* the last [section] comment, for keys after it */
 	char stop_reason[512];
 	/* buffer */
@@ -111,7 +117,8 @@ int popc_log_reader_require(const popc_log_reader *r, const char *name, int *ind
 const char *popc_log_reader_header(const popc_log_reader *r, const char *key);
 
 /* Rebuilds the scene of a popc log from its header on top of s (defaults
- * first). Keys the header lacks keep their values in s. */
+ * first). Keys the header lacks keep their values in s. An error names the
+ * file and the key's line ("LOG:12: header: run.rate = 1e7: out of range"). */
 int popc_log_reader_scene(const popc_log_reader *r, popc_scene *s, popc_error *err);
 
 /* After popc_log_reader_next returned 0: 0 for a popc log that ended with its
