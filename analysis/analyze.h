@@ -204,6 +204,20 @@ int ana_fail(const char *verb, int status, const popc_error *err);
  * beside a log named compare.csv, a replay prefix naming its own input). */
 int ana_output_is_input(const char *out, char *const *inputs, int n);
 
+/* Output paths, checked before any work: a path that cannot be used is bad
+ * usage (exit 2), named with its option, not a failure found after reading
+ * every log (exit 1 or 2 then). A file path: "-", an existing file that can be
+ * written, or a new one in an existing, writable directory (not a directory,
+ * not a path through a file). A directory: an existing writable one, or with
+ * create, one that mkdir can make (its parent exists and is writable).
+ * Return 0, or 2 after printing "popc-analyze VERB: OPT PATH: why". */
+int ana_output_file_usable(const char *verb, const char *opt, const char *path);
+int ana_output_dir_usable(const char *verb, const char *opt, const char *dir, int create);
+
+/* The name a verb gives a log (its file name without the directory and
+ * ".csv"; "stdin" for "-"), as ana_log_open sets ana_log.name. */
+void ana_log_name(const char *path, char *out, size_t cap);
+
 /* Writes text as one CSV cell: in double quotes (inner quotes doubled) when it
  * holds a comma, a quote or a line end, as a file name may. */
 void ana_put_csv_text(FILE *f, const char *text);

@@ -417,6 +417,8 @@ int ana_cmd_energy(int argc, char **argv)
 		rc = 2;
 		goto out;
 	}
+	if (out_path && (rc = ana_output_file_usable("energy", "-o", out_path)) != 0)
+		goto out; /* before any log is read */
 	const int observers_given = n_want > 0;
 	if (n_want == 0)
 		for (int i = 0; i < DEF_COUNT; i++)

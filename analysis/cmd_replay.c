@@ -116,6 +116,38 @@ int ana_cmd_replay(int argc, char **argv)
 		goto out;
 	}
 	const char *path = argv[optind];
+	outs = calloc((size_t)n_var, sizeof *outs);
+	if (!outs) {
+		fprintf(stderr, "popc-analyze replay: out of memory\n");
+		rc = 2;
+		goto out;
+	}
+	/* every output path first, before the log is read: a directory that is
+	 * not there, a path that is a directory, an output that is the input
+	 * (nothing is opened, and so nothing truncated, before all are safe) */
+	if (dir && (rc = ana_output_dir_usable("replay", "-o", dir, 0)) != 0)
+		goto out;
+	char log_name[256];
+	ana_log_name(path, log_name, sizeof log_name);
+	for (int i = 0; i < n_var; i++) {
+		replay_out *o = &outs[i];
+		const char *vn = popc_variant_name(variants[i]);
+		if (prefix)
+			snprintf(o->path, sizeof o->path, "%s%s.csv", prefix, vn);
+		else
+			snprintf(o->path, sizeof o->path, "%s/%s.%s.csv", dir ? dir : ".", log_name, vn);
+		char *self[1] = {(char *)path};
+		if (ana_output_is_input(o->path, self, 1) >= 0) {
+			fprintf(stderr,
+				"popc-analyze replay: %s is the input log %s: refusing to overwrite it "
+				"(choose another -o DIR or --prefix)\n",
+				o->path, path);
+			rc = 2;
+			goto out;
+		}
+		if ((rc = ana_output_file_usable("replay", prefix ? "--prefix" : "-o", o->path)) != 0)
+			goto out;
+	}
 	int st = ana_log_open(&l, path, &in, &err);
 	if (st) {
 		rc = ana_fail("replay", st, &err);
@@ -151,33 +183,8 @@ int ana_cmd_replay(int argc, char **argv)
 	}
 	unsigned columns = (l.c_x_true >= 0 ? POPC_LOG_COL_X_TRUE : 0u) |
 			   (l.c_dt >= 0 && l.c_rtt >= 0 ? POPC_LOG_COL_TIMING : 0u);
-	outs = calloc((size_t)n_var, sizeof *outs);
-	if (!outs) {
-		fprintf(stderr, "popc-analyze replay: out of memory\n");
-		rc = 2;
-		goto out;
-	}
 	char extra[1400];
 	snprintf(extra, sizeof extra, "# replay_of = %s\n# replay_of_variant = %s\n", path, l.variant);
-	/* every output path first: none may be the input (nothing is opened,
-	 * and so nothing truncated, before all are known to be safe) */
-	for (int i = 0; i < n_var; i++) {
-		replay_out *o = &outs[i];
-		const char *vn = popc_variant_name(variants[i]);
-		if (prefix)
-			snprintf(o->path, sizeof o->path, "%s%s.csv", prefix, vn);
-		else
-			snprintf(o->path, sizeof o->path, "%s/%s.%s.csv", dir ? dir : ".", l.name, vn);
-		char *self[1] = {(char *)path};
-		if (ana_output_is_input(o->path, self, 1) >= 0) {
-			fprintf(stderr,
-				"popc-analyze replay: %s is the input log %s: refusing to overwrite it "
-				"(choose another -o DIR or --prefix)\n",
-				o->path, path);
-			rc = 2;
-			goto out;
-		}
-	}
 	for (int i = 0; i < n_var; i++) {
 		replay_out *o = &outs[i];
 		o->scene = base;

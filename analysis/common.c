@@ -283,6 +283,11 @@ static void base_name(const char *path, char *out, size_t cap)
 	snprintf(out, cap, "%.*s", (int)n, b);
 }
 
+void ana_log_name(const char *path, char *out, size_t cap)
+{
+	base_name(path, out, cap);
+}
+
 static int set_given(const ana_input_options *o, const char *key)
 {
 	size_t n = strlen(key);
