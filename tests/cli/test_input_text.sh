@@ -29,8 +29,13 @@ expect_exit 2 "an unknown section alone at the end" "$POPC" scene show "$T/empty
 check "  named" err_has "$T/empty2.ini:3: unknown section [nosuch]"
 
 tr '\n' '\r' < "$SRC/data/drives/generic.ini" > "$T/crmap.ini"
-expect_exit 2 "a CR-only register map" "$POPC" run "$SRC/data/scenes/paper.ini" --axis modbus --map "$T/crmap.ini" --connect tcp:127.0.0.1:9
-check "  names line 1 and why (not a missing key)" err_has "popc run: $T/crmap.ini:1: $CR"
+"$POPC" run "$SRC/data/scenes/paper.ini" --axis modbus --map "$T/crmap.ini" --connect tcp:127.0.0.1:9 >"$T/out" 2>"$T/err"
+if grep -q "no Modbus support" "$T/err"; then
+	echo "# a build without Modbus reads no register map: the CR-only map is not checked"
+else
+	expect_exit 2 "a CR-only register map" "$POPC" run "$SRC/data/scenes/paper.ini" --axis modbus --map "$T/crmap.ini" --connect tcp:127.0.0.1:9
+	check "  names line 1 and why (not a missing key)" err_has "popc run: $T/crmap.ini:1: $CR"
+fi
 
 "$POPC" run "$SRC/data/scenes/paper.ini" --set run.duration=0.2 -q --log "$T/p.csv"
 rate=$(grep -n '^# rate = 1000$' "$T/p.csv" | cut -d: -f1)
