@@ -232,8 +232,10 @@ int popc_cmd_run(int argc, char **argv)
 	popc_run_options ro = {.log = NULL, .stop_flag = &popc_cli_stop};
 	if (log_path) {
 		st = popc_log_open(&log, log_path, axis->ops->log_columns, &err);
-		if (!st)
-			st = popc_log_write_header(&log, axis->ops->name, &s, NULL, &err);
+		if (!st && (st = popc_log_write_header(&log, axis->ops->name, &s, NULL, &err)) != 0) {
+			popc_error cerr; /* the header did not go out (a full disk): err says so */
+			popc_log_close(&log, &cerr);
+		}
 		if (st) {
 			if (summary && summary != stdout)
 				fclose(summary);
