@@ -152,6 +152,8 @@ typedef struct ana_log {
 	long long k;              /* ticks handed out */
 	double x_prev_m;
 	popc_observer obs;        /* recomputes W and E_ref when the file lacks them */
+	const char *verb;         /* for the note on an unfinished log */
+	int unfinished;           /* popc_log_reader_unfinished at the end, once noted */
 } ana_log;
 
 /* One row as analysed: the tick plus the optional columns. */
@@ -161,16 +163,26 @@ typedef struct ana_row {
 	double dt_s, rtt_s;       /* NAN when absent */
 	double W_logged_J, E_ref_logged_J; /* NAN when absent */
 	int pc_force_known, w_known;       /* the ana_log's has_pc_force, has_w */
+	long long line;                    /* the row's line in the file, for messages */
 } ana_row;
 
 /* Opens a log: reader, scene (defaults, header, --set; validated), columns.
- * Requires t and a position (x or count). Errors name the file, line, column. */
+ * Requires t and a position (x or count). Errors name the file, line, column.
+ * A period taken from the time column must be a normal double (a step of
+ * 5e-324 s has no finite rate 1/T: every rate, velocity and window built on it
+ * would be inf or NaN). */
 int ana_log_open(ana_log *l, const char *path, const ana_input_options *o, popc_error *err);
 
-/* Next row: 1, 0 at the end, or a negative popc_status. A log whose period
+/* Next row: 1, 0 at the end, or a negative popc_status. Every quantity of
+ * the tick is finite: a derived one (v = dx/T, f_e, f_pc = f_c - f_e, the
+ * recomputed W and E_ref) and W - E_ref that overflow a double from finite
+ * cells are an error naming the line. A log whose period
  * comes from its time column (no rate) must have even steps (within
  * ANA_PERIOD_REL_TOL of the first) unless allow_uneven: the first step that is
- * not is an error naming its line. */
+ * not is an error naming its line. At the end of an unfinished popc log (no
+ * stop line, or a last line cut short: popc_log_reader_unfinished) a note on
+ * stderr names the file and the line where its rows end; every verb reads
+ * such a log's whole rows (docs/ANALYSIS.md), and l->unfinished says it. */
 int ana_log_next(ana_log *l, ana_row *row, popc_error *err);
 
 void ana_log_close(ana_log *l);
@@ -191,6 +203,20 @@ int ana_fail(const char *verb, int status, const popc_error *err);
  * output replaces a log it reads (energy -o LOG LOG, a report's compare.csv
  * beside a log named compare.csv, a replay prefix naming its own input). */
 int ana_output_is_input(const char *out, char *const *inputs, int n);
+
+/* Output paths, checked before any work: a path that cannot be used is bad
+ * usage (exit 2), named with its option, not a failure found after reading
+ * every log (exit 1 or 2 then). A file path: "-", an existing file that can be
+ * written, or a new one in an existing, writable directory (not a directory,
+ * not a path through a file). A directory: an existing writable one, or with
+ * create, one that mkdir can make (its parent exists and is writable).
+ * Return 0, or 2 after printing "popc-analyze VERB: OPT PATH: why". */
+int ana_output_file_usable(const char *verb, const char *opt, const char *path);
+int ana_output_dir_usable(const char *verb, const char *opt, const char *dir, int create);
+
+/* The name a verb gives a log (its file name without the directory and
+ * ".csv"; "stdin" for "-"), as ana_log_open sets ana_log.name. */
+void ana_log_name(const char *path, char *out, size_t cap);
 
 /* Writes text as one CSV cell: in double quotes (inner quotes doubled) when it
  * holds a comma, a quote or a line end, as a file name may. */

@@ -8,6 +8,46 @@
 #include "analyze.h"
 #include "popc/core/metrics.h"
 
+/* Every number of the summary is finite: the rows are (ana_log_next), the
+ * RMS is taken without overflow (popc_sum_squares), the rates per second are
+ * at most 1/T (a normal T: ana_log_open); what is left is a difference of
+ * finite values that a double cannot hold (the duration from t = -1e308 to
+ * 1e308, the W - E_ref drift between two huge values), refused by name. */
+static int summary_finite(const char *path, const ana_summary *s, popc_error *err)
+{
+	const popc_chatter_result *c = &s->chatter;
+	const struct {
+		const char *name;
+		double v;
+	} q[] = {
+		{"duration_s (last t - first t)", s->duration_s},
+		{"pc_rms", s->pc_rms_N},
+		{"pc_rms_late", s->pc_rms_late_N},
+		{"pc_max", s->pc_max_N},
+		{"pc_energy", s->pc_energy_J},
+		{"w_minus_eref_min", s->w_minus_eref_min_J},
+		{"w_minus_eref_end", s->w_minus_eref_end_J},
+		{"vsign_rate", s->vsign_rate_Hz},
+		{"vsign_rate_late", s->vsign_rate_late_Hz},
+		{"chatter_s", c->chatter_s},
+		{"the chatter windows' largest PC RMS", c->max_pc_rms_N},
+		{"the chatter windows' largest PC flip rate", c->max_pc_flip_rate_Hz},
+		{"the chatter windows' largest velocity sign change rate", c->max_vsign_rate_Hz},
+		{"lc_amplitude", c->lc_amplitude_m},
+		{"lc_frequency", c->lc_frequency_Hz},
+		{"the limit cycle's sustain", c->lc_sustain},
+		{"the limit cycle's PC RMS", c->lc_pc_rms_N},
+		{"the limit cycle's W - E_ref drift", c->lc_w_drift_J},
+	};
+	for (size_t i = 0; i < sizeof q / sizeof q[0]; i++)
+		if (!isfinite(q[i].v))
+			return popc_error_set(err, POPC_ERR_INVALID,
+					      "%s: %s overflows a double, from finite rows (%lld ticks; "
+					      "the last limit-cycle window: t = %g to %g s)",
+					      path, q[i].name, s->ticks, c->lc_start_s, c->lc_end_s);
+	return 0;
+}
+
 int ana_summarize(const char *path, const ana_input_options *o, const popc_chatter_config *ccfg,
 		  double late_from_s, ana_summary *s, ana_row_fn on_row, void *ctx,
 		  popc_error *err)
@@ -38,6 +78,9 @@ int ana_summarize(const char *path, const ana_input_options *o, const popc_chatt
 	popc_chatter det;
 	st = popc_chatter_init(&det, &cc, l.period_s, &l.env, err);
 	if (st) {
+		char msg[POPC_ERROR_MSG_MAX];
+		snprintf(msg, sizeof msg, "%s", err->msg);
+		popc_error_set(err, st, "%s: %s", path, msg);
 		ana_log_close(&l);
 		return st;
 	}
@@ -48,6 +91,15 @@ int ana_summarize(const char *path, const ana_input_options *o, const popc_chatt
 			t0 = row.tick.t_s;
 		t1 = row.tick.t_s;
 		popc_metrics_add(&m, &row.tick);
+		/* f_pc(k-1) dx(k) of finite cells, summed: 1e308 N over 10 m is no
+		 * double */
+		if (!isfinite(m.pc_energy_J)) {
+			ana_log_close(&l);
+			return popc_error_set(err, POPC_ERR_INVALID,
+					      "%s:%lld: the PC energy, the sum of f_pc(k-1) (x(k) - "
+					      "x(k-1)), overflows a double here (f_pc %g N, x %g m)",
+					      path, row.line, row.tick.f_pc_N, row.tick.x_m);
+		}
 		popc_chatter_add(&det, &row.tick);
 		if (on_row)
 			on_row(ctx, &row);
@@ -67,7 +119,7 @@ int ana_summarize(const char *path, const ana_input_options *o, const popc_chatt
 	s->w_minus_eref_end_J = m.w_minus_eref_end_J;
 	s->vsign_rate_Hz = popc_metrics_vsign_rate(&m.all, m.period_s);
 	s->vsign_rate_late_Hz = popc_metrics_vsign_rate(&m.late, m.period_s);
-	return 0;
+	return summary_finite(path, s, err);
 }
 
 int ana_chatter_checked(const ana_summary *s)

@@ -230,6 +230,16 @@ static int energy_one(const char *path, const ana_input_options *in, const int *
 			energy_state *e = &s[i];
 			step(e, &l, t);
 			double W = e->obs.W_J, E = e->obs.E_ref_J;
+			if (!isfinite(W) || !isfinite(E) || !isfinite(W - E)) {
+				/* sums of finite products beyond a double: say where,
+				 * never print inf or NaN as a result */
+				st = popc_error_set(&err, POPC_ERR_INVALID,
+						    "%s:%lld: observer %s: W, E_ref or W - E_ref overflows "
+						    "a double here (the sums of f_c dx and f_e dx; f_c %g N, "
+						    "x %g m)",
+						    path, row.line, defs[e->def].name, t->f_c_N, t->x_m);
+				break;
+			}
 			if (W - E < e->wme_min_J)
 				e->wme_min_J = W - E;
 			if (logged) {
@@ -242,6 +252,8 @@ static int energy_one(const char *path, const ana_input_options *in, const int *
 					e->mismatches++;
 			}
 		}
+		if (st < 0)
+			break;
 		if (out) {
 			ana_put_double(out, t->t_s);
 			fputc(',', out);
@@ -270,7 +282,8 @@ static int energy_one(const char *path, const ana_input_options *in, const int *
 	 * keeps every row written so far and says so, so it cannot pass for a
 	 * complete recompute of a shorter log */
 	if (out)
-		fprintf(out, "# stop = %s\n", st < 0 ? "input error" : "completed");
+		fprintf(out, "# stop = %s\n",
+			st < 0 ? "input error" : l.unfinished ? "input unfinished" : "completed");
 	int write_failed = 0;
 	if (out && out != stdout)
 		write_failed = fclose(out) != 0;
@@ -404,6 +417,8 @@ int ana_cmd_energy(int argc, char **argv)
 		rc = 2;
 		goto out;
 	}
+	if (out_path && (rc = ana_output_file_usable("energy", "-o", out_path)) != 0)
+		goto out; /* before any log is read */
 	const int observers_given = n_want > 0;
 	if (n_want == 0)
 		for (int i = 0; i < DEF_COUNT; i++)

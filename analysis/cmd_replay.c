@@ -116,6 +116,38 @@ int ana_cmd_replay(int argc, char **argv)
 		goto out;
 	}
 	const char *path = argv[optind];
+	outs = calloc((size_t)n_var, sizeof *outs);
+	if (!outs) {
+		fprintf(stderr, "popc-analyze replay: out of memory\n");
+		rc = 2;
+		goto out;
+	}
+	/* every output path first, before the log is read: a directory that is
+	 * not there, a path that is a directory, an output that is the input
+	 * (nothing is opened, and so nothing truncated, before all are safe) */
+	if (dir && (rc = ana_output_dir_usable("replay", "-o", dir, 0)) != 0)
+		goto out;
+	char log_name[256];
+	ana_log_name(path, log_name, sizeof log_name);
+	for (int i = 0; i < n_var; i++) {
+		replay_out *o = &outs[i];
+		const char *vn = popc_variant_name(variants[i]);
+		if (prefix)
+			snprintf(o->path, sizeof o->path, "%s%s.csv", prefix, vn);
+		else
+			snprintf(o->path, sizeof o->path, "%s/%s.%s.csv", dir ? dir : ".", log_name, vn);
+		char *self[1] = {(char *)path};
+		if (ana_output_is_input(o->path, self, 1) >= 0) {
+			fprintf(stderr,
+				"popc-analyze replay: %s is the input log %s: refusing to overwrite it "
+				"(choose another -o DIR or --prefix)\n",
+				o->path, path);
+			rc = 2;
+			goto out;
+		}
+		if ((rc = ana_output_file_usable("replay", prefix ? "--prefix" : "-o", o->path)) != 0)
+			goto out;
+	}
 	int st = ana_log_open(&l, path, &in, &err);
 	if (st) {
 		rc = ana_fail("replay", st, &err);
@@ -132,37 +164,27 @@ int ana_cmd_replay(int argc, char **argv)
 			rc = 2;
 			goto out;
 		}
-		base.rate_Hz = 1.0 / l.period_s;
-	}
-	unsigned columns = (l.c_x_true >= 0 ? POPC_LOG_COL_X_TRUE : 0u) |
-			   (l.c_dt >= 0 && l.c_rtt >= 0 ? POPC_LOG_COL_TIMING : 0u);
-	outs = calloc((size_t)n_var, sizeof *outs);
-	if (!outs) {
-		fprintf(stderr, "popc-analyze replay: out of memory\n");
-		rc = 2;
-		goto out;
-	}
-	char extra[1400];
-	snprintf(extra, sizeof extra, "# replay_of = %s\n# replay_of_variant = %s\n", path, l.variant);
-	/* every output path first: none may be the input (nothing is opened,
-	 * and so nothing truncated, before all are known to be safe) */
-	for (int i = 0; i < n_var; i++) {
-		replay_out *o = &outs[i];
-		const char *vn = popc_variant_name(variants[i]);
-		if (prefix)
-			snprintf(o->path, sizeof o->path, "%s%s.csv", prefix, vn);
-		else
-			snprintf(o->path, sizeof o->path, "%s/%s.%s.csv", dir ? dir : ".", l.name, vn);
-		char *self[1] = {(char *)path};
-		if (ana_output_is_input(o->path, self, 1) >= 0) {
-			fprintf(stderr,
-				"popc-analyze replay: %s is the input log %s: refusing to overwrite it "
-				"(choose another -o DIR or --prefix)\n",
-				o->path, path);
+		/* the replay logs' header holds the rate, which must read back as a
+		 * scene's run.rate: a period outside its range would give logs that
+		 * every verb refuses (1/5e-324 s was written as run.rate = inf) */
+		char rate[POPC_DOUBLE_TEXT_MAX + 1];
+		popc_format_double(1.0 / l.period_s, rate);
+		char what[1200];
+		snprintf(what, sizeof what, "%s: the period %g s (the first time step) is a rate of",
+			 path, l.period_s);
+		if ((st = popc_scene_set_option(&base, what, "run", "rate", rate, &err)) != 0) {
+			fprintf(stderr, "popc-analyze replay: %s, which the replay logs' header must hold "
+					"as run.rate (give --set run.rate=HZ if the time column is not in "
+					"seconds)\n",
+				err.msg);
 			rc = 2;
 			goto out;
 		}
 	}
+	unsigned columns = (l.c_x_true >= 0 ? POPC_LOG_COL_X_TRUE : 0u) |
+			   (l.c_dt >= 0 && l.c_rtt >= 0 ? POPC_LOG_COL_TIMING : 0u);
+	char extra[1400];
+	snprintf(extra, sizeof extra, "# replay_of = %s\n# replay_of_variant = %s\n", path, l.variant);
 	for (int i = 0; i < n_var; i++) {
 		replay_out *o = &outs[i];
 		o->scene = base;
@@ -210,7 +232,9 @@ int ana_cmd_replay(int argc, char **argv)
 		goto out;
 	}
 	for (int i = 0; i < n_var; i++) {
-		st = popc_log_write_comment(&outs[i].w, "stop", "completed", &err);
+		/* an unfinished input gives replays as short as it is, and says so */
+		st = popc_log_write_comment(&outs[i].w, "stop",
+					    l.unfinished ? "input unfinished" : "completed", &err);
 		if (!st)
 			st = popc_log_close(&outs[i].w, &err);
 		outs[i].open = 0;

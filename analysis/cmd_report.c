@@ -463,6 +463,47 @@ static int write_tables(const report_out *ro, const report_log *logs, int n)
 	return bad ? -1 : 0;
 }
 
+typedef struct report_name {
+	char name[256];
+} report_name;
+
+/* Each input's name in the report (a unique, file-name-safe form of its file
+ * name, from the paths alone), and a check of every path the report will
+ * write: each must be usable as a file (ana_output_file_usable). Returns 0
+ * or 2 after saying which. */
+static int name_outputs(const report_out *ro, report_name *names)
+{
+	static const char *const fixed[] = {"compare.csv", "compare.md",   "index.md",
+					    "index.html",  "variants.gp",  "variants.png",
+					    "variants.pdf", "variants.eps"};
+	static const char *const per_log[] = {"dat", "gp", "png", "pdf", "eps"};
+	char path[1400];
+	for (size_t k = 0; k < sizeof fixed / sizeof fixed[0]; k++) {
+		snprintf(path, sizeof path, "%s/%s", ro->dir, fixed[k]);
+		if (ana_output_file_usable("report", "-o", path) != 0)
+			return 2;
+	}
+	for (int i = 0; i < ro->n_inputs; i++) {
+		char log_name[256], base[256];
+		ana_log_name(ro->inputs[i], log_name, sizeof log_name);
+		safe_name(log_name, base, sizeof base);
+		snprintf(names[i].name, sizeof names[i].name, "%s", base);
+		for (int k = 2, clash = 1; clash; k++) {
+			clash = 0;
+			for (int j = 0; j < i; j++)
+				clash |= strcmp(names[j].name, names[i].name) == 0;
+			if (clash)
+				snprintf(names[i].name, sizeof names[i].name, "%.240s-%d", base, k);
+		}
+		for (size_t k = 0; k < sizeof per_log / sizeof per_log[0]; k++) {
+			snprintf(path, sizeof path, "%s/%s.%s", ro->dir, names[i].name, per_log[k]);
+			if (ana_output_file_usable("report", "-o", path) != 0)
+				return 2;
+		}
+	}
+	return 0;
+}
+
 static int make_dir(const char *dir)
 {
 	if (mkdir(dir, 0777) == 0 || errno == EEXIST) {
@@ -489,10 +530,10 @@ static int draw(const char *gnuplot, const report_out *ro, const char *name)
 		snprintf(fig, sizeof fig, "%s/%s.%s", dir, name, figure_ext[k]);
 		if (check_not_input(ro, fig) != 0)
 			return -2;
-		if (remove(fig) != 0 && errno != ENOENT) {
+		if (remove(fig) != 0 && errno != ENOENT) { /* an output path, not gnuplot: 2 */
 			fprintf(stderr, "popc-analyze report: %s: cannot replace: %s\n", fig,
 				strerror(errno));
-			return -1;
+			return -2;
 		}
 	}
 	if (ana_run_gnuplot(gnuplot, dir, script, why, sizeof why) != 0) {
@@ -529,6 +570,7 @@ int ana_cmd_report(int argc, char **argv)
 	long points = 2000;
 	int no_draw = 0, c, rc = 0, n = 0;
 	report_log *logs = NULL;
+	report_name *names = NULL;
 	optind = 1;
 	while ((c = getopt_long(argc, argv, "o:h", opts, NULL)) != -1) {
 		switch (c) {
@@ -566,16 +608,25 @@ int ana_cmd_report(int argc, char **argv)
 		rc = 2;
 		goto out;
 	}
+	if ((rc = ana_output_dir_usable("report", "-o", dir, 1)) != 0)
+		goto out;
 	if (make_dir(dir) != 0) {
 		rc = 2;
 		goto out;
 	}
 	const report_out ro = {dir, argv + optind, argc - optind};
 	logs = calloc((size_t)(argc - optind), sizeof *logs);
-	if (!logs) {
+	names = calloc((size_t)(argc - optind), sizeof *names);
+	if (!logs || !names) {
 		rc = 2;
 		goto out;
 	}
+	/* every file the report writes, before any log is read: a path there
+	 * that is a directory is bad usage, not a figure that failed (a non-empty
+	 * directory named NAME.png could not be replaced: exit 1 after all the
+	 * work) */
+	if ((rc = name_outputs(&ro, names)) != 0)
+		goto out;
 	for (int i = optind; i < argc; i++) {
 		report_log *lg = &logs[n];
 		ana_decimator dec;
@@ -608,17 +659,7 @@ int ana_cmd_report(int argc, char **argv)
 				err.msg);
 		}
 		script_safe(lg->sum.variant);
-		/* a unique, file-name-safe name */
-		char base[256];
-		safe_name(lg->sum.log, base, sizeof base);
-		snprintf(lg->name, sizeof lg->name, "%s", base);
-		for (int k = 2, clash = 1; clash; k++) {
-			clash = 0;
-			for (int j = 0; j < n; j++)
-				clash |= strcmp(logs[j].name, lg->name) == 0;
-			if (clash)
-				snprintf(lg->name, sizeof lg->name, "%.240s-%d", base, k);
-		}
+		snprintf(lg->name, sizeof lg->name, "%s", names[i - optind].name);
 		lg->has_x_true = 0;
 		for (int b = 0; b < dec.n; b++)
 			lg->has_x_true |= !isnan(dec.b[b].mn[D_X_TRUE]);
@@ -670,6 +711,7 @@ int ana_cmd_report(int argc, char **argv)
 	printf("%s/index.html\n", dir);
 out:
 	free(logs);
+	free(names);
 	ana_input_free(&in);
 	return rc;
 }

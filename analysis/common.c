@@ -5,11 +5,11 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
 #include "analyze.h"
 #include "popc/core/encoder.h"
 #include "popc/util/numfmt.h"
+#include "popc/util/same_file.h"
 #include "popc/scene/from_scene.h"
 
 int ana_fail(const char *verb, int status, const popc_error *err)
@@ -23,15 +23,9 @@ int ana_fail(const char *verb, int status, const popc_error *err)
 
 int ana_output_is_input(const char *out, char *const *inputs, int n)
 {
-	struct stat so;
-	if (strcmp(out, "-") == 0 || stat(out, &so) != 0)
-		return -1; /* standard output, or a file that does not exist yet */
-	for (int i = 0; i < n; i++) {
-		struct stat si;
-		if (strcmp(inputs[i], "-") != 0 && stat(inputs[i], &si) == 0 && si.st_dev == so.st_dev &&
-		    si.st_ino == so.st_ino)
+	for (int i = 0; i < n; i++)
+		if (popc_same_file(out, inputs[i]))
 			return i;
-	}
 	return -1;
 }
 
@@ -289,6 +283,11 @@ static void base_name(const char *path, char *out, size_t cap)
 	snprintf(out, cap, "%.*s", (int)n, b);
 }
 
+void ana_log_name(const char *path, char *out, size_t cap)
+{
+	base_name(path, out, cap);
+}
+
 static int set_given(const ana_input_options *o, const char *key)
 {
 	size_t n = strlen(key);
@@ -407,6 +406,7 @@ static int apply_scale(const ana_log *l, double *row, long long line, popc_error
 int ana_log_open(ana_log *l, const char *path, const ana_input_options *o, popc_error *err)
 {
 	memset(l, 0, sizeof *l);
+	l->verb = o->verb;
 	base_name(path, l->name, sizeof l->name);
 	int st = popc_log_reader_open(&l->r, path, &o->reader, err);
 	if (st)
@@ -499,6 +499,20 @@ int ana_log_open(ana_log *l, const char *path, const ana_input_options *o, popc_
 	} else {
 		l->period_s = l->ahead[1][l->c_t] - l->ahead[0][l->c_t];
 		l->period_from_time = 1;
+		/* a subnormal step (5e-324 s) has no finite rate, an infinite one
+		 * (1e308 after -1e308) no finite time: the rates per second, v =
+		 * dx/T and the observers' v T would be inf or NaN */
+		if (!isnormal(l->period_s)) {
+			st = popc_error_set(err, POPC_ERR_INVALID,
+					    "%s:%lld: column %d (t): the first time step, %g s (lines "
+					    "%lld-%lld), cannot be the period: %s (the log gives no "
+					    "rate: give --set run.rate=HZ, or a time column in seconds)",
+					    path, l->ahead_line[1], l->c_t + 1, l->period_s,
+					    l->ahead_line[0], l->ahead_line[1],
+					    isfinite(l->period_s) ? "its rate 1/T overflows a double"
+								  : "it overflows a double");
+			goto fail;
+		}
 	}
 	l->allow_uneven = o->allow_uneven;
 	popc_variant v;
@@ -519,20 +533,68 @@ fail:
 	return st;
 }
 
+/* The cells are finite (the reader), but what is derived from them need not
+ * be: v = dx / T with dx near 8e18 m and a tiny T, f_c = f_e + f_pc near
+ * 1e308 each, a W summed over rows, W - E_ref of two logged energies. What a
+ * double cannot hold is refused where it first happens. */
+static int check_finite(const ana_log *l, const popc_tick *t, long long line, popc_error *err)
+{
+	const struct {
+		const char *what;
+		double v;
+		int derived;
+	} q[] = {
+		{"the velocity v = (x(k) - x(k-1)) / T", t->v_mps, l->c_v < 0},
+		{"the environment force f_e (from x, v and environment.*)", t->f_e_N, l->c_f_e < 0},
+		{"f_pc = f_c - f_e", t->f_pc_N, l->c_f_pc < 0},
+		{"f_c = f_e + f_pc", t->f_c_N, l->c_f_c < 0},
+		{"the recomputed W (the sum of f_c dx)", t->W_J, l->c_W < 0 || l->c_E_ref < 0},
+		{"the recomputed E_ref (the sum of f_e dx)", t->E_ref_J, l->c_W < 0 || l->c_E_ref < 0},
+		{"W - E_ref", t->W_J - t->E_ref_J, 1},
+	};
+	for (size_t i = 0; i < sizeof q / sizeof q[0]; i++)
+		if (q[i].derived && !isfinite(q[i].v))
+			return popc_error_set(err, POPC_ERR_INVALID,
+					      "%s:%lld: %s overflows a double (from finite cells: x = %g m, "
+					      "the previous x = %g m, T = %g s)",
+					      l->r.path, line, q[i].what, t->x_m, l->k ? l->x_prev_m : t->x_m,
+					      l->period_s);
+	return 0;
+}
+
+/* An unfinished popc log is read to its last whole row, and says so: its
+ * results are those of a shorter run than the one popc was asked for. */
+static void note_unfinished(ana_log *l)
+{
+	l->unfinished = popc_log_reader_unfinished(&l->r);
+	if (!l->unfinished)
+		return;
+	char cut[96] = "";
+	if (l->unfinished == POPC_LOG_CUT_LINE)
+		snprintf(cut, sizeof cut, "line %lld, the last, is cut short (no newline) and not read; ",
+			 l->r.cut_line);
+	fprintf(stderr,
+		"popc-analyze %s: note: %s: unfinished log: %sno '# stop = ...' line; its %lld whole "
+		"rows to line %lld are read (the run was cut short: a full disk, a killed process)\n",
+		l->verb ? l->verb : "analyze", l->r.path, cut, l->r.rows, l->r.last_row_line);
+}
+
 int ana_log_next(ana_log *l, ana_row *out, popc_error *err)
 {
 	const double *row;
+	int st;
 	long long line; /* the row's line in the file, for messages */
 	if (l->ahead_pos < l->n_ahead) {
 		line = l->ahead_line[l->ahead_pos];
 		row = l->ahead[l->ahead_pos++];
 	} else {
 		int got = popc_log_reader_next(&l->r, l->row, err);
+		if (got == 0 && !l->unfinished)
+			note_unfinished(l);
 		if (got <= 0)
 			return got;
 		line = l->r.lineno;
-		int st = apply_scale(l, l->row, line, err);
-		if (st)
+		if ((st = apply_scale(l, l->row, line, err)) != 0)
 			return st;
 		row = l->row;
 	}
@@ -615,8 +677,11 @@ int ana_log_next(ana_log *l, ana_row *out, popc_error *err)
 	} else {
 		t->flags = t->f_pc_N != 0.0 ? POPC_FLAG_ACTIVE : 0u;
 	}
+	if ((st = check_finite(l, t, line, err)) != 0)
+		return st;
 	out->pc_force_known = l->has_pc_force;
 	out->w_known = l->has_w;
+	out->line = line;
 	out->x_true_m = l->c_x_true >= 0 ? row[l->c_x_true] : (double)NAN;
 	out->dt_s = l->c_dt >= 0 ? row[l->c_dt] : (double)NAN;
 	out->rtt_s = l->c_rtt >= 0 ? row[l->c_rtt] : (double)NAN;

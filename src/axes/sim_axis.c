@@ -259,11 +259,14 @@ static int sim_sample(popc_axis *a, popc_axis_sample *out, popc_error *err)
 				: "and so does the exact integrator fed the same commands",
 			pc_note);
 	}
+	/* only a force with no spring to hold it gets here (every bounded
+	 * scene's reach is within 2^53 counts: popc_intent_from_scene): a run
+	 * that went unbounded, numeric failure (exit 6), not bad input */
 	if (!ok)
-		return popc_error_set(err, POPC_ERR_INVALID,
+		return popc_error_set(err, POPC_ERR_DIVERGED,
 				      "encoder count overflow at t = %.9g s (tick %lld): x = %g m is %g "
 				      "counts of encoder.resolution = %g m, beyond 2^53 counts (where count x "
-				      "resolution stops being exact); raise "
+				      "resolution stops being exact); nothing holds this pushed mass; raise "
 				      "encoder.resolution",
 				      (double)s->k * s->period_s, s->k, s->st.x_m,
 				      s->st.x_m / s->delta_m, s->delta_m);
@@ -491,34 +494,12 @@ static const popc_axis_ops sim_ops = {
 	.set_shadow = sim_set_shadow,
 };
 
-/* The divergence bound of a scene (DIVERGED_FACTOR): 10 x the largest
- * position it names + 1 m, at most DIVERGED_MAX_M. */
+/* The divergence bound of a scene (DIVERGED_FACTOR): its reach, 10 x the
+ * largest position it names + 1 m (popc_scene_reach_m, which the scene layer
+ * also checks against the encoder's 2^53 counts), at most DIVERGED_MAX_M. */
 static double divergence_bound_m(const popc_scene *sc, const popc_intent *in)
 {
-	double x = fmax(fabs(sc->op_x0_m), fabs(sc->env_position_m));
-	if (sc->intent == POPC_INTENT_RAMP)
-		x = fmax(x, fabs(sc->op_x_end_m));
-	else if (sc->intent == POPC_INTENT_SINE)
-		x = fmax(x, fabs(sc->op_x0_m) + sc->op_amplitude_m);
-	if (in->q_is_force) {
-		/* the hand rests at x0 and pushes with f(t): the static equilibrium
-		 * (K_HO x0 + f) / K on the plant's spring, or on a bilateral spring */
-		double f = 0.0;
-		for (size_t i = 0; i < in->n; i++)
-			f = fmax(f, fabs(in->q[i]));
-		double pull = fabs(sc->op_stiffness_Npm * sc->op_x0_m) + f;
-		double k = sc->op_stiffness_Npm + sc->dev_stiffness_Npm;
-		if (k > 0.0)
-			x = fmax(x, pull / k);
-		else if (sc->env_kind == POPC_ENV_SPRING && sc->env_stiffness_Npm > 0.0)
-			x = fmax(x, fabs(sc->env_position_m) + pull / sc->env_stiffness_Npm);
-		else
-			return DIVERGED_MAX_M; /* nothing holds a pushed free mass */
-	} else if (sc->intent == POPC_INTENT_TABLE) {
-		for (size_t i = 0; i < in->n; i++)
-			x = fmax(x, fabs(in->q[i]));
-	}
-	return fmin(DIVERGED_FACTOR * x + DIVERGED_MARGIN_M, DIVERGED_MAX_M);
+	return fmin(popc_scene_reach_m(sc, in, NULL, 0), DIVERGED_MAX_M);
 }
 
 /* The plant starts at rest at its static equilibrium under the operator's

@@ -9,6 +9,7 @@
 #include "popc/axes/axis.h"
 #include "popc/log/log.h"
 #include "popc/run/run.h"
+#include "popc/util/same_file.h"
 
 static void usage(FILE *f)
 {
@@ -87,6 +88,50 @@ static int write_summary_file(FILE *f, const popc_run_summary *sum, const popc_s
 	return st;
 }
 
+/* No output may be one of the run's inputs: --log truncates its file before
+ * the first tick and --summary appends to its file, so either onto the scene,
+ * the operator table or the register map would destroy what the run reads
+ * (or what a rerun needs); and --log and --summary onto one file would
+ * interleave a log and a summary row. Existing files are compared by
+ * st_dev/st_ino (popc_same_file: a link or another spelling counts); a file
+ * that does not exist yet is no input. Returns 0, or -1 after saying which
+ * option names which file. */
+static int refuse_overwriting_inputs(const popc_scene *s, const char *scene_path,
+				     const char *log_path, const char *summary_path)
+{
+	const struct {
+		const char *what, *path;
+	} inputs[] = {
+		{"the scene file", scene_path},
+		{"the operator table (operator.table)",
+		 s->intent == POPC_INTENT_TABLE ? s->op_table : NULL},
+		{"the register map (axis.map)", strcmp(s->axis, "modbus") == 0 ? s->axis_map : NULL},
+	};
+	const struct {
+		const char *option, *path;
+	} outputs[] = {{"--log", log_path}, {"--summary", summary_path}};
+	for (size_t o = 0; o < sizeof outputs / sizeof outputs[0]; o++)
+		for (size_t i = 0; i < sizeof inputs / sizeof inputs[0]; i++)
+			if (popc_same_file(outputs[o].path, inputs[i].path)) {
+				fprintf(stderr,
+					"popc run: %s %s is %s %s: refusing to overwrite an input "
+					"(choose another %s)\n",
+					outputs[o].option, outputs[o].path, inputs[i].what, inputs[i].path,
+					outputs[o].option);
+				return -1;
+			}
+	/* the two outputs, also when neither exists yet ("-" twice is refused
+	 * with the usage) */
+	if (log_path && summary_path && strcmp(log_path, "-") != 0 &&
+	    (strcmp(log_path, summary_path) == 0 || popc_same_file(log_path, summary_path))) {
+		fprintf(stderr,
+			"popc run: --log %s and --summary %s are the same file: give each its own\n",
+			log_path, summary_path);
+		return -1;
+	}
+	return 0;
+}
+
 int popc_cmd_run(int argc, char **argv)
 {
 	static const struct option opts[] = {
@@ -163,6 +208,8 @@ int popc_cmd_run(int argc, char **argv)
 	free(sets);
 	if (st)
 		return popc_cli_fail("run", st, &err);
+	if (refuse_overwriting_inputs(&s, argv[optind], log_path, summary_path) != 0)
+		return 2;
 
 	popc_axis *axis = NULL;
 	st = popc_axis_create(&axis, &s, &axis_create, &err);
@@ -180,8 +227,10 @@ int popc_cmd_run(int argc, char **argv)
 	popc_run_options ro = {.log = NULL, .stop_flag = &popc_cli_stop};
 	if (log_path) {
 		st = popc_log_open(&log, log_path, axis->ops->log_columns, &err);
-		if (!st)
-			st = popc_log_write_header(&log, axis->ops->name, &s, NULL, &err);
+		if (!st && (st = popc_log_write_header(&log, axis->ops->name, &s, NULL, &err)) != 0) {
+			popc_error cerr; /* the header did not go out (a full disk): err says so */
+			popc_log_close(&log, &cerr);
+		}
 		if (st) {
 			if (summary && summary != stdout)
 				fclose(summary);

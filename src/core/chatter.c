@@ -93,7 +93,13 @@ int popc_chatter_init(popc_chatter *d, const popc_chatter_config *cfg, double pe
 	double sub = cfg->window_s / period_s / POPC_CHATTER_SUBBLOCKS;
 	double seg = cfg->lc_window_s / period_s / POPC_CHATTER_LC_SEGMENTS;
 	if (sub > 1e12 || seg > 1e12)
-		return popc_error_set(err, POPC_ERR_INVALID, "chatter detector: window too long");
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "chatter detector: window %g s and lc_window %g s at a period of "
+				      "%g s are %.3g and %.3g ticks, more than 1e13 (at most 1e12 ticks "
+				      "per sub-block): give shorter windows (--threshold window=S, "
+				      "lc_window=S) or the log's true rate (--set run.rate=HZ)",
+				      cfg->window_s, cfg->lc_window_s, period_s, cfg->window_s / period_s,
+				      cfg->lc_window_s / period_s);
 	d->sub_ticks = sub < 1.0 ? 1 : llround(sub);
 	d->seg_ticks = seg < 1.0 ? 1 : llround(seg);
 	d->res.window_ticks = d->sub_ticks * POPC_CHATTER_SUBBLOCKS;
@@ -130,10 +136,10 @@ static void evaluate_window(popc_chatter *d)
 		w.contact_ticks += b->contact_ticks;
 		w.pc_flips += b->pc_flips;
 		w.vsign_changes += b->vsign_changes;
-		w.pc_sq_sum += b->pc_sq_sum;
+		popc_sum_squares_merge(&w.pc_sq, &b->pc_sq);
 	}
 	const double T = d->period_s;
-	double rms = sqrt(w.pc_sq_sum / (double)w.ticks);
+	double rms = popc_sum_squares_rms(&w.pc_sq, (double)w.ticks);
 	double flips = (double)w.pc_flips / ((double)w.ticks * T);
 	double contact = (double)w.contact_ticks / (double)w.ticks;
 	double vrate = w.contact_ticks ? (double)w.vsign_changes / ((double)w.contact_ticks * T) : 0.0;
@@ -259,7 +265,7 @@ void popc_chatter_add(popc_chatter *d, const popc_tick *t)
 	b->contact_ticks += contact;
 	b->pc_flips += flip;
 	b->vsign_changes += contact && vchange;
-	b->pc_sq_sum += t->f_pc_N * t->f_pc_N;
+	popc_sum_squares_add(&b->pc_sq, t->f_pc_N);
 	if (b->ticks == d->sub_ticks) {
 		if (d->ring_n < POPC_CHATTER_SUBBLOCKS) {
 			d->ring[(d->ring_head + d->ring_n) % POPC_CHATTER_SUBBLOCKS] = *b;
@@ -284,7 +290,7 @@ void popc_chatter_add(popc_chatter *d, const popc_tick *t)
 	g->wme_last_J = wme;
 	g->ticks++;
 	g->contact_ticks += contact;
-	g->pc_sq_sum += t->f_pc_N * t->f_pc_N;
+	popc_sum_squares_add(&g->pc_sq, t->f_pc_N);
 	if (g->ticks == d->seg_ticks) {
 		if (d->seg_n < POPC_CHATTER_LC_SEGMENTS) {
 			d->seg[(d->seg_head + d->seg_n) % POPC_CHATTER_LC_SEGMENTS] = *g;
@@ -347,11 +353,11 @@ void popc_chatter_finish(popc_chatter *d, popc_chatter_result *r)
 		list[n++] = &d->seg_cur;
 	popc_chatter_result *res = &d->res;
 	long long ticks = 0, contact = 0, rev = 0;
-	double pc_sq = 0.0;
+	popc_sum_squares pc_sq = {0.0, 0.0, 0.0};
 	for (int i = 0; i < n; i++) {
 		ticks += list[i]->ticks;
 		contact += list[i]->contact_ticks;
-		pc_sq += list[i]->pc_sq_sum;
+		popc_sum_squares_merge(&pc_sq, &list[i]->pc_sq);
 	}
 	res->lc_ticks = ticks;
 	if (ticks > 0) {
@@ -361,7 +367,7 @@ void popc_chatter_finish(popc_chatter *d, popc_chatter_result *r)
 		res->lc_amplitude_m = amplitude_of(list, 0, n, &rev);
 		res->lc_frequency_Hz = (double)rev / 2.0 / res->lc_span_s;
 		res->lc_contact = (double)contact / (double)ticks;
-		res->lc_pc_rms_N = sqrt(pc_sq / (double)ticks);
+		res->lc_pc_rms_N = popc_sum_squares_rms(&pc_sq, (double)ticks);
 		res->lc_w_drift_J = list[n - 1]->wme_last_J - list[0]->wme_first_J;
 		/* sustained: the last quarter still swings like the first; the
 		 * quarters in ticks (quarter_segments) */

@@ -19,7 +19,7 @@ static void window_add(popc_metrics_window *w, const popc_tick *t, int in_contac
 	w->ticks++;
 	if (t->f_pc_N != 0.0)
 		w->active_ticks++;
-	w->pc_sq_sum += t->f_pc_N * t->f_pc_N;
+	popc_sum_squares_add(&w->pc_sq, t->f_pc_N);
 	if (fabs(t->f_pc_N) > w->pc_max_N)
 		w->pc_max_N = fabs(t->f_pc_N);
 	if (in_contact) {
@@ -59,7 +59,7 @@ void popc_metrics_add(popc_metrics *m, const popc_tick *t)
 
 double popc_metrics_pc_rms(const popc_metrics_window *w)
 {
-	return w->ticks ? sqrt(w->pc_sq_sum / (double)w->ticks) : 0.0;
+	return w->ticks ? popc_sum_squares_rms(&w->pc_sq, (double)w->ticks) : 0.0;
 }
 
 double popc_metrics_active_fraction(const popc_metrics_window *w)

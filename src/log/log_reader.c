@@ -142,6 +142,7 @@ static void header_comment(popc_log_reader *r, const char *text, char *section, 
 		snprintf(r->stop_reason, sizeof r->stop_reason, "%.*s", (int)(ve - vs), vs);
 		return;
 	}
+	r->key_line[r->n_keys] = r->lineno;
 	r->key[r->n_keys] = dupn(key, strlen(key));
 	r->value[r->n_keys] = dupn(vs, (size_t)(ve - vs));
 	if (r->key[r->n_keys] && r->value[r->n_keys])
@@ -290,6 +291,17 @@ int popc_log_reader_open(popc_log_reader *r, const char *path, const popc_log_re
 			line += 3;
 			len -= 3;
 		}
+		/* next_line took a CR before the LF; one left is inside the line: a
+		 * CR-only file is one line here (the rows are not checked: a CR in
+		 * one breaks its cells anyway) */
+		if (memchr(line, '\r', len)) {
+			popc_log_reader_close(r);
+			return popc_error_set(err, POPC_ERR_INVALID,
+					      "%s:%lld: a carriage return (CR) inside the line: lines end "
+					      "with LF or CR LF; a file with CR-only line ends (classic Mac "
+					      "OS) reads as one line (convert it: tr '\\r' '\\n')",
+					      path, r->lineno);
+		}
 		if (blank_or_comment(r, line))
 			continue;
 		break;
@@ -348,6 +360,17 @@ int popc_log_reader_open(popc_log_reader *r, const char *path, const popc_log_re
 	for (int i = 0; i < r->n_cols; i++)
 		r->parse[i] = 1;
 	r->popc_log = popc_log_reader_header(r, "format") != NULL;
+	/* popc writes each key once: twice, the scene would take the last value
+	 * and a header lookup the first (a foreign log's comments are free text) */
+	for (int i = 1; r->popc_log && i < r->n_keys; i++)
+		for (int j = 0; j < i; j++)
+			if (strcmp(r->key[i], r->key[j]) == 0) {
+				popc_error_set(err, POPC_ERR_INVALID,
+					       "%s:%lld: header key %s given twice (first on line %lld)",
+					       path, r->key_line[i], r->key[i], r->key_line[j]);
+				popc_log_reader_close(r);
+				return POPC_ERR_INVALID;
+			}
 	return 0;
 }
 
@@ -376,6 +399,15 @@ int popc_log_reader_next(popc_log_reader *r, double *values, popc_error *err)
 			return line_error(r, got, err);
 		if (got == 0)
 			return 0;
+		/* popc ends every line with a newline: a last line without one was
+		 * cut (a full disk under an older popc, a killed process, a copy
+		 * cut short), even if its cells are all there (its last number may
+		 * be short). The whole rows before it are the log: the end, noted
+		 * (popc_log_reader_unfinished). */
+		if (!complete && r->popc_log) {
+			r->cut_line = r->lineno;
+			return 0;
+		}
 		if (blank_or_comment(r, line))
 			continue;
 		break;
@@ -391,13 +423,6 @@ int popc_log_reader_next(popc_log_reader *r, double *values, popc_error *err)
 		return popc_error_set(err, POPC_ERR_INVALID, "%s:%lld: more than %d cells", r->path,
 				      r->lineno, r->n_cols);
 	}
-	/* popc ends every row with a newline and the log with '# stop': a last
-	 * line without one was cut, even if its cells are all there (the last
-	 * number may be cut short) */
-	if (!complete && r->popc_log)
-		return popc_error_set(err, POPC_ERR_INVALID,
-				      "%s:%lld: truncated last line (no newline at the end of a popc log)",
-				      r->path, r->lineno);
 	for (int i = 0; i < n; i++) {
 		if (!r->parse[i]) {
 			values[i] = (double)NAN; /* a column nobody reads: text is fine */
@@ -445,7 +470,17 @@ int popc_log_reader_next(popc_log_reader *r, double *values, popc_error *err)
 		r->t_prev = t;
 	}
 	r->rows++;
+	r->last_row_line = r->lineno;
 	return 1;
+}
+
+int popc_log_reader_unfinished(const popc_log_reader *r)
+{
+	if (!r->popc_log)
+		return 0;
+	if (r->cut_line)
+		return POPC_LOG_CUT_LINE;
+	return r->stop_reason[0] ? 0 : POPC_LOG_NO_STOP;
 }
 
 int popc_log_reader_column(const popc_log_reader *r, const char *name)
@@ -487,13 +522,19 @@ int popc_log_reader_scene(const popc_log_reader *r, popc_scene *s, popc_error *e
 		const char *dot = strchr(r->key[i], '.');
 		if (!dot)
 			continue;
-		char section[64];
+		char section[64], who[200];
 		snprintf(section, sizeof section, "%.*s", (int)(dot - r->key[i]), r->key[i]);
-		int st = popc_scene_set(s, section, dot + 1, r->value[i], err);
+		/* messages name the key as the header spells it ("run.rate = 1e7:
+		 * out of range"), not as --set would */
+		snprintf(who, sizeof who, "%s =", r->key[i]);
+		popc_error e;
+		int st = popc_scene_set_option(s, who, section, dot + 1, r->value[i], &e);
 		if (st) {
-			char msg[POPC_ERROR_MSG_MAX];
-			snprintf(msg, sizeof msg, "%s", err ? err->msg : "");
-			return popc_error_set(err, st, "%s: header: %s", r->path, msg);
+			const char *msg = e.msg;
+			if (strncmp(msg, "--set: ", 7) == 0) /* unknown_key's prefix */
+				msg += 7;
+			return popc_error_set(err, st, "%s:%lld: header: %s", r->path, r->key_line[i],
+					      msg);
 		}
 	}
 	return 0;

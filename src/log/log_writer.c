@@ -1,9 +1,13 @@
 /* CSV log writer (log.h): own buffer and the shortest round-trip number
- * formatter, since formatting, not the plant, is the cost of a logged run. */
+ * formatter, since formatting, not the plant, is the cost of a logged run;
+ * write(2) of whole lines, so that a failed write leaves whole lines only. */
 #include <errno.h>
+#include <fcntl.h>
 #include <inttypes.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "popc/log/log.h"
 #include "popc/util/numfmt.h"
@@ -17,54 +21,147 @@
 int popc_log_open(popc_log_writer *w, const char *path, unsigned columns, popc_error *err)
 {
 	memset(w, 0, sizeof *w);
+	w->fd = -1;
 	w->columns = columns;
+	w->at_line_start = 1;
 	snprintf(w->path, sizeof w->path, "%s", path);
 	if (strcmp(path, "-") == 0) {
-		w->f = stdout;
+		/* rows go out with write(2): anything stdio holds goes first */
+		fflush(stdout);
+		w->fd = STDOUT_FILENO;
 	} else {
-		w->f = fopen(path, "w");
-		if (!w->f)
+		w->fd = open(path, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+		if (w->fd < 0)
 			return popc_error_set(err, POPC_ERR_IO, "%s: cannot open for writing: %s", path,
 					      strerror(errno));
 		w->owns_file = 1;
+		struct stat st;
+		w->can_cut = fstat(w->fd, &st) == 0 && S_ISREG(st.st_mode);
 	}
 	w->cap = LOG_BUFFER_BYTES;
 	w->buf = malloc(w->cap);
 	if (!w->buf) {
 		if (w->owns_file)
-			fclose(w->f);
-		w->f = NULL;
+			close(w->fd);
+		w->fd = -1;
 		return popc_error_set(err, POPC_ERR_NOMEM, "%s: out of memory", path);
 	}
 	return 0;
 }
 
+/* write(2) of all n bytes, again after EINTR and after a short write (which
+ * the next write turns into the error: ENOSPC, EFBIG). Returns the bytes
+ * written; errno says why when fewer than n. */
+static size_t write_all(int fd, const char *p, size_t n)
+{
+	size_t done = 0;
+	while (done < n) {
+		ssize_t k = write(fd, p + done, n - done);
+		if (k > 0) {
+			done += (size_t)k;
+		} else if (k == 0) {
+			errno = ENOSPC; /* a write of nothing: no room (never seen on Linux) */
+			return done;
+		} else if (errno != EINTR) {
+			return done;
+		}
+	}
+	return done;
+}
+
+/* After a failed write: the file back to its whole lines, where it can be
+ * cut (a regular file popc opened); the next write goes there. */
+static void cut_back(popc_log_writer *w)
+{
+	if (w->can_cut && ftruncate(w->fd, (off_t)w->whole_bytes) == 0 &&
+	    lseek(w->fd, (off_t)w->whole_bytes, SEEK_SET) == (off_t)w->whole_bytes)
+		w->at_line_start = 1;
+}
+
+static int failed(const popc_log_writer *w, popc_error *err)
+{
+	/* short: it is also the log's stop line, which must fit where the
+	 * disk just refused a row */
+	return popc_error_set(err, POPC_ERR_IO, "%s: write failed: %s", w->path,
+			      strerror(w->failed_errno));
+}
+
+/* Writes the buffer out (whole lines). On a failure, the whole lines among
+ * the bytes that went out stay, the rest of the file is cut away (cut_back),
+ * the buffer is dropped and every later write fails at once. */
 static int drain(popc_log_writer *w, popc_error *err)
 {
-	if (w->len && fwrite(w->buf, 1, w->len, w->f) != w->len)
-		return popc_error_set(err, POPC_ERR_IO, "%s: write failed: %s", w->path,
-				      strerror(errno));
+	if (w->failed_errno) {
+		w->len = 0;
+		return failed(w, err);
+	}
+	if (!w->len)
+		return 0;
+	size_t done = write_all(w->fd, w->buf, w->len);
+	if (done == w->len) {
+		w->whole_bytes += (long long)done;
+		w->len = 0;
+		return 0;
+	}
+	w->failed_errno = errno ? errno : EIO;
+	size_t whole = done; /* up to the last line end that went out */
+	while (whole > 0 && w->buf[whole - 1] != '\n')
+		whole--;
+	w->whole_bytes += (long long)whole;
+	w->at_line_start = whole == done;
+	cut_back(w);
 	w->len = 0;
+	return failed(w, err);
+}
+
+/* Room for n more bytes in the buffer (which then may grow: a header). */
+static int reserve(popc_log_writer *w, size_t n, popc_error *err)
+{
+	if (w->cap - w->len >= n)
+		return 0;
+	int st = drain(w, err);
+	if (st || w->cap - w->len >= n)
+		return st;
+	char *grown = realloc(w->buf, n);
+	if (!grown)
+		return popc_error_set(err, POPC_ERR_NOMEM, "%s: out of memory", w->path);
+	w->buf = grown;
+	w->cap = n;
+	return 0;
+}
+
+static int append(popc_log_writer *w, const char *text, size_t n, popc_error *err)
+{
+	int st = reserve(w, n, err);
+	if (st)
+		return st;
+	memcpy(w->buf + w->len, text, n);
+	w->len += n;
 	return 0;
 }
 
 int popc_log_write_header(popc_log_writer *w, const char *source, const popc_scene *s,
 			  const char *extra, popc_error *err)
 {
-	int st = drain(w, err);
-	if (st)
-		return st;
-	fprintf(w->f, "# popc log\n# format = %d\n# popc_version = %s\n# source = %s\n# variant = %s\n",
+	char *text = NULL;
+	size_t n = 0;
+	FILE *m = open_memstream(&text, &n);
+	if (!m)
+		return popc_error_set(err, POPC_ERR_NOMEM, "%s: out of memory", w->path);
+	fprintf(m, "# popc log\n# format = %d\n# popc_version = %s\n# source = %s\n# variant = %s\n",
 		POPC_LOG_FORMAT_VERSION, POPC_VERSION, source, popc_variant_name(s->variant));
 	if (extra && extra[0])
-		fputs(extra, w->f);
-	popc_scene_write(s, w->f, "# ");
+		fputs(extra, m);
+	popc_scene_write(s, m, "# ");
 	char names[POPC_LOG_NAMES_LINE_MAX];
 	popc_log_column_names(w->columns, names, sizeof names);
-	fprintf(w->f, "%s\n", names);
-	if (ferror(w->f))
-		return popc_error_set(err, POPC_ERR_IO, "%s: write failed", w->path);
-	return 0;
+	fprintf(m, "%s\n", names);
+	int st = fclose(m) != 0 || !text ? popc_error_set(err, POPC_ERR_NOMEM, "%s: out of memory", w->path)
+					 : append(w, text, n, err);
+	free(text);
+	/* out now: a log that cannot be written stops the run before its first
+	 * tick, not 64 KiB of rows later */
+	return st ? st : drain(w, err);
 }
 
 static inline char *put_num(char *p, double v)
@@ -119,32 +216,42 @@ int popc_log_write_row(popc_log_writer *w, const popc_log_row *r, popc_error *er
 int popc_log_write_comment(popc_log_writer *w, const char *key, const char *value,
 			   popc_error *err)
 {
-	int st = drain(w, err);
-	if (st)
-		return st;
-	fprintf(w->f, "# %s = %s\n", key, value);
-	return 0;
+	char line[POPC_ERROR_MSG_MAX + 64];
+	int n = snprintf(line, sizeof line, "# %s = %s\n", key, value);
+	if (n < 0)
+		return popc_error_set(err, POPC_ERR_INVALID, "%s: bad comment", w->path);
+	if ((size_t)n >= sizeof line) { /* a line end, whatever was cut */
+		n = (int)sizeof line - 1;
+		line[n - 1] = '\n';
+	}
+	if (!w->failed_errno)
+		return append(w, line, (size_t)n, err);
+	/* the log ended in a failed write: the stop line alone, where the whole
+	 * lines end (not after a part of a row that could not be cut away), and
+	 * away again unless it fits whole */
+	if (!w->at_line_start)
+		return failed(w, err);
+	size_t done = write_all(w->fd, line, (size_t)n);
+	if (done == (size_t)n)
+		w->whole_bytes += n;
+	else
+		cut_back(w);
+	return failed(w, err);
 }
 
 int popc_log_flush(popc_log_writer *w, popc_error *err)
 {
-	if (!w->f)
+	if (w->fd < 0)
 		return 0;
-	int st = drain(w, err);
-	if (st)
-		return st;
-	if (fflush(w->f) != 0)
-		return popc_error_set(err, POPC_ERR_IO, "%s: flush failed: %s", w->path,
-				      strerror(errno));
-	return 0;
+	return drain(w, err);
 }
 
 int popc_log_close(popc_log_writer *w, popc_error *err)
 {
 	int st = popc_log_flush(w, err);
-	if (w->f && w->owns_file && fclose(w->f) != 0 && !st)
+	if (w->fd >= 0 && w->owns_file && close(w->fd) != 0 && !st)
 		st = popc_error_set(err, POPC_ERR_IO, "%s: close failed: %s", w->path, strerror(errno));
-	w->f = NULL;
+	w->fd = -1;
 	free(w->buf);
 	w->buf = NULL;
 	return st;

@@ -208,6 +208,58 @@ void popc_intent_points_free(popc_intent_points *p)
 	p->n = 0;
 }
 
+double popc_scene_reach_m(const popc_scene *s, const popc_intent *in, char *why, size_t cap)
+{
+	char none[1];
+	if (!why) {
+		why = none;
+		cap = sizeof none;
+	}
+	double x = fmax(fabs(s->op_x0_m), fabs(s->env_position_m));
+	snprintf(why, cap, "the largest of |operator.x0|, |environment.position|");
+	if (s->intent == POPC_INTENT_RAMP) {
+		x = fmax(x, fabs(s->op_x_end_m));
+		snprintf(why, cap, "the largest of |operator.x0|, |operator.x_end|, |environment.position|");
+	} else if (s->intent == POPC_INTENT_SINE) {
+		x = fmax(x, fabs(s->op_x0_m) + s->op_amplitude_m);
+		snprintf(why, cap, "the largest of |operator.x0| + operator.amplitude, "
+				   "|environment.position|");
+	}
+	if (in->q_is_force) {
+		/* the hand rests at x0 and pushes with f(t): the static equilibrium
+		 * (K_HO x0 + f) / K on the plant's spring, or on a bilateral spring */
+		double f = 0.0;
+		for (size_t i = 0; i < in->n; i++)
+			f = fmax(f, fabs(in->q[i]));
+		const char *force = s->intent == POPC_INTENT_TABLE ? "the table's largest |force|"
+								   : "|operator.force|";
+		double pull = fabs(s->op_stiffness_Npm * s->op_x0_m) + f;
+		double k = s->op_stiffness_Npm + s->dev_stiffness_Npm;
+		if (k > 0.0) {
+			x = fmax(x, pull / k);
+			snprintf(why, cap, "(operator.stiffness |operator.x0| + %s) / (operator.stiffness "
+					   "+ device.stiffness) = %g m, or a position key",
+				 force, pull / k);
+		} else if (s->env_kind == POPC_ENV_SPRING && s->env_stiffness_Npm > 0.0) {
+			x = fmax(x, fabs(s->env_position_m) + pull / s->env_stiffness_Npm);
+			snprintf(why, cap, "|environment.position| + %s / environment.stiffness = %g m",
+				 force, fabs(s->env_position_m) + pull / s->env_stiffness_Npm);
+		} else {
+			snprintf(why, cap, "a force with no spring to hold it: no bound");
+			return (double)INFINITY;
+		}
+	} else if (s->intent == POPC_INTENT_TABLE) {
+		double q = 0.0;
+		for (size_t i = 0; i < in->n; i++)
+			q = fmax(q, fabs(in->q[i]));
+		x = fmax(x, q);
+		snprintf(why, cap, "the largest of the table's |x_d| (%g m), |operator.x0|, "
+				   "|environment.position|",
+			 q);
+	}
+	return 10.0 * x + 1.0;
+}
+
 int popc_intent_from_scene(popc_intent *in, const popc_scene *s, popc_error *err)
 {
 	popc_intent_config cfg = {
@@ -237,5 +289,23 @@ int popc_intent_from_scene(popc_intent *in, const popc_scene *s, popc_error *err
 	}
 	int status = popc_intent_init(in, &cfg, err);
 	popc_intent_points_free(&points);
-	return status;
+	if (status)
+		return status;
+	/* the run's positions, up to where the simulated axis stops it as
+	 * diverged, must be counts below 2^53; a force without a spring has no
+	 * bound to check here (the run stops when its count would overflow) */
+	char why[300];
+	const double reach_m = popc_scene_reach_m(s, in, why, sizeof why);
+	const double counts_max = 9007199254740992.0; /* 2^53 */
+	if (isfinite(reach_m) && !(reach_m / s->enc_resolution_m <= counts_max)) {
+		popc_intent_free(in);
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: encoder.resolution = %g m is too fine for this %s intent: "
+				      "positions up to %g m (10 x %s, + 1 m) would exceed 2^53 counts; "
+				      "use encoder.resolution >= %.3g m",
+				      s->source[0] ? s->source : "scene", s->enc_resolution_m,
+				      popc_intent_kind_names[s->intent], reach_m, why,
+				      reach_m / counts_max * 1.001);
+	}
+	return 0;
 }

@@ -47,3 +47,11 @@ char *popc_ini_read_line(char *str, int num, FILE *f, int *line, int *too_long)
 		memmove(r, r + lead, (size_t)n - lead + 1);
 	return r;
 }
+
+int popc_ini_line_has_bare_cr(const char *line)
+{
+	for (const char *p = strchr(line, '\r'); p; p = strchr(p + 1, '\r'))
+		if (p[1] != '\n' && p[1] != '\0')
+			return 1;
+	return 0;
+}

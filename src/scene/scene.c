@@ -388,6 +388,27 @@ typedef struct load_ctx {
 	int max_chars; /* the longest line that fits */
 } load_ctx;
 
+/* A "[section]" line: libinih calls the handler for keys only, so an unknown
+ * section without keys ("[nosuch]" alone, or a misspelt "[contoller]" before
+ * another section) passed unseen; refused here with the message of an unknown
+ * section with keys. The name as libinih takes it: from '[' to the first ']'
+ * (a line without one is libinih's malformed line). */
+static void check_section_line(load_ctx *c, const char *line)
+{
+	if (line[0] != '[')
+		return;
+	const char *end = strchr(line + 1, ']');
+	char name[64];
+	if (!end || (size_t)(end - line - 1) >= sizeof name)
+		return;
+	memcpy(name, line + 1, (size_t)(end - line - 1));
+	name[end - line - 1] = '\0';
+	for (size_t i = 0; i < N_KEYS; i++)
+		if (strcmp(scene_keys[i].section, name) == 0)
+			return;
+	c->status = unknown_key(name, "", 0, "", c->err);
+}
+
 /* libinih's reader: stops at the first handler error (inih reports that
  * line) and at a line too long for libinih's buffer (a longer line would be
  * parsed in pieces: the tail of a comment could set a key). */
@@ -397,7 +418,19 @@ static char *scene_read_line(char *str, int num, void *stream)
 	if (c->status)
 		return NULL;
 	c->max_chars = num - 1;
-	return popc_ini_read_line(str, num, c->f, &c->line, &c->too_long);
+	char *r = popc_ini_read_line(str, num, c->f, &c->line, &c->too_long);
+	/* a CR-only file is one long line: its start (in str) says why */
+	if ((r || c->too_long == 1) && popc_ini_line_has_bare_cr(str)) {
+		c->too_long = 0;
+		c->status = popc_error_set(c->err, POPC_ERR_INVALID, "%s", POPC_INI_BARE_CR_WHY);
+	}
+	else if (r)
+		check_section_line(c, r);
+	if (c->status) {
+		c->status_line = c->line;
+		return NULL;
+	}
+	return r;
 }
 
 static int scene_ini_handler(void *user, const char *section, const char *name, const char *value)
@@ -471,6 +504,8 @@ int popc_scene_load(popc_scene *s, const char *path, popc_error *err)
 	memcpy(map_before, s->axis_map, sizeof map_before);
 	load_ctx c = {.s = s, .path = path, .err = err, .f = f};
 	int line = ini_parse_stream(scene_read_line, &c, scene_ini_handler, &c);
+	if (line == 0 && c.status) /* refused by the reader, which libinih does not see */
+		line = c.status_line;
 	int read_failed = ferror(f), read_errno = errno;
 	fclose(f);
 	if (line < 0)

@@ -568,6 +568,14 @@ int main(int argc, char **argv)
 		fprintf(stderr, "popc-servo-sim: %s\n", err.msg);
 		return st == POPC_ERR_INVALID || st == POPC_ERR_IO ? 2 : 1;
 	}
+	/* the record file is opened now, so that a path that cannot be written
+	 * is bad usage before the drive serves anyone, not found at exit */
+	FILE *record = NULL;
+	if (record_path && !(record = fopen(record_path, "w"))) {
+		fprintf(stderr, "popc-servo-sim: --record %s: cannot open for writing: %s\n",
+			record_path, strerror(errno));
+		return 2;
+	}
 	if (watchdog >= 0)
 		map.watchdog_ms = (int)watchdog;
 	if ((st = drive_init(&sv.drive, &map, &scene, lockstep, &err))) {
@@ -607,12 +615,9 @@ int main(int argc, char **argv)
 		"periods%s%s\n",
 		sv.requests, sv.malformed, sv.drive.commands, repeats, sv.drive.k, sv.drive.fault ? "; fault: " : "",
 		sv.drive.fault ? sv.drive.fault_why : "");
-	if (record_path) {
-		FILE *f = fopen(record_path, "w");
-		if (f) {
-			drive_write_record(&sv.drive, f);
-			fclose(f);
-		} else {
+	if (record) {
+		drive_write_record(&sv.drive, record);
+		if (fclose(record) != 0) {
 			fprintf(stderr, "popc-servo-sim: %s: cannot write the record\n", record_path);
 			rc = 1;
 		}

@@ -7,7 +7,11 @@
 #include <stdint.h>
 #include <cmocka.h>
 
+#include <string.h>
+
 #include "popc/core/chatter.h"
+#include "popc/core/metrics.h"
+#include "popc/core/sum_squares.h"
 
 #define T_S 1e-3
 #define DELTA_M 1e-5
@@ -382,6 +386,70 @@ static void config_set_and_init_errors(void **state)
 	assert_int_equal(popc_chatter_init(&d, &cfg, T_S, &env, &err), POPC_ERR_INVALID);
 }
 
+/* The RMS accumulation (popc/core/sum_squares.h): bit for bit a plain sum of
+ * squares for ordinary values, finite and accurate (within n eps / 2 of a
+ * sum of n squares) from 1e-320 to 1.7e308, where a plain sum overflows or
+ * underflows; the metrics and the detector use it. */
+static void sum_squares_edges(void **state)
+{
+	(void)state;
+	popc_sum_squares q = {0.0, 0.0, 0.0};
+	double plain = 0.0;
+	uint64_t r = 0x9E3779B97F4A7C15ull;
+	const int n = 10000;
+	for (int i = 0; i < n; i++) {
+		r ^= r << 13;
+		r ^= r >> 7;
+		r ^= r << 17;
+		double v = ((double)(r >> 11) * 0x1p-53 - 0.5) * pow(10.0, (double)(i % 20) - 10.0);
+		popc_sum_squares_add(&q, v);
+		plain += v * v;
+	}
+	const double a = popc_sum_squares_rms(&q, n), b = sqrt(plain / n);
+	assert_memory_equal(&a, &b, sizeof a);
+	const double edges[] = {1.7976931348623157e308, 1e308, 1e200, 1e-200, 1e-300, 1e-320};
+	for (size_t k = 0; k < sizeof edges / sizeof edges[0]; k++) {
+		popc_sum_squares e = {0.0, 0.0, 0.0};
+		for (int i = 0; i < 3000; i++)
+			popc_sum_squares_add(&e, i % 2 ? edges[k] : -edges[k]);
+		const double rms = popc_sum_squares_rms(&e, 3000.0);
+		/* a subnormal value has fewer digits: 1e-320 is 1e-320 within 2e-4 */
+		const double tol = edges[k] < 2.3e-308 ? 2e-4 : 4e-13;
+		if (!(fabs(rms / edges[k] - 1.0) <= tol))
+			fail_msg("rms of +-%g: %.17g", edges[k], rms);
+	}
+	/* one huge value among ordinary ones: both scales count */
+	popc_sum_squares m = {0.0, 0.0, 0.0};
+	popc_sum_squares_add(&m, 1e300);
+	popc_sum_squares_add(&m, 3.0);
+	popc_sum_squares_add(&m, 1e-310);
+	assert_true(fabs(popc_sum_squares_rms(&m, 3.0) / (1e300 / sqrt(3.0)) - 1.0) < 1e-15);
+	/* through the metrics and the detector */
+	popc_metrics met;
+	popc_environment env = wall();
+	popc_metrics_init(&met, &env, T_S, 0.0);
+	popc_chatter d;
+	popc_chatter_config cfg;
+	start(&d, &cfg);
+	for (int k = 0; k < 3000; k++) {
+		popc_tick t;
+		memset(&t, 0, sizeof t);
+		t.t_s = k * T_S;
+		t.x_m = (k % 4 < 2 ? 0.0 : DELTA_M) + 0.001;
+		t.count = (long long)llround(t.x_m / DELTA_M);
+		t.f_pc_N = k % 2 ? 1e308 : -1e308;
+		popc_metrics_add(&met, &t);
+		popc_chatter_add(&d, &t);
+	}
+	popc_chatter_result res;
+	popc_chatter_finish(&d, &res);
+	const double values[] = {popc_metrics_pc_rms(&met.all), popc_metrics_pc_rms(&met.late),
+				 res.max_pc_rms_N, res.lc_pc_rms_N};
+	for (size_t k = 0; k < sizeof values / sizeof values[0]; k++)
+		if (!(fabs(values[k] / 1e308 - 1.0) < 4e-13))
+			fail_msg("RMS %zu of +-1e308 N: %.17g", k, values[k]);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -398,6 +466,7 @@ int main(void)
 		cmocka_unit_test(approach_from_rest_is_not_a_limit_cycle),
 		cmocka_unit_test(decaying_bounce_is_not_a_limit_cycle_at_any_length),
 		cmocka_unit_test(config_set_and_init_errors),
+		cmocka_unit_test(sum_squares_edges),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -81,6 +81,11 @@ static void test_good_scene_and_overrides(void **state)
 	assert_int_equal(popc_scene_set_assignment(&s, "controller.variant=hold", &err), 0);
 	assert_int_equal(s.variant, POPC_VARIANT_HOLD);
 	assert_int_equal(popc_scene_validate(&s, &err), 0);
+	/* a CR before each LF, and one ending the file, are line ends */
+	path = write_scene("crlf.ini", "[run]\r\nrate = 500\r\nduration = 2\r");
+	popc_scene_defaults(&s);
+	assert_int_equal(popc_scene_load(&s, path, &err), 0);
+	assert_true(s.duration_s == 2.0 && s.rate_Hz == 500.0);
 }
 
 /* Every bad input is an error naming the file and line (or --set), the key
@@ -93,7 +98,16 @@ static void test_bad_scenes(void **state)
 		const char *must_contain[3];
 	} cases[] = {
 		/* inih reports sections through their first key: the key's line is named */
-		{"[run]\nduration = 5\n[nonsense]\nx = 1\n", {":4:", "unknown section [nonsense]", NULL}},
+		/* an unknown section is named at its own line, with keys or without
+		 * (an empty one was accepted: libinih reports keys only) */
+		{"[run]\nduration = 5\n[nonsense]\nx = 1\n", {":3:", "unknown section [nonsense]; sections are run, operator", NULL}},
+		{"[run]\nduration = 5\n[nonsense]\n", {":3:", "unknown section [nonsense]; sections are run, operator", NULL}},
+		{"[nosuch]\n[run]\nduration = 5\n", {":1:", "unknown section [nosuch]", NULL}},
+		{"[run]\nduration = 5\n[contoller]\n[controller]\nvariant = none\n", {":3:", "unknown section [contoller]", NULL}},
+		/* CR-only line ends read as one line: "[run]" and the rest dropped,
+		 * so the scene was the defaults */
+		{"[run]\rduration = 2\r[operator]\rmass = 7\r", {":1:", "a carriage return (CR) inside the line", "CR-only"}},
+		{"[run]\nduration = 2\rrate = 500\n", {":2:", "a carriage return (CR) inside the line", NULL}},
 		{"[run]\nduraton = 5\n", {":2:", "unknown key run.duraton", "duration"}},
 		{"[run]\nduration = 5s\n", {":2:", "run.duration", "not a finite number"}},
 		{"[run]\nduration = nan\n", {":2:", "run.duration", "(0, 1e+07] s"}},

@@ -31,6 +31,7 @@
 
 #include "popc/core/controller.h"
 #include "popc/core/environment.h"
+#include "popc/core/sum_squares.h"
 #include "popc/util/error.h"
 
 #define POPC_CHATTER_MAX_INTERVALS 32 /* stored; more are counted in n_intervals */
@@ -96,13 +97,14 @@ typedef struct popc_chatter_result {
 /* Sums over a stretch of ticks (internal, in the struct for constant memory). */
 typedef struct popc_chatter_block {
 	long long ticks, contact_ticks, pc_flips, vsign_changes;
-	double pc_sq_sum;
+	popc_sum_squares pc_sq;
 	double t_first_s, t_last_s;
 } popc_chatter_block;
 
 typedef struct popc_chatter_segment {
 	long long ticks, contact_ticks, reversals;
-	double swing_sum_m, pc_sq_sum;
+	double swing_sum_m;
+	popc_sum_squares pc_sq;
 	double t_first_s, t_last_s;
 	double wme_first_J, wme_last_J;  /* W - E_ref at the first and last tick */
 } popc_chatter_segment;

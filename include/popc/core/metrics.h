@@ -8,10 +8,11 @@
 
 #include "popc/core/controller.h"
 #include "popc/core/environment.h"
+#include "popc/core/sum_squares.h"
 
 typedef struct popc_metrics_window {
 	long long ticks, active_ticks;
-	double pc_sq_sum;           /* sum f_pc^2 */
+	popc_sum_squares pc_sq;     /* sum f_pc^2, finite for any finite f_pc */
 	double pc_max_N;            /* max |f_pc| */
 	long long vsign_changes;    /* sign changes of the moving displacement, in contact */
 	long long contact_ticks;

@@ -14,7 +14,16 @@
  * Numbers are written in their shortest round-trip form (popc_format_double),
  * so a reader gets back the same doubles and an offline recompute equals the
  * online value bit for bit. A run that stops early ends with a comment line
- * "# stop = <reason>". */
+ * "# stop = <reason>".
+ *
+ * The file holds whole lines only, whatever the disk does: the writer counts
+ * the bytes of the whole lines written, and when a write fails or is cut
+ * short (a full disk, ENOSPC; a file size limit, EFBIG) it cuts a regular
+ * file it opened back to the last whole line (ftruncate) and writes nothing
+ * more but the stop line, which it tries once and cuts away again if it does
+ * not fit. So a log always reads as a valid prefix: its last whole row, then
+ * "# stop = log write failed: ..." where the space allowed. A log on standard
+ * output, a pipe or a device is not cut back (others may share it). */
 #ifndef POPC_LOG_H
 #define POPC_LOG_H
 
@@ -28,11 +37,15 @@
 #define POPC_LOG_FORMAT_VERSION 1
 
 typedef struct popc_log_writer {
-	FILE *f;
-	int owns_file;
+	int fd;                /* the log's descriptor, -1 when closed */
+	int owns_file;         /* opened by popc_log_open (not standard output) */
+	int can_cut;           /* a regular file popc opened: ftruncate works */
 	unsigned columns;
-	char *buf;             /* output buffer */
+	char *buf;             /* output buffer: whole lines only */
 	size_t len, cap;
+	long long whole_bytes; /* bytes of whole lines in the file */
+	int at_line_start;     /* the file ends with a whole line (or is empty) */
+	int failed_errno;      /* a write failed: errno (0: none); no more rows go out */
 	char path[1024];
 } popc_log_writer;
 
@@ -47,11 +60,13 @@ int popc_log_write_header(popc_log_writer *w, const char *source, const popc_sce
 /* Appends one row (buffered). */
 int popc_log_write_row(popc_log_writer *w, const popc_log_row *r, popc_error *err);
 
-/* Appends a "# key = value" comment line (used for the stop reason). */
+/* Appends a "# key = value" comment line (used for the stop reason). After
+ * a failed write, the stop line alone is still tried, at the end of the
+ * whole lines (and cut away again if it does not fit whole). */
 int popc_log_write_comment(popc_log_writer *w, const char *key, const char *value,
 			   popc_error *err);
 
-/* Writes out everything buffered and fflush()es. */
+/* Writes out everything buffered. */
 int popc_log_flush(popc_log_writer *w, popc_error *err);
 
 /* Flushes and closes; safe to call twice. */

@@ -15,7 +15,19 @@
  *
  * Errors name the file, line and column: an empty file, a repeated column name,
  * a row with too few or too many cells, a cell that is not a finite number, a
- * missing column, a popc log whose last line has no newline (cut short). */
+ * missing column.
+ *
+ * An unfinished popc log (one whose header has "format"), cut short by a full
+ * disk or a killed process, reads as its whole rows: a last line without a
+ * newline is the end of the log, not a row, and a log may lack its
+ * "# stop = ..." line; popc_log_reader_unfinished says which, after the last
+ * row, for the caller to note. A foreign log may end without a newline (RFC
+ * 4180): its last line is a row.
+ *
+ * A popc log's header gives each key once (a key given twice is an error
+ * naming both lines: the scene would take the last, a header lookup the
+ * first). A carriage return inside a header or column names line is an error:
+ * a file with CR-only line ends (classic Mac OS) would read as one line. */
 #ifndef POPC_LOG_READER_H
 #define POPC_LOG_READER_H
 
@@ -54,6 +66,7 @@ typedef struct popc_log_reader {
 	/* header "key = value" comments (keys qualified "section.key" below a [section]) */
 	int n_keys;
 	char *key[POPC_LOG_MAX_HEADER_KEYS], *value[POPC_LOG_MAX_HEADER_KEYS];
+	long long key_line[POPC_LOG_MAX_HEADER_KEYS]; /* the line of each key */
 	char section[64];               /* the last [section] comment, for keys after it */
 	char stop_reason[512];
 	/* buffer */
@@ -67,7 +80,16 @@ typedef struct popc_log_reader {
 	unsigned char parse[POPC_LOG_MAX_COLUMNS]; /* 0: a column nobody reads (NaN) */
 	int popc_log;                   /* the header has "format": popc wrote it */
 	double t_prev;
+	long long last_row_line;        /* line of the last row returned (0: none) */
+	long long cut_line;             /* a popc log's last line, cut (no newline); 0: none */
 } popc_log_reader;
+
+/* How a popc log ended, when it did not end as popc ends one (a whole last
+ * line, then "# stop = <reason>"). */
+enum {
+	POPC_LOG_NO_STOP = 1,  /* whole rows, but no stop line after them */
+	POPC_LOG_CUT_LINE = 2, /* the last line has no newline: cut (cut_line), not read */
+};
 
 /* Opens a log ("-" is standard input) and reads its header and column names. */
 int popc_log_reader_open(popc_log_reader *r, const char *path, const popc_log_reader_options *opt,
@@ -95,8 +117,14 @@ int popc_log_reader_require(const popc_log_reader *r, const char *name, int *ind
 const char *popc_log_reader_header(const popc_log_reader *r, const char *key);
 
 /* Rebuilds the scene of a popc log from its header on top of s (defaults
- * first). Keys the header lacks keep their values in s. */
+ * first). Keys the header lacks keep their values in s. An error names the
+ * file and the key's line ("LOG:12: header: run.rate = 1e7: out of range"). */
 int popc_log_reader_scene(const popc_log_reader *r, popc_scene *s, popc_error *err);
+
+/* After popc_log_reader_next returned 0: 0 for a popc log that ended with its
+ * stop line and for every foreign log; else POPC_LOG_NO_STOP or
+ * POPC_LOG_CUT_LINE (the rows read end at last_row_line). */
+int popc_log_reader_unfinished(const popc_log_reader *r);
 
 void popc_log_reader_close(popc_log_reader *r);
 

@@ -34,7 +34,22 @@ int popc_intent_table_load(const char *path, popc_table_quantity quantity, doubl
 void popc_intent_points_free(popc_intent_points *p);
 
 /* Builds the intent of scene s; a table intent reads its file here
- * (popc_intent_table_load). Free with popc_intent_free. */
+ * (popc_intent_table_load). Free with popc_intent_free. Positions travel as
+ * integer counts in doubles (encoder.h): a scene whose reach (below), over
+ * encoder.resolution, exceeds 2^53 counts is refused here, naming the keys,
+ * before anything runs (popc_scene_validate checks the position keys alone;
+ * the table and the force are known here). */
 int popc_intent_from_scene(popc_intent *in, const popc_scene *s, popc_error *err);
+
+/* The farthest a run of scene s with intent in may go before the simulated
+ * axis calls it diverged: 10 x the largest position the scene names + 1 m,
+ * where the largest position is the largest of |operator.x0|,
+ * |environment.position|, the ramp's end or the sine's crest, a position
+ * table's largest |value|, and for a force (intent or table) the static
+ * equilibrium (K_HO |x0| + the largest |f|) / (K_HO + K_HI) on the springs
+ * (or on a bilateral environment spring). A force with no spring to hold it
+ * has no bound: INFINITY. why (may be NULL) gets what the bound is made of,
+ * for messages. */
+double popc_scene_reach_m(const popc_scene *s, const popc_intent *in, char *why, size_t cap);
 
 #endif

@@ -21,4 +21,14 @@
  * blanks are removed from str. */
 char *popc_ini_read_line(char *str, int num, FILE *f, int *line, int *too_long);
 
+/* Whether a line popc_ini_read_line returned holds a carriage return that
+ * does not end it (one before the LF, or at the very end of the file, does):
+ * a file with CR-only line ends (classic Mac OS) is one line to libinih, which
+ * reads its first "[section]" and drops the rest, so such a scene read as the
+ * defaults. The readers refuse it with POPC_INI_BARE_CR_WHY. */
+int popc_ini_line_has_bare_cr(const char *line);
+#define POPC_INI_BARE_CR_WHY                                                                     \
+	"a carriage return (CR) inside the line: lines end with LF or CR LF; a file with CR-only " \
+	"line ends (classic Mac OS) reads as one line (convert it: tr '\\r' '\\n')"
+
 #endif

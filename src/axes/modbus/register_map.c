@@ -155,7 +155,10 @@ static char *read_line(char *str, int num, void *stream)
 		return NULL;
 	int too_long = 0;
 	char *r = popc_ini_read_line(str, num, c->f, &c->line, &too_long);
-	if (too_long == 2)
+	if ((r || too_long == 1) && popc_ini_line_has_bare_cr(str)) /* CR-only: one long line */
+		c->status = popc_error_set(c->err, POPC_ERR_INVALID, "%s:%d: %s", c->path, c->line,
+					   POPC_INI_BARE_CR_WHY);
+	else if (too_long == 2)
 		c->status = popc_error_set(c->err, POPC_ERR_INVALID,
 					   "%s:%d: a NUL byte in the line (a register map is a text file)",
 					   c->path, c->line);
@@ -163,7 +166,7 @@ static char *read_line(char *str, int num, void *stream)
 		c->status = popc_error_set(c->err, POPC_ERR_INVALID,
 					   "%s:%d: line longer than %d characters (shorten the comment or value)",
 					   c->path, c->line, num - 1);
-	return r;
+	return c->status ? NULL : r;
 }
 
 /* "drive, position, command, enable, status": the table's sections in order */
