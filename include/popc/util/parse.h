@@ -1,0 +1,85 @@
+/* Strict number parsing: every number a popc program reads from a scene, a
+ * map, a table, a URI, a log or its command line goes through these, so one
+ * spelling is accepted or refused everywhere.
+ *
+ * A number is the whole text, blanks (space, tab) around it allowed as in a
+ * scene file: an optional sign, decimal digits with an optional '.', and an
+ * optional exponent (e or E, optional sign, digits), read in the C locale
+ * whatever the process locale is, correctly rounded (popc_parse_double,
+ * numfmt.h). Refused: empty text, hexadecimal ("0x2", "0x1p1"), "inf", "nan",
+ * anything after the number ("2s", "1e", "2 3"), magnitudes beyond the
+ * largest double, and nonzero text that would read as 0 (1e-400: below the
+ * smallest subnormal, 4.9e-324). Subnormals are numbers like any other.
+ *
+ * A whole number is a number in the same spelling whose value is whole: "4",
+ * "+4", "4.0" and "4e0" are 4, "-0" is 0, "4.5" and "0x4" are not whole
+ * numbers. Its value is computed exactly from the digits (never through a
+ * double), so every long long is reachable. Register maps also write
+ * addresses and words in hexadecimal, as drive manuals do (POPC_PARSE_HEX). */
+#ifndef POPC_UTIL_PARSE_H
+#define POPC_UTIL_PARSE_H
+
+#include <math.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "popc/util/numfmt.h"
+
+typedef enum popc_parse_status {
+	POPC_PARSE_OK = 0,
+	POPC_PARSE_EMPTY = -1,     /* nothing but blanks */
+	POPC_PARSE_INVALID = -2,   /* not a decimal number (hex, inf, nan, junk after it) */
+	POPC_PARSE_NOT_WHOLE = -3, /* a number, but a whole number is needed */
+	POPC_PARSE_OVERFLOW = -4,  /* beyond the largest double, or the integer type */
+	POPC_PARSE_UNDERFLOW = -5, /* nonzero, but below the smallest double: would read as 0 */
+	POPC_PARSE_RANGE = -6,     /* a whole number outside [lo, hi] */
+} popc_parse_status;
+
+/* Integer flags. POPC_PARSE_HEX: also "0x" or "0X" and hexadecimal digits,
+ * no sign (register maps: an address copied from a manual's table).
+ * POPC_PARSE_BASE16: hexadecimal digits only, no prefix, no sign (an
+ * identifier popc writes itself: the sweep plan's id). */
+#define POPC_PARSE_HEX 1u
+#define POPC_PARSE_BASE16 2u
+
+/* Why text was refused, for messages: "not a decimal number", ... */
+const char *popc_parse_status_text(popc_parse_status st);
+
+/* Nonzero if the number text [s, end) that read as 0.0 has a nonzero digit
+ * before its exponent: 1e-400 underflowed, 0e-400 did not. */
+int popc_parse_zero_underflows(const char *s, const char *end);
+
+/* A number filling [s, end) exactly, no blanks: the readers' fast path (the
+ * log reader trims its cells itself and calls this for every cell). */
+static inline popc_parse_status popc_parse_double_exact(const char *s, const char *end,
+							double *out)
+{
+	size_t used = popc_parse_double(s, end, out);
+	if (used == 0 || s + used != end)
+		return s == end ? POPC_PARSE_EMPTY : POPC_PARSE_INVALID;
+	if (!isfinite(*out))
+		return POPC_PARSE_OVERFLOW;
+	if (*out == 0.0 && popc_parse_zero_underflows(s, end))
+		return POPC_PARSE_UNDERFLOW;
+	return POPC_PARSE_OK;
+}
+
+/* A number in [s, end), blanks around it allowed. *out is set on success only. */
+popc_parse_status popc_parse_double_span(const char *s, const char *end, double *out);
+/* The same for a NUL-terminated text. */
+popc_parse_status popc_parse_double_text(const char *text, double *out);
+
+/* A whole number in [lo, hi] in [s, end), blanks around it allowed; flags 0 or
+ * POPC_PARSE_HEX. *out is set on success only. */
+popc_parse_status popc_parse_ll_span(const char *s, const char *end, long long lo, long long hi,
+				     unsigned flags, long long *out);
+popc_parse_status popc_parse_ll_text(const char *text, long long lo, long long hi,
+				     long long *out);
+popc_parse_status popc_parse_int_text(const char *text, int lo, int hi, int *out);
+
+/* A whole number in [0, hi]; flags 0, POPC_PARSE_HEX or POPC_PARSE_BASE16.
+ * "-0" is 0. */
+popc_parse_status popc_parse_u64_span(const char *s, const char *end, uint64_t hi,
+				      unsigned flags, uint64_t *out);
+
+#endif

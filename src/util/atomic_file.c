@@ -1,0 +1,72 @@
+/* Atomic file replacement (atomic_file.h): temporary file, then rename(2). */
+#include "popc/util/atomic_file.h"
+
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+static void atomic_free(popc_atomic_file *a)
+{
+	free(a->tmp_path);
+	free(a->path);
+	a->tmp_path = a->path = NULL;
+	a->f = NULL;
+}
+
+int popc_atomic_file_open(popc_atomic_file *a, const char *path, popc_error *err)
+{
+	a->f = NULL;
+	a->path = strdup(path);
+	char host[64];
+	if (gethostname(host, sizeof host) != 0)
+		strcpy(host, "host");
+	host[sizeof host - 1] = '\0';
+	for (char *c = host; *c; c++)
+		if (*c == '/')
+			*c = '_';
+	size_t cap = strlen(path) + sizeof ".tmp.." + strlen(host) + 24;
+	a->tmp_path = malloc(cap);
+	if (!a->path || !a->tmp_path) {
+		atomic_free(a);
+		return popc_error_set(err, POPC_ERR_NOMEM, "%s: out of memory", path);
+	}
+	snprintf(a->tmp_path, cap, "%s.tmp.%s.%ld", path, host, (long)getpid());
+	a->f = fopen(a->tmp_path, "w");
+	if (!a->f) {
+		int st = popc_error_set(err, POPC_ERR_IO, "%s: %s", a->tmp_path, strerror(errno));
+		atomic_free(a);
+		return st;
+	}
+	return 0;
+}
+
+int popc_atomic_file_commit(popc_atomic_file *a, popc_error *err)
+{
+	int st = 0;
+	if (ferror(a->f) | (fclose(a->f) != 0))
+		st = popc_error_set(err, POPC_ERR_IO, "%s: %s", a->tmp_path, strerror(errno));
+	if (!st && rename(a->tmp_path, a->path) != 0)
+		st = popc_error_set(err, POPC_ERR_IO, "%s: %s", a->path, strerror(errno));
+	if (st)
+		unlink(a->tmp_path);
+	atomic_free(a);
+	return st;
+}
+
+void popc_atomic_file_abort(popc_atomic_file *a)
+{
+	fclose(a->f);
+	unlink(a->tmp_path);
+	atomic_free(a);
+}
+
+int popc_write_file_atomic(const char *path, const void *data, size_t n, popc_error *err)
+{
+	popc_atomic_file a;
+	int st = popc_atomic_file_open(&a, path, err);
+	if (st)
+		return st;
+	fwrite(data, 1, n, a.f);
+	return popc_atomic_file_commit(&a, err);
+}
