@@ -27,11 +27,13 @@
 #include <sys/stat.h>
 #include <sys/types.h>
 #include <sys/wait.h>
-#include <time.h>
 #include <unistd.h>
 
 #include "cli.h"
 #include "popc/sweep/sweep.h"
+#include "popc/util/atomic_file.h"
+#include "popc/util/clock.h"
+#include "popc/util/text.h"
 
 static void usage(FILE *f)
 {
@@ -95,13 +97,6 @@ typedef struct progress {
 	long long last_done;   /* done at the last plain line */
 } progress;
 
-static double now_s(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 static void fmt_duration(double s, char *buf, size_t cap)
 {
 	if (!(s >= 0) || s > 1e8) {
@@ -119,7 +114,7 @@ static void progress_show(progress *p, int final)
 {
 	if (p->quiet || p->total == 0)
 		return;
-	double t = now_s();
+	double t = popc_now_s();
 	if (p->tty && !final && t - p->t_last < 0.1)
 		return; /* redraw at most 10 times a second */
 	double el = t - p->t_start;
@@ -594,11 +589,11 @@ static void show_notes(const char *verb, const popc_sweep_results *r, int quiet)
 static void test_hooks(sweep_ctx *c)
 {
 	const char *v = getenv("POPC_SWEEP_TEST_ROWS_PID");
-	long n;
-	if (v && popc_cli_parse_long(v, 1, LONG_MAX, &n) == 0)
+	long long n;
+	if (v && popc_parse_ll_text(v, 1, LONG_MAX, &n) == 0)
 		c->rows_pid = n;
 	v = getenv("POPC_SWEEP_TEST_DIE_AFTER_CLAIM");
-	if (v && popc_cli_parse_long(v, 0, LONG_MAX, &n) == 0)
+	if (v && popc_parse_ll_text(v, 0, LONG_MAX, &n) == 0)
 		c->die_after_claim = n;
 }
 
@@ -649,7 +644,7 @@ static int print_list(const popc_sweep_plan *p, const popc_sweep_shard *sh, cons
 		if (!st)
 			st = popc_scene_to_text(&s, &text, &len, &err);
 		if (!st)
-			st = popc_sweep_write_atomic(path, text, len, &err);
+			st = popc_write_file_atomic(path, text, len, &err);
 		free(text);
 		if (st) {
 			fprintf(stderr, "popc sweep: %s\n", err.msg);
@@ -676,8 +671,8 @@ static int print_list(const popc_sweep_plan *p, const popc_sweep_shard *sh, cons
 static int default_jobs(void)
 {
 	const char *slurm = getenv("SLURM_CPUS_PER_TASK");
-	long n;
-	if (slurm && popc_cli_parse_long(slurm, 1, 4096, &n) == 0)
+	long long n;
+	if (slurm && popc_parse_ll_text(slurm, 1, 4096, &n) == 0)
 		return (int)n;
 	n = sysconf(_SC_NPROCESSORS_ONLN);
 	return n > 0 ? (int)(n > 4096 ? 4096 : n) : 1;
@@ -755,7 +750,7 @@ static int cmd_merge(int argc, char **argv)
 		struct stat sb;
 		int st = popc_sweep_mkdir_p(out, &err);
 		if (!st && stat(dst, &sb) != 0)
-			st = popc_sweep_write_atomic(dst, buf, n, &err);
+			st = popc_write_file_atomic(dst, buf, n, &err);
 		if (!st) {
 			popc_sweep_plan o;
 			st = popc_sweep_plan_from_dir(&o, out, &err);
@@ -789,15 +784,6 @@ static int cmd_merge(int argc, char **argv)
 	return t.failed || t.missing ? 1 : 0;
 }
 
-/* Narrows [*b, *e) to the text without the blanks around it. */
-static void trim_blanks(const char **b, const char **e)
-{
-	while (*b < *e && (**b == ' ' || **b == '\t'))
-		(*b)++;
-	while (*e > *b && ((*e)[-1] == ' ' || (*e)[-1] == '\t'))
-		(*e)--;
-}
-
 /* Does the --set assignment "section.key=value" name this key? Names are
  * compared without the blanks around them, as popc_scene_set reads them. */
 static int set_names_key(const char *set, const char *section, const char *key)
@@ -810,8 +796,8 @@ static int set_names_key(const char *set, const char *section, const char *key)
 	for (int k = 0; k < 2; k++) {
 		const char *gb = given[k][0], *ge = given[k][1];
 		const char *wb = want[k], *we = want[k] + strlen(want[k]);
-		trim_blanks(&gb, &ge);
-		trim_blanks(&wb, &we);
+		popc_trim_blanks(&gb, &ge);
+		popc_trim_blanks(&wb, &we);
 		if (ge - gb != we - wb || memcmp(gb, wb, (size_t)(ge - gb)) != 0)
 			return 0;
 	}
@@ -823,7 +809,7 @@ typedef struct sweep_args {
 	char **vary, **sets;          /* pointers into argv */
 	int n_vary, n_sets;
 	int quiet, keep_log, list;
-	long jobs;                    /* 0: default_jobs() */
+	long long jobs;               /* 0: default_jobs() */
 	const char *scene_path, *dir, *shard_text, *program;
 } sweep_args;
 
@@ -930,7 +916,7 @@ static int sweep_main(const sweep_args *a)
 			 .n_todo = n_todo, .rows_pid = 0, .die_after_claim = -1};
 	test_hooks(&ctx);
 	ctx.prog = (progress){.quiet = a->quiet, .tty = isatty(STDERR_FILENO), .total = n_shard,
-			      .done = n_shard - n_todo, .t_start = now_s()};
+			      .done = n_shard - n_todo, .t_start = popc_now_s()};
 	ctx.prog.last_decile = (int)(10 * ctx.prog.done / (n_shard ? n_shard : 1));
 	ctx.prog.last_done = ctx.prog.done;
 	if (!a->quiet && n_shard - n_todo > 0)
@@ -939,7 +925,7 @@ static int sweep_main(const sweep_args *a)
 	popc_cli_install_signals();
 	int trouble = n_todo > 0 ? run_sweep(&ctx, a->jobs > 0 ? (int)a->jobs : default_jobs()) : 0;
 	free(todo);
-	double elapsed = now_s() - ctx.prog.t_start;
+	double elapsed = popc_now_s() - ctx.prog.t_start;
 
 	/* summary.csv from the run files, in id order, renamed into place: an
 	 * interrupted sweep leaves the last whole one */
@@ -1007,7 +993,7 @@ int popc_cmd_sweep(int argc, char **argv)
 		case OPT_SET: oom |= popc_cli_push(&a.sets, &a.n_sets, optarg); break;
 		case 'o': a.dir = optarg; break;
 		case 'j':
-			if (popc_cli_parse_long(optarg, 1, 4096, &a.jobs) != 0) {
+			if (popc_parse_ll_text(optarg, 1, 4096, &a.jobs) != 0) {
 				fprintf(stderr, "popc sweep: -j '%s': a whole number in [1, 4096]\n", optarg);
 				rc = 2;
 			}

@@ -7,7 +7,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <time.h>
 
 #include "popc/axes/axis.h"
 #include "popc/core/controller.h"
@@ -15,6 +14,8 @@
 #include "popc/log/log_reader.h"
 #include "popc/run/run.h"
 #include "popc/scene/from_scene.h"
+#include "popc/util/atomic_file.h"
+#include "popc/util/clock.h"
 
 /* ---- the chatter detector ----------------------------------------------------- *
  *
@@ -72,13 +73,6 @@ int popc_sweep_chatter_from_log(const char *log_path, popc_chatter_result *res, 
 	return 0;
 }
 
-static double now_s(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 /* The popc run summary header and row as text, as `popc run --summary` writes
  * them: the sweep row is built from these by column name, like for --list runs. */
 static int summary_text(const popc_run_summary *sum, const popc_scene *s, char **header, char **row)
@@ -105,7 +99,7 @@ static int write_scene(const char *path, const popc_scene *s, popc_error *err)
 	int st = popc_scene_to_text(s, &text, &len, err);
 	if (st)
 		return st;
-	st = popc_sweep_write_atomic(path, text, len, err);
+	st = popc_write_file_atomic(path, text, len, err);
 	free(text);
 	return st;
 }
@@ -115,7 +109,7 @@ int popc_sweep_run_one(const popc_sweep_plan *p, long long i, const char *dir, i
 		       popc_error *err)
 {
 	memset(res, 0, sizeof *res);
-	double t0 = now_s();
+	double t0 = popc_now_s();
 	char rdir[POPC_PATH_MAX], path[POPC_PATH_MAX + 32];
 	if (popc_sweep_run_dir(p, dir, i, rdir, sizeof rdir) != 0)
 		return popc_error_set(err, POPC_ERR_IO, "%s: path too long", dir);
@@ -175,7 +169,7 @@ int popc_sweep_run_one(const popc_sweep_plan *p, long long i, const char *dir, i
 		}
 	}
 	popc_axis_destroy(&axis);
-	res->wall_time_s = now_s() - t0;
+	res->wall_time_s = popc_now_s() - t0;
 	res->exit_status = popc_status_exit_code(st);
 	if (have_sum)
 		snprintf(res->reason, sizeof res->reason, "%s", sum.stop_reason);
@@ -216,7 +210,7 @@ int popc_sweep_run_one(const popc_sweep_plan *p, long long i, const char *dir, i
 			memcpy(text + lc, row, (size_t)n);
 			snprintf(path, sizeof path, "%s/summary.csv", rdir);
 			popc_error cerr;
-			if (popc_sweep_write_atomic(path, text, lc + (size_t)n, &cerr) != 0)
+			if (popc_write_file_atomic(path, text, lc + (size_t)n, &cerr) != 0)
 				return popc_error_set(err, POPC_ERR_IO,
 						      "%s (the run's copy of its row; the row itself is "
 						      "recorded in the sweep)",

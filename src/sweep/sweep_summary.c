@@ -6,6 +6,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <inttypes.h>
+#include <limits.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -13,8 +14,10 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "popc/util/atomic_file.h"
 #include "popc/util/error.h"
 #include "popc/util/numfmt.h"
+#include "popc/util/parse.h"
 
 /* The compare metrics of a run, by their names in the popc run summary
  * (run.c: popc_run_summary_csv_header); DESIGN section 4's figures of merit. */
@@ -147,15 +150,10 @@ int popc_sweep_row_exit_status(const popc_sweep_plan *p, const char *row)
 	size_t len[RUN_CSV_MAX_COLUMNS + 64];
 	int n = split_cells(row, cell, len, RUN_CSV_MAX_COLUMNS + 64);
 	int c = 1 + p->n_axes;
-	if (n <= c || len[c] == 0 || len[c] > 3)
+	long long v;
+	if (n <= c || popc_parse_ll_span(cell[c], cell[c] + len[c], 0, 999, 0, &v) != 0)
 		return -1;
-	int v = 0;
-	for (size_t k = 0; k < len[c]; k++) {
-		if (cell[c][k] < '0' || cell[c][k] > '9')
-			return -1;
-		v = v * 10 + (cell[c][k] - '0');
-	}
-	return v;
+	return (int)v;
 }
 
 int popc_sweep_run_csv_status(const char *run_header, const char *run_row, int *status)
@@ -167,64 +165,14 @@ int popc_sweep_run_csv_status(const char *run_header, const char *run_row, int *
 	if (nh > RUN_CSV_MAX_COLUMNS || nr != nh)
 		return -1;
 	int c = find_cell(hcell, hlen, nh, "status");
-	if (c < 0 || rlen[c] == 0 || rlen[c] > 4)
-		return -1;
-	char tmp[8];
-	memcpy(tmp, rcell[c], rlen[c]);
-	tmp[rlen[c]] = '\0';
-	char *end;
-	long v = strtol(tmp, &end, 10);
-	if (*end)
+	long long v;
+	if (c < 0 || popc_parse_ll_span(rcell[c], rcell[c] + rlen[c], INT_MIN, INT_MAX, 0, &v) != 0)
 		return -1;
 	*status = (int)v;
 	return 0;
 }
 
 /* ---- files ----------------------------------------------------------------- */
-
-/* A temporary name next to path, unique to this process on this host: shards
- * on several nodes may write the same file (sweep.plan) into a shared
- * directory at once, and pids repeat across nodes. */
-static int temp_name(char *tmp, size_t cap, const char *path)
-{
-	char host[64];
-	if (gethostname(host, sizeof host) != 0)
-		strcpy(host, "host");
-	host[sizeof host - 1] = '\0';
-	for (char *c = host; *c; c++)
-		if (*c == '/')
-			*c = '_';
-	return (size_t)snprintf(tmp, cap, "%s.tmp.%s.%ld", path, host, (long)getpid()) < cap ? 0 : -1;
-}
-
-int popc_sweep_write_atomic(const char *path, const char *data, size_t n, popc_error *err)
-{
-	char tmp[POPC_PATH_MAX + 96];
-	if (temp_name(tmp, sizeof tmp, path) != 0)
-		return popc_error_set(err, POPC_ERR_IO, "%s: path too long", path);
-	int fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC, 0666);
-	if (fd < 0)
-		return popc_error_set(err, POPC_ERR_IO, "%s: %s", tmp, strerror(errno));
-	size_t done = 0;
-	while (done < n) {
-		ssize_t w = write(fd, data + done, n - done);
-		if (w < 0 && errno == EINTR)
-			continue;
-		if (w <= 0) {
-			int e = errno;
-			close(fd);
-			unlink(tmp);
-			return popc_error_set(err, POPC_ERR_IO, "%s: %s", tmp, strerror(e));
-		}
-		done += (size_t)w;
-	}
-	if (close(fd) != 0 || rename(tmp, path) != 0) {
-		int e = errno;
-		unlink(tmp);
-		return popc_error_set(err, POPC_ERR_IO, "%s: %s", path, strerror(e));
-	}
-	return 0;
-}
 
 int popc_sweep_mkdir_p(const char *path, popc_error *err)
 {
@@ -350,7 +298,7 @@ int popc_sweep_dir_prepare(const popc_sweep_plan *p, const char *dir, const char
 		free(text);
 		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
 	}
-	st = popc_sweep_write_atomic(path, text, len, err);
+	st = popc_write_file_atomic(path, text, len, err);
 	free(text);
 	if (st)
 		return st;
@@ -365,7 +313,7 @@ int popc_sweep_dir_prepare(const popc_sweep_plan *p, const char *dir, const char
 		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
 	}
 	snprintf(path, sizeof path, "%s/scene.ini", dir);
-	st = popc_sweep_write_atomic(path, text, len, err);
+	st = popc_write_file_atomic(path, text, len, err);
 	free(text);
 	return st;
 }
@@ -405,13 +353,12 @@ int popc_sweep_plan_from_dir(popc_sweep_plan *p, const char *dir, popc_error *er
 		*eq = '\0';
 		const char *key = line, *value = eq + 3;
 		if (strcmp(key, "format") == 0) {
-			format = atoi(value);
+			popc_parse_int_text(value, 0, INT_MAX, &format);
 		} else if (strcmp(key, "plan_id") == 0) {
-			char *end;
-			plan_id = strtoull(value, &end, 16);
-			have_id = *end == '\0' && end != value;
+			have_id = popc_parse_u64_span(value, value + strlen(value), UINT64_MAX,
+						      POPC_PARSE_BASE16, &plan_id) == 0;
 		} else if (strcmp(key, "runs") == 0) {
-			runs = strtoll(value, NULL, 10);
+			popc_parse_ll_text(value, 1, POPC_SWEEP_RUNS_MAX, &runs);
 		} else if (strcmp(key, "vary") == 0) {
 			popc_sweep_axis *grown = realloc(axes, (size_t)(n_axes + 1) * sizeof *axes);
 			if (!grown) {
@@ -773,7 +720,7 @@ static int load_run_csv(popc_sweep_results *r, const popc_sweep_plan *p, const c
 		split_cells(row, rcell, rlen, RUN_CSV_MAX_COLUMNS);
 		int c = find_cell(hcell, hlen, nh, "wall_time_s");
 		if (c >= 0)
-			wall = strtod(rcell[c], NULL);
+			popc_parse_double_span(rcell[c], rcell[c] + rlen[c], &wall);
 	}
 	int ex = popc_status_exit_code(status);
 	/* the chatter columns: from the run's log, as the in-process run
@@ -841,12 +788,11 @@ int popc_sweep_results_write(const popc_sweep_results *r, const popc_sweep_plan 
 			     popc_error *err)
 {
 	memset(t, 0, sizeof *t);
-	char tmp[POPC_PATH_MAX + 96];
-	if (temp_name(tmp, sizeof tmp, out_path) != 0)
-		return popc_error_set(err, POPC_ERR_IO, "%s: path too long", out_path);
-	FILE *f = fopen(tmp, "w");
-	if (!f)
-		return popc_error_set(err, POPC_ERR_IO, "%s: %s", tmp, strerror(errno));
+	popc_atomic_file out;
+	int st = popc_atomic_file_open(&out, out_path, err);
+	if (st)
+		return st;
+	FILE *f = out.f;
 	fputs(p->columns, f);
 	char reason[640];
 	for (long long i = 0; i < p->n_runs; i++) {
@@ -872,12 +818,5 @@ int popc_sweep_results_write(const popc_sweep_results *r, const popc_sweep_plan 
 			visit(user, i, e->exit_status, reason);
 		}
 	}
-	int st = 0;
-	if (ferror(f) | (fclose(f) != 0))
-		st = popc_error_set(err, POPC_ERR_IO, "%s: %s", tmp, strerror(errno));
-	if (!st && rename(tmp, out_path) != 0)
-		st = popc_error_set(err, POPC_ERR_IO, "%s: %s", out_path, strerror(errno));
-	if (st)
-		unlink(tmp);
-	return st;
+	return popc_atomic_file_commit(&out, err);
 }

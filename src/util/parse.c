@@ -5,7 +5,6 @@
 #include <limits.h>
 #include <string.h>
 
-#include "popc/util/text.h"
 
 const char *popc_parse_status_text(popc_parse_status st)
 {
@@ -31,7 +30,6 @@ int popc_parse_zero_underflows(const char *s, const char *end)
 
 popc_parse_status popc_parse_double_span(const char *s, const char *end, double *out)
 {
-	popc_trim_blanks(&s, &end);
 	double v;
 	popc_parse_status st = popc_parse_double_exact(s, end, &v);
 	if (st == POPC_PARSE_OK)
@@ -78,7 +76,7 @@ static popc_parse_status hex_magnitude(const char *s, const char *end, uint64_t 
 	return POPC_PARSE_OK;
 }
 
-/* The sign and magnitude of the whole number in [s, end) (trimmed), exactly.
+/* The sign and magnitude of the whole number filling [s, end), exactly.
  * The digits D (whole part, then fraction) stand for D * 10^q, q = exponent
  * - fraction length; without its leading zeros and with its trailing zeros
  * moved into q, D ends in a nonzero digit, so the value is whole iff q >= 0. */
@@ -156,7 +154,6 @@ static popc_parse_status whole_magnitude(const char *s, const char *end, unsigne
 popc_parse_status popc_parse_ll_span(const char *s, const char *end, long long lo, long long hi,
 				     unsigned flags, long long *out)
 {
-	popc_trim_blanks(&s, &end);
 	int neg;
 	uint64_t mag;
 	popc_parse_status st = whole_magnitude(s, end, flags, &neg, &mag);
@@ -195,7 +192,6 @@ popc_parse_status popc_parse_int_text(const char *text, int lo, int hi, int *out
 popc_parse_status popc_parse_u64_span(const char *s, const char *end, uint64_t hi,
 				      unsigned flags, uint64_t *out)
 {
-	popc_trim_blanks(&s, &end);
 	int neg;
 	uint64_t mag;
 	popc_parse_status st = whole_magnitude(s, end, flags, &neg, &mag);

@@ -350,12 +350,16 @@ static const uri_case uri_cases[] = {
 	{"rtu:/dev/ttyS1:9600:9N1", 0, NULL},
 	{"udp:1.2.3.4:502", 0, NULL},
 	{"rtu:", 0, NULL},
-	/* numbers are digits only */
-	{"tcp:127.0.0.1:+502", 0, NULL},
+	/* numbers as everywhere (popc/util/parse.h): a sign is fine, blanks,
+	 * hex and junk are not */
+	{"tcp:127.0.0.1:+502", 1, "tcp:127.0.0.1:502"},
 	{"tcp:127.0.0.1: 502", 0, NULL},
+	{"tcp:127.0.0.1:0x1f6", 0, NULL},
+	{"tcp:127.0.0.1:502x", 0, NULL},
 	{"tcp:127.0.0.1:", 0, NULL},
-	{"rtu:/dev/ttyS1:+9600", 0, NULL},
+	{"rtu:/dev/ttyS1:+9600", 1, "rtu:/dev/ttyS1:9600:8E1"},
 	{"rtu:/dev/ttyS1: 9600:8N1", 0, NULL},
+	{"rtu:/dev/ttyS1:9600.5:8N1", 0, NULL},
 };
 
 static void test_uris(void **state)

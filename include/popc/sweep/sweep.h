@@ -247,9 +247,6 @@ int popc_sweep_results_write(const popc_sweep_results *r, const popc_sweep_plan 
 			     popc_sweep_tally *t, popc_sweep_visit visit, void *user,
 			     popc_error *err);
 
-/* Writes path atomically: data to "path.tmp.<host>.<pid>", then rename(). */
-int popc_sweep_write_atomic(const char *path, const char *data, size_t n, popc_error *err);
-
 /* Creates a directory and its missing parents (mode 0777 less the umask). */
 int popc_sweep_mkdir_p(const char *path, popc_error *err);
 

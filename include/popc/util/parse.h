@@ -2,9 +2,9 @@
  * map, a table, a URI, a log or its command line goes through these, so one
  * spelling is accepted or refused everywhere.
  *
- * A number is the whole text, blanks (space, tab) around it allowed as in a
- * scene file: an optional sign, decimal digits with an optional '.', and an
- * optional exponent (e or E, optional sign, digits), read in the C locale
+ * A number is the whole text: an optional sign, decimal digits with an
+ * optional '.', and an optional exponent (e or E, optional sign, digits),
+ * read in the C locale
  * whatever the process locale is, correctly rounded (popc_parse_double,
  * numfmt.h). Refused: empty text, hexadecimal ("0x2", "0x1p1"), "inf", "nan",
  * anything after the number ("2s", "1e", "2 3"), magnitudes beyond the
@@ -15,7 +15,12 @@
  * "+4", "4.0" and "4e0" are 4, "-0" is 0, "4.5" and "0x4" are not whole
  * numbers. Its value is computed exactly from the digits (never through a
  * double), so every long long is reachable. Register maps also write
- * addresses and words in hexadecimal, as drive manuals do (POPC_PARSE_HEX). */
+ * addresses and words in hexadecimal, as drive manuals do (POPC_PARSE_HEX).
+ *
+ * No blanks: " 5" is not a number. Blanks around a value belong to the syntax
+ * around it, whose reader drops them (popc_trim_blanks, text.h) as libinih
+ * does for "key = value" in a scene or map file, popc_scene_set for --set
+ * and --vary values, the table and log readers around their cells. */
 #ifndef POPC_UTIL_PARSE_H
 #define POPC_UTIL_PARSE_H
 
@@ -49,8 +54,7 @@ const char *popc_parse_status_text(popc_parse_status st);
  * before its exponent: 1e-400 underflowed, 0e-400 did not. */
 int popc_parse_zero_underflows(const char *s, const char *end);
 
-/* A number filling [s, end) exactly, no blanks: the readers' fast path (the
- * log reader trims its cells itself and calls this for every cell). */
+/* popc_parse_double_span inline, for the log reader's loop over every cell. */
 static inline popc_parse_status popc_parse_double_exact(const char *s, const char *end,
 							double *out)
 {
@@ -64,13 +68,13 @@ static inline popc_parse_status popc_parse_double_exact(const char *s, const cha
 	return POPC_PARSE_OK;
 }
 
-/* A number in [s, end), blanks around it allowed. *out is set on success only. */
+/* A number filling [s, end). *out is set on success only. */
 popc_parse_status popc_parse_double_span(const char *s, const char *end, double *out);
 /* The same for a NUL-terminated text. */
 popc_parse_status popc_parse_double_text(const char *text, double *out);
 
-/* A whole number in [lo, hi] in [s, end), blanks around it allowed; flags 0 or
- * POPC_PARSE_HEX. *out is set on success only. */
+/* A whole number in [lo, hi] filling [s, end); flags 0 or POPC_PARSE_HEX.
+ * *out is set on success only. */
 popc_parse_status popc_parse_ll_span(const char *s, const char *end, long long lo, long long hi,
 				     unsigned flags, long long *out);
 popc_parse_status popc_parse_ll_text(const char *text, long long lo, long long hi,

@@ -10,7 +10,7 @@
 #include <string.h>
 
 #include "popc/scene/ini_lines.h"
-#include "popc/util/numfmt.h"
+#include "popc/util/parse.h"
 
 #define TWO_PI 6.283185307179586476925286766559
 
@@ -271,19 +271,10 @@ static int missing(load_ctx *c, int k, const char *why)
 			      map_keys[k].section, map_keys[k].key, why ? ": " : "", why ? why : "");
 }
 
-/* An integer as the docs promise it: decimal, or hexadecimal with 0x. Not
- * strtol's base 0, which reads a leading zero as octal: "0100" copied from a
- * manual's register table would silently become register 64. *end as for
- * strtol. */
-static long map_strtol(const char *p, char **end)
-{
-	const char *q = p;
-	while (*q == ' ' || *q == '\t')
-		q++;
-	int hex = q[0] == '0' && (q[1] == 'x' || q[1] == 'X');
-	return strtol(p, end, hex ? 16 : 10);
-}
-
+/* An integer as the docs promise it: a whole number as everywhere
+ * (popc/util/parse.h), or hexadecimal with 0x. Never strtol's base 0, which
+ * reads a leading zero as octal: "0100" copied from a manual's register table
+ * would silently become register 64. */
 /* Integer in [lo, hi], decimal or 0x hex. def is used when the key is absent
  * and def_ok; otherwise absence is an error. */
 static int get_int(load_ctx *c, int k, long lo, long hi, int def_ok, long def, long *out)
@@ -294,15 +285,14 @@ static int get_int(load_ctx *c, int k, long lo, long hi, int def_ok, long def, l
 		*out = def;
 		return 0;
 	}
-	char *end;
-	errno = 0;
-	long v = map_strtol(c->value[k], &end);
-	if (end == c->value[k] || *end || errno || v < lo || v > hi) {
+	const char *text = c->value[k];
+	long long v;
+	if (popc_parse_ll_span(text, text + strlen(text), lo, hi, POPC_PARSE_HEX, &v) != 0) {
 		char what[96];
 		snprintf(what, sizeof what, "expected an integer in [%ld, %ld]", lo, hi);
 		return bad(c, k, what);
 	}
-	*out = v;
+	*out = (long)v;
 	return 0;
 }
 
@@ -313,13 +303,10 @@ static int get_num(load_ctx *c, int k, double lo, double hi, int open_lo, double
 		*out = def;
 		return 0;
 	}
-	/* a decimal in the C locale, the whole text, as scene values
-	 * (popc_parse_double: no hex floats, no "inf"/"nan", exact rounding) */
-	const char *text = c->value[k], *text_end = text + strlen(text);
+	/* a number as scene values (popc/util/parse.h: no hex floats, no
+	 * "inf"/"nan", exact rounding) */
 	double v;
-	size_t used = popc_parse_double(text, text_end, &v);
-	if (used == 0 || text + used != text_end || !isfinite(v) || v > hi || v < lo ||
-	    (open_lo && v == lo)) {
+	if (popc_parse_double_text(c->value[k], &v) != 0 || v > hi || v < lo || (open_lo && v == lo)) {
 		char what[96];
 		snprintf(what, sizeof what, "expected a number in %c%g, %g]", open_lo ? '(' : '[', lo, hi);
 		return bad(c, k, what);
@@ -430,11 +417,9 @@ static int enable_words(load_ctx *c, popc_register_map *m)
 			break;
 		if (m->enable.n_on == POPC_MAP_ENABLE_MAX)
 			return bad(c, K_EN_ON, "at most 4 words");
-		char *end;
-		errno = 0;
-		long v = map_strtol(p, &end);
-		if (end == p || errno || v < 0 || v > 0xFFFF || (*end && *end != ' ' && *end != ',' &&
-								 *end != '\t'))
+		const char *end = p + strcspn(p, " ,\t");
+		long long v;
+		if (popc_parse_ll_span(p, end, 0, 0xFFFF, POPC_PARSE_HEX, &v) != 0)
 			return bad(c, K_EN_ON, "expected words in [0, 0xFFFF] separated by commas");
 		m->enable.on[m->enable.n_on++] = (uint16_t)v;
 		p = end;
