@@ -447,12 +447,7 @@ enum { ROWS_NAMES_MAX = 1000 };
 int popc_sweep_rows_open(const popc_sweep_plan *p, const char *dir, long name_pid, popc_error *err)
 {
 	char host[256], path[POPC_PATH_MAX + 300];
-	if (gethostname(host, sizeof host) != 0)
-		strcpy(host, "host");
-	host[sizeof host - 1] = '\0';
-	for (char *c = host; *c; c++)
-		if (*c == '/')
-			*c = '_';
+	popc_host_name_for_files(host, sizeof host);
 	/* A name of our own, created with O_EXCL: never append to a file an
 	 * earlier process of the same pid left (pids repeat across containers,
 	 * Slurm nodes and reboots). Such a file may end in a line cut by a kill,

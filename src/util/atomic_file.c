@@ -14,17 +14,22 @@ static void atomic_free(popc_atomic_file *a)
 	a->f = NULL;
 }
 
+void popc_host_name_for_files(char *buf, size_t cap)
+{
+	if (gethostname(buf, cap) != 0)
+		snprintf(buf, cap, "host");
+	buf[cap - 1] = '\0'; /* gethostname need not terminate a cut name */
+	for (char *c = buf; *c; c++)
+		if (*c == '/')
+			*c = '_';
+}
+
 int popc_atomic_file_open(popc_atomic_file *a, const char *path, popc_error *err)
 {
 	a->f = NULL;
 	a->path = strdup(path);
 	char host[64];
-	if (gethostname(host, sizeof host) != 0)
-		strcpy(host, "host");
-	host[sizeof host - 1] = '\0';
-	for (char *c = host; *c; c++)
-		if (*c == '/')
-			*c = '_';
+	popc_host_name_for_files(host, sizeof host);
 	size_t cap = strlen(path) + sizeof ".tmp.." + strlen(host) + 24;
 	a->tmp_path = malloc(cap);
 	if (!a->path || !a->tmp_path) {

@@ -17,6 +17,11 @@ typedef struct popc_atomic_file {
 	char *path;
 } popc_atomic_file;
 
+/* This host's name as part of a file name ('/' made '_'; "host" when it has
+ * none), cut to cap - 1 characters: with the pid it names a process across
+ * the nodes that share a directory. */
+void popc_host_name_for_files(char *buf, size_t cap);
+
 /* Opens a temporary file for path. The name is unique to this process on this
  * host: shards on several nodes may write the same file (sweep.plan) into a
  * shared directory at once, and pids repeat across nodes. */
