@@ -5,21 +5,6 @@
 #include <limits.h>
 #include <string.h>
 
-
-const char *popc_parse_status_text(popc_parse_status st)
-{
-	switch (st) {
-	case POPC_PARSE_OK: return "a number";
-	case POPC_PARSE_EMPTY: return "empty";
-	case POPC_PARSE_INVALID: return "not a decimal number";
-	case POPC_PARSE_NOT_WHOLE: return "not a whole number";
-	case POPC_PARSE_OVERFLOW: return "too large";
-	case POPC_PARSE_UNDERFLOW: return "below the smallest double (4.9e-324): it would read as 0";
-	case POPC_PARSE_RANGE: return "out of range";
-	}
-	return "not a number";
-}
-
 int popc_parse_zero_underflows(const char *s, const char *end)
 {
 	for (const char *p = s; p < end && *p != 'e' && *p != 'E'; p++)

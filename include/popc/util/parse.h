@@ -47,9 +47,6 @@ typedef enum popc_parse_status {
 #define POPC_PARSE_HEX 1u
 #define POPC_PARSE_BASE16 2u
 
-/* Why text was refused, for messages: "not a decimal number", ... */
-const char *popc_parse_status_text(popc_parse_status st);
-
 /* Nonzero if the number text [s, end) that read as 0.0 has a nonzero digit
  * before its exponent: 1e-400 underflowed, 0e-400 did not. */
 int popc_parse_zero_underflows(const char *s, const char *end);
