@@ -5,14 +5,6 @@
 #include <limits.h>
 #include <string.h>
 
-int popc_parse_zero_underflows(const char *s, const char *end)
-{
-	for (const char *p = s; p < end && *p != 'e' && *p != 'E'; p++)
-		if (*p >= '1' && *p <= '9')
-			return 1;
-	return 0;
-}
-
 popc_parse_status popc_parse_double_span(const char *s, const char *end, double *out)
 {
 	double v;

@@ -24,9 +24,9 @@
 #ifndef POPC_UTIL_PARSE_H
 #define POPC_UTIL_PARSE_H
 
-#include <math.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <string.h>
 
 #include "popc/util/numfmt.h"
 
@@ -48,20 +48,39 @@ typedef enum popc_parse_status {
 #define POPC_PARSE_BASE16 2u
 
 /* Nonzero if the number text [s, end) that read as 0.0 has a nonzero digit
- * before its exponent: 1e-400 underflowed, 0e-400 did not. */
-int popc_parse_zero_underflows(const char *s, const char *end);
+ * before its exponent: 1e-400 underflowed, 0e-400 did not. Inline: a log's
+ * zero cells ("0") are many. */
+static inline int popc_parse_zero_underflows(const char *s, const char *end)
+{
+	for (const char *p = s; p < end && *p != 'e' && *p != 'E'; p++)
+		if (*p >= '1' && *p <= '9')
+			return 1;
+	return 0;
+}
 
 /* popc_parse_double_span inline, for the log reader's loop over every cell. */
 static inline popc_parse_status popc_parse_double_exact(const char *s, const char *end,
 							double *out)
 {
-	size_t used = popc_parse_double(s, end, out);
+	double v;
+	size_t used = popc_parse_double(s, end, &v);
+	*out = v;
 	if (used == 0 || s + used != end)
 		return s == end ? POPC_PARSE_EMPTY : POPC_PARSE_INVALID;
-	if (!isfinite(*out))
-		return POPC_PARSE_OVERFLOW;
-	if (*out == 0.0 && popc_parse_zero_underflows(s, end))
-		return POPC_PARSE_UNDERFLOW;
+	/* one test for the common case, finite and nonzero: the bits without
+	 * the sign, less one, are below those of infinity less one (zero wraps
+	 * around to the top) */
+	uint64_t bits;
+	memcpy(&bits, &v, sizeof bits);
+	bits <<= 1;
+	if (bits - 1 >= (UINT64_C(0x7ff0000000000000) << 1) - 1) {
+		if (bits != 0)
+			return POPC_PARSE_OVERFLOW; /* infinity: popc_parse_double makes no NaN */
+		/* zero: a text of at most 2 characters ("0", "-0") has no other
+		 * digit, so the log's many zero cells skip the scan */
+		if (end - s > 2 && popc_parse_zero_underflows(s, end))
+			return POPC_PARSE_UNDERFLOW;
+	}
 	return POPC_PARSE_OK;
 }
 
