@@ -7,6 +7,7 @@
 
 #include "analyze.h"
 #include "popc/core/metrics.h"
+#include "popc/util/parse.h"
 
 int ana_summarize(const char *path, const ana_input_options *o, const popc_chatter_config *ccfg,
 		  double late_from_s, ana_summary *s, ana_row_fn on_row, void *ctx,
@@ -281,9 +282,7 @@ int ana_cmd_compare(int argc, char **argv)
 			}
 			break;
 		case OPT_LATE: {
-			char *end;
-			late_from = strtod(optarg, &end);
-			if (end == optarg || *end || !isfinite(late_from) || late_from < 0) {
+			if (popc_parse_double_text(optarg, &late_from) != 0 || late_from < 0) {
 				fprintf(stderr, "popc-analyze compare: --late-from '%s': a time >= 0 s\n",
 					optarg);
 				rc = 2;

@@ -5,6 +5,7 @@
 #include <signal.h>
 
 #include "popc/util/error.h"
+#include "popc/util/parse.h" /* every number an option takes */
 #include "popc/scene/scene.h"
 
 /* Set by SIGINT, SIGTERM, SIGHUP and SIGQUIT; the run loop polls it every
@@ -34,8 +35,6 @@ int popc_cli_load_scene_options(popc_scene *s, const char *path, char **sets, in
  * Returns 0, or -1 when out of memory (the list is left as it was). */
 int popc_cli_push(char ***list, int *n, char *value);
 
-/* Strict whole-string number parsers for options. */
-int popc_cli_parse_long(const char *text, long lo, long hi, long *out);
 
 int popc_cmd_run(int argc, char **argv);
 int popc_cmd_scene(int argc, char **argv);
