@@ -1,18 +1,73 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages popc needs to build, test and draw reports,
-# if any is missing. Needs root (or sudo) only when something is missing.
+# Installs the Debian 12 packages of one or more sets, those that are missing.
+# Needs root (or sudo) only when something is missing.
+#
+#   tools/install-deps.sh paper        what tools/paper.sh needs (Quick start
+#                                      command 1): build popc, draw the report.
+#                                      No package that installs a service.
+#   tools/install-deps.sh [test]       what tools/run-tests.sh and .ci/run need
+#                                      (command 2): the paper set and the test
+#                                      tools; the default.
+#   tools/install-deps.sh --list SET   print the set's packages, one a line.
+#
+# Packages are installed without their recommends, so every package a step
+# needs is named here: on a minimal root (debootstrap --variant=minbase) gcc
+# without recommends brings no libc6-dev, and then meson says "Compiler cc can
+# not compile programs". tools/check-fresh-root.sh installs both sets into such
+# a root and checks that the paper set starts and enables no service.
 set -euo pipefail
-pkgs=(gcc meson ninja-build pkg-config libinih-dev libmodbus-dev libcmocka-dev
-      gnuplot-nox socat parallel slurm-wlm munge python3)
-pkgs+=("$@") # more for one caller: tools/run-tests.sh asks for clang
+
+# build popc (meson.build: a C compiler with the C library's headers, inih,
+# libmodbus, threads and libm from libc6-dev; and cmocka, because meson setup
+# configures tests/ always and tests/meson.build requires it) and draw the
+# report (gnuplot's pngcairo/pdfcairo terminals are in gnuplot-nox)
+paper=(gcc libc6-dev meson ninja-build pkg-config libinih-dev libmodbus-dev libcmocka-dev gnuplot-nox)
+# the tests: socat (RTU over a pty pair), GNU parallel
+# (sweep-parallel; it depends on sysstat, a service), Slurm and munge (the
+# single-node cluster of sweep-slurm; services), python3 (run-tests.sh's
+# tally) and clang (the second compiler). Not gawk: the tests run with
+# Debian's default awk, mawk (under gawk realtime.sh's field loop never ends).
+test=("${paper[@]}" socat parallel slurm-wlm munge python3 clang)
+
+usage() { echo "usage: tools/install-deps.sh [--list] [paper|test]..." >&2; exit 2; }
+list=
+sets=()
+for a in "$@"; do
+  case $a in
+    --list) list=1 ;;
+    paper|test) sets+=("$a") ;;
+    -h|--help) sed -n '2,17s/^# \{0,1\}//p' "$0"; exit 0 ;;
+    *) usage ;;
+  esac
+done
+[ ${#sets[@]} -gt 0 ] || sets=(test)
+pkgs=()
+for s in "${sets[@]}"; do
+  case $s in
+    paper) pkgs+=("${paper[@]}") ;;
+    test) pkgs+=("${test[@]}") ;;
+  esac
+done
+if [ -n "$list" ]; then printf '%s\n' "${pkgs[@]}" | awk '!seen[$0]++'; exit 0; fi
+
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
 [ ${#missing[@]} -eq 0 ] && exit 0
-echo "popc: installing ${missing[*]}" >&2
+echo "popc: installing (${sets[*]}): ${missing[*]}" >&2
 SUDO=""
 [ "$(id -u)" -eq 0 ] || SUDO="sudo"
 export DEBIAN_FRONTEND=noninteractive
-$SUDO apt-get update -qq
-$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+log=$(mktemp "${TMPDIR:-/tmp}/popc-install-deps.XXXXXX")
+trap 'rm -f "$log"' EXIT
+# quiet when it works; the whole output when it does not
+run() {
+  "$@" </dev/null >"$log" 2>&1 && return 0
+  local rc=$?
+  cat "$log" >&2
+  echo "popc: install-deps: '$*' failed (exit $rc)" >&2
+  exit 1
+}
+run $SUDO apt-get update -qq
+run $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"

@@ -43,7 +43,7 @@ clang_build() {
     --timeout-multiplier "${TIMEOUT_MULTIPLIER:-3}"
 }
 rm -rf build-clang
-if tools/install-deps.sh clang; then clang_build || status=1
+if tools/install-deps.sh test; then clang_build || status=1
 else echo "build-clang: clang could not be installed"; status=1
 fi
 # --- end of the clang block ---------------------------------------------------

@@ -35,6 +35,11 @@ int popc_cli_load_scene_options(popc_scene *s, const char *path, char **sets, in
  * Returns 0, or -1 when out of memory (the list is left as it was). */
 int popc_cli_push(char ***list, int *n, char *value);
 
+/* Whether path is "-" (standard output) while popc started with descriptor 1
+ * closed (stdfds.h): then says so on stderr, naming the option, and returns 1
+ * (the caller exits 2 before anything runs). */
+int popc_cli_stdout_closed(const char *verb, const char *option, const char *path);
+
 
 int popc_cmd_run(int argc, char **argv);
 int popc_cmd_scene(int argc, char **argv);

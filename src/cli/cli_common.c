@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "popc/util/stdfds.h"
 
 volatile sig_atomic_t popc_cli_stop = 0;
 
@@ -74,4 +75,16 @@ int popc_cli_push(char ***list, int *n, char *value)
 	grown[(*n)++] = value;
 	*list = grown;
 	return 0;
+}
+
+int popc_cli_stdout_closed(const char *verb, const char *option, const char *path)
+{
+	if (!path || strcmp(path, "-") != 0 || !popc_stdfds_was_closed(1))
+		return 0;
+	/* stdout is /dev/null now (stdfds.h): the output would vanish with exit 0 */
+	fprintf(stderr,
+		"popc %s: %s -: standard output is closed (popc was started with descriptor 1 "
+		"closed, e.g. '>&-'): give %s a file\n",
+		verb, option, option);
+	return 1;
 }

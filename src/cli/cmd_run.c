@@ -143,6 +143,11 @@ int popc_cmd_run(int argc, char **argv)
 		free(sets);
 		return 2;
 	}
+	if (popc_cli_stdout_closed("run", "--log", log_path) ||
+	    popc_cli_stdout_closed("run", "--summary", summary_path)) {
+		free(sets);
+		return 2;
+	}
 	popc_scene s;
 	popc_error err;
 	/* keys with options of their own, applied after --set; their errors

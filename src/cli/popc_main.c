@@ -1,10 +1,13 @@
 /* popc: the experiment runner. Verbs dispatch to cmd_*.c. */
 #include "cli.h"
 #include "popc/util/verb.h"
+#include "popc/util/stdfds.h"
 #include "popc_config.h"
 
 int main(int argc, char **argv)
 {
+	if (popc_stdfds_make_safe() != 0) /* a closed 0-2 on /dev/null, before any open (stdfds.h) */
+		return 1;
 	static const popc_verb verbs[] = {
 		{"run", popc_cmd_run, "SCENE", "run one experiment"},
 		{"scene", popc_cmd_scene, "show|keys", "print a resolved scene, or every scene key"},

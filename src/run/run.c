@@ -76,9 +76,14 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 	/* every way out: safe state first, then the log */
 	popc_error stop_err;
 	int stop_st = axis->ops->stop(axis, &stop_err);
-	if (stop_st && !st) {
+	/* an unconfirmed safe stop (the drive may still be enabled) is never
+	 * success: after a completed run it is the stop reason and its status
+	 * the exit code (communication: 4); after a failed one the run's reason
+	 * stays and the stop line says it as well */
+	int stop_is_reason = stop_st && !st;
+	if (stop_is_reason) {
 		st = stop_st;
-		why = "axis stop failed";
+		why = "safe stop incomplete";
 		if (err)
 			*err = stop_err;
 	}
@@ -92,6 +97,11 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 		snprintf(sum->stop_reason, sizeof sum->stop_reason, "%s: %s", why, err->msg);
 	else
 		snprintf(sum->stop_reason, sizeof sum->stop_reason, "%s", why);
+	if (stop_st && !stop_is_reason) {
+		size_t used = strlen(sum->stop_reason);
+		snprintf(sum->stop_reason + used, sizeof sum->stop_reason - used,
+			 "; safe stop incomplete: %s", stop_err.msg);
+	}
 	if (log) {
 		popc_error lerr;
 		int lst = popc_log_write_comment(log, "stop", sum->stop_reason, &lerr);

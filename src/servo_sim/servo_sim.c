@@ -23,9 +23,11 @@
 #include <modbus.h>
 
 #include "drive.h"
+#include "frame.h"
 #include "popc/axes/modbus_axis.h"
 #include "popc/util/clock.h"
 #include "popc/util/parse.h"
+#include "popc/util/stdfds.h"
 
 static volatile sig_atomic_t stop_requested = 0;
 
@@ -60,8 +62,15 @@ static void usage(FILE *f)
 	      "up to 10^15; MS up to 86400000, a day):\n"
 	      "  --drop N[,COUNT]      apply the request but send no reply\n"
 	      "  --delay N,MS[,COUNT]  reply MS milliseconds late\n"
+	      "  --duplicate N[,COUNT] send the reply twice (one write: both arrive together)\n"
+	      "  --reorder N[,COUNT]   hold the reply to N back and send it right after the\n"
+	      "                        reply to the next request (one write)\n"
 	      "  --exception N,CODE[,COUNT]  answer with Modbus exception CODE, apply nothing\n"
 	      "  --corrupt-crc N[,COUNT]     RTU: send the reply with a wrong CRC\n"
+	      "  --wrong-unit N[,COUNT]      reply with the unit id (RTU: slave address) + 1\n"
+	      "  --wrong-tid N[,COUNT]       TCP: reply with the transaction id + 1\n"
+	      "  --wrong-protocol N,ID[,COUNT]  TCP: reply with protocol id ID (1-65535)\n"
+	      "  --wrong-length N[,COUNT]    TCP: reply with the MBAP length field + 1\n"
 	      "  --close-after N       TCP: close the connection after replying to request N\n"
 	      "                        (then accept the next one)\n"
 	      "  --exit-after N        close the link and exit after replying to request N\n"
@@ -72,6 +81,9 @@ static void usage(FILE *f)
 	      "                        allowed values, and exit (docs/MODBUS.md)\n"
 	      "  -h, --help            this help\n"
 	      "\n"
+	      "On exit it prints on standard error how many requests it served and how many\n"
+	      "received frames were malformed (bad CRC, another slave, a bad MBAP header, an\n"
+	      "unknown function): a client must never send one.\n"
 	      "Exit status: 0 stopped by a signal or --exit-after, 2 usage, 1 failure.\n",
 	      f);
 }
@@ -86,13 +98,15 @@ static int in_range(const fault_range *r, long n)
 }
 
 /* Request numbers and counts stop at 10^15 (32 years of requests at 1 MHz),
- * so first + count and a request counter never overflow a long; a delay
- * stops at a day (in ms: t + MS * 10^6 ns stays far inside an int64). */
+ * so first + count and a request counter never overflow a long; an
+ * argument (a delay in ms, a code, a protocol id) stops at a day in ms, so
+ * t + MS * 10^6 ns stays far inside an int64. */
 #define FAULT_REQUEST_MAX 1000000000000000L
-#define FAULT_DELAY_MS_MAX 86400000L
+#define FAULT_ARG_MAX 86400000L
 
 /* "N[,COUNT]" or, with want_arg, "N,ARG[,COUNT]": whole numbers as everywhere
- * (popc/util/parse.h); a value past the last one, a blank or an empty field
+ * (popc/util/parse.h), N and COUNT in [1, FAULT_REQUEST_MAX], ARG in
+ * [0, FAULT_ARG_MAX]; a value past the last one, a blank or an empty field
  * is refused, not ignored. */
 static int parse_range(const char *text, int want_arg, fault_range *r)
 {
@@ -102,7 +116,7 @@ static int parse_range(const char *text, int want_arg, fault_range *r)
 		const char *end = p + strcspn(p, ",");
 		int is_arg = want_arg && n == 1;
 		if (n == max || popc_parse_ll_span(p, end, is_arg ? 0 : 1,
-						   is_arg ? FAULT_DELAY_MS_MAX : FAULT_REQUEST_MAX, 0,
+						   is_arg ? FAULT_ARG_MAX : FAULT_REQUEST_MAX, 0,
 						   &v[n]) != 0)
 			return -1;
 		if (!*end) {
@@ -137,7 +151,11 @@ typedef struct server {
 	sigset_t run_mask;        /* the mask during pselect: termination signals deliverable */
 	int capture[2];           /* socketpair: replies built here, then held or altered */
 	long requests;
-	fault_range drop, delay, exception, corrupt;
+	long malformed;           /* received frames that are not a well-formed request */
+	fault_range drop, delay, exception, corrupt, duplicate, reorder;
+	fault_range wrong_unit, wrong_tid, wrong_protocol, wrong_length;
+	uint8_t held[MODBUS_MAX_ADU_LENGTH + 8]; /* --reorder: a reply held back */
+	int n_held;
 	long close_after, exit_after, fault_at, notify_at;
 	int pace_baud;
 	int exiting;
@@ -219,6 +237,55 @@ static void send_raw(server *sv, const uint8_t *buf, int n)
 	}
 }
 
+/* The reply faults that alter or hold the built frame (the others act on
+ * whether and when a reply is sent). */
+static int reply_altered(const server *sv, long n)
+{
+	return (sv->uri.rtu && (in_range(&sv->corrupt, n) || sv->pace_baud)) ||
+	       in_range(&sv->duplicate, n) || in_range(&sv->reorder, n) || sv->n_held > 0 ||
+	       in_range(&sv->wrong_unit, n) || in_range(&sv->wrong_tid, n) ||
+	       in_range(&sv->wrong_protocol, n) || in_range(&sv->wrong_length, n);
+}
+
+/* Builds the reply to request n, alters it as the fault options ask and
+ * sends it (with a held-back one after it) in one write. */
+static void send_altered_reply(server *sv, long n, const uint8_t *q, int len, int64_t t_rx)
+{
+	uint8_t buf[2 * (MODBUS_MAX_ADU_LENGTH + 8)];
+	int cap = MODBUS_MAX_ADU_LENGTH + 8;
+	int r = capture_reply(sv, q, len, buf, cap);
+	if (r <= 0)
+		return;
+	int tcp = !sv->uri.rtu;
+	if (sv->uri.rtu && in_range(&sv->corrupt, n))
+		buf[r - 1] ^= 0xA5; /* the CRC's high byte */
+	if (in_range(&sv->wrong_unit, n))
+		frame_apply_fault(buf, r, tcp, FRAME_WRONG_UNIT, 0);
+	if (tcp && in_range(&sv->wrong_tid, n))
+		frame_apply_fault(buf, r, tcp, FRAME_WRONG_TID, 0);
+	if (tcp && in_range(&sv->wrong_protocol, n))
+		frame_apply_fault(buf, r, tcp, FRAME_WRONG_PROTOCOL, sv->wrong_protocol.arg);
+	if (tcp && in_range(&sv->wrong_length, n))
+		frame_apply_fault(buf, r, tcp, FRAME_WRONG_LENGTH, 0);
+	if (in_range(&sv->reorder, n) && sv->n_held == 0) {
+		memcpy(sv->held, buf, (size_t)r); /* sent after the next reply */
+		sv->n_held = r;
+		return;
+	}
+	int total = r;
+	if (in_range(&sv->duplicate, n)) {
+		memcpy(buf + r, buf, (size_t)r);
+		total += r;
+	} else if (sv->n_held > 0) {
+		memcpy(buf + r, sv->held, (size_t)sv->n_held);
+		total += sv->n_held;
+		sv->n_held = 0;
+	}
+	if (sv->uri.rtu && sv->pace_baud)
+		sleep_until(sv, t_rx + wire_ns(&sv->uri, len) + wire_ns(&sv->uri, r) + 2 * t35_ns(&sv->uri));
+	send_raw(sv, buf, total);
+}
+
 /* Handles one received request. Returns 1 to close the connection, 0 to go on. */
 static int handle(server *sv, const uint8_t *q, int len, int64_t t_rx)
 {
@@ -241,26 +308,23 @@ static int handle(server *sv, const uint8_t *q, int len, int64_t t_rx)
 		return 0;
 	if (in_range(&sv->delay, n))
 		sleep_until(sv, t_rx + sv->delay.arg * 1000000LL);
-	int corrupt = sv->uri.rtu && in_range(&sv->corrupt, n);
-	if (corrupt || (sv->uri.rtu && sv->pace_baud)) {
-		uint8_t buf[MODBUS_RTU_MAX_ADU_LENGTH + 8];
-		int r = capture_reply(sv, q, len, buf, (int)sizeof buf);
-		if (r > 0) {
-			if (corrupt)
-				buf[r - 1] ^= 0xA5; /* the CRC's high byte */
-			if (sv->pace_baud)
-				sleep_until(sv, t_rx + wire_ns(&sv->uri, len) + wire_ns(&sv->uri, r) +
-						       2 * t35_ns(&sv->uri));
-			send_raw(sv, buf, r);
-		}
-	} else {
+	if (reply_altered(sv, n))
+		send_altered_reply(sv, n, q, len, t_rx);
+	else
 		modbus_reply(sv->ctx, q, len, sv->drive.mb);
-	}
 	if (sv->exit_after && n >= sv->exit_after) {
 		sv->exiting = 1;
 		return 1;
 	}
 	return sv->close_after && n == sv->close_after;
+}
+
+/* A received frame that is not a well-formed request: counted (the exit
+ * report gives the number), the first few said on standard error. */
+static void note_malformed(server *sv, const char *why)
+{
+	if (++sv->malformed <= 5)
+		fprintf(stderr, "popc-servo-sim: malformed request (%s)\n", why);
 }
 
 /* Serves requests on the open link until it closes or a signal arrives. */
@@ -277,16 +341,29 @@ static void serve_link(server *sv)
 			return;
 		if (r == 0)
 			continue;
+		errno = 0;
 		int len = modbus_receive(sv->ctx, q);
 		int64_t t_rx = popc_now_ns();
 		if (len < 0) {
-			if (!sv->uri.rtu)
-				return; /* the client left or the stream broke: next client */
-			modbus_flush(sv->ctx); /* a damaged RTU frame: wait for the next one */
+			if (!sv->uri.rtu) {
+				/* the client left (ECONNRESET: libmodbus' word for an
+				 * orderly close too), or the stream broke mid-frame */
+				if (errno != ECONNRESET)
+					note_malformed(sv, modbus_strerror(errno));
+				return; /* next client */
+			}
+			note_malformed(sv, modbus_strerror(errno)); /* a damaged RTU frame */
+			modbus_flush(sv->ctx);
 			continue;
 		}
-		if (len == 0)
-			continue; /* RTU: addressed to another slave */
+		const char *why = "addressed to another slave";
+		if (len == 0 || !frame_request_ok(q, len, !sv->uri.rtu, sv->drive.map.slave, &why)) {
+			note_malformed(sv, why);
+			if (!sv->uri.rtu)
+				return; /* a TCP stream out of step cannot be trusted: drop it */
+			modbus_flush(sv->ctx);
+			continue;
+		}
 		if (handle(sv, q, len, t_rx))
 			return;
 	}
@@ -355,10 +432,13 @@ static int run_server(server *sv)
 
 enum { OPT_MAP = 256, OPT_LISTEN, OPT_SCENE, OPT_LOCKSTEP, OPT_SET, OPT_WATCHDOG, OPT_RECORD,
        OPT_NOTIFY, OPT_PACE, OPT_DROP, OPT_DELAY, OPT_EXCEPTION, OPT_CORRUPT, OPT_CLOSE,
-       OPT_EXIT, OPT_FAULT_AT, OPT_START_FAULTED, OPT_NEVER_READY, OPT_MAP_KEYS };
+       OPT_EXIT, OPT_FAULT_AT, OPT_START_FAULTED, OPT_NEVER_READY, OPT_MAP_KEYS, OPT_DUPLICATE,
+       OPT_REORDER, OPT_WRONG_UNIT, OPT_WRONG_TID, OPT_WRONG_PROTOCOL, OPT_WRONG_LENGTH };
 
 int main(int argc, char **argv)
 {
+	if (popc_stdfds_make_safe() != 0)
+		return 1; /* no /dev/null: a socket could land on a closed 0-2 */
 	static const struct option opts[] = {
 		{"map", required_argument, NULL, OPT_MAP},
 		{"listen", required_argument, NULL, OPT_LISTEN},
@@ -379,6 +459,12 @@ int main(int argc, char **argv)
 		{"start-faulted", no_argument, NULL, OPT_START_FAULTED},
 		{"never-ready", no_argument, NULL, OPT_NEVER_READY},
 		{"map-keys", no_argument, NULL, OPT_MAP_KEYS},
+		{"duplicate", required_argument, NULL, OPT_DUPLICATE},
+		{"reorder", required_argument, NULL, OPT_REORDER},
+		{"wrong-unit", required_argument, NULL, OPT_WRONG_UNIT},
+		{"wrong-tid", required_argument, NULL, OPT_WRONG_TID},
+		{"wrong-protocol", required_argument, NULL, OPT_WRONG_PROTOCOL},
+		{"wrong-length", required_argument, NULL, OPT_WRONG_LENGTH},
 		{"help", no_argument, NULL, 'h'},
 		{NULL, 0, NULL, 0},
 	};
@@ -417,6 +503,15 @@ int main(int argc, char **argv)
 		case OPT_START_FAULTED: start_faulted = 1; break;
 		case OPT_NEVER_READY: never_ready = 1; break;
 		case OPT_MAP_KEYS: popc_register_map_print_keys(stdout); return 0;
+		case OPT_DUPLICATE: bad = parse_range(optarg, 0, &sv.duplicate); break;
+		case OPT_REORDER: bad = parse_range(optarg, 0, &sv.reorder); break;
+		case OPT_WRONG_UNIT: bad = parse_range(optarg, 0, &sv.wrong_unit); break;
+		case OPT_WRONG_TID: bad = parse_range(optarg, 0, &sv.wrong_tid); break;
+		case OPT_WRONG_PROTOCOL:
+			bad = parse_range(optarg, 1, &sv.wrong_protocol) || sv.wrong_protocol.arg < 1 ||
+			      sv.wrong_protocol.arg > 65535;
+			break;
+		case OPT_WRONG_LENGTH: bad = parse_range(optarg, 0, &sv.wrong_length); break;
 		case 'h': usage(stdout); return 0;
 		default: usage(stderr); return 2;
 		}
@@ -450,6 +545,10 @@ int main(int argc, char **argv)
 		st = popc_error_set(&err, POPC_ERR_INVALID, "--close-after needs a TCP link");
 	if (!st && !sv.uri.rtu && (sv.corrupt.first || sv.pace_baud))
 		st = popc_error_set(&err, POPC_ERR_INVALID, "--corrupt-crc and --pace-baud need an RTU link");
+	if (!st && sv.uri.rtu && (sv.wrong_tid.first || sv.wrong_protocol.first || sv.wrong_length.first))
+		st = popc_error_set(&err, POPC_ERR_INVALID,
+				    "--wrong-tid, --wrong-protocol and --wrong-length need a TCP link (RTU "
+				    "frames have no MBAP header)");
 	if (st) {
 		fprintf(stderr, "popc-servo-sim: %s\n", err.msg);
 		return st == POPC_ERR_INVALID || st == POPC_ERR_IO ? 2 : 1;
@@ -488,8 +587,10 @@ int main(int argc, char **argv)
 	if (map.cmd.seq_reg >= 0)
 		snprintf(repeats, sizeof repeats, " (%lld repeated the sequence value: retries)",
 			 sv.drive.seq_repeats);
-	fprintf(stderr, "popc-servo-sim: stopped after %ld requests, %lld commands%s, %lld periods%s%s\n",
-		sv.requests, sv.drive.commands, repeats, sv.drive.k, sv.drive.fault ? "; fault: " : "",
+	fprintf(stderr,
+		"popc-servo-sim: stopped after %ld requests (%ld malformed), %lld commands%s, %lld "
+		"periods%s%s\n",
+		sv.requests, sv.malformed, sv.drive.commands, repeats, sv.drive.k, sv.drive.fault ? "; fault: " : "",
 		sv.drive.fault ? sv.drive.fault_why : "");
 	if (record_path) {
 		FILE *f = fopen(record_path, "w");

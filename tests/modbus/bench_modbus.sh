@@ -8,7 +8,8 @@
 #     bash tests/modbus/bench_modbus.sh build/src/servo_sim/popc-servo-sim [SECONDS]
 . "$(dirname "$0")/lib.sh"
 SECS=${2:-10}
-MAP=$EXACT_MAP   # FC23, one transaction per tick (21-byte request, 11-byte reply on RTU)
+MAP=$EXACT_MAP   # FC23, one transaction per tick (23-byte request, 13-byte reply on RTU:
+                 # position, status and the sequence register read back)
 # No wall: at rates the link cannot keep, the 1000 N/m wall behind a
 # several-millisecond delay is unstable and the soft limits stop the run. The
 # hand still follows the ramp, so the position moves.

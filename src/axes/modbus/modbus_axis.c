@@ -6,10 +6,13 @@
 #include <math.h>
 #include <modbus.h>
 #include <sched.h>
+#include <stdarg.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/mman.h>
 #include <sys/select.h>
+#include <sys/socket.h>
 #include <time.h>
 
 #include "../axis_kind.h"
@@ -36,15 +39,20 @@ typedef struct mb_axis {
 	int passthrough;           /* drive counts are scene counts */
 	int64_t period_ns;
 
-	/* the block read every tick: position (and status when close to it) */
+	/* the block read every tick: position (and status when close to it; and
+	 * the sequence register, at echo_off, -1: not in the block) */
 	popc_reg_table blk_table;
 	int blk_reg, blk_n;
 	int status_in_block;
+	int echo_off;
 
 	/* the block every command write covers: the command words at cmd_off and,
 	 * with a sequence register, its value at seq_off (-1: none) */
 	int cmd_first, cmd_n, cmd_off, seq_off;
 	uint16_t seq;              /* the sequence value of the next new command */
+	uint16_t seq_written;      /* the sequence value of the last command encoded */
+	uint16_t tid;              /* TCP: the transaction id of the last request sent */
+	char op_why[POPC_ERROR_MSG_MAX]; /* why the last attempt failed */
 
 	/* pacing */
 	int64_t next_deadline_ns;
@@ -179,36 +187,232 @@ typedef struct mb_op {
 	uint16_t *dest;         /* read destination */
 } mb_op;
 
-static int do_op(mb_axis *a, const mb_op *op)
+/* ---- frames ---------------------------------------------------------------
+ *
+ * popc builds every request PDU itself, sends it (RTU: through
+ * modbus_send_raw_request, which adds the slave address and the CRC; TCP:
+ * with its own MBAP header, so that the transaction id is popc's), takes the
+ * reply with modbus_receive_confirmation (framing, RTU CRC) and checks the
+ * reply against its request itself: libmodbus 3.1.6 accepts a TCP reply
+ * with a wrong unit id, a wrong MBAP length field or a protocol id with one
+ * non-zero byte (tests/modbus/frames.sh shows each), and nothing in an RTU
+ * reply tells which request it answers. Checked: TCP transaction id,
+ * protocol id 0, length field, unit id; RTU slave address; the function
+ * code (or its exception), a read's byte count, a write's echoed address,
+ * quantity or value; and, when the block read covers the sequence
+ * register, that it holds the sequence value of the last command written,
+ * which ties a position to its own request (a stale or duplicated reply
+ * carries an older value). A reply that fails a check is a failed
+ * transaction like a timeout. */
+
+#define MBAP_LEN 7 /* transaction id, protocol id, length, unit id */
+
+static int put16(uint8_t *p, int v)
+{
+	p[0] = (uint8_t)(v >> 8);
+	p[1] = (uint8_t)v;
+	return 2;
+}
+
+static int get16(const uint8_t *p)
+{
+	return p[0] << 8 | p[1];
+}
+
+/* The request PDU of op (function code first); returns its length. */
+static int build_pdu(const mb_axis *a, const mb_op *op, uint8_t *pdu)
 {
 	const popc_register_map *m = &a->map;
-	int rc = -1;
+	int n = 0;
 	switch (op->kind) {
 	case OP_READ_BLOCK:
-		rc = a->blk_table == POPC_TABLE_HOLDING
-			     ? modbus_read_registers(a->ctx, a->blk_reg, a->blk_n, op->dest)
-			     : modbus_read_input_registers(a->ctx, a->blk_reg, a->blk_n, op->dest);
-		break;
-	case OP_READ_STATUS:
-		rc = m->status.table == POPC_TABLE_HOLDING
-			     ? modbus_read_registers(a->ctx, m->status.reg, 1, op->dest)
-			     : modbus_read_input_registers(a->ctx, m->status.reg, 1, op->dest);
-		break;
-	case OP_WRITE_CMD:
-		rc = a->cmd_n == 1 ? modbus_write_register(a->ctx, a->cmd_first, op->words[0])
-				   : modbus_write_registers(a->ctx, a->cmd_first, a->cmd_n, op->words);
-		break;
-	case OP_WRITE_AND_READ:
-		rc = modbus_write_and_read_registers(a->ctx, a->cmd_first, a->cmd_n, op->words, a->blk_reg,
-						     a->blk_n, op->dest);
-		break;
-	case OP_WRITE_ENABLE:
-		rc = m->enable.table == POPC_TABLE_COIL
-			     ? modbus_write_bit(a->ctx, m->enable.reg, op->words[0] ? 1 : 0)
-			     : modbus_write_register(a->ctx, m->enable.reg, op->words[0]);
+	case OP_READ_STATUS: {
+		int block = op->kind == OP_READ_BLOCK;
+		popc_reg_table t = block ? a->blk_table : m->status.table;
+		pdu[n++] = t == POPC_TABLE_HOLDING ? MODBUS_FC_READ_HOLDING_REGISTERS
+						   : MODBUS_FC_READ_INPUT_REGISTERS;
+		n += put16(pdu + n, block ? a->blk_reg : m->status.reg);
+		n += put16(pdu + n, block ? a->blk_n : 1);
 		break;
 	}
-	return rc < 0 ? -1 : 0;
+	case OP_WRITE_CMD:
+		if (a->cmd_n == 1) {
+			pdu[n++] = MODBUS_FC_WRITE_SINGLE_REGISTER;
+			n += put16(pdu + n, a->cmd_first);
+			n += put16(pdu + n, op->words[0]);
+			break;
+		}
+		pdu[n++] = MODBUS_FC_WRITE_MULTIPLE_REGISTERS;
+		n += put16(pdu + n, a->cmd_first);
+		n += put16(pdu + n, a->cmd_n);
+		pdu[n++] = (uint8_t)(2 * a->cmd_n);
+		for (int i = 0; i < a->cmd_n; i++)
+			n += put16(pdu + n, op->words[i]);
+		break;
+	case OP_WRITE_AND_READ:
+		pdu[n++] = MODBUS_FC_WRITE_AND_READ_REGISTERS;
+		n += put16(pdu + n, a->blk_reg);
+		n += put16(pdu + n, a->blk_n);
+		n += put16(pdu + n, a->cmd_first);
+		n += put16(pdu + n, a->cmd_n);
+		pdu[n++] = (uint8_t)(2 * a->cmd_n);
+		for (int i = 0; i < a->cmd_n; i++)
+			n += put16(pdu + n, op->words[i]);
+		break;
+	case OP_WRITE_ENABLE:
+		if (m->enable.table == POPC_TABLE_COIL) {
+			pdu[n++] = MODBUS_FC_WRITE_SINGLE_COIL;
+			n += put16(pdu + n, m->enable.reg);
+			n += put16(pdu + n, op->words[0] ? 0xFF00 : 0x0000);
+		} else {
+			pdu[n++] = MODBUS_FC_WRITE_SINGLE_REGISTER;
+			n += put16(pdu + n, m->enable.reg);
+			n += put16(pdu + n, op->words[0]);
+		}
+		break;
+	}
+	return n;
+}
+
+/* A failed attempt: errno e, and the reason in a->op_why. */
+static int attempt_failed(mb_axis *a, int e, const char *fmt, ...)
+#if defined(__GNUC__)
+	__attribute__((format(printf, 3, 4)))
+#endif
+	;
+static int attempt_failed(mb_axis *a, int e, const char *fmt, ...)
+{
+	if (fmt) {
+		va_list ap;
+		va_start(ap, fmt);
+		vsnprintf(a->op_why, sizeof a->op_why, fmt, ap);
+		va_end(ap);
+	} else {
+		snprintf(a->op_why, sizeof a->op_why, "%s", modbus_strerror(e));
+	}
+	errno = e;
+	return -1;
+}
+
+/* Sends the request PDU: RTU through libmodbus, TCP with popc's MBAP header
+ * and the next transaction id. */
+static int send_request(mb_axis *a, const uint8_t *pdu, int n)
+{
+	uint8_t adu[MBAP_LEN + MODBUS_MAX_PDU_LENGTH];
+	if (a->uri.rtu) {
+		adu[0] = (uint8_t)a->map.slave;
+		memcpy(adu + 1, pdu, (size_t)n);
+		return modbus_send_raw_request(a->ctx, adu, n + 1) < 0 ? attempt_failed(a, errno, NULL) : 0;
+	}
+	a->tid++;
+	put16(adu, a->tid);
+	put16(adu + 2, 0);          /* protocol id: Modbus */
+	put16(adu + 4, n + 1);      /* the unit id and the PDU follow */
+	adu[6] = (uint8_t)a->map.slave;
+	memcpy(adu + MBAP_LEN, pdu, (size_t)n);
+	int fd = modbus_get_socket(a->ctx);
+	for (int off = 0; off < MBAP_LEN + n;) {
+		ssize_t w = send(fd, adu + off, (size_t)(MBAP_LEN + n - off), MSG_NOSIGNAL);
+		if (w < 0 && errno == EINTR)
+			continue;
+		if (w <= 0)
+			return attempt_failed(a, w < 0 ? errno : ECONNRESET, NULL);
+		off += (int)w;
+	}
+	return 0;
+}
+
+/* Checks the reply rsp (len bytes as received) against the request PDU and
+ * copies a read's registers to op->dest. */
+static int check_reply(mb_axis *a, const mb_op *op, const uint8_t *req, const uint8_t *rsp, int len)
+{
+	int hl = a->uri.rtu ? 1 : MBAP_LEN, tail = a->uri.rtu ? 2 : 0; /* RTU: the CRC */
+	if (len <= 0) /* RTU: libmodbus returns 0 for a frame addressed to another slave */
+		return attempt_failed(a, EMBBADSLAVE, "reply from slave %d, not %d",
+				      len == 0 ? rsp[0] : -1, a->map.slave);
+	if (len < hl + 2 + tail)
+		return attempt_failed(a, EMBBADDATA, "reply of %d bytes is too short", len);
+	if (a->uri.rtu) {
+		if (rsp[0] != a->map.slave)
+			return attempt_failed(a, EMBBADSLAVE, "reply from slave %d, not %d", rsp[0],
+					      a->map.slave);
+	} else {
+		if (get16(rsp) != a->tid)
+			return attempt_failed(a, EMBBADDATA,
+					      "reply with transaction id %d to the request with %d "
+					      "(a reply to another request)",
+					      get16(rsp), a->tid);
+		if (get16(rsp + 2) != 0)
+			return attempt_failed(a, EMBBADDATA, "reply with protocol id %d, not 0 (Modbus)",
+					      get16(rsp + 2));
+		if (get16(rsp + 4) != len - 6)
+			return attempt_failed(a, EMBBADDATA,
+					      "reply's MBAP length field says %d bytes, %d followed",
+					      get16(rsp + 4), len - 6);
+		if (rsp[6] != a->map.slave)
+			return attempt_failed(a, EMBBADSLAVE, "reply from unit id %d, not %d", rsp[6],
+					      a->map.slave);
+	}
+	const uint8_t *p = rsp + hl;
+	int n = len - hl - tail, fc = req[0];
+	if (p[0] == (fc | 0x80)) {
+		int code = p[1];
+		if (n != 2)
+			return attempt_failed(a, EMBBADEXC, NULL);
+		return attempt_failed(a, code > 0 && code < MODBUS_EXCEPTION_MAX ? MODBUS_ENOBASE + code
+										  : EMBBADEXC,
+				      NULL);
+	}
+	if (p[0] != fc)
+		return attempt_failed(a, EMBBADDATA,
+				      "reply with function code 0x%02x to a request with 0x%02x", p[0], fc);
+	switch (fc) {
+	case MODBUS_FC_READ_HOLDING_REGISTERS:
+	case MODBUS_FC_READ_INPUT_REGISTERS:
+	case MODBUS_FC_WRITE_AND_READ_REGISTERS: {
+		int want = 2 * get16(req + 3);
+		if (p[1] != want || n != 2 + want)
+			return attempt_failed(a, EMBBADDATA,
+					      "reply with %d data bytes (byte count %d) to a read of %d",
+					      n - 2, p[1], want);
+		for (int i = 0; i < want / 2; i++)
+			op->dest[i] = (uint16_t)get16(p + 2 + 2 * i);
+		if (op->kind != OP_READ_STATUS && a->echo_off >= 0 &&
+		    op->dest[a->echo_off] != a->seq_written)
+			return attempt_failed(a, EMBBADDATA,
+					      "reply's sequence register %d holds %u, the last command "
+					      "written carried %u (a reply to another request, or a drive "
+					      "that does not keep the value written)",
+					      a->map.cmd.seq_reg, op->dest[a->echo_off], a->seq_written);
+		return 0;
+	}
+	case MODBUS_FC_WRITE_MULTIPLE_REGISTERS:
+		/* the echo: starting address and quantity */
+		if (n != 5 || memcmp(p + 1, req + 1, 4) != 0)
+			return attempt_failed(a, EMBBADDATA,
+					      "reply does not echo the write's address and quantity");
+		return 0;
+	default: /* FC05, FC06: the echo is the request */
+		if (n != 5 || memcmp(p + 1, req + 1, 4) != 0)
+			return attempt_failed(a, EMBBADDATA,
+					      "reply does not echo the write's address and value");
+		return 0;
+	}
+}
+
+/* One attempt: flush whatever the line or the stream holds (a late or a
+ * duplicated reply to an earlier request), send, receive, check. */
+static int do_op(mb_axis *a, const mb_op *op)
+{
+	uint8_t req[MODBUS_MAX_PDU_LENGTH], rsp[MODBUS_MAX_ADU_LENGTH];
+	int n = build_pdu(a, op, req);
+	modbus_flush(a->ctx);
+	if (send_request(a, req, n) != 0)
+		return -1;
+	int len = modbus_receive_confirmation(a->ctx, rsp);
+	if (len < 0)
+		return attempt_failed(a, errno, NULL);
+	return check_reply(a, op, req, rsp, len);
 }
 
 static const char *op_name(int kind)
@@ -250,7 +454,7 @@ static int transact(mb_axis *a, const mb_op *op, popc_error *err)
 					      a->map.path, a->uri_text, op_name(op->kind), modbus_strerror(e),
 					      op->kind == OP_WRITE_AND_READ ? "; a drive without FC23 needs fc23 = no"
 									    : "");
-		const char *why = st ? link_err.msg : modbus_strerror(e);
+		const char *why = st ? link_err.msg : a->op_why;
 		char last[POPC_ERROR_MSG_MAX];
 		snprintf(last, sizeof last, "%s", why); /* recover() may reuse errno's text */
 		if (a->connected)
@@ -343,8 +547,10 @@ static int read_state(mb_axis *a, uint16_t *blk, uint16_t *status, popc_error *e
 static void encode_command(mb_axis *a, double f_N, uint16_t *words)
 {
 	const popc_register_map *m = &a->map;
-	if (a->seq_off >= 0)
+	if (a->seq_off >= 0) {
+		a->seq_written = a->seq;
 		words[a->seq_off] = a->seq++; /* uint16_t: wraps modulo 65536 */
+	}
 	double f = f_N;
 	if (!(f == f))
 		f = 0.0; /* NaN never reaches the drive */
@@ -570,7 +776,7 @@ static int mb_stop(popc_axis *ax, popc_error *err)
 			 st1 ? e1.msg : "", st1 && st2 ? "; " : "", st2 ? "disable not confirmed: " : "",
 			 st2 ? e2.msg : "");
 		note(a, "safe stop incomplete:", msg);
-		return popc_error_set(err, POPC_ERR_COMM, "safe stop incomplete: %s", msg);
+		return popc_error_set(err, POPC_ERR_COMM, "%s", msg); /* the runner names it */
 	}
 	return 0;
 }
@@ -714,6 +920,20 @@ int popc_modbus_axis_create(popc_axis **out, const popc_scene *s, const popc_mod
 			a->blk_reg = lo;
 			a->blk_n = hi - lo;
 			a->status_in_block = 1;
+		}
+	}
+	/* a sequence register within reach of the block is read back with the
+	 * position: the drive holds the value last written, which ties each
+	 * reply to its request (check_reply) */
+	a->echo_off = -1;
+	if (m->cmd.seq_reg >= 0 && a->blk_table == POPC_TABLE_HOLDING) {
+		int lo = m->cmd.seq_reg < a->blk_reg ? m->cmd.seq_reg : a->blk_reg;
+		int hi = m->cmd.seq_reg + 1 > a->blk_reg + a->blk_n ? m->cmd.seq_reg + 1
+								     : a->blk_reg + a->blk_n;
+		if (hi - lo <= BLOCK_MAX) {
+			a->blk_reg = lo;
+			a->blk_n = hi - lo;
+			a->echo_off = m->cmd.seq_reg - lo;
 		}
 	}
 	a->cmd_n = popc_register_map_command_block(m, &a->cmd_first);
