@@ -7,6 +7,7 @@
 
 #include "analyze.h"
 #include "popc/core/metrics.h"
+#include "popc/util/parse.h"
 
 /* Every number of the summary is finite: the rows are (ana_log_next), the
  * RMS is taken without overflow (popc_sum_squares), the rates per second are
@@ -333,9 +334,7 @@ int ana_cmd_compare(int argc, char **argv)
 			}
 			break;
 		case OPT_LATE: {
-			char *end;
-			late_from = strtod(optarg, &end);
-			if (end == optarg || *end || !isfinite(late_from) || late_from < 0) {
+			if (popc_parse_double_text(optarg, &late_from) != 0 || late_from < 0) {
 				fprintf(stderr, "popc-analyze compare: --late-from '%s': a time >= 0 s\n",
 					optarg);
 				rc = 2;

@@ -11,6 +11,7 @@
 #include <sys/stat.h>
 
 #include "analyze.h"
+#include "popc/util/parse.h"
 
 /* data file columns after t */
 enum { D_X, D_X_TRUE, D_V, D_F_E, D_F_PC, D_F_C, D_W, D_E_REF, D_WME, D_COLS };
@@ -567,7 +568,7 @@ int ana_cmd_report(int argc, char **argv)
 	popc_chatter_config cc;
 	popc_chatter_config_defaults(&cc);
 	const char *dir = NULL, *title = "popc report", *gnuplot = "gnuplot";
-	long points = 2000;
+	long long points = 2000;
 	int no_draw = 0, c, rc = 0, n = 0;
 	report_log *logs = NULL;
 	report_name *names = NULL;
@@ -576,10 +577,7 @@ int ana_cmd_report(int argc, char **argv)
 		switch (c) {
 		case 'o': dir = optarg; break;
 		case OPT_POINTS: {
-			char *end;
-			errno = 0;
-			points = strtol(optarg, &end, 10);
-			if (end == optarg || *end || errno || points < 10 || points > 1000000) {
+			if (popc_parse_ll_text(optarg, 10, 1000000, &points) != 0) {
 				fprintf(stderr, "popc-analyze report: --points '%s': 10 to 1000000\n", optarg);
 				rc = 2;
 				goto out;

@@ -10,6 +10,7 @@
 #include "popc/core/encoder.h"
 #include "popc/util/numfmt.h"
 #include "popc/util/same_file.h"
+#include "popc/util/parse.h"
 #include "popc/scene/from_scene.h"
 
 int ana_fail(const char *verb, int status, const popc_error *err)
@@ -119,15 +120,13 @@ static const char *column_names(char *buf, size_t cap, int scalable_only)
 static int scale_option(ana_input_options *o, char *arg, const char *verb)
 {
 	char *eq = strchr(arg, '=');
-	char *end = NULL;
 	double f = 0.0;
+	int bad_number = 1;
 	if (eq) {
 		*eq = '\0';
-		errno = 0;
-		f = strtod(eq + 1, &end);
+		bad_number = popc_parse_double_text(eq + 1, &f) != 0;
 	}
-	if (!eq || end == eq + 1 || *end || errno || !isfinite(f) || f == 0.0 ||
-	    !column_scalable(arg) ||
+	if (!eq || bad_number || f == 0.0 || !column_scalable(arg) ||
 	    (popc_log_column_find(arg) == POPC_LOG_COLUMN_T && f < 0.0)) {
 		char names[POPC_LOG_NAMES_LINE_MAX];
 		fprintf(stderr,

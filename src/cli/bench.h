@@ -3,6 +3,7 @@
 #define POPC_CLI_BENCH_H
 
 #include "popc/axes/sim_axis.h"
+#include "popc/util/clock.h" /* popc_now_s: every timing */
 #include "popc/util/error.h"
 #include "popc/scene/scene.h"
 
@@ -17,9 +18,6 @@ typedef struct bench_opts {
 	long rows;                /* log rows (bench log) */
 	const char *dir;          /* scratch directory for log files */
 } bench_opts;
-
-/* Monotonic wall time in seconds. */
-double bench_now_s(void);
 
 /* A recording axis: delegates to the sim axis, keeps every f_c it is sent. */
 typedef struct recorder {

@@ -167,9 +167,9 @@ int popc_bench_tick_floor(const popc_scene *s, const double *f_c_ref, long long 
 		double wall = 0.0, sink = 0.0;
 		long long ticks = 0;
 		do {
-			double t0 = bench_now_s();
+			double t0 = popc_now_s();
 			ticks += run_chain(&f, NULL, &x_end) + 1;
-			wall += bench_now_s() - t0;
+			wall += popc_now_s() - t0;
 			sink += x_end;
 		} while (wall < min_time_s);
 		if (isfinite(sink) && 1e9 * wall / (double)ticks < best)

@@ -271,18 +271,18 @@ int bench_log(const popc_scene *s, const bench_opts *o)
 	int st = 0;
 	recompute a, b;
 	for (int r = 0; r < o->repeats && !st; r++) {
-		double t0 = bench_now_s();
+		double t0 = popc_now_s();
 		st = write_popc(p_popc, s, rows, n, &err);
-		double t1 = bench_now_s();
+		double t1 = popc_now_s();
 		if (!st && write_printf(p_printf, rows, n) != 0)
 			st = popc_error_set(&err, POPC_ERR_IO, "%s: write failed", p_printf);
-		double t2 = bench_now_s();
+		double t2 = popc_now_s();
 		if (!st)
 			st = read_popc(p_popc, s, &a, &err);
-		double t3 = bench_now_s();
+		double t3 = popc_now_s();
 		if (!st && read_strtod(p_popc, s, &b) != 0)
 			st = popc_error_set(&err, POPC_ERR_IO, "%s: read failed", p_popc);
-		double t4 = bench_now_s();
+		double t4 = popc_now_s();
 		w_popc = fmin(w_popc, t1 - t0);
 		w_printf = fmin(w_printf, t2 - t1);
 		r_popc = fmin(r_popc, t3 - t2);

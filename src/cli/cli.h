@@ -5,6 +5,7 @@
 #include <signal.h>
 
 #include "popc/util/error.h"
+#include "popc/util/parse.h" /* every number an option takes */
 #include "popc/scene/scene.h"
 
 /* Set by SIGINT, SIGTERM, SIGHUP and SIGQUIT; the run loop polls it every
@@ -39,8 +40,6 @@ int popc_cli_push(char ***list, int *n, char *value);
  * (the caller exits 2 before anything runs). */
 int popc_cli_stdout_closed(const char *verb, const char *option, const char *path);
 
-/* Strict whole-string number parsers for options. */
-int popc_cli_parse_long(const char *text, long lo, long hi, long *out);
 
 int popc_cmd_run(int argc, char **argv);
 int popc_cmd_scene(int argc, char **argv);

@@ -1,4 +1,3 @@
-#include <errno.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -75,17 +74,6 @@ int popc_cli_push(char ***list, int *n, char *value)
 		return -1;
 	grown[(*n)++] = value;
 	*list = grown;
-	return 0;
-}
-
-int popc_cli_parse_long(const char *text, long lo, long hi, long *out)
-{
-	char *end;
-	errno = 0;
-	long v = strtol(text, &end, 10);
-	if (end == text || *end || errno || v < lo || v > hi)
-		return -1;
-	*out = v;
 	return 0;
 }
 

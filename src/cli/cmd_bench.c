@@ -11,7 +11,6 @@
  * This file reads the options and runs one of them: bench_integrators.c,
  * bench_loop.c (with bench_floor.c), bench_log.c; bench_common.c holds what
  * they share. */
-#include <errno.h>
 #include <getopt.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -19,7 +18,7 @@
 
 #include "bench.h"
 #include "cli.h"
-#include "popc/sweep/sweep.h"
+#include "popc/util/atomic_file.h" /* popc_mkdir_p */
 
 static void usage(FILE *f)
 {
@@ -70,8 +69,7 @@ int popc_cmd_bench(int argc, char **argv)
 	};
 	bench_opts o = {.min_time_s = 0.2, .repeats = 3, .rows = 200000};
 	int c;
-	long lv;
-	char *end;
+	long long lv;
 	optind = 1;
 	while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
 		switch (c) {
@@ -94,9 +92,8 @@ int popc_cmd_bench(int argc, char **argv)
 			break;
 		case OPT_PLOT: o.plot_dir = optarg; break;
 		case OPT_MIN_TIME:
-			errno = 0;
-			o.min_time_s = strtod(optarg, &end);
-			if (end == optarg || *end || errno || !(o.min_time_s >= 0 && o.min_time_s <= 60)) {
+			if (popc_parse_double_text(optarg, &o.min_time_s) != 0 ||
+			    !(o.min_time_s >= 0 && o.min_time_s <= 60)) {
 				fprintf(stderr, "popc bench: --min-time %s: expected seconds in [0, 60]\n",
 					optarg);
 				free(o.sets);
@@ -104,7 +101,7 @@ int popc_cmd_bench(int argc, char **argv)
 			}
 			break;
 		case OPT_REPEAT:
-			if (popc_cli_parse_long(optarg, 1, 100, &lv) != 0) {
+			if (popc_parse_ll_text(optarg, 1, 100, &lv) != 0) {
 				fprintf(stderr, "popc bench: --repeat %s: expected an integer in [1, 100]\n",
 					optarg);
 				free(o.sets);
@@ -113,7 +110,7 @@ int popc_cmd_bench(int argc, char **argv)
 			o.repeats = (int)lv;
 			break;
 		case OPT_ROWS:
-			if (popc_cli_parse_long(optarg, 1000, 100000000L, &lv) != 0) {
+			if (popc_parse_ll_text(optarg, 1000, 100000000, &lv) != 0) {
 				fprintf(stderr, "popc bench: --rows %s: expected an integer in [1000, 1e8]\n",
 					optarg);
 				free(o.sets);
@@ -152,7 +149,7 @@ int popc_cmd_bench(int argc, char **argv)
 	}
 	/* the figure's directory is made (or refused) before half a minute of
 	 * measuring, as report -o and sweep -o make theirs */
-	if (o.plot_dir && (st = popc_sweep_mkdir_p(o.plot_dir, &err)) != 0)
+	if (o.plot_dir && (st = popc_mkdir_p(o.plot_dir, &err)) != 0)
 		return popc_cli_fail("bench", st, &err);
 	if (strcmp(what, "integrators") == 0)
 		return bench_integrators(&s, &o);

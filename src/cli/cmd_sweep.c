@@ -19,9 +19,10 @@
 
 #include "cli.h"
 #include "popc/sweep/sweep_dir.h"
-#include "popc/sweep/sweep_files.h"
 #include "popc/sweep/sweep_plan.h"
 #include "popc/sweep/sweep_results.h"
+#include "popc/util/atomic_file.h"
+#include "popc/util/text.h"
 #include "sweep_list.h"
 #include "sweep_pool.h"
 #include "sweep_progress.h"
@@ -125,8 +126,8 @@ static void show_notes(const char *verb, const popc_sweep_results *r, int quiet)
 static int default_jobs(void)
 {
 	const char *slurm = getenv("SLURM_CPUS_PER_TASK");
-	long n;
-	if (slurm && popc_cli_parse_long(slurm, 1, 4096, &n) == 0)
+	long long n;
+	if (slurm && popc_parse_ll_text(slurm, 1, 4096, &n) == 0)
 		return (int)n;
 	n = sysconf(_SC_NPROCESSORS_ONLN);
 	return n > 0 ? (int)(n > 4096 ? 4096 : n) : 1;
@@ -202,9 +203,9 @@ static int cmd_merge(int argc, char **argv)
 		if (f)
 			fclose(f);
 		struct stat sb;
-		int st = popc_sweep_mkdir_p(out, &err);
+		int st = popc_mkdir_p(out, &err);
 		if (!st && stat(dst, &sb) != 0)
-			st = popc_sweep_write_atomic(dst, buf, n, &err);
+			st = popc_write_file_atomic(dst, buf, n, &err);
 		if (!st) {
 			popc_sweep_plan o;
 			st = popc_sweep_plan_from_dir(&o, out, &err);
@@ -238,15 +239,6 @@ static int cmd_merge(int argc, char **argv)
 	return t.failed || t.missing ? 1 : 0;
 }
 
-/* Narrows [*b, *e) to the text without the blanks around it. */
-static void trim_blanks(const char **b, const char **e)
-{
-	while (*b < *e && (**b == ' ' || **b == '\t'))
-		(*b)++;
-	while (*e > *b && ((*e)[-1] == ' ' || (*e)[-1] == '\t'))
-		(*e)--;
-}
-
 /* Does the --set assignment "section.key=value" name this key? Names are
  * compared without the blanks around them, as popc_scene_set reads them. */
 static int set_names_key(const char *set, const char *section, const char *key)
@@ -259,8 +251,8 @@ static int set_names_key(const char *set, const char *section, const char *key)
 	for (int k = 0; k < 2; k++) {
 		const char *gb = given[k][0], *ge = given[k][1];
 		const char *wb = want[k], *we = want[k] + strlen(want[k]);
-		trim_blanks(&gb, &ge);
-		trim_blanks(&wb, &we);
+		popc_trim_blanks(&gb, &ge);
+		popc_trim_blanks(&wb, &we);
 		if (ge - gb != we - wb || memcmp(gb, wb, (size_t)(ge - gb)) != 0)
 			return 0;
 	}
@@ -272,7 +264,7 @@ typedef struct sweep_args {
 	char **vary, **sets;          /* pointers into argv */
 	int n_vary, n_sets;
 	int quiet, keep_log, list;
-	long jobs;                    /* 0: default_jobs() */
+	long long jobs;               /* 0: default_jobs() */
 	const char *scene_path, *dir, *shard_text, *program;
 } sweep_args;
 
@@ -455,7 +447,7 @@ int popc_cmd_sweep(int argc, char **argv)
 		case OPT_SET: oom |= popc_cli_push(&a.sets, &a.n_sets, optarg); break;
 		case 'o': a.dir = optarg; break;
 		case 'j':
-			if (popc_cli_parse_long(optarg, 1, 4096, &a.jobs) != 0) {
+			if (popc_parse_ll_text(optarg, 1, 4096, &a.jobs) != 0) {
 				fprintf(stderr, "popc sweep: -j '%s': a whole number in [1, 4096]\n", optarg);
 				rc = 2;
 			}

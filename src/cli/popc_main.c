@@ -1,58 +1,29 @@
 /* popc: the experiment runner. Verbs dispatch to cmd_*.c. */
-#include <stdio.h>
-#include <string.h>
-
 #include "cli.h"
+#include "popc/util/verb.h"
 #include "popc/util/stdfds.h"
 #include "popc_config.h"
-
-static void usage(FILE *f)
-{
-	fputs("usage: popc VERB [options]\n"
-	      "\n"
-	      "Runs time-domain passivity controller (PO/PC) experiments on a simulated plant\n"
-	      "or a Modbus servo axis and writes CSV logs (Ryu, Hannaford, Kwon, Kim 2005).\n"
-	      "\n"
-	      "verbs:\n"
-	      "  run SCENE       run one experiment\n"
-	      "  scene show|keys print a resolved scene, or every scene key\n"
-	      "  bench integrators|loop|log  speed against error (docs/BENCHMARKS.md)\n"
-	      "  sweep SCENE     run a parameter sweep in parallel (Slurm, GNU parallel)\n"
-	      "\n"
-	      "'popc VERB --help' describes a verb. popc-analyze reads the logs.\n",
-	      f);
-}
 
 int main(int argc, char **argv)
 {
 	if (popc_stdfds_make_safe() != 0) /* a closed 0-2 on /dev/null, before any open (stdfds.h) */
 		return 1;
-	if (argc < 2) {
-		usage(stderr);
-		return 2;
-	}
-	const char *verb = argv[1];
-	if (strcmp(verb, "--help") == 0 || strcmp(verb, "-h") == 0 || strcmp(verb, "help") == 0) {
-		usage(stdout);
-		return 0;
-	}
-	if (strcmp(verb, "--version") == 0) {
-		printf("popc %s\n", POPC_VERSION);
-		return 0;
-	}
-	/* getopt names argv[0] in its messages: "popc run: unrecognized option" */
-	static char prog[64] = "popc ";
-	strncat(prog, verb, sizeof prog - sizeof "popc ");
-	argv[1] = prog;
-	if (strcmp(verb, "run") == 0)
-		return popc_cmd_run(argc - 1, argv + 1);
-	if (strcmp(verb, "scene") == 0)
-		return popc_cmd_scene(argc - 1, argv + 1);
-	if (strcmp(verb, "bench") == 0)
-		return popc_cmd_bench(argc - 1, argv + 1);
-	if (strcmp(verb, "sweep") == 0)
-		return popc_cmd_sweep(argc - 1, argv + 1);
-	fprintf(stderr, "popc: unknown verb '%s'\n", verb);
-	usage(stderr);
-	return 2;
+	static const popc_verb verbs[] = {
+		{"run", popc_cmd_run, "SCENE", "run one experiment"},
+		{"scene", popc_cmd_scene, "show|keys", "print a resolved scene, or every scene key"},
+		{"bench", popc_cmd_bench, "integrators|loop|log",
+		 "speed against error (docs/BENCHMARKS.md)"},
+		{"sweep", popc_cmd_sweep, "SCENE", "run a parameter sweep in parallel (Slurm, GNU parallel)"},
+	};
+	static const popc_program popc = {
+		.name = "popc",
+		.version = POPC_VERSION,
+		.synopsis = "VERB [options]",
+		.about = "Runs time-domain passivity controller (PO/PC) experiments on a simulated plant\n"
+			 "or a Modbus servo axis and writes CSV logs (Ryu, Hannaford, Kwon, Kim 2005).\n",
+		.footer = "'popc VERB --help' describes a verb. popc-analyze reads the logs.\n",
+		.verbs = verbs,
+		.n_verbs = sizeof verbs / sizeof verbs[0],
+	};
+	return popc_verb_dispatch(&popc, argc, argv);
 }

@@ -8,7 +8,7 @@
 #include <sys/stat.h>
 
 #include "popc/sweep/sweep_dir.h"
-#include "popc/sweep/sweep_files.h"
+#include "popc/util/atomic_file.h"
 
 /* Writes text as one shell word (single quotes unless it is plain). */
 static void put_word(FILE *f, const char *text)
@@ -55,7 +55,7 @@ int sweep_list_print(const popc_sweep_plan *p, const popc_sweep_shard *sh, const
 		if (!st)
 			st = popc_scene_to_text(&s, &text, &len, &err);
 		if (!st)
-			st = popc_sweep_write_atomic(path, text, len, &err);
+			st = popc_write_file_atomic(path, text, len, &err);
 		free(text);
 		if (st) {
 			fprintf(stderr, "popc sweep: %s\n", err.msg);

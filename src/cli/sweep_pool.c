@@ -399,10 +399,10 @@ int sweep_pool_run(const sweep_pool_config *cfg, const long long *todo, long lon
 void sweep_pool_test_hooks(sweep_pool_config *cfg)
 {
 	const char *v = getenv("POPC_SWEEP_TEST_ROWS_PID");
-	long n;
-	if (v && popc_cli_parse_long(v, 1, LONG_MAX, &n) == 0)
+	long long n;
+	if (v && popc_parse_ll_text(v, 1, LONG_MAX, &n) == 0)
 		cfg->rows_pid = n;
 	v = getenv("POPC_SWEEP_TEST_DIE_AFTER_CLAIM");
-	if (v && popc_cli_parse_long(v, 0, LONG_MAX, &n) == 0)
+	if (v && popc_parse_ll_text(v, 0, LONG_MAX, &n) == 0)
 		cfg->die_after_claim = n;
 }

@@ -2,15 +2,9 @@
 #include "sweep_progress.h"
 
 #include <stdio.h>
-#include <time.h>
 #include <unistd.h>
 
-static double now_s(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
+#include "popc/util/clock.h"
 
 static void fmt_duration(double s, char *buf, size_t cap)
 {
@@ -29,7 +23,7 @@ void sweep_progress_show(sweep_progress *p, int final)
 {
 	if (p->quiet || p->total == 0)
 		return;
-	double t = now_s();
+	double t = popc_now_s();
 	if (p->tty && !final && t - p->t_last < 0.1)
 		return; /* redraw at most 10 times a second */
 	double el = t - p->t_start;
@@ -65,14 +59,14 @@ void sweep_progress_show(sweep_progress *p, int final)
 void sweep_progress_start(sweep_progress *p, int quiet, long long total, long long done_before)
 {
 	*p = (sweep_progress){.quiet = quiet, .tty = isatty(STDERR_FILENO), .total = total,
-			      .done = done_before, .t_start = now_s()};
+			      .done = done_before, .t_start = popc_now_s()};
 	p->last_decile = (int)(10 * p->done / (total ? total : 1));
 	p->last_done = p->done;
 }
 
 double sweep_progress_elapsed_s(const sweep_progress *p)
 {
-	return now_s() - p->t_start;
+	return popc_now_s() - p->t_start;
 }
 
 void sweep_progress_failure(const sweep_progress *p, const popc_sweep_plan *plan, long long i,

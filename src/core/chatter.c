@@ -1,11 +1,12 @@
 /* Streaming chatter and limit-cycle detector (chatter.h; docs/ANALYSIS.md). */
 #include "popc/core/chatter.h"
 
-#include <errno.h>
 #include <math.h>
 #include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "popc/util/parse.h"
 
 void popc_chatter_config_defaults(popc_chatter_config *c)
 {
@@ -58,10 +59,8 @@ int popc_chatter_config_set(popc_chatter_config *c, const char *name, const char
 	for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++) {
 		if (strcmp(keys[i].name, name) != 0)
 			continue;
-		char *end;
-		errno = 0;
-		double v = strtod(value, &end);
-		if (end == value || *end || errno || !isfinite(v) || v < keys[i].lo || v > keys[i].hi)
+		double v;
+		if (popc_parse_double_text(value, &v) != 0 || v < keys[i].lo || v > keys[i].hi)
 			return popc_error_set(err, POPC_ERR_INVALID,
 					      "threshold %s = '%s': expected a number in [%g, %g]", name,
 					      value, keys[i].lo, keys[i].hi);

@@ -9,6 +9,8 @@
 
 #include "popc/log/log_columns.h"
 #include "popc/util/numfmt.h"
+#include "popc/util/parse.h"
+#include "popc/util/text.h"
 
 #define READ_BLOCK (1u << 20)
 #define LINE_MAX_BYTES (1u << 20)
@@ -108,19 +110,11 @@ static char *dupn(const char *s, size_t n)
 	return d;
 }
 
-static void trim(const char **s, const char **e)
-{
-	while (*s < *e && (**s == ' ' || **s == '\t'))
-		(*s)++;
-	while (*e > *s && ((*e)[-1] == ' ' || (*e)[-1] == '\t'))
-		(*e)--;
-}
-
 /* "# key = value" provenance; section headers qualify the keys after them. */
 static void header_comment(popc_log_reader *r, const char *text, char *section, size_t cap)
 {
 	const char *s = text, *e = text + strlen(text);
-	trim(&s, &e);
+	popc_trim_blanks(&s, &e);
 	if (s < e && *s == '[' && e[-1] == ']') {
 		snprintf(section, cap, "%.*s", (int)(e - s - 2), s + 1);
 		return;
@@ -129,8 +123,8 @@ static void header_comment(popc_log_reader *r, const char *text, char *section, 
 	if (!eq || r->n_keys >= POPC_LOG_MAX_HEADER_KEYS)
 		return;
 	const char *ks = s, *ke = eq, *vs = eq + 1, *ve = e;
-	trim(&ks, &ke);
-	trim(&vs, &ve);
+	popc_trim_blanks(&ks, &ke);
+	popc_trim_blanks(&vs, &ve);
 	char key[160];
 	if (section[0])
 		snprintf(key, sizeof key, "%s.%.*s", section, (int)(ke - ks), ks);
@@ -229,7 +223,7 @@ static int split(char *line, char delim, const char **cs, const char **ce, int m
 			cs[n] = p;
 			d = strchr(p, delim);
 			ce[n] = d ? d : p + strlen(p);
-			trim(&cs[n], &ce[n]);
+			popc_trim_blanks(&cs[n], &ce[n]);
 		}
 		n++;
 		if (!d)
@@ -445,17 +439,22 @@ int popc_log_reader_next(popc_log_reader *r, double *values, popc_error *err)
 					*p = '.';
 				}
 		}
-		size_t used = cs[i] < ce[i] ? popc_parse_double(cs[i], ce[i], &values[i]) : 0;
+		/* a number as everywhere (popc/util/parse.h), inline */
+		popc_parse_status ps = popc_parse_double_exact(cs[i], ce[i], &values[i]);
 		for (int k = 0; k < n_comma; k++)
 			*comma[k] = ',';
-		if (used == 0 || cs[i] + used != ce[i] || !isfinite(values[i])) {
+		if (ps != POPC_PARSE_OK) {
 			int is_nan = ce[i] - cs[i] >= 3 && (strncmp(cs[i], "nan", 3) == 0 ||
 							    strncmp(cs[i], "NaN", 3) == 0 ||
 							    strncmp(cs[i], "-nan", 4) == 0);
 			return popc_error_set(
 				err, POPC_ERR_INVALID, "%s:%lld: column %d (%s): %s '%.*s'", r->path,
 				r->lineno, i + 1, r->col_name[i],
-				cs[i] == ce[i] ? "empty cell" : is_nan ? "NaN is not allowed" : "not a finite number",
+				ps == POPC_PARSE_EMPTY ? "empty cell"
+				: is_nan ? "NaN is not allowed"
+				: ps == POPC_PARSE_UNDERFLOW
+					? "below the smallest double (4.9e-324), it would read as 0:"
+					: "not a finite number",
 				(int)(ce[i] - cs[i] > 40 ? 40 : ce[i] - cs[i]), cs[i]);
 		}
 	}

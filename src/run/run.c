@@ -3,19 +3,12 @@
 
 #include <math.h>
 #include <string.h>
-#include <time.h>
 
 #include "popc/core/controller.h"
 #include "popc/core/encoder.h"
 #include "popc/util/numfmt.h"
+#include "popc/util/clock.h"
 #include "popc/scene/from_scene.h"
-
-static double now_s(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 	     popc_run_summary *sum, popc_error *err)
@@ -37,7 +30,7 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 	popc_log_writer *log = opt ? opt->log : NULL;
 	int st = 0;
 	const char *why = "completed";
-	double t0 = now_s();
+	double t0 = popc_now_s();
 	popc_axis_sample smp;
 	st = axis->ops->start(axis, err);
 	if (st)
@@ -94,7 +87,7 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 		if (err)
 			*err = stop_err;
 	}
-	sum->wall_time_s = now_s() - t0;
+	sum->wall_time_s = popc_now_s() - t0;
 	sum->sim_time_s = sum->ticks > 0 ? (double)(sum->ticks - 1) * T : 0.0;
 	/* an axis without a model to check has no integrator error */
 	sum->integrator_error_m =

@@ -8,7 +8,8 @@
 #include <string.h>
 #include <sys/types.h>
 
-#include "popc/util/numfmt.h"
+#include "popc/util/parse.h"
+#include "popc/util/text.h"
 
 #define POPC_TWO_PI 6.283185307179586476925286766559
 
@@ -55,8 +56,8 @@ static const char *skip_blanks(const char *p)
 
 /* A table intent's file (popc_intent_table_load, from_scene.h). Reads "t,value" rows: columns separated by ',', ';' or a tab (blanks around
  * them allowed), '#' comments and blank lines skipped, one header line allowed
- * before the first row, CRLF or LF. Numbers are decimal, C locale
- * (popc_parse_double), finite; times increase strictly; values within the
+ * before the first row, CRLF or LF. Numbers as everywhere (popc/util/parse.h:
+ * decimal, C locale, finite); times increase strictly; values within the
  * range of the scene key they stand for. Call with is_force set. Lines have any length
  * (getline), so every message names the real line. */
 int popc_intent_table_load(const char *path, popc_table_quantity quantity, double k_op_Npm,
@@ -97,8 +98,7 @@ int popc_intent_table_load(const char *path, popc_table_quantity quantity, doubl
 		if (*p == '#' || *p == '\0')
 			continue;
 		double tv, qv;
-		size_t used = popc_parse_double(p, end, &tv);
-		if (used == 0) {
+		if (popc_parse_double(p, end, &tv) == 0) { /* no number starts here: text */
 			if (n == 0 && !header_seen) {
 				header_seen = 1; /* the header: the first line that is not a row */
 				continue;
@@ -107,8 +107,15 @@ int popc_intent_table_load(const char *path, popc_table_quantity quantity, doubl
 						"%s:%d: column 1: expected a time in seconds", path, lineno);
 			break;
 		}
+		/* column 1 ends at a blank or a delimiter: a number as everywhere
+		 * (popc/util/parse.h) */
+		const char *d = p + strcspn(p, " \t,;");
+		if (popc_parse_double_span(p, d, &tv) != 0) {
+			status = popc_error_set(err, POPC_ERR_INVALID,
+						"%s:%d: column 1: expected a finite number", path, lineno);
+			break;
+		}
 		/* the delimiter: ',' or ';' (blanks around it), or blanks holding a tab */
-		const char *d = p + used;
 		int tab = 0;
 		while (*d == ' ' || *d == '\t')
 			tab |= *d++ == '\t';
@@ -121,11 +128,10 @@ int popc_intent_table_load(const char *path, popc_table_quantity quantity, doubl
 			break;
 		}
 		p = skip_blanks(d);
-		used = popc_parse_double(p, end, &qv);
-		if (used == 0 || *skip_blanks(p + used) != '\0' || !isfinite(tv) || !isfinite(qv)) {
+		popc_trim_blanks(&p, &end);
+		if (popc_parse_double_span(p, end, &qv) != 0) {
 			status = popc_error_set(err, POPC_ERR_INVALID,
-						"%s:%d: %s: expected a finite number", path, lineno,
-						isfinite(tv) ? "column 2" : "column 1");
+						"%s:%d: column 2: expected a finite number", path, lineno);
 			break;
 		}
 		if (!(fabs(qv) <= q_max)) {

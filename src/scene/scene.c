@@ -4,6 +4,7 @@
 
 #include <errno.h>
 #include <ini.h>
+#include <limits.h>
 #include <math.h>
 #include <stddef.h>
 #include <stdlib.h>
@@ -12,6 +13,8 @@
 
 #include "popc/scene/ini_lines.h"
 #include "popc/util/numfmt.h"
+#include "popc/util/parse.h"
+#include "popc/util/text.h"
 #include "popc/core/velocity.h"
 
 typedef enum { KEY_DOUBLE, KEY_INT, KEY_ENUM, KEY_STRING } key_type;
@@ -147,35 +150,6 @@ static void describe_range(const scene_key *k, char *buf, size_t cap)
 	}
 }
 
-typedef enum {
-	NUMBER_OK,
-	NUMBER_INVALID,   /* not a decimal number (also nan, inf, hex) */
-	NUMBER_OVERFLOW,  /* beyond the largest double */
-	NUMBER_UNDERFLOW, /* nonzero text that rounds to 0: below the smallest double */
-} number_status;
-
-/* Strict number: the whole text, a decimal in the C locale (popc_parse_double,
- * no hex, nan or inf), finite. Subnormals are numbers like any other; text that
- * rounds to zero although a digit is not zero (1e-400) is refused rather than
- * read as 0. Blanks around the value are the caller's (inih trims file values,
- * popc_scene_set trims --set values). */
-static number_status parse_number(const char *text, double *out)
-{
-	const char *end = text + strlen(text);
-	double v;
-	size_t used = popc_parse_double(text, end, &v);
-	if (used == 0 || text + used != end)
-		return NUMBER_INVALID;
-	if (!isfinite(v))
-		return NUMBER_OVERFLOW;
-	if (v == 0.0)
-		for (const char *p = text; p < end && *p != 'e' && *p != 'E'; p++)
-			if (*p >= '1' && *p <= '9')
-				return NUMBER_UNDERFLOW;
-	*out = v;
-	return NUMBER_OK;
-}
-
 /* Why a string value cannot be written to a scene file and read back, or
  * NULL. The resolved scene is written as one (popc scene show, a sweep's
  * runs/<id>/scene.ini) and read with libinih, so "key = value" must fit
@@ -219,29 +193,39 @@ static int set_key(popc_scene *s, const scene_key *k, const char *value, const c
 	switch (k->type) {
 	case KEY_DOUBLE:
 	case KEY_INT: {
+		/* a number as everywhere (popc/util/parse.h); an int key's value is a
+		 * whole number, exact from its digits ("2.0" is 2, "2.5" is not) */
 		double v = 0.0;
-		static const char *const why[] = {
-			[NUMBER_INVALID] = "not a finite number",
-			[NUMBER_OVERFLOW] = "not a finite number (above the largest double, 1.8e308)",
-			[NUMBER_UNDERFLOW] = "below the smallest double (4.9e-324): it would read as 0",
-		};
-		number_status ns = parse_number(value, &v);
-		if (ns != NUMBER_OK)
+		long long whole = 0;
+		popc_parse_status ps = k->type == KEY_INT
+					       ? popc_parse_ll_text(value, LLONG_MIN, LLONG_MAX, &whole)
+					       : popc_parse_double_text(value, &v);
+		if (k->type == KEY_INT && ps == POPC_PARSE_OVERFLOW)
+			return popc_error_set(err, POPC_ERR_INVALID, "%s%s%s: out of range; allowed %s",
+					      who, sep, value, range);
+		if (ps == POPC_PARSE_NOT_WHOLE)
+			return popc_error_set(err, POPC_ERR_INVALID,
+					      "%s%s%s: not a whole number; allowed %s", who, sep, value,
+					      range);
+		if (ps != POPC_PARSE_OK)
 			return popc_error_set(err, POPC_ERR_INVALID, "%s%s'%s': %s; allowed %s", who,
-					      sep, value, why[ns], range);
+					      sep, value,
+					      ps == POPC_PARSE_OVERFLOW
+						      ? "not a finite number (above the largest double, 1.8e308)"
+					      : ps == POPC_PARSE_UNDERFLOW
+						      ? "below the smallest double (4.9e-324): it would read as 0"
+						      : "not a finite number",
+					      range);
+		if (k->type == KEY_INT)
+			v = (double)whole;
 		int below = k->min_open ? !(v > k->min) : !(v >= k->min);
 		if (below || !(v <= k->max))
 			return popc_error_set(err, POPC_ERR_INVALID, "%s%s%s: out of range; allowed %s",
 					      who, sep, value, range);
-		if (k->type == KEY_INT) {
-			if (v != floor(v))
-				return popc_error_set(err, POPC_ERR_INVALID,
-						      "%s%s%s: not a whole number; allowed %s", who, sep,
-						      value, range);
-			*(int *)(void *)field = (int)v;
-		} else {
+		if (k->type == KEY_INT)
+			*(int *)(void *)field = (int)whole;
+		else
 			*(double *)(void *)field = v;
-		}
 		return 0;
 	}
 	case KEY_ENUM:
@@ -292,12 +276,9 @@ static int unknown_key(const char *section, const char *key, int section_known, 
  * values; -1 if it does not fit out. */
 static int trimmed(const char *text, size_t len, char *out, size_t cap)
 {
-	while (len > 0 && (*text == ' ' || *text == '\t')) {
-		text++;
-		len--;
-	}
-	while (len > 0 && (text[len - 1] == ' ' || text[len - 1] == '\t'))
-		len--;
+	const char *end = text + len;
+	popc_trim_blanks(&text, &end);
+	len = (size_t)(end - text);
 	if (len >= cap)
 		return -1;
 	memcpy(out, text, len);

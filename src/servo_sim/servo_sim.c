@@ -25,6 +25,8 @@
 #include "drive.h"
 #include "frame.h"
 #include "popc/axes/modbus_axis.h"
+#include "popc/util/clock.h"
+#include "popc/util/parse.h"
 #include "popc/util/stdfds.h"
 
 static volatile sig_atomic_t stop_requested = 0;
@@ -96,66 +98,49 @@ static int in_range(const fault_range *r, long n)
 }
 
 /* Request numbers and counts stop at 10^15 (32 years of requests at 1 MHz),
- * so first + count and the request counter never overflow a long; an
+ * so first + count and a request counter never overflow a long; an
  * argument (a delay in ms, a code, a protocol id) stops at a day in ms, so
  * t + MS * 10^6 ns stays far inside an int64. */
 #define FAULT_REQUEST_MAX 1000000000000000L
 #define FAULT_ARG_MAX 86400000L
 
-/* "N[,COUNT]" or, with want_arg, "N,ARG[,COUNT]": decimal integers and
- * nothing else (a value past the last one, a sign or a blank is refused,
- * not ignored), N and COUNT in [1, FAULT_REQUEST_MAX], ARG in
- * [0, FAULT_ARG_MAX]. */
+/* "N[,COUNT]" or, with want_arg, "N,ARG[,COUNT]": whole numbers as everywhere
+ * (popc/util/parse.h), N and COUNT in [1, FAULT_REQUEST_MAX], ARG in
+ * [0, FAULT_ARG_MAX]; a value past the last one, a blank or an empty field
+ * is refused, not ignored. */
 static int parse_range(const char *text, int want_arg, fault_range *r)
 {
-	long v[3] = {0, 0, 0};
+	long long v[3] = {0, 0, 0};
 	int n = 0, max = want_arg ? 3 : 2;
-	const char *p = text;
-	for (;;) {
-		if (n == max || *p < '0' || *p > '9')
+	for (const char *p = text;; n++) {
+		const char *end = p + strcspn(p, ",");
+		int is_arg = want_arg && n == 1;
+		if (n == max || popc_parse_ll_span(p, end, is_arg ? 0 : 1,
+						   is_arg ? FAULT_ARG_MAX : FAULT_REQUEST_MAX, 0,
+						   &v[n]) != 0)
 			return -1;
-		char *end;
-		errno = 0;
-		v[n++] = strtol(p, &end, 10);
-		if (errno)
-			return -1;
-		if (*end == '\0')
+		if (!*end) {
+			n++;
 			break;
-		if (*end != ',')
-			return -1;
+		}
 		p = end + 1;
 	}
-	if (v[0] < 1 || v[0] > FAULT_REQUEST_MAX || n < 1 + want_arg)
+	if (n < 1 + want_arg)
 		return -1;
-	if (want_arg && v[1] > FAULT_ARG_MAX)
-		return -1;
-	if (n > 1 + want_arg && v[1 + want_arg] > FAULT_REQUEST_MAX)
-		return -1;
-	r->first = v[0];
-	r->arg = want_arg ? v[1] : 0;
-	r->count = n > 1 + want_arg ? v[1 + want_arg] : 1;
-	return r->count >= 1 ? 0 : -1;
-}
-
-/* A decimal integer >= min, digits only. */
-static int parse_count(const char *text, long min, long *out)
-{
-	char *end;
-	errno = 0;
-	if (*text < '0' || *text > '9')
-		return -1;
-	long v = strtol(text, &end, 10);
-	if (*end || errno || v < min)
-		return -1;
-	*out = v;
+	r->first = (long)v[0];
+	r->arg = want_arg ? (long)v[1] : 0;
+	r->count = n > 1 + want_arg ? (long)v[1 + want_arg] : 1;
 	return 0;
 }
 
-static int64_t now_ns(void)
+/* A whole number in [min, max] (parse.h). */
+static int parse_count(const char *text, long min, long max, long *out)
 {
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
+	long long v;
+	if (popc_parse_ll_text(text, min, max, &v) != 0)
+		return -1;
+	*out = (long)v;
+	return 0;
 }
 
 typedef struct server {
@@ -195,7 +180,7 @@ static int wait_readable(server *sv, int fd, int timeout_ms)
 static void sleep_until(server *sv, int64_t t_ns)
 {
 	for (;;) {
-		int64_t left = t_ns - now_ns();
+		int64_t left = t_ns - popc_now_ns();
 		if (left <= 0 || stop_requested)
 			return;
 		struct timespec ts = {(time_t)(left / 1000000000), (long)(left % 1000000000)};
@@ -351,14 +336,14 @@ static void serve_link(server *sv)
 	int tick_ms = sv->drive.watchdog_ms > 0 ? 5 : 100;
 	while (!stop_requested && !sv->exiting) {
 		int r = wait_readable(sv, fd, tick_ms);
-		drive_tick(&sv->drive, now_ns());
+		drive_tick(&sv->drive, popc_now_ns());
 		if (r < 0)
 			return;
 		if (r == 0)
 			continue;
 		errno = 0;
 		int len = modbus_receive(sv->ctx, q);
-		int64_t t_rx = now_ns();
+		int64_t t_rx = popc_now_ns();
 		if (len < 0) {
 			if (!sv->uri.rtu) {
 				/* the client left (ECONNRESET: libmodbus' word for an
@@ -430,7 +415,7 @@ static int run_server(server *sv)
 	print_ready(sv);
 	while (!stop_requested && !sv->exiting) {
 		int r = wait_readable(sv, sv->listen_fd, sv->drive.watchdog_ms > 0 ? 5 : 100);
-		drive_tick(&sv->drive, now_ns());
+		drive_tick(&sv->drive, popc_now_ns());
 		if (r <= 0)
 			continue;
 		int s = sv->listen_fd;
@@ -501,9 +486,9 @@ int main(int argc, char **argv)
 			else
 				sets[n_sets++] = optarg;
 			break;
-		case OPT_WATCHDOG: bad = parse_count(optarg, 0, &watchdog) || watchdog > 600000; break;
+		case OPT_WATCHDOG: bad = parse_count(optarg, 0, 600000, &watchdog); break;
 		case OPT_RECORD: record_path = optarg; break;
-		case OPT_NOTIFY: bad = parse_count(optarg, 1, &sv.notify_at); break;
+		case OPT_NOTIFY: bad = parse_count(optarg, 1, FAULT_REQUEST_MAX, &sv.notify_at); break;
 		case OPT_PACE: sv.pace_baud = 1; break;
 		case OPT_DROP: bad = parse_range(optarg, 0, &sv.drop); break;
 		case OPT_DELAY: bad = parse_range(optarg, 1, &sv.delay); break;
@@ -512,9 +497,9 @@ int main(int argc, char **argv)
 			      sv.exception.arg > 255;
 			break;
 		case OPT_CORRUPT: bad = parse_range(optarg, 0, &sv.corrupt); break;
-		case OPT_CLOSE: bad = parse_count(optarg, 1, &sv.close_after); break;
-		case OPT_EXIT: bad = parse_count(optarg, 1, &sv.exit_after); break;
-		case OPT_FAULT_AT: bad = parse_count(optarg, 1, &sv.fault_at); break;
+		case OPT_CLOSE: bad = parse_count(optarg, 1, FAULT_REQUEST_MAX, &sv.close_after); break;
+		case OPT_EXIT: bad = parse_count(optarg, 1, FAULT_REQUEST_MAX, &sv.exit_after); break;
+		case OPT_FAULT_AT: bad = parse_count(optarg, 1, FAULT_REQUEST_MAX, &sv.fault_at); break;
 		case OPT_START_FAULTED: start_faulted = 1; break;
 		case OPT_NEVER_READY: never_ready = 1; break;
 		case OPT_MAP_KEYS: popc_register_map_print_keys(stdout); return 0;

@@ -5,6 +5,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <inttypes.h>
+#include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -13,6 +14,8 @@
 
 #include "popc/sweep/sweep_columns.h"
 #include "popc/sweep/sweep_files.h"
+#include "popc/util/atomic_file.h"
+#include "popc/util/parse.h"
 
 /* ---- the plan file ---------------------------------------------------------- */
 
@@ -20,7 +23,7 @@ int popc_sweep_dir_prepare(const popc_sweep_plan *p, const char *dir, const char
 			   popc_error *err)
 {
 	char path[POPC_PATH_MAX + 32];
-	int st = popc_sweep_mkdir_p(dir, err);
+	int st = popc_mkdir_p(dir, err);
 	if (st)
 		return st;
 	static const char *const sub[] = {"runs", "rows"};
@@ -67,7 +70,7 @@ int popc_sweep_dir_prepare(const popc_sweep_plan *p, const char *dir, const char
 		free(text);
 		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
 	}
-	st = popc_sweep_write_atomic(path, text, len, err);
+	st = popc_write_file_atomic(path, text, len, err);
 	free(text);
 	if (st)
 		return st;
@@ -82,7 +85,7 @@ int popc_sweep_dir_prepare(const popc_sweep_plan *p, const char *dir, const char
 		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
 	}
 	snprintf(path, sizeof path, "%s/scene.ini", dir);
-	st = popc_sweep_write_atomic(path, text, len, err);
+	st = popc_write_file_atomic(path, text, len, err);
 	free(text);
 	return st;
 }
@@ -122,13 +125,12 @@ int popc_sweep_plan_from_dir(popc_sweep_plan *p, const char *dir, popc_error *er
 		*eq = '\0';
 		const char *key = line, *value = eq + 3;
 		if (strcmp(key, "format") == 0) {
-			format = atoi(value);
+			popc_parse_int_text(value, 0, INT_MAX, &format);
 		} else if (strcmp(key, "plan_id") == 0) {
-			char *end;
-			plan_id = strtoull(value, &end, 16);
-			have_id = *end == '\0' && end != value;
+			have_id = popc_parse_u64_span(value, value + strlen(value), UINT64_MAX,
+						      POPC_PARSE_BASE16, &plan_id) == 0;
 		} else if (strcmp(key, "runs") == 0) {
-			runs = strtoll(value, NULL, 10);
+			popc_parse_ll_text(value, 1, POPC_SWEEP_RUNS_MAX, &runs);
 		} else if (strcmp(key, "vary") == 0) {
 			popc_sweep_axis *grown = realloc(axes, (size_t)(n_axes + 1) * sizeof *axes);
 			if (!grown) {
@@ -217,12 +219,7 @@ enum { ROWS_NAMES_MAX = 1000 };
 int popc_sweep_rows_open(const popc_sweep_plan *p, const char *dir, long name_pid, popc_error *err)
 {
 	char host[256], path[POPC_PATH_MAX + 300];
-	if (gethostname(host, sizeof host) != 0)
-		strcpy(host, "host");
-	host[sizeof host - 1] = '\0';
-	for (char *c = host; *c; c++)
-		if (*c == '/')
-			*c = '_';
+	popc_host_name_for_files(host, sizeof host);
 	/* A name of our own, created with O_EXCL: never append to a file an
 	 * earlier process of the same pid left (pids repeat across containers,
 	 * Slurm nodes and reboots). Such a file may end in a line cut by a kill,

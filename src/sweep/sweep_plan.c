@@ -13,6 +13,8 @@
 #include "popc/core/intent.h"
 #include "popc/scene/from_scene.h"
 #include "popc/sweep/sweep_columns.h"
+#include "popc/util/parse.h"
+#include "popc/util/text.h"
 
 uint64_t popc_sweep_fnv1a(uint64_t h, const void *data, size_t n)
 {
@@ -33,16 +35,13 @@ void popc_sweep_values_free(char **values, int n_values)
 	free(values);
 }
 
-/* Strict number: the whole text, finite, C locale (popc sets no locale). */
+/* A number as everywhere (popc/util/parse.h), blanks around it dropped as
+ * popc_scene_set drops them from the value. */
 static int parse_finite(const char *text, double *out)
 {
-	char *end;
-	errno = 0;
-	double v = strtod(text, &end);
-	if (end == text || *end || errno == ERANGE || !isfinite(v))
-		return -1;
-	*out = v;
-	return 0;
+	const char *end = text + strlen(text);
+	popc_trim_blanks(&text, &end);
+	return popc_parse_double_span(text, end, out) == POPC_PARSE_OK ? 0 : -1;
 }
 
 static int cmp_str(const void *a, const void *b)
@@ -89,14 +88,24 @@ static int expand_range(const char *spec, char ***values, int *n_values, popc_er
 	if (np != 3 && !is_log)
 		return popc_error_set(err, POPC_ERR_INVALID,
 				      "'%s': a range is lo:hi:n or lo:hi:n:log (a list is a,b,c)", spec);
-	double lo, hi, nd;
+	double lo, hi;
+	long long nd;
+	const char *n_text = part[2], *n_end = part[2] + strlen(part[2]);
+	popc_trim_blanks(&n_text, &n_end);
 	if (parse_finite(part[0], &lo) || parse_finite(part[1], &hi))
 		return popc_error_set(err, POPC_ERR_INVALID,
-				      "'%s': range ends must be finite numbers (lo:hi:n[:log])", spec);
-	if (parse_finite(part[2], &nd) || nd != floor(nd) || nd < 1 || nd > (double)POPC_SWEEP_RANGE_MAX)
+				      "'%s': range ends must be finite decimal numbers (lo:hi:n[:log])",
+				      spec);
+	if (popc_parse_ll_span(n_text, n_end, 1, POPC_SWEEP_RANGE_MAX, 0, &nd) != POPC_PARSE_OK)
 		return popc_error_set(err, POPC_ERR_INVALID,
 				      "'%s': the number of points n must be a whole number in [1, %ld]",
 				      spec, POPC_SWEEP_RANGE_MAX);
+	/* one point is lo: hi would be dropped without a word */
+	if (nd == 1 && lo != hi)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "'%s': a range of 1 point holds lo only, not hi: give n >= 2 for "
+				      "both ends, or lo == hi (lo:lo:1) for one value",
+				      spec);
 	if (is_log && !(lo > 0 && hi > 0))
 		return popc_error_set(err, POPC_ERR_INVALID,
 				      "'%s': a logarithmic range needs lo > 0 and hi > 0", spec);
@@ -495,24 +504,6 @@ int popc_sweep_plan_init(popc_sweep_plan *p, const popc_scene *base, popc_sweep_
 
 /* ---- shards ---------------------------------------------------------------- */
 
-/* A whole number written as decimal digits only: strtoll alone would take
- * " 1", "+1" and "-0" (it skips leading space and takes a sign), and a shard
- * index is no place for those. At most 18 digits: no overflow. */
-static int parse_count(const char *text, long long lo, long long hi, long long *out)
-{
-	long long v = 0;
-	int n = 0;
-	for (; text[n]; n++) {
-		if (text[n] < '0' || text[n] > '9' || n >= 18)
-			return -1;
-		v = v * 10 + (text[n] - '0');
-	}
-	if (n == 0 || v < lo || v > hi)
-		return -1;
-	*out = v;
-	return 0;
-}
-
 int popc_sweep_shard_parse(const char *text, popc_sweep_shard *sh, popc_error *err)
 {
 	char buf[64];
@@ -522,11 +513,11 @@ int popc_sweep_shard_parse(const char *text, popc_sweep_shard *sh, popc_error *e
 	memcpy(buf, text, (size_t)(slash - text));
 	buf[slash - text] = '\0';
 	long long i, n;
-	if (parse_count(slash + 1, 1, POPC_SWEEP_RUNS_MAX, &n) != 0)
+	if (popc_parse_ll_text(slash + 1, 1, POPC_SWEEP_RUNS_MAX, &n) != 0)
 		return popc_error_set(err, POPC_ERR_INVALID,
 				      "--shard '%s': N must be a whole number in [1, %lld]", text,
 				      POPC_SWEEP_RUNS_MAX);
-	if (parse_count(buf, 0, n - 1, &i) != 0)
+	if (popc_parse_ll_text(buf, 0, n - 1, &i) != 0)
 		return popc_error_set(err, POPC_ERR_INVALID,
 				      "--shard '%s': I must be a whole number in [0, %lld]", text, n - 1);
 	sh->index = i;
@@ -540,9 +531,9 @@ int popc_sweep_shard_from_slurm(const char *task_id, const char *task_count, con
 	if (!task_id || !task_count || !task_id[0] || !task_count[0])
 		return 0;
 	long long id, count, min = 0, step = 1;
-	if (parse_count(task_id, 0, 1LL << 40, &id) || parse_count(task_count, 1, POPC_SWEEP_RUNS_MAX, &count)
-	    || (task_min && task_min[0] && parse_count(task_min, 0, 1LL << 40, &min))
-	    || (task_step && task_step[0] && parse_count(task_step, 1, 1LL << 40, &step)))
+	if (popc_parse_ll_text(task_id, 0, 1LL << 40, &id) || popc_parse_ll_text(task_count, 1, POPC_SWEEP_RUNS_MAX, &count)
+	    || (task_min && task_min[0] && popc_parse_ll_text(task_min, 0, 1LL << 40, &min))
+	    || (task_step && task_step[0] && popc_parse_ll_text(task_step, 1, 1LL << 40, &step)))
 		return popc_error_set(err, POPC_ERR_INVALID,
 				      "SLURM_ARRAY_TASK_ID=%s, SLURM_ARRAY_TASK_COUNT=%s: not whole numbers",
 				      task_id, task_count);

@@ -15,6 +15,7 @@
 #include "popc/sweep/sweep_dir.h"
 #include "popc/sweep/sweep_files.h"
 #include "popc/sweep/sweep_row.h"
+#include "popc/util/atomic_file.h"
 
 void popc_sweep_results_free(popc_sweep_results *r)
 {
@@ -283,12 +284,11 @@ int popc_sweep_results_write(const popc_sweep_results *r, const popc_sweep_plan 
 			     popc_error *err)
 {
 	memset(t, 0, sizeof *t);
-	char tmp[POPC_PATH_MAX + 96];
-	if (popc_sweep_temp_name(tmp, sizeof tmp, out_path) != 0)
-		return popc_error_set(err, POPC_ERR_IO, "%s: path too long", out_path);
-	FILE *f = fopen(tmp, "w");
-	if (!f)
-		return popc_error_set(err, POPC_ERR_IO, "%s: %s", tmp, strerror(errno));
+	popc_atomic_file out;
+	int st = popc_atomic_file_open(&out, out_path, err);
+	if (st)
+		return st;
+	FILE *f = out.f;
 	fputs(p->columns, f);
 	char reason[640];
 	for (long long i = 0; i < p->n_runs; i++) {
@@ -314,12 +314,5 @@ int popc_sweep_results_write(const popc_sweep_results *r, const popc_sweep_plan 
 			visit(user, i, e->exit_status, reason);
 		}
 	}
-	int st = 0;
-	if (ferror(f) | (fclose(f) != 0))
-		st = popc_error_set(err, POPC_ERR_IO, "%s: %s", tmp, strerror(errno));
-	if (!st && rename(tmp, out_path) != 0)
-		st = popc_error_set(err, POPC_ERR_IO, "%s: %s", out_path, strerror(errno));
-	if (st)
-		unlink(tmp);
-	return st;
+	return popc_atomic_file_commit(&out, err);
 }

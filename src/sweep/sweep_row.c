@@ -2,11 +2,13 @@
  * (sweep_columns.h), and read back. */
 #include "popc/sweep/sweep_row.h"
 
+#include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "popc/util/numfmt.h"
+#include "popc/util/parse.h"
 
 /* Splits one CSV line (ending at '\n', '\r' or NUL; no quoting: popc's
  * summaries hold none) into at most max cells. Returns the cell count. */
@@ -188,15 +190,11 @@ int popc_sweep_row_exit_status(const popc_sweep_plan *p, const char *row)
 	size_t len[RUN_CSV_MAX_COLUMNS + 64];
 	int n = split_cells(row, cell, len, RUN_CSV_MAX_COLUMNS + 64);
 	int c = popc_sweep_column_index(p->n_axes, POPC_SWEEP_CELL_EXIT_STATUS);
-	if (c < 0 || c >= RUN_CSV_MAX_COLUMNS + 64 || n <= c || len[c] == 0 || len[c] > 3)
+	long long v;
+	if (c < 0 || c >= RUN_CSV_MAX_COLUMNS + 64 || n <= c ||
+	    popc_parse_ll_span(cell[c], cell[c] + len[c], 0, 999, 0, &v) != 0)
 		return -1;
-	int v = 0;
-	for (size_t k = 0; k < len[c]; k++) {
-		if (cell[c][k] < '0' || cell[c][k] > '9')
-			return -1;
-		v = v * 10 + (cell[c][k] - '0');
-	}
-	return v;
+	return (int)v;
 }
 
 int popc_sweep_run_csv_status(const char *run_header, const char *run_row, int *status)
@@ -208,14 +206,8 @@ int popc_sweep_run_csv_status(const char *run_header, const char *run_row, int *
 	if (nh > RUN_CSV_MAX_COLUMNS || nr != nh)
 		return -1;
 	int c = find_cell(hcell, hlen, nh, "status");
-	if (c < 0 || rlen[c] == 0 || rlen[c] > 4)
-		return -1;
-	char tmp[8];
-	memcpy(tmp, rcell[c], rlen[c]);
-	tmp[rlen[c]] = '\0';
-	char *end;
-	long v = strtol(tmp, &end, 10);
-	if (*end)
+	long long v;
+	if (c < 0 || popc_parse_ll_span(rcell[c], rcell[c] + rlen[c], INT_MIN, INT_MAX, 0, &v) != 0)
 		return -1;
 	*status = (int)v;
 	return 0;
@@ -229,5 +221,8 @@ double popc_sweep_run_csv_wall_time_s(const char *run_header, const char *run_ro
 	int nr = split_cells(run_row, rcell, rlen, RUN_CSV_MAX_COLUMNS);
 	int c = find_cell(hcell, hlen, nh < RUN_CSV_MAX_COLUMNS ? nh : RUN_CSV_MAX_COLUMNS,
 			  "wall_time_s");
-	return c >= 0 && c < nr ? strtod(rcell[c], NULL) : 0.0;
+	double wall_s = 0.0;
+	if (c >= 0 && c < nr)
+		popc_parse_double_span(rcell[c], rcell[c] + rlen[c], &wall_s);
+	return wall_s;
 }

@@ -7,7 +7,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <time.h>
 
 #include "popc/axes/axis.h"
 #include "popc/core/controller.h"
@@ -17,8 +16,9 @@
 #include "popc/sweep/sweep_chatter.h"
 #include "popc/sweep/sweep_columns.h"
 #include "popc/sweep/sweep_dir.h"
-#include "popc/sweep/sweep_files.h"
 #include "popc/sweep/sweep_row.h"
+#include "popc/util/atomic_file.h"
+#include "popc/util/clock.h"
 
 /* ---- the chatter detector ----------------------------------------------------- *
  *
@@ -27,13 +27,6 @@
 static void feed_chatter(void *user, const popc_tick *tick)
 {
 	popc_chatter_add(user, tick);
-}
-
-static double now_s(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 /* The popc run summary header and row as text, as `popc run --summary` writes
@@ -62,7 +55,7 @@ static int write_scene(const char *path, const popc_scene *s, popc_error *err)
 	int st = popc_scene_to_text(s, &text, &len, err);
 	if (st)
 		return st;
-	st = popc_sweep_write_atomic(path, text, len, err);
+	st = popc_write_file_atomic(path, text, len, err);
 	free(text);
 	return st;
 }
@@ -72,7 +65,7 @@ int popc_sweep_run_one(const popc_sweep_plan *p, long long i, const char *dir, i
 		       popc_error *err)
 {
 	memset(res, 0, sizeof *res);
-	double t0 = now_s();
+	double t0 = popc_now_s();
 	char rdir[POPC_PATH_MAX], path[POPC_PATH_MAX + 32];
 	if (popc_sweep_run_dir(p, dir, i, rdir, sizeof rdir) != 0)
 		return popc_error_set(err, POPC_ERR_IO, "%s: path too long", dir);
@@ -132,7 +125,7 @@ int popc_sweep_run_one(const popc_sweep_plan *p, long long i, const char *dir, i
 		}
 	}
 	popc_axis_destroy(&axis);
-	res->wall_time_s = now_s() - t0;
+	res->wall_time_s = popc_now_s() - t0;
 	res->exit_status = popc_status_exit_code(st);
 	if (have_sum)
 		snprintf(res->reason, sizeof res->reason, "%s", sum.stop_reason);
@@ -173,7 +166,7 @@ int popc_sweep_run_one(const popc_sweep_plan *p, long long i, const char *dir, i
 			memcpy(text + lc, row, (size_t)n);
 			snprintf(path, sizeof path, "%s/summary.csv", rdir);
 			popc_error cerr;
-			if (popc_sweep_write_atomic(path, text, lc + (size_t)n, &cerr) != 0)
+			if (popc_write_file_atomic(path, text, lc + (size_t)n, &cerr) != 0)
 				return popc_error_set(err, POPC_ERR_IO,
 						      "%s (the run's copy of its row; the row itself is "
 						      "recorded in the sweep)",

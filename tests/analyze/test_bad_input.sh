@@ -151,6 +151,24 @@ expect_rc 0 "$A" chatter -q --threshold lc_window=0.2 "$W/foreign.csv" && [ ! -s
 	fail "chatter -q printed: $(cat "$W/err")"
 expect_rc 0 "$A" compare --threshold lc_window=0.2 "$W/good.csv" && [ ! -s "$W/err" ] && ok "a popc log: no defaults note" ||
 	fail "popc log note: $(cat "$W/err")"
+# One number grammar (popc/util/parse.h): a hex float as a threshold, a --scale
+# factor or --late-from was taken by strtod; refused with exit 2 naming the option
+expect_rc 2 "$A" chatter --threshold window=0x1p1 "$W/good.csv" && grep -q -- "--threshold: threshold window = '0x1p1'" "$W/err" &&
+	ok "--threshold window=0x1p1 refused" || fail "--threshold hex float: $(cat "$W/err")"
+expect_rc 2 "$A" compare --threshold pc_rms=inf "$W/good.csv" && grep -q -- "--threshold" "$W/err" &&
+	ok "--threshold pc_rms=inf refused" || fail "--threshold inf: $(cat "$W/err")"
+expect_rc 2 "$A" energy --scale t=0x1p0 "$W/good.csv" && grep -q -- "--scale t=0x1p0" "$W/err" &&
+	ok "--scale t=0x1p0 refused" || fail "--scale hex float: $(cat "$W/err")"
+expect_rc 2 "$A" compare --late-from 0x1p-1 "$W/good.csv" && grep -q -- "--late-from '0x1p-1'" "$W/err" &&
+	ok "--late-from 0x1p-1 refused" || fail "--late-from hex float: $(cat "$W/err")"
+expect_rc 2 "$A" report --points 0x100 --no-draw -o "$W/rep-hex" "$W/good.csv" && grep -q -- "--points '0x100'" "$W/err" &&
+	ok "--points 0x100 refused" || fail "--points hex: $(cat "$W/err")"
+expect_rc 0 "$A" chatter --threshold window=2e-1 "$W/good.csv" && ok "--threshold window=2e-1: a decimal exponent is fine" ||
+	fail "--threshold 2e-1: $(cat "$W/err")"
+# a cell that would read as 0 (below the smallest double) is refused like any bad number
+awk -F, 'BEGIN { OFS = "," } NR == '$((names + 5))' { $6 = "1e-400" } { print }' "$W/good.csv" >"$W/underflow.csv"
+expect_rc 2 "$A" compare "$W/underflow.csv" && grep -q "below the smallest double" "$W/err" &&
+	ok "a cell of 1e-400 refused, naming why" || fail "underflow cell: $(cat "$W/err")"
 # chatter's exit status must not be 1 ("flagged") when the input is bad
 expect_rc 2 "$A" chatter "$W/good.csv" "$W/empty.csv" && ok "chatter: trouble wins over flagged"
 finish

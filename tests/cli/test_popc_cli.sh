@@ -191,6 +191,37 @@ else
   echo "# fail_realloc shim not given (argument 1): out-of-memory checks left out"
 fi
 
+# One number grammar (popc/util/parse.h) for every option, refused with exit 2
+# naming the option: --set took strtod's hex float as a scene value would not,
+# --vary ranges, -j and --min-time went through strtod/strtol of their own
+P=$SRC/data/scenes/paper.ini
+expect_exit 2 "--set run.duration=0x2: hex refused" "$POPC" run "$P" --set run.duration=0x2 -q
+check "  names the key" err_has "run.duration = '0x2': not a finite number"
+expect_exit 2 "--vary run.duration=0x1:0x2:2: hex range refused" "$POPC" sweep "$P" --vary run.duration=0x1:0x2:2 -o "$T/hexsweep"
+check "  names --vary and the key" err_has "--vary run.duration: '0x1:0x2:2': range ends must be finite decimal numbers"
+check "  nothing ran" test ! -e "$T/hexsweep"
+expect_exit 2 "--vary run.duration=0x1,0x2: hex list refused" "$POPC" sweep "$P" --vary run.duration=0x1,0x2 -o "$T/hexlist"
+check "  names the key" err_has "run.duration = '0x1': not a finite number"
+expect_exit 2 "--vary with n = 0x2 points refused" "$POPC" sweep "$P" --vary run.duration=0.1:0.2:0x2 -o "$T/hexn"
+check "  names n" err_has "the number of points n must be a whole number"
+expect_exit 2 "--vary lo:hi:1 with lo != hi refused (hi was dropped)" "$POPC" sweep "$P" --vary run.duration=0.1:0.2:1 -o "$T/onepoint"
+check "  says why" err_has "--vary run.duration: '0.1:0.2:1': a range of 1 point holds lo only, not hi"
+check "  nothing ran" test ! -e "$T/onepoint"
+expect_exit 0 "--vary lo:lo:1 is one value" "$POPC" sweep "$P" --vary run.duration=0.1:0.1:1 --list -o "$T/onevalue"
+expect_exit 2 "sweep -j 0x2 refused" "$POPC" sweep "$P" --vary run.duration=0.1,0.2 -j 0x2 -o "$T/hexj"
+check "  names -j" err_has "-j '0x2'"
+expect_exit 2 "sweep --shard 0x0/2 refused" "$POPC" sweep "$P" --vary run.duration=0.1,0.2 --shard 0x0/2 -o "$T/hexshard"
+check "  names --shard" err_has "--shard '0x0/2'"
+expect_exit 0 "sweep --shard +0/2.0: a sign and 2.0 are whole numbers as in a scene" "$POPC" sweep "$P" --vary run.duration=0.1,0.2 --shard +0/2.0 --list -o "$T/signshard"
+expect_exit 2 "bench --min-time 0x1p-3 refused" "$POPC" bench loop --min-time 0x1p-3 --repeat 1
+check "  names --min-time" err_has "--min-time 0x1p-3"
+expect_exit 2 "bench --repeat ' 2' refused (no blanks in a number)" "$POPC" bench loop --repeat " 2"
+check "  names --repeat" err_has "--repeat  2"
+expect_exit 2 "integer scene key 2.0000000000000001 is not whole (it is not 2)" "$POPC" scene show --set integrator.substeps=2.0000000000000001
+check "  says so" err_has "integrator.substeps = 2.0000000000000001: not a whole number"
+expect_exit 0 "integer scene key 2e0 is 2, as before" "$POPC" scene show --set integrator.substeps=2e0
+check "  shows 2" grep -q "^substeps = 2$" "$T/out"
+
 # SIGINT mid-run: the run stops, says so, keeps every completed tick, exits 5
 "$POPC" run "$SRC/data/scenes/paper.ini" --set run.duration=100000 --log "$T/int.csv" 2>"$T/int.err" &
 pid=$!

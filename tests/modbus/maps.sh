@@ -109,9 +109,13 @@ rc=0
 "$SIM" --map "$DRIVES/generic.ini" --listen tcp:127.0.0.1:0 2>/dev/null || rc=$?
 expect_rc sim-usage $rc 2
 # fault options take exactly their numbers: a value too many is refused, not
-# ignored (bounded: a server that accepted one would listen until killed)
+# ignored (bounded: a server that accepted one would listen until killed);
+# numbers as everywhere (popc/util/parse.h: no hex), and none so large that
+# first + count or MS in ns overflows (UBSan saw N + COUNT overflow a long)
 for opt in "--drop 5,1,2" "--drop 0" "--drop 5,0" "--drop -1" "--delay 5" "--delay 5,80,1,1" \
-	"--delay 5,80,2," "--exception 5,0" "--notify-at 1x" "--close-after +3"; do
+	"--delay 5,80,2," "--exception 5,0" "--notify-at 1x" "--close-after 0x3" \
+	"--notify-at 2.5" "--drop 9223372036854775807,2" "--drop 5,1000000000000001" \
+	"--delay 5,86400001" "--fault-at 1e16"; do
 	rc=0
 	# shellcheck disable=SC2086
 	timeout 10 "$SIM" --map "$DRIVES/generic.ini" --listen tcp:127.0.0.1:0 --scene "$SCENE" $opt \

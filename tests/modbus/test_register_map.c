@@ -1,6 +1,7 @@
 /* Register maps, word conversion and connection URIs of the Modbus axis:
  * table-driven, bitwise where the conversion is exact. */
 #include <float.h>
+#include <limits.h>
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -16,6 +17,7 @@
 #include "modbus_stats.h"
 #include "popc/axes/modbus_axis.h"
 #include "popc/axes/register_map.h"
+#include "popc/util/parse.h"
 
 /* ---- words ---------------------------------------------------------------- */
 
@@ -505,12 +507,16 @@ static double default_value(const popc_map_key *k)
 		fail_msg("%s.%s: default '%s' is not one of its choices", k->section, k->key,
 			 k->default_text);
 	}
-	char *end;
-	double v = k->type == POPC_MAP_INT ? (double)strtol(k->default_text, &end, 0)
-					   : strtod(k->default_text, &end);
-	if (*end || end == k->default_text)
-		fail_msg("%s.%s: default '%s' is not a number", k->section, k->key, k->default_text);
-	return v;
+	/* the loader's parsers (popc/util/parse.h), without its range: the
+	 * caller checks that */
+	const char *text = k->default_text, *end = text + strlen(text);
+	long long i;
+	double v;
+	if (k->type == POPC_MAP_INT
+		    ? popc_parse_ll_span(text, end, LLONG_MIN, LLONG_MAX, POPC_PARSE_HEX, &i) != 0
+		    : popc_parse_double_text(text, &v) != 0)
+		fail_msg("%s.%s: default '%s' is not a number", k->section, k->key, text);
+	return k->type == POPC_MAP_INT ? (double)i : v;
 }
 
 /* The table is consistent: one row per key, the sections grouped in file
@@ -668,12 +674,16 @@ static const uri_case uri_cases[] = {
 	{"rtu:/dev/ttyS1:9600:9N1", 0, NULL},
 	{"udp:1.2.3.4:502", 0, NULL},
 	{"rtu:", 0, NULL},
-	/* numbers are digits only */
-	{"tcp:127.0.0.1:+502", 0, NULL},
+	/* numbers as everywhere (popc/util/parse.h): a sign is fine, blanks,
+	 * hex and junk are not */
+	{"tcp:127.0.0.1:+502", 1, "tcp:127.0.0.1:502"},
 	{"tcp:127.0.0.1: 502", 0, NULL},
+	{"tcp:127.0.0.1:0x1f6", 0, NULL},
+	{"tcp:127.0.0.1:502x", 0, NULL},
 	{"tcp:127.0.0.1:", 0, NULL},
-	{"rtu:/dev/ttyS1:+9600", 0, NULL},
+	{"rtu:/dev/ttyS1:+9600", 1, "rtu:/dev/ttyS1:9600:8E1"},
 	{"rtu:/dev/ttyS1: 9600:8N1", 0, NULL},
+	{"rtu:/dev/ttyS1:9600.5:8N1", 0, NULL},
 };
 
 static void test_uris(void **state)

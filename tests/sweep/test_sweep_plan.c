@@ -28,6 +28,10 @@ static void test_expand_table(void **state)
 		{"1e-6:1e-4:3:log", 1, 3, "1e-06", "0.0001", "0.0001"},
 		{"-1:1:3", 1, 3, "-1", "1", "1"},            /* the middle is 0, never "-0" */
 		{"5:5:1", 1, 1, "5", NULL, "5"},
+		{"0:1:1", 0, 0, NULL, NULL, NULL},           /* one point cannot hold both ends */
+		{"0x1:0x2:2", 0, 0, NULL, NULL, NULL},       /* decimal only */
+		{"0:1:0x2", 0, 0, NULL, NULL, NULL},
+		{" 0 : 1 : 2 ", 1, 2, "0", NULL, "1"},       /* blanks around the parts, as around list items */
 		{"3:1:3", 1, 3, "3", "1", "1"},              /* descending is fine */
 		{"0:1:0", 0, 0, NULL, NULL, NULL},           /* n >= 1 */
 		{"0:1:2.5", 0, 0, NULL, NULL, NULL},         /* n whole */
@@ -301,10 +305,12 @@ static void test_shard_parse(void **state)
 		{"0/1", 1, 0, 1},   {"3/4", 1, 3, 4},  {"4/4", 0, 0, 0}, {"-1/4", 0, 0, 0},
 		{"1/0", 0, 0, 0},   {"1", 0, 0, 0},    {"a/b", 0, 0, 0}, {"1/2x", 0, 0, 0},
 		{"1 /2", 0, 0, 0},
-		/* strict: strtoll alone skips leading space and takes a sign */
-		{" 1/2", 0, 0, 0},  {"1/ 2", 0, 0, 0}, {"+1/2", 0, 0, 0}, {"1/+2", 0, 0, 0},
-		{"-0/2", 0, 0, 0},  {"/2", 0, 0, 0},   {"1/", 0, 0, 0},   {"1/2 ", 0, 0, 0},
-		{"\t0/2", 0, 0, 0}, {"10/20", 1, 10, 20},
+		/* whole numbers as everywhere (popc/util/parse.h): no blanks (strtoll
+		 * alone skips leading space), a sign and "1.0" are fine, no hex */
+		{" 1/2", 0, 0, 0},  {"1/ 2", 0, 0, 0}, {"+1/2", 1, 1, 2}, {"1/+2", 1, 1, 2},
+		{"-0/2", 1, 0, 2},  {"/2", 0, 0, 0},   {"1/", 0, 0, 0},   {"1/2 ", 0, 0, 0},
+		{"\t0/2", 0, 0, 0}, {"10/20", 1, 10, 20}, {"1.0/2e0", 1, 1, 2}, {"0x1/2", 0, 0, 0},
+		{"0.5/2", 0, 0, 0},
 	};
 	for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
 		popc_sweep_shard sh;
@@ -336,8 +342,9 @@ static void test_shard_slurm(void **state)
 		{"7", "2", "0", "1", POPC_ERR_INVALID, 0, 0}, /* --array=0,7: not regular */
 		{"3", "3", "2", "2", POPC_ERR_INVALID, 0, 0},
 		{"x", "2", "0", "1", POPC_ERR_INVALID, 0, 0},
-		{" 1", "2", "0", "1", POPC_ERR_INVALID, 0, 0},  /* digits only */
-		{"1", "+2", "0", "1", POPC_ERR_INVALID, 0, 0},
+		{" 1", "2", "0", "1", POPC_ERR_INVALID, 0, 0},  /* no blanks */
+		{"1", "0x2", "0", "1", POPC_ERR_INVALID, 0, 0}, /* no hex */
+		{"1", "+2", "0", "1", 1, 1, 2},
 	};
 	for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
 		popc_sweep_shard sh = {0, 0};

@@ -20,8 +20,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
+#include "popc/util/clock.h"
 #include "popc/util/numfmt.h"
 
 #define COLS 10
@@ -36,13 +36,6 @@ static double uniform(void)
 	rng_state ^= rng_state << 25;
 	rng_state ^= rng_state >> 27;
 	return (double)((rng_state * UINT64_C(2685821657736338717)) >> 11) * 0x1p-53;
-}
-
-static double now(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 static int cmp_double(const void *a, const void *b)
@@ -157,11 +150,11 @@ int main(int argc, char **argv)
 	format_popc(values, n, text_a);
 	format_printf(values, n, text_b, cap);
 	for (int r = 0; r < runs; r++) {
-		double t0 = now();
+		double t0 = popc_now_s();
 		len_a = format_popc(values, n, text_a);
-		double t1 = now();
+		double t1 = popc_now_s();
 		len_b = format_printf(values, n, text_b, cap);
-		double t2 = now();
+		double t2 = popc_now_s();
 		tfa[r] = t1 - t0;
 		tfb[r] = t2 - t1;
 	}
@@ -170,11 +163,11 @@ int main(int argc, char **argv)
 	parse_popc(text_a, len_a, back_a);
 	parse_strtod(text_a, len_a, back_b);
 	for (int r = 0; r < runs; r++) {
-		double t0 = now();
+		double t0 = popc_now_s();
 		na = parse_popc(text_a, len_a, back_a);
-		double t1 = now();
+		double t1 = popc_now_s();
 		nb = parse_strtod(text_a, len_a, back_b);
-		double t2 = now();
+		double t2 = popc_now_s();
 		tpa[r] = t1 - t0;
 		tpb[r] = t2 - t1;
 	}

@@ -34,8 +34,9 @@ int popc_sweep_row_exit_status(const popc_sweep_plan *p, const char *row);
  * names the columns). Returns 0 and sets *status, or -1. */
 int popc_sweep_run_csv_status(const char *run_header, const char *run_row, int *status);
 
-/* The "wall_time_s" cell of a popc run summary row, read as strtod reads it;
- * 0 when the header has no such column. */
+/* The "wall_time_s" cell of a popc run summary row, a number as everywhere
+ * (popc/util/parse.h); 0 when the header has no such column or the cell is
+ * not a number. */
 double popc_sweep_run_csv_wall_time_s(const char *run_header, const char *run_row);
 
 #endif

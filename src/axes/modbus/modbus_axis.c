@@ -20,6 +20,7 @@
 #include "popc/core/encoder.h"
 #include "popc/log/log.h"
 #include "popc/axes/register_map.h"
+#include "popc/util/clock.h"
 
 /* Span of one block read that covers both position and status; a longer
  * span reads them separately. FC03/FC04 allow 125 registers (Modbus
@@ -71,13 +72,6 @@ typedef struct mb_axis {
 	int rt_fifo, rt_locked;
 	char rt_note[256];
 } mb_axis;
-
-static int64_t now_ns(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
-}
 
 /* "popc: modbus: <what> <detail>" on the notes stream. */
 static void note(mb_axis *a, const char *what, const char *detail)
@@ -579,7 +573,7 @@ static void wait_deadline(mb_axis *a)
 	if (!a->opt.pace)
 		return;
 	a->next_deadline_ns += a->period_ns;
-	int64_t now = now_ns();
+	int64_t now = popc_now_ns();
 	if (now > a->next_deadline_ns) {
 		a->overruns++;
 		while (a->next_deadline_ns + a->period_ns <= now) {
@@ -592,7 +586,7 @@ static void wait_deadline(mb_axis *a)
 			      (long)(a->next_deadline_ns % 1000000000)};
 	/* EINTR: a signal; the runner polls its flag after this tick, so the rest
 	 * of the period is not slept when the flag is set */
-	while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL) == EINTR && !interrupted(a))
+	while (clock_nanosleep(POPC_CLOCK_ID, TIMER_ABSTIME, &ts, NULL) == EINTR && !interrupted(a))
 		;
 }
 
@@ -676,7 +670,7 @@ static int mb_start(popc_axis *ax, popc_error *err)
 		if ((st = transact(a, &eop, err)))
 			return st;
 	}
-	int64_t t_enable = now_ns(), until = t_enable + (int64_t)m->enable_timeout_ms * 1000000;
+	int64_t t_enable = popc_now_ns(), until = t_enable + (int64_t)m->enable_timeout_ms * 1000000;
 	for (;;) {
 		if ((st = transact(a, &sop, err)))
 			return st;
@@ -689,8 +683,8 @@ static int mb_start(popc_axis *ax, popc_error *err)
 			return popc_error_set(err, POPC_ERR_INTERRUPTED,
 					      "interrupted by a signal while waiting for the ready bits "
 					      "(status 0x%04x, ready_mask 0x%04x, %.0f ms after enable)",
-					      status, m->status.ready_mask, 1e-6 * (double)(now_ns() - t_enable));
-		if (now_ns() > until)
+					      status, m->status.ready_mask, 1e-6 * (double)(popc_now_ns() - t_enable));
+		if (popc_now_ns() > until)
 			return popc_error_set(err, POPC_ERR_SAFETY,
 					      "drive not ready %d ms after enable: status 0x%04x, ready_mask 0x%04x",
 					      m->enable_timeout_ms, status, m->status.ready_mask);
@@ -706,12 +700,12 @@ static int mb_sample(popc_axis *ax, popc_axis_sample *out, popc_error *err)
 {
 	mb_axis *a = ax->priv;
 	uint16_t blk[BLOCK_MAX], status = 0;
-	int64_t t = now_ns();
+	int64_t t = popc_now_ns();
 	a->next_deadline_ns = t; /* the grid starts at the first sample */
 	int st = read_state(a, blk, &status, err);
 	if (st)
 		return st;
-	stamp(a, t, now_ns() - t, out);
+	stamp(a, t, popc_now_ns() - t, out);
 	return decode_sample(a, blk, status, out, err);
 }
 
@@ -725,7 +719,7 @@ static int mb_exchange(popc_axis *ax, double f_c_N, popc_axis_sample *next, popc
 	a->exchanges++;
 	if (a->map.fc23) {
 		wait_deadline(a);
-		t = now_ns();
+		t = popc_now_ns();
 		mb_op op = {.kind = OP_WRITE_AND_READ, .words = words, .dest = blk};
 		if ((st = transact(a, &op, err)))
 			return st;
@@ -736,18 +730,18 @@ static int mb_exchange(popc_axis *ax, double f_c_N, popc_axis_sample *next, popc
 			if ((st = transact(a, &sop, err)))
 				return st;
 		}
-		rtt = now_ns() - t;
+		rtt = popc_now_ns() - t;
 	} else {
-		int64_t tw = now_ns();
+		int64_t tw = popc_now_ns();
 		mb_op op = {.kind = OP_WRITE_CMD, .words = words};
 		if ((st = transact(a, &op, err)))
 			return st;
-		rtt = now_ns() - tw;
+		rtt = popc_now_ns() - tw;
 		wait_deadline(a);
-		t = now_ns();
+		t = popc_now_ns();
 		if ((st = read_state(a, blk, &status, err)))
 			return st;
-		rtt += now_ns() - t;
+		rtt += popc_now_ns() - t;
 	}
 	stamp(a, t, rtt, next);
 	return decode_sample(a, blk, status, next, err);

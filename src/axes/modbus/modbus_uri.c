@@ -1,11 +1,11 @@
 /* Connection URIs of the Modbus axis (modbus_axis.h):
  * tcp:HOST[:PORT] and rtu:DEVICE[:BAUD[:FORMAT]]. */
-#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "popc/axes/modbus_axis.h"
+#include "popc/util/parse.h"
 
 static int uri_bad(popc_error *err, const char *text, const char *what)
 {
@@ -44,17 +44,13 @@ static int parse_tcp(const char *text, const char *p, popc_modbus_uri *u, popc_e
 	 * host "[", whose canonical text "tcp:[:502" no longer parses */
 	if (strpbrk(u->host, "[]"))
 		return uri_bad(err, text, "'[' or ']' inside the host");
-	long v = 502; /* the registered Modbus TCP port */
+	long long v = 502; /* the registered Modbus TCP port */
 	if (port) {
-		char *end;
-		errno = 0;
-		v = strtol(port, &end, 10);
-		/* digits only: strtol would also take a sign or leading blanks */
-		if (*port < '0' || *port > '9' || *end || errno || v < 0 || v > 65535)
+		if (popc_parse_ll_text(port, 0, 65535, &v) != 0) /* a number as everywhere: no blanks */
 			return uri_bad(err, text, "port must be an integer in [0, 65535] (0: any free port, "
 						  "for a server)");
 	}
-	snprintf(u->port, sizeof u->port, "%ld", v);
+	snprintf(u->port, sizeof u->port, "%lld", v);
 	return 0;
 }
 
@@ -73,10 +69,9 @@ static int parse_rtu(const char *text, const char *p, popc_modbus_uri *u, popc_e
 	if (!colon)
 		return 0;
 	const char *b = colon + 1;
-	char *end;
-	errno = 0;
-	long baud = strtol(b, &end, 10);
-	if (*b < '0' || *b > '9' || (*end && *end != ':') || errno || baud < 50 || baud > 4000000)
+	const char *end = b + strcspn(b, ":");
+	long long baud;
+	if (popc_parse_ll_span(b, end, 50, 4000000, 0, &baud) != 0)
 		return uri_bad(err, text, "baud must be an integer in [50, 4000000]");
 	u->baud = (int)baud;
 	if (!*end)

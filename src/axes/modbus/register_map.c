@@ -12,7 +12,7 @@
 #include <string.h>
 
 #include "popc/scene/ini_lines.h"
-#include "popc/util/numfmt.h"
+#include "popc/util/parse.h"
 
 #define TWO_PI 6.283185307179586476925286766559
 
@@ -231,26 +231,17 @@ static int missing(load_ctx *c, int k, const char *why)
 			      rows[k].key.section, rows[k].key.key, why ? ": " : "", why ? why : "");
 }
 
-/* An integer as the docs promise it: decimal, or hexadecimal with 0x. Not
- * strtol's base 0, which reads a leading zero as octal: "0100" copied from a
- * manual's register table would silently become register 64. *end as for
- * strtol. */
-static long map_strtol(const char *p, char **end)
-{
-	const char *q = p;
-	while (*q == ' ' || *q == '\t')
-		q++;
-	int hex = q[0] == '0' && (q[1] == 'x' || q[1] == 'X');
-	return strtol(p, end, hex ? 16 : 10);
-}
-
+/* An integer as the docs promise it: a whole number as everywhere
+ * (popc/util/parse.h), or hexadecimal with 0x (POPC_PARSE_HEX: register maps
+ * only, as drive manuals write addresses). Never strtol's base 0, which reads
+ * a leading zero as octal: "0100" copied from a manual's register table would
+ * silently become register 64. */
 static int parse_int(load_ctx *c, int k, const char *text)
 {
 	const popc_map_key *d = &rows[k].key;
-	char *end;
-	errno = 0;
-	long v = map_strtol(text, &end);
-	if (end == text || *end || errno || v < (long)d->lo || v > (long)d->hi) {
+	long long v;
+	if (popc_parse_ll_span(text, text + strlen(text), (long long)d->lo, (long long)d->hi,
+			       POPC_PARSE_HEX, &v) != POPC_PARSE_OK) {
 		char what[96];
 		snprintf(what, sizeof what, "expected an integer in [%ld, %ld]", (long)d->lo, (long)d->hi);
 		return bad(c, k, what);
@@ -262,12 +253,10 @@ static int parse_int(load_ctx *c, int k, const char *text)
 static int parse_number(load_ctx *c, int k, const char *text)
 {
 	const popc_map_key *d = &rows[k].key;
-	/* a decimal in the C locale, the whole text, as scene values
-	 * (popc_parse_double: no hex floats, no "inf"/"nan", exact rounding) */
-	const char *text_end = text + strlen(text);
+	/* a number as scene values (popc/util/parse.h: no hex floats, no
+	 * "inf"/"nan", exact rounding) */
 	double v;
-	size_t used = popc_parse_double(text, text_end, &v);
-	if (used == 0 || text + used != text_end || !isfinite(v) || v > d->hi || v < d->lo ||
+	if (popc_parse_double_text(text, &v) != POPC_PARSE_OK || v > d->hi || v < d->lo ||
 	    (d->lo_open && v == d->lo)) {
 		char what[96];
 		snprintf(what, sizeof what, "expected a number in %c%g, %g]", d->lo_open ? '(' : '[',
@@ -313,11 +302,10 @@ static int parse_words(load_ctx *c, int k, const char *text)
 			snprintf(what, sizeof what, "at most %d words", POPC_MAP_ENABLE_MAX);
 			return bad(c, k, what);
 		}
-		char *end;
-		errno = 0;
-		long v = map_strtol(p, &end);
-		if (end == p || errno || v < (long)d->lo || v > (long)d->hi ||
-		    (*end && *end != ' ' && *end != ',' && *end != '\t')) {
+		const char *end = p + strcspn(p, " ,\t");
+		long long v;
+		if (popc_parse_ll_span(p, end, (long long)d->lo, (long long)d->hi, POPC_PARSE_HEX,
+				       &v) != POPC_PARSE_OK) {
 			snprintf(what, sizeof what, "expected words in [%ld, 0x%lX] separated by commas",
 				 (long)d->lo, (unsigned long)d->hi);
 			return bad(c, k, what);

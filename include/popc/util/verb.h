@@ -1,0 +1,34 @@
+/* The verb dispatcher of popc's programs ("popc run ...", "popc-analyze
+ * energy ..."): one table of verbs, one usage text made from it, one
+ * "unknown verb" error. Generic (it knows no verb), so it lives in util;
+ * only the programs' main() call it. */
+#ifndef POPC_UTIL_VERB_H
+#define POPC_UTIL_VERB_H
+
+#include <stddef.h>
+
+typedef struct popc_verb {
+	const char *name;               /* "run" */
+	int (*run)(int argc, char **argv); /* argv[0] is "<program> <verb>"; returns the exit code */
+	const char *args;               /* its operands in the usage: "SCENE", "" */
+	const char *summary;            /* one line: "run one experiment" */
+} popc_verb;
+
+typedef struct popc_program {
+	const char *name;     /* "popc": messages, --version */
+	const char *version;
+	const char *synopsis; /* after "usage: <name> ": "VERB [options]" */
+	const char *about;    /* paragraph(s) between the usage line and the verbs */
+	const char *footer;   /* after the verbs: where to read more, exit codes */
+	const popc_verb *verbs;
+	size_t n_verbs;
+} popc_program;
+
+/* Runs the verb argv[1] with argv[1..] (argv[1] replaced by "<name> <verb>",
+ * so that getopt's messages name the program and the verb). "--help", "-h"
+ * and "help" print the usage to stdout (exit 0), "--version" the version;
+ * no verb or an unknown one prints "<name>: unknown verb 'X'" and the usage
+ * to stderr and returns 2 (POPC_EXIT_USAGE). */
+int popc_verb_dispatch(const popc_program *p, int argc, char **argv);
+
+#endif

@@ -1,0 +1,55 @@
+/* The verb dispatcher (verb.h). */
+#include "popc/util/verb.h"
+
+#include <stdio.h>
+#include <string.h>
+
+#include "popc/util/error.h"
+
+static void usage(const popc_program *p, FILE *f)
+{
+	fprintf(f, "usage: %s %s\n\n%s\nverbs:\n", p->name, p->synopsis, p->about);
+	int width = 0;
+	for (size_t i = 0; i < p->n_verbs; i++) {
+		int w = (int)(strlen(p->verbs[i].name) + (p->verbs[i].args[0] ? 1 : 0) +
+			      strlen(p->verbs[i].args));
+		if (w > width)
+			width = w;
+	}
+	for (size_t i = 0; i < p->n_verbs; i++) {
+		const popc_verb *v = &p->verbs[i];
+		int w = (int)(strlen(v->name) + (v->args[0] ? 1 : 0) + strlen(v->args));
+		fprintf(f, "  %s%s%s%*s  %s\n", v->name, v->args[0] ? " " : "", v->args, width - w, "",
+			v->summary);
+	}
+	fprintf(f, "\n%s", p->footer);
+}
+
+int popc_verb_dispatch(const popc_program *p, int argc, char **argv)
+{
+	if (argc < 2) {
+		usage(p, stderr);
+		return POPC_EXIT_USAGE;
+	}
+	const char *verb = argv[1];
+	if (strcmp(verb, "--help") == 0 || strcmp(verb, "-h") == 0 || strcmp(verb, "help") == 0) {
+		usage(p, stdout);
+		return POPC_EXIT_OK;
+	}
+	if (strcmp(verb, "--version") == 0) {
+		printf("%s %s\n", p->name, p->version);
+		return POPC_EXIT_OK;
+	}
+	for (size_t i = 0; i < p->n_verbs; i++) {
+		if (strcmp(verb, p->verbs[i].name) != 0)
+			continue;
+		/* getopt names argv[0] in its messages: "popc run: unrecognized option" */
+		static char prog[64];
+		snprintf(prog, sizeof prog, "%s %s", p->name, verb);
+		argv[1] = prog;
+		return p->verbs[i].run(argc - 1, argv + 1);
+	}
+	fprintf(stderr, "%s: unknown verb '%s'\n", p->name, verb);
+	usage(p, stderr);
+	return POPC_EXIT_USAGE;
+}
