@@ -52,9 +52,12 @@ static void usage(FILE *f)
 	      "  -j, --jobs N             parallel runs (default: SLURM_CPUS_PER_TASK, else\n"
 	      "                           every online core)\n"
 	      "  --no-log                 keep run summaries only (no log.csv, no scene.ini)\n"
-	      "  --shard I/N              run only shard I of N (runs with id mod N = I);\n"
-	      "                           default from SLURM_ARRAY_TASK_ID/_COUNT when set.\n"
-	      "                           A shard writes DIR/summary-shard-I-of-N.csv\n"
+	      "  --shard I/N              run only shard I of N, I from 1 to N (runs with\n"
+	      "                           id mod N = I - 1): --shard 1/2 and --shard 2/2 make\n"
+	      "                           the whole sweep. Default from SLURM_ARRAY_TASK_ID,\n"
+	      "                           _MIN, _STEP and _COUNT when set (the array's first\n"
+	      "                           task is shard 1, whatever its index). A shard\n"
+	      "                           writes DIR/summary-shard-I-of-N.csv\n"
 	      "  --list                   print one 'popc run' command line per run of the\n"
 	      "                           shard (for GNU parallel) instead of running; each\n"
 	      "                           runs the run's resolved scene, written now to\n"
@@ -393,8 +396,8 @@ static int sweep_main(const sweep_args *a)
 	 * interrupted sweep leaves the last whole one */
 	char path[POPC_PATH_MAX + 64];
 	if (shard.count > 1)
-		snprintf(path, sizeof path, "%s/summary-shard-%lld-of-%lld.csv", a->dir, shard.index,
-			 shard.count);
+		snprintf(path, sizeof path, "%s/summary-shard-%lld-of-%lld.csv", a->dir,
+			 shard.index + 1, shard.count);
 	else
 		snprintf(path, sizeof path, "%s/summary.csv", a->dir);
 	popc_sweep_tally t;

@@ -518,7 +518,7 @@ int popc_sweep_shard_parse(const char *text, popc_sweep_shard *sh, popc_error *e
 	char buf[64];
 	const char *slash = strchr(text, '/');
 	if (!slash || strlen(text) >= sizeof buf)
-		return popc_error_set(err, POPC_ERR_INVALID, "--shard '%s': expected I/N (e.g. 0/4)", text);
+		return popc_error_set(err, POPC_ERR_INVALID, "--shard '%s': expected I/N (e.g. 1/4)", text);
 	memcpy(buf, text, (size_t)(slash - text));
 	buf[slash - text] = '\0';
 	long long i, n;
@@ -526,10 +526,15 @@ int popc_sweep_shard_parse(const char *text, popc_sweep_shard *sh, popc_error *e
 		return popc_error_set(err, POPC_ERR_INVALID,
 				      "--shard '%s': N must be a whole number in [1, %lld]", text,
 				      POPC_SWEEP_RUNS_MAX);
-	if (parse_count(buf, 0, n - 1, &i) != 0)
+	if (strcmp(buf, "0") == 0)
 		return popc_error_set(err, POPC_ERR_INVALID,
-				      "--shard '%s': I must be a whole number in [0, %lld]", text, n - 1);
-	sh->index = i;
+				      "--shard '%s': shards count from 1, as in Playwright, Jest and "
+				      "node --test: --shard 1/%lld ... --shard %lld/%lld make the whole sweep",
+				      text, n, n, n);
+	if (parse_count(buf, 1, n, &i) != 0)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "--shard '%s': I must be a whole number in [1, %lld]", text, n);
+	sh->index = i - 1;
 	sh->count = n;
 	return 0;
 }
@@ -546,12 +551,15 @@ int popc_sweep_shard_from_slurm(const char *task_id, const char *task_count, con
 		return popc_error_set(err, POPC_ERR_INVALID,
 				      "SLURM_ARRAY_TASK_ID=%s, SLURM_ARRAY_TASK_COUNT=%s: not whole numbers",
 				      task_id, task_count);
+	/* the array's k-th task (k from 0) is shard k + 1, whatever index the
+	 * array starts at: --array=0-3, 1-4 and 10-16:2 all make shards 1/4..4/4 */
 	long long off = id - min;
 	if (off < 0 || off % step != 0 || off / step >= count)
 		return popc_error_set(err, POPC_ERR_INVALID,
 				      "Slurm array task %lld (min %lld, step %lld, count %lld) is not one "
-				      "of a regular array: submit with --array=0-%lld (or pass --shard I/N)",
-				      id, min, step, count, count - 1);
+				      "of a regular array: submit with --array=1-%lld (any first index and "
+				      "step will do; a list such as 1,7 will not), or pass --shard I/N",
+				      id, min, step, count, count);
 	sh->index = off / step;
 	sh->count = count;
 	return 1;

@@ -298,13 +298,15 @@ static void test_shard_parse(void **state)
 		int ok;
 		long long index, count;
 	} cases[] = {
-		{"0/1", 1, 0, 1},   {"3/4", 1, 3, 4},  {"4/4", 0, 0, 0}, {"-1/4", 0, 0, 0},
+		/* I from 1 to N (Playwright, Jest, node --test); index I - 1 */
+		{"1/1", 1, 0, 1},   {"4/4", 1, 3, 4},  {"1/4", 1, 0, 4}, {"5/4", 0, 0, 0},
+		{"0/4", 0, 0, 0},   {"0/1", 0, 0, 0},  {"-1/4", 0, 0, 0},
 		{"1/0", 0, 0, 0},   {"1", 0, 0, 0},    {"a/b", 0, 0, 0}, {"1/2x", 0, 0, 0},
 		{"1 /2", 0, 0, 0},
 		/* strict: strtoll alone skips leading space and takes a sign */
 		{" 1/2", 0, 0, 0},  {"1/ 2", 0, 0, 0}, {"+1/2", 0, 0, 0}, {"1/+2", 0, 0, 0},
 		{"-0/2", 0, 0, 0},  {"/2", 0, 0, 0},   {"1/", 0, 0, 0},   {"1/2 ", 0, 0, 0},
-		{"\t0/2", 0, 0, 0}, {"10/20", 1, 10, 20},
+		{"\t1/2", 0, 0, 0}, {"01/2", 1, 0, 2}, {"10/20", 1, 9, 20}, {"20/20", 1, 19, 20},
 	};
 	for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
 		popc_sweep_shard sh;
@@ -316,6 +318,12 @@ static void test_shard_parse(void **state)
 			assert_int_equal(sh.count, cases[k].count);
 		}
 	}
+	/* 0/N, the old 0-based spelling, says why it is refused */
+	popc_sweep_shard sh;
+	popc_error err;
+	assert_int_equal(popc_sweep_shard_parse("0/2", &sh, &err), POPC_ERR_INVALID);
+	if (!strstr(err.msg, "count from 1") || !strstr(err.msg, "--shard 1/2 ... --shard 2/2"))
+		fail_msg("0/2: %s", err.msg);
 }
 
 static void test_shard_slurm(void **state)
@@ -328,11 +336,17 @@ static void test_shard_slurm(void **state)
 	} cases[] = {
 		{NULL, NULL, NULL, NULL, 0, 0, 0},       /* not in an array job */
 		{"3", NULL, NULL, NULL, 0, 0, 0},
-		{"0", "2", "0", "1", 1, 0, 2},           /* --array=0-1 */
+		/* index = shard - 1: the array's first task is shard 1/N, whatever
+		 * its index */
+		{"0", "2", "0", "1", 1, 0, 2},           /* --array=0-1: shards 1/2, 2/2 */
 		{"1", "2", "0", "1", 1, 1, 2},
+		{"1", "2", "1", "1", 1, 0, 2},           /* --array=1-2: shards 1/2, 2/2 */
+		{"2", "2", "1", "1", 1, 1, 2},
 		{"5", "4", "2", "1", 1, 3, 4},           /* --array=2-5 */
 		{"6", "3", "2", "2", 1, 2, 3},           /* --array=2-6:2 */
 		{"1", "2", NULL, NULL, 1, 1, 2},         /* no MIN/STEP: 0 and 1 */
+		{"3", "2", "1", "1", POPC_ERR_INVALID, 0, 0}, /* past the last task */
+		{"0", "2", "1", "1", POPC_ERR_INVALID, 0, 0}, /* before the first */
 		{"7", "2", "0", "1", POPC_ERR_INVALID, 0, 0}, /* --array=0,7: not regular */
 		{"3", "3", "2", "2", POPC_ERR_INVALID, 0, 0},
 		{"x", "2", "0", "1", POPC_ERR_INVALID, 0, 0},

@@ -9,7 +9,8 @@
  * order of the product, are the same on every machine, and name the run's
  * directory DIR/runs/<id>/.
  *
- * Shard I of N owns the runs with i mod N == I: shards never overlap, cover
+ * Shard I of N (I from 1 to N, as the test runners Playwright, Jest and node
+ * --test count shards) owns the runs with i mod N == I - 1: shards never overlap, cover
  * the sweep together, and each gets a slice of every region of the product,
  * which balances the load when one corner of the product runs slower. */
 #ifndef POPC_SWEEP_PLAN_H
@@ -95,14 +96,16 @@ uint64_t popc_sweep_fnv1a(uint64_t h, const void *data, size_t n);
 /* ---- sharding ------------------------------------------------------------ */
 
 typedef struct popc_sweep_shard {
-	long long index, count;      /* shard index in [0, count) */
+	long long index, count;      /* index in [0, count): shard I/N has index I - 1 */
 } popc_sweep_shard;
 
-/* "I/N" with 0 <= I < N. */
+/* "I/N" with 1 <= I <= N (shard I/N gets index I - 1); "0/N" is refused with
+ * a message that shards count from 1. */
 int popc_sweep_shard_parse(const char *text, popc_sweep_shard *sh, popc_error *err);
 
 /* The shard of a Slurm array task: index (SLURM_ARRAY_TASK_ID - MIN) / STEP
- * of SLURM_ARRAY_TASK_COUNT. Pass the four variables' values (NULL when
+ * of SLURM_ARRAY_TASK_COUNT, i.e. shard (TASK_ID - MIN) / STEP + 1 of N, whatever
+ * index the array starts at. Pass the four variables' values (NULL when
  * unset; min and step may be NULL). Returns 1 when id and count are set and
  * give a shard, 0 when they are not set, or a negative popc_status. */
 int popc_sweep_shard_from_slurm(const char *task_id, const char *task_count, const char *task_min,
