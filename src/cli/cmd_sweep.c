@@ -29,7 +29,7 @@
 static void usage(FILE *f)
 {
 	fputs("usage: popc sweep SCENE --vary section.key=LIST [--vary ...] -o DIR [options]\n"
-	      "       popc sweep merge DIR... [-o DIR]\n"
+	      "       popc sweep merge DIR... [-o DIR] [--allow-other-build]\n"
 	      "\n"
 	      "Runs the cartesian product of the --vary lists on the scene, in parallel, and\n"
 	      "writes DIR/summary.csv: one row per run with its id, the varied values, its exit\n"
@@ -65,6 +65,10 @@ static void usage(FILE *f)
 	      "                           not reach it); then 'popc sweep merge DIR'\n"
 	      "                           gathers their results\n"
 	      "  --program PATH           the popc that --list lines call (default: this one)\n"
+	      "  --allow-other-build      resume (or merge) a sweep that another popc version\n"
+	      "                           or build made; refused otherwise (exit 2), since\n"
+	      "                           the summary would mix two builds' results. The\n"
+	      "                           plan records every build that added results\n"
 	      "  -q, --quiet              no progress\n"
 	      "  -h, --help               this help\n"
 	      "\n"
@@ -78,7 +82,7 @@ static void usage(FILE *f)
 	      f);
 }
 
-enum { OPT_VARY = 256, OPT_SET, OPT_NO_LOG, OPT_SHARD, OPT_LIST, OPT_PROGRAM };
+enum { OPT_VARY = 256, OPT_SET, OPT_NO_LOG, OPT_SHARD, OPT_LIST, OPT_PROGRAM, OPT_ALLOW_OTHER_BUILD };
 
 /* ---- failures listed at the end ------------------------------------------------- */
 
@@ -146,16 +150,18 @@ static int cmd_merge(int argc, char **argv)
 {
 	static const struct option opts[] = {
 		{"output", required_argument, NULL, 'o'},
+		{"allow-other-build", no_argument, NULL, OPT_ALLOW_OTHER_BUILD},
 		{"quiet", no_argument, NULL, 'q'},
 		{"help", no_argument, NULL, 'h'},
 		{NULL, 0, NULL, 0},
 	};
 	const char *out = NULL;
-	int quiet = 0, c;
+	int quiet = 0, allow_other_build = 0, c;
 	optind = 1;
 	while ((c = getopt_long(argc, argv, "o:qh", opts, NULL)) != -1) {
 		switch (c) {
 		case 'o': out = optarg; break;
+		case OPT_ALLOW_OTHER_BUILD: allow_other_build = 1; break;
 		case 'q': quiet = 1; break;
 		case 'h': usage(stdout); return 0;
 		default: usage(stderr); return 2;
@@ -173,20 +179,52 @@ static int cmd_merge(int argc, char **argv)
 	popc_error err;
 	if (popc_sweep_plan_from_dir(&plan, dirs[0], &err) != 0)
 		return popc_cli_fail("sweep merge", POPC_ERR_INVALID, &err);
+	/* the other builds among the directories, noted in the output's plan */
+	popc_sweep_plan *builds = calloc((size_t)n_dirs, sizeof *builds);
+	int n_builds = 0;
+	if (!builds) {
+		popc_sweep_plan_free(&plan);
+		fprintf(stderr, "popc sweep merge: out of memory\n");
+		return 1;
+	}
 	for (int d = 1; d < n_dirs; d++) {
 		popc_sweep_plan other;
 		if (popc_sweep_plan_from_dir(&other, dirs[d], &err) != 0) {
 			popc_sweep_plan_free(&plan);
+			free(builds);
 			return popc_cli_fail("sweep merge", POPC_ERR_INVALID, &err);
 		}
 		uint64_t id = other.plan_id;
+		int same_build = popc_sweep_plan_same_build(&plan, &other);
+		char first[POPC_SWEEP_BUILD_MAX + 96], this[POPC_SWEEP_BUILD_MAX + 96];
+		popc_sweep_plan_describe_build(&plan, first, sizeof first);
+		popc_sweep_plan_describe_build(&other, this, sizeof this);
+		if (!same_build) {
+			int known = 0;
+			for (int b = 0; b < n_builds; b++)
+				known |= popc_sweep_plan_same_build(&builds[b], &other);
+			if (!known)
+				popc_sweep_plan_set_build(&builds[n_builds++], other.popc_version,
+							  other.popc_build);
+		}
 		popc_sweep_plan_free(&other);
+		if (id == plan.plan_id && !same_build && !allow_other_build) {
+			fprintf(stderr,
+				"popc sweep merge: %s was made by %s, %s by %s: the summary would mix "
+				"two builds' results; merge shards of one build, or give "
+				"--allow-other-build (the merged plan then records both)\n",
+				dirs[0], first, dirs[d], this);
+			popc_sweep_plan_free(&plan);
+			free(builds);
+			return 2;
+		}
 		if (id != plan.plan_id) {
 			fprintf(stderr,
 				"popc sweep merge: %s and %s hold different sweeps (plans %016" PRIx64
 				" and %016" PRIx64 ")\n",
 				dirs[0], dirs[d], plan.plan_id, id);
 			popc_sweep_plan_free(&plan);
+			free(builds);
 			return 2;
 		}
 	}
@@ -218,8 +256,19 @@ static int cmd_merge(int argc, char **argv)
 		}
 		if (st) {
 			popc_sweep_plan_free(&plan);
+			free(builds);
 			return popc_cli_fail("sweep merge", st, &err);
 		}
+	}
+	/* every build whose results the merged summary holds, in its plan
+	 * (--allow-other-build; each call is a no-op for the plan's maker) */
+	int note_st = popc_sweep_dir_note_build(&plan, out, &err);
+	for (int b = 0; b < n_builds && !note_st; b++)
+		note_st = popc_sweep_dir_note_build(&builds[b], out, &err);
+	free(builds);
+	if (note_st) {
+		popc_sweep_plan_free(&plan);
+		return popc_cli_fail("sweep merge", note_st, &err);
 	}
 	char path[POPC_PATH_MAX + 32];
 	snprintf(path, sizeof path, "%s/summary.csv", out);
@@ -274,7 +323,7 @@ static int set_names_key(const char *set, const char *section, const char *key)
 typedef struct sweep_args {
 	char **vary, **sets;          /* pointers into argv */
 	int n_vary, n_sets;
-	int quiet, keep_log, list;
+	int quiet, keep_log, list, allow_other_build;
 	long jobs;                    /* 0: default_jobs() */
 	const char *scene_path, *dir, *shard_text, *program;
 } sweep_args;
@@ -321,6 +370,7 @@ static int sweep_main(const sweep_args *a)
 		popc_sweep_plan_free(&plan);
 		return popc_cli_fail("sweep", st, &err);
 	}
+	popc_sweep_plan_set_build(&plan, popc_cli_version(), popc_cli_build_id());
 
 	popc_sweep_shard shard = {.index = 0, .count = 1};
 	if (a->shard_text)
@@ -336,10 +386,17 @@ static int sweep_main(const sweep_args *a)
 	}
 	char scene_abs[PATH_MAX], dir_abs[PATH_MAX];
 	abs_path(a->scene_path, scene_abs, sizeof scene_abs);
-	st = popc_sweep_dir_prepare(&plan, a->dir, scene_abs, &err);
-	if (st) {
+	st = popc_sweep_dir_prepare(&plan, a->dir, scene_abs, a->allow_other_build, &err);
+	if (st < 0) {
 		popc_sweep_plan_free(&plan);
 		return popc_cli_fail("sweep", st, &err);
+	}
+	if (st == 1 && !a->quiet) {
+		char this[POPC_SWEEP_BUILD_MAX + 96];
+		popc_sweep_plan_describe_build(&plan, this, sizeof this);
+		fprintf(stderr, "popc sweep: note: %s was made by another popc build; resuming with "
+				"%s (--allow-other-build), recorded in its sweep.plan\n",
+			a->dir, this);
 	}
 	abs_path(a->dir, dir_abs, sizeof dir_abs);
 	if (a->list) {
@@ -445,6 +502,7 @@ int popc_cmd_sweep(int argc, char **argv)
 		{"shard", required_argument, NULL, OPT_SHARD},
 		{"list", no_argument, NULL, OPT_LIST},
 		{"program", required_argument, NULL, OPT_PROGRAM},
+		{"allow-other-build", no_argument, NULL, OPT_ALLOW_OTHER_BUILD},
 		{"quiet", no_argument, NULL, 'q'},
 		{"help", no_argument, NULL, 'h'},
 		{NULL, 0, NULL, 0},
@@ -467,6 +525,7 @@ int popc_cmd_sweep(int argc, char **argv)
 		case OPT_SHARD: a.shard_text = optarg; break;
 		case OPT_LIST: a.list = 1; break;
 		case OPT_PROGRAM: a.program = optarg; break;
+		case OPT_ALLOW_OTHER_BUILD: a.allow_other_build = 1; break;
 		case 'q': a.quiet = 1; break;
 		case 'h': usage(stdout); rc = 0; break;
 		default: usage(stderr); rc = 2; break;

@@ -3,7 +3,6 @@
 #include <string.h>
 
 #include "cli.h"
-#include "popc_config.h"
 
 static void usage(FILE *f)
 {
@@ -34,7 +33,7 @@ int main(int argc, char **argv)
 		return 0;
 	}
 	if (strcmp(verb, "--version") == 0) {
-		printf("popc %s\n", POPC_VERSION);
+		printf("popc %s (build %s)\n", popc_cli_version(), popc_cli_build_id());
 		return 0;
 	}
 	/* getopt names argv[0] in its messages: "popc run: unrecognized option" */

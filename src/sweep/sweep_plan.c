@@ -273,6 +273,33 @@ long long popc_sweep_id_parse(const popc_sweep_plan *p, const char *text)
 	return v;
 }
 
+/* A field of one line: a line break would end the plan file's line. */
+static void copy_line(char *out, size_t cap, const char *text)
+{
+	snprintf(out, cap, "%.*s", (int)strcspn(text ? text : "", "\r\n"), text ? text : "");
+}
+
+void popc_sweep_plan_set_build(popc_sweep_plan *p, const char *version, const char *build)
+{
+	copy_line(p->popc_version, sizeof p->popc_version, version);
+	copy_line(p->popc_build, sizeof p->popc_build, build);
+}
+
+int popc_sweep_plan_same_build(const popc_sweep_plan *a, const popc_sweep_plan *b)
+{
+	return strcmp(a->popc_version, b->popc_version) == 0 &&
+	       strcmp(a->popc_build, b->popc_build) == 0;
+}
+
+void popc_sweep_plan_describe_build(const popc_sweep_plan *p, char *buf, size_t cap)
+{
+	if (!p->popc_version[0] && !p->popc_build[0])
+		snprintf(buf, cap, "a popc that recorded no version or build (before build ids)");
+	else
+		snprintf(buf, cap, "popc %s (build %s)", p->popc_version[0] ? p->popc_version : "?",
+			 p->popc_build[0] ? p->popc_build : "not recorded");
+}
+
 /* Hashes the base scene as popc_scene_write writes it. */
 static int hash_scene(const popc_scene *s, uint64_t *h, popc_error *err)
 {

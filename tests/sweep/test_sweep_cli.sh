@@ -254,6 +254,44 @@ expect_exit 2 "Slurm array that is not regular" env SLURM_ARRAY_TASK_ID=7 SLURM_
   "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/sl2" --no-log -q
 check "  says how to submit" err_has "--array=1-2"
 
+# ---- which popc made a sweep: recorded in the plan; a resume or merge by
+# another build is refused unless --allow-other-build, and then recorded.
+# "Another build" is made here by editing the plan's popc_build line, as a
+# sweep directory made by another popc has it.
+VERSION=$("$POPC" --version | sed -n 's/^popc \([^ ]*\) (build \(.*\))$/\1/p')
+BUILD_ID=$("$POPC" --version | sed -n 's/^popc \([^ ]*\) (build \(.*\))$/\2/p')
+check "popc --version names version and build ('$VERSION', '$BUILD_ID')" test -n "$VERSION" -a -n "$BUILD_ID"
+check "  the plan records the version" grep -qx "popc_version = $VERSION" "$T/s/sweep.plan"
+check "  the plan records the build" grep -qx "popc_build = $BUILD_ID" "$T/s/sweep.plan"
+cp -r "$T/s" "$T/ob"
+sed -i 's/^popc_build = .*/popc_build = other-build-1/' "$T/ob/sweep.plan"
+expect_exit 2 "resume of a sweep another build made" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/ob"
+check "  names both builds" err_has "this sweep was made by popc $VERSION (build other-build-1); this is popc $VERSION (build $BUILD_ID)"
+check "  says how to go on" err_has "--allow-other-build"
+check "  the plan is left as it was" test "$(grep -c also_built_by "$T/ob/sweep.plan")" -eq 0
+expect_exit 0 "  --allow-other-build resumes it" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/ob" --allow-other-build
+check "  with a note" err_has "was made by another popc build; resuming with popc $VERSION (build $BUILD_ID)"
+check "  the plan records the second build" grep -qx "also_built_by = popc $VERSION (build $BUILD_ID)" "$T/ob/sweep.plan"
+check "  the first build stays the plan's maker" grep -qx "popc_build = other-build-1" "$T/ob/sweep.plan"
+expect_exit 0 "  again" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/ob" --allow-other-build -q
+check "  the second build noted once" test "$(grep -c also_built_by "$T/ob/sweep.plan")" -eq 1
+expect_exit 0 "the same build resumes without the option" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/s" -q
+# a plan of a popc before build ids (no popc_version, popc_build lines)
+cp -r "$T/s" "$T/old"
+sed -i '/^popc_version = /d; /^popc_build = /d' "$T/old/sweep.plan"
+expect_exit 2 "resume of a plan that records no build" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/old"
+check "  says so" err_has "made by a popc that recorded no version or build (before build ids)"
+# merge: shards of two builds
+cp -r "$T/sh2" "$T/sh2o"
+sed -i 's/^popc_build = .*/popc_build = other-build-2/' "$T/sh2o/sweep.plan"
+expect_exit 2 "merge of shards of two builds" "$POPC" sweep merge "$T/sh1" "$T/sh2o" "$T/sh3" -o "$T/mo"
+check "  names both builds" err_has "$T/sh1 was made by popc $VERSION (build $BUILD_ID), $T/sh2o by popc $VERSION (build other-build-2)"
+check "  nothing written" test ! -e "$T/mo"
+expect_exit 0 "  --allow-other-build merges them" "$POPC" sweep merge "$T/sh1" "$T/sh2o" "$T/sh3" -o "$T/mo" --allow-other-build
+check "  equal to the one-machine sweep" same_nowall "$T/mo/summary.csv" "$S"
+check "  the merged plan records both builds" grep -qx "also_built_by = popc $VERSION (build other-build-2)" "$T/mo/sweep.plan"
+check "  ... and its maker" grep -qx "popc_build = $BUILD_ID" "$T/mo/sweep.plan"
+
 # ---- SIGINT: stops, keeps a whole summary, a second run completes the sweep
 # 8000 runs of 5 s: about 1 s at -j 2 in the release build (5 s runs, not 2 s:
 # the first progress line comes at the first 250 ms look past 10 %, and with

@@ -28,6 +28,7 @@
 #define POPC_SWEEP_RUNS_MAX 1000000000LL
 #define POPC_SWEEP_VALUE_MAX 256
 #define POPC_SWEEP_ID_MAX 16
+#define POPC_SWEEP_BUILD_MAX 128
 
 /* One --vary axis. */
 typedef struct popc_sweep_axis {
@@ -45,6 +46,13 @@ typedef struct popc_sweep_plan {
 	int id_width;
 	uint64_t plan_id;                /* FNV-1a of base scene text, axes and columns */
 	char *columns;                   /* summary.csv header line, with '\n' (sweep_columns.h) */
+	/* which popc made the plan: its version and build id (set by the program
+	 * with popc_sweep_plan_set_build; read back by popc_sweep_plan_from_dir;
+	 * "" when not recorded: a plan file of a popc before build ids). Not
+	 * part of plan_id: another build runs the same sweep, and may resume it
+	 * when asked (popc_sweep_dir_prepare). */
+	char popc_version[64];
+	char popc_build[POPC_SWEEP_BUILD_MAX];
 } popc_sweep_plan;
 
 /* Expands a range or list into values (no scene involved):
@@ -73,6 +81,15 @@ void popc_sweep_axis_free(popc_sweep_axis *axis);
 int popc_sweep_plan_init(popc_sweep_plan *p, const popc_scene *base, popc_sweep_axis *axes,
 			 int n_axes, int check_every_run, popc_error *err);
 void popc_sweep_plan_free(popc_sweep_plan *p);
+
+/* Records which popc makes the plan (cut to fit; a line break ends it). */
+void popc_sweep_plan_set_build(popc_sweep_plan *p, const char *version, const char *build);
+
+/* 1 when both plans were made by the same version and build. */
+int popc_sweep_plan_same_build(const popc_sweep_plan *a, const popc_sweep_plan *b);
+
+/* "popc 0.1.0 (build 2be9692abcde)", or words saying the plan records none. */
+void popc_sweep_plan_describe_build(const popc_sweep_plan *p, char *buf, size_t cap);
 
 /* The value index on every axis of run i (value_index has n_axes entries). */
 void popc_sweep_run_values(const popc_sweep_plan *p, long long i, int *value_index);
