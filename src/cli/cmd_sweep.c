@@ -36,6 +36,7 @@ static void usage(FILE *f)
 	      "status, the compare metrics and its wall time (last column). Each run has a\n"
 	      "directory DIR/runs/<id> with its resolved scene, log and summary. Running the\n"
 	      "same sweep into the same DIR again skips finished runs and retries failed ones.\n"
+	      "SCENE may be an installed scene's name, as for popc run ('popc run --help').\n"
 	      "\n"
 	      "  --vary section.key=LIST  a scene key and its values (repeatable; the last\n"
 	      "                           --vary varies fastest). LIST is a,b,c or a range\n"
@@ -385,7 +386,7 @@ static int sweep_main(const sweep_args *a)
 		return popc_cli_fail("sweep", st, &err);
 	}
 	char scene_abs[PATH_MAX], dir_abs[PATH_MAX];
-	abs_path(a->scene_path, scene_abs, sizeof scene_abs);
+	abs_path(base.source, scene_abs, sizeof scene_abs); /* an installed scene's, when found by name */
 	st = popc_sweep_dir_prepare(&plan, a->dir, scene_abs, a->allow_other_build, &err);
 	if (st < 0) {
 		popc_sweep_plan_free(&plan);

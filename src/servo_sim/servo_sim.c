@@ -24,6 +24,7 @@
 
 #include "drive.h"
 #include "popc/axes/modbus_axis.h"
+#include "popc/scene/data_path.h"
 
 static volatile sig_atomic_t stop_requested = 0;
 
@@ -68,6 +69,10 @@ static void usage(FILE *f)
 	      "  --map-keys            list every register map key with its default and\n"
 	      "                        allowed values, and exit (docs/MODBUS.md)\n"
 	      "  -h, --help            this help\n"
+	      "\n"
+	      "MAPFILE and SCENE may be names of installed files: a name without a '/' that\n"
+	      "is not in the working directory is looked up in the data directories'\n"
+	      "drives/ and scenes/, as NAME then NAME.ini (POPC_DATA_PATH; popc(1)).\n"
 	      "\n"
 	      "Exit status: 0 stopped by a signal or --exit-after, 2 usage, 1 failure.\n",
 	      f);
@@ -439,7 +444,14 @@ int main(int argc, char **argv)
 	popc_error err;
 	popc_register_map map;
 	popc_scene scene;
-	int st = popc_register_map_load(&map, map_path, &err);
+	/* a bare map name not in the working directory: an installed drive map
+	 * (data_path.h), as popc run --map finds it */
+	char map_found[POPC_PATH_MAX];
+	int st = popc_data_find(POPC_DATA_DRIVES, map_path, NULL, map_found, sizeof map_found, &err);
+	if (st == 1)
+		map_path = map_found;
+	if (st >= 0)
+		st = popc_register_map_load(&map, map_path, &err);
 	if (!st) {
 		popc_scene_defaults(&scene);
 		st = popc_scene_load(&scene, scene_path, &err);
