@@ -1,4 +1,5 @@
 /* Installed scenes and drive maps found by name (data_path.h). */
+#define _XOPEN_SOURCE 700 /* realpath */
 #include "popc/scene/data_path.h"
 
 #include <dirent.h>
@@ -59,16 +60,16 @@ static int ends_with(const char *s, const char *tail)
 	return ls >= lt && strcmp(s + ls - lt, tail) == 0;
 }
 
-/* dir/kind/name into out, made absolute from the working directory when dir
- * is relative; -1 when it does not fit. */
+/* dir/kind/name into out; a relative dir (POPC_DATA_PATH=../data) is made
+ * absolute and without its "..", an absolute one is kept as written (its
+ * symbolic links too); -1 when it does not fit. */
 static int data_file(const char *dir, popc_data_kind kind, const char *name, const char *suffix,
 		     char *out, size_t cap)
 {
-	char cwd[POPC_PATH_MAX] = "";
-	if (dir[0] != '/' && !getcwd(cwd, sizeof cwd))
-		cwd[0] = '\0';
-	int n = snprintf(out, cap, "%s%s%s/%s/%s%s", cwd, cwd[0] ? "/" : "", dir,
-			 popc_data_kind_dir(kind), name, suffix);
+	char *real = dir[0] != '/' ? realpath(dir, NULL) : NULL;
+	int n = snprintf(out, cap, "%s/%s/%s%s", real ? real : dir, popc_data_kind_dir(kind), name,
+			 suffix);
+	free(real);
 	return n < 0 || (size_t)n >= cap ? -1 : 0;
 }
 
