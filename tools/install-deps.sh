@@ -25,9 +25,11 @@ paper=(gcc libc6-dev meson ninja-build pkg-config libinih-dev libmodbus-dev libc
 # the tests: socat (RTU over a pty pair), GNU parallel
 # (sweep-parallel; it depends on sysstat, a service), Slurm and munge (the
 # single-node cluster of sweep-slurm; services), python3 (run-tests.sh's
-# tally) and clang (the second compiler). Not gawk: the tests run with
+# tally) and clang (the second compiler), scdoc (the man pages; without it
+# the build skips them, -Dman=auto) and man-db (tests/cli/test_install.sh
+# reads the installed pages with man). Not gawk: the tests run with
 # Debian's default awk, mawk (under gawk realtime.sh's field loop never ends).
-test=("${paper[@]}" socat parallel slurm-wlm munge python3 clang)
+test=("${paper[@]}" socat parallel slurm-wlm munge python3 clang scdoc man-db)
 
 usage() { echo "usage: tools/install-deps.sh [--list] [paper|test]..." >&2; exit 2; }
 list=

@@ -41,6 +41,13 @@ int popc_cli_push(char ***list, int *n, char *value);
 int popc_cli_stdout_closed(const char *verb, const char *option, const char *path);
 
 
+/* This popc's version (meson's project version) and build id: git describe of
+ * the source tree at build time, with a hash of the uncommitted diff when
+ * dirty, "unknown" outside git (src/cli/popc_build_id.h.in). A sweep records
+ * both and refuses to resume or merge with another build. */
+const char *popc_cli_version(void);
+const char *popc_cli_build_id(void);
+
 int popc_cmd_run(int argc, char **argv);
 int popc_cmd_scene(int argc, char **argv);
 int popc_cmd_bench(int argc, char **argv);

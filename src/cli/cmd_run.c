@@ -42,6 +42,13 @@ static void usage(FILE *f)
 	      "to the working directory. popc makes it absolute, so the resolved scene in the\n"
 	      "log header runs from any directory.\n"
 	      "\n"
+	      "SCENE and the map (--map, axis.map) may be names of installed files: a name\n"
+	      "without a '/' that is no file where a relative path would point is looked up\n"
+	      "in the data directories as scenes/NAME then scenes/NAME.ini (drives/ for a\n"
+	      "map): 'popc run paper', '--map generic'. A path with a '/' is never looked\n"
+	      "up; a local file of that name wins; the path found is recorded absolute.\n"
+	      "POPC_DATA_PATH=DIR[:DIR...] sets the data directories ('popc scene list').\n"
+	      "\n"
 	      "Exit status: 0 done, 1 run failed, 2 bad scene or usage, 3 safety stop,\n"
 	      "4 communication lost, 5 interrupted (safe state reached), 6 unstable: a\n"
 	      "fixed-step integrator, or the closed loop itself diverged (the log says which).\n",

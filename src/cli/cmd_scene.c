@@ -1,4 +1,4 @@
-/* popc scene show FILE [--set k=v]...  |  popc scene keys */
+/* popc scene show FILE [--set k=v]...  |  popc scene keys  |  popc scene list [--maps] */
 #include <getopt.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -6,12 +6,14 @@
 
 #include "cli.h"
 #include "popc/core/intent.h"
+#include "popc/scene/data_path.h"
 #include "popc/scene/from_scene.h"
 
 static void usage(FILE *f)
 {
 	fputs("usage: popc scene show [FILE] [--set section.key=value]...\n"
 	      "       popc scene keys\n"
+	      "       popc scene list [--maps]\n"
 	      "\n"
 	      "show  prints the resolved scene as INI, every default explicit: the scene\n"
 	      "      file (or only the defaults, the paper's scene, without FILE) with the\n"
@@ -19,8 +21,48 @@ static void usage(FILE *f)
 	      "      Exit 2 names what is wrong: file:line, key and allowed range.\n"
 	      "      Relative paths (operator.table, axis.map) are printed absolute: from\n"
 	      "      the scene file's directory, or for --set from the working directory.\n"
-	      "keys  lists every scene key with its default and allowed range.\n",
+	      "keys  lists every scene key with its default and allowed range.\n"
+	      "list  lists the installed scenes (--maps: the drive maps) that popc finds\n"
+	      "      by name, one 'NAME<tab>PATH' a line: the data directories' scenes/\n"
+	      "      (drives/), from POPC_DATA_PATH or the built-in directory.\n"
+	      "\n"
+	      "FILE (and popc run's SCENE, --map, axis.map) may be a name: one without a\n"
+	      "'/' that is no file in the working directory (for axis.map in a scene file:\n"
+	      "in the scene's directory) is looked up in each data directory as NAME, then\n"
+	      "NAME.ini: 'popc run paper', '--map generic'. The path found is recorded\n"
+	      "absolute. POPC_DATA_PATH=DIR[:DIR...] sets the data directories (an empty\n"
+	      "entry stands for the built-in one); now: ",
 	      f);
+	char dirs[1024];
+	popc_data_dirs(dirs, sizeof dirs);
+	fprintf(f, "%s\n", dirs);
+}
+
+/* popc scene list [--maps]: what the names find (completion reads it) */
+static int scene_list(int argc, char **argv)
+{
+	static const struct option opts[] = {
+		{"maps", no_argument, NULL, 'm'},
+		{"help", no_argument, NULL, 'h'},
+		{NULL, 0, NULL, 0},
+	};
+	static char prog[] = "popc scene list";
+	argv[0] = prog; /* getopt's messages name argv[0] */
+	int maps = 0, c;
+	optind = 1;
+	while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
+		switch (c) {
+		case 'm': maps = 1; break;
+		case 'h': usage(stdout); return 0;
+		default: usage(stderr); return 2;
+		}
+	}
+	if (optind < argc) {
+		fprintf(stderr, "popc scene list: unexpected argument '%s'\n", argv[optind]);
+		return 2;
+	}
+	popc_data_list(maps ? POPC_DATA_DRIVES : POPC_DATA_SCENES, stdout);
+	return fflush(stdout) == 0 && !ferror(stdout) ? 0 : 1;
 }
 
 int popc_cmd_scene(int argc, char **argv)
@@ -29,7 +71,9 @@ int popc_cmd_scene(int argc, char **argv)
 		usage(argc < 2 ? stderr : stdout);
 		return argc < 2 ? 2 : 0;
 	}
-	int keys = strcmp(argv[1], "keys") == 0;
+	int keys = strcmp(argv[1], "keys") == 0, list = strcmp(argv[1], "list") == 0;
+	if (list)
+		return scene_list(argc - 1, argv + 1);
 	if (!keys && strcmp(argv[1], "show") != 0) {
 		fprintf(stderr, "popc scene: unknown action '%s'\n", argv[1]);
 		usage(stderr);
@@ -90,7 +134,9 @@ int popc_cmd_scene(int argc, char **argv)
 	}
 	if (st)
 		return popc_cli_fail("scene show", st, &err);
-	printf("; resolved scene%s%s\n", path ? " from " : " (defaults)", path ? path : "");
+	/* s.source: the file read (an installed scene's absolute path when
+	 * found by name) */
+	printf("; resolved scene%s%s\n", path ? " from " : " (defaults)", path ? s.source : "");
 	popc_scene_write(&s, stdout, "");
 	return 0;
 }

@@ -30,13 +30,14 @@
 static void usage(FILE *f)
 {
 	fputs("usage: popc sweep SCENE --vary section.key=LIST [--vary ...] -o DIR [options]\n"
-	      "       popc sweep merge DIR... [-o DIR]\n"
+	      "       popc sweep merge DIR... [-o DIR] [--allow-other-build]\n"
 	      "\n"
 	      "Runs the cartesian product of the --vary lists on the scene, in parallel, and\n"
 	      "writes DIR/summary.csv: one row per run with its id, the varied values, its exit\n"
 	      "status, the compare metrics and its wall time (last column). Each run has a\n"
 	      "directory DIR/runs/<id> with its resolved scene, log and summary. Running the\n"
 	      "same sweep into the same DIR again skips finished runs and retries failed ones.\n"
+	      "SCENE may be an installed scene's name, as for popc run ('popc run --help').\n"
 	      "\n"
 	      "  --vary section.key=LIST  a scene key and its values (repeatable; the last\n"
 	      "                           --vary varies fastest). LIST is a,b,c or a range\n"
@@ -53,9 +54,12 @@ static void usage(FILE *f)
 	      "  -j, --jobs N             parallel runs (default: SLURM_CPUS_PER_TASK, else\n"
 	      "                           every online core)\n"
 	      "  --no-log                 keep run summaries only (no log.csv, no scene.ini)\n"
-	      "  --shard I/N              run only shard I of N (runs with id mod N = I);\n"
-	      "                           default from SLURM_ARRAY_TASK_ID/_COUNT when set.\n"
-	      "                           A shard writes DIR/summary-shard-I-of-N.csv\n"
+	      "  --shard I/N              run only shard I of N, I from 1 to N (runs with\n"
+	      "                           id mod N = I - 1): --shard 1/2 and --shard 2/2 make\n"
+	      "                           the whole sweep. Default from SLURM_ARRAY_TASK_ID,\n"
+	      "                           _MIN, _STEP and _COUNT when set (the array's first\n"
+	      "                           task is shard 1, whatever its index). A shard\n"
+	      "                           writes DIR/summary-shard-I-of-N.csv\n"
 	      "  --list                   print one 'popc run' command line per run of the\n"
 	      "                           shard (for GNU parallel) instead of running; each\n"
 	      "                           runs the run's resolved scene, written now to\n"
@@ -63,6 +67,10 @@ static void usage(FILE *f)
 	      "                           not reach it); then 'popc sweep merge DIR'\n"
 	      "                           gathers their results\n"
 	      "  --program PATH           the popc that --list lines call (default: this one)\n"
+	      "  --allow-other-build      resume (or merge) a sweep that another popc version\n"
+	      "                           or build made; refused otherwise (exit 2), since\n"
+	      "                           the summary would mix two builds' results. The\n"
+	      "                           plan records every build that added results\n"
 	      "  -q, --quiet              no progress\n"
 	      "  -h, --help               this help\n"
 	      "\n"
@@ -76,7 +84,7 @@ static void usage(FILE *f)
 	      f);
 }
 
-enum { OPT_VARY = 256, OPT_SET, OPT_NO_LOG, OPT_SHARD, OPT_LIST, OPT_PROGRAM };
+enum { OPT_VARY = 256, OPT_SET, OPT_NO_LOG, OPT_SHARD, OPT_LIST, OPT_PROGRAM, OPT_ALLOW_OTHER_BUILD };
 
 /* ---- failures listed at the end ------------------------------------------------- */
 
@@ -144,16 +152,18 @@ static int cmd_merge(int argc, char **argv)
 {
 	static const struct option opts[] = {
 		{"output", required_argument, NULL, 'o'},
+		{"allow-other-build", no_argument, NULL, OPT_ALLOW_OTHER_BUILD},
 		{"quiet", no_argument, NULL, 'q'},
 		{"help", no_argument, NULL, 'h'},
 		{NULL, 0, NULL, 0},
 	};
 	const char *out = NULL;
-	int quiet = 0, c;
+	int quiet = 0, allow_other_build = 0, c;
 	optind = 1;
 	while ((c = getopt_long(argc, argv, "o:qh", opts, NULL)) != -1) {
 		switch (c) {
 		case 'o': out = optarg; break;
+		case OPT_ALLOW_OTHER_BUILD: allow_other_build = 1; break;
 		case 'q': quiet = 1; break;
 		case 'h': usage(stdout); return 0;
 		default: usage(stderr); return 2;
@@ -171,20 +181,52 @@ static int cmd_merge(int argc, char **argv)
 	popc_error err;
 	if (popc_sweep_plan_from_dir(&plan, dirs[0], &err) != 0)
 		return popc_cli_fail("sweep merge", POPC_ERR_INVALID, &err);
+	/* the other builds among the directories, noted in the output's plan */
+	popc_sweep_plan *builds = calloc((size_t)n_dirs, sizeof *builds);
+	int n_builds = 0;
+	if (!builds) {
+		popc_sweep_plan_free(&plan);
+		fprintf(stderr, "popc sweep merge: out of memory\n");
+		return 1;
+	}
 	for (int d = 1; d < n_dirs; d++) {
 		popc_sweep_plan other;
 		if (popc_sweep_plan_from_dir(&other, dirs[d], &err) != 0) {
 			popc_sweep_plan_free(&plan);
+			free(builds);
 			return popc_cli_fail("sweep merge", POPC_ERR_INVALID, &err);
 		}
 		uint64_t id = other.plan_id;
+		int same_build = popc_sweep_plan_same_build(&plan, &other);
+		char first[POPC_SWEEP_BUILD_MAX + 96], this[POPC_SWEEP_BUILD_MAX + 96];
+		popc_sweep_plan_describe_build(&plan, first, sizeof first);
+		popc_sweep_plan_describe_build(&other, this, sizeof this);
+		if (!same_build) {
+			int known = 0;
+			for (int b = 0; b < n_builds; b++)
+				known |= popc_sweep_plan_same_build(&builds[b], &other);
+			if (!known)
+				popc_sweep_plan_set_build(&builds[n_builds++], other.popc_version,
+							  other.popc_build);
+		}
 		popc_sweep_plan_free(&other);
+		if (id == plan.plan_id && !same_build && !allow_other_build) {
+			fprintf(stderr,
+				"popc sweep merge: %s was made by %s, %s by %s: the summary would mix "
+				"two builds' results; merge shards of one build, or give "
+				"--allow-other-build (the merged plan then records both)\n",
+				dirs[0], first, dirs[d], this);
+			popc_sweep_plan_free(&plan);
+			free(builds);
+			return 2;
+		}
 		if (id != plan.plan_id) {
 			fprintf(stderr,
 				"popc sweep merge: %s and %s hold different sweeps (plans %016" PRIx64
 				" and %016" PRIx64 ")\n",
 				dirs[0], dirs[d], plan.plan_id, id);
 			popc_sweep_plan_free(&plan);
+			free(builds);
 			return 2;
 		}
 	}
@@ -216,8 +258,19 @@ static int cmd_merge(int argc, char **argv)
 		}
 		if (st) {
 			popc_sweep_plan_free(&plan);
+			free(builds);
 			return popc_cli_fail("sweep merge", st, &err);
 		}
+	}
+	/* every build whose results the merged summary holds, in its plan
+	 * (--allow-other-build; each call is a no-op for the plan's maker) */
+	int note_st = popc_sweep_dir_note_build(&plan, out, &err);
+	for (int b = 0; b < n_builds && !note_st; b++)
+		note_st = popc_sweep_dir_note_build(&builds[b], out, &err);
+	free(builds);
+	if (note_st) {
+		popc_sweep_plan_free(&plan);
+		return popc_cli_fail("sweep merge", note_st, &err);
 	}
 	char path[POPC_PATH_MAX + 32];
 	snprintf(path, sizeof path, "%s/summary.csv", out);
@@ -263,7 +316,7 @@ static int set_names_key(const char *set, const char *section, const char *key)
 typedef struct sweep_args {
 	char **vary, **sets;          /* pointers into argv */
 	int n_vary, n_sets;
-	int quiet, keep_log, list;
+	int quiet, keep_log, list, allow_other_build;
 	long long jobs;               /* 0: default_jobs() */
 	const char *scene_path, *dir, *shard_text, *program;
 } sweep_args;
@@ -310,6 +363,7 @@ static int sweep_main(const sweep_args *a)
 		popc_sweep_plan_free(&plan);
 		return popc_cli_fail("sweep", st, &err);
 	}
+	popc_sweep_plan_set_build(&plan, popc_cli_version(), popc_cli_build_id());
 
 	popc_sweep_shard shard = {.index = 0, .count = 1};
 	if (a->shard_text)
@@ -324,11 +378,18 @@ static int sweep_main(const sweep_args *a)
 		return popc_cli_fail("sweep", st, &err);
 	}
 	char scene_abs[PATH_MAX], dir_abs[PATH_MAX];
-	abs_path(a->scene_path, scene_abs, sizeof scene_abs);
-	st = popc_sweep_dir_prepare(&plan, a->dir, scene_abs, &err);
-	if (st) {
+	abs_path(base.source, scene_abs, sizeof scene_abs); /* an installed scene's, when found by name */
+	st = popc_sweep_dir_prepare(&plan, a->dir, scene_abs, a->allow_other_build, &err);
+	if (st < 0) {
 		popc_sweep_plan_free(&plan);
 		return popc_cli_fail("sweep", st, &err);
+	}
+	if (st == 1 && !a->quiet) {
+		char this[POPC_SWEEP_BUILD_MAX + 96];
+		popc_sweep_plan_describe_build(&plan, this, sizeof this);
+		fprintf(stderr, "popc sweep: note: %s was made by another popc build; resuming with "
+				"%s (--allow-other-build), recorded in its sweep.plan\n",
+			a->dir, this);
 	}
 	abs_path(a->dir, dir_abs, sizeof dir_abs);
 	if (a->list) {
@@ -385,8 +446,8 @@ static int sweep_main(const sweep_args *a)
 	 * interrupted sweep leaves the last whole one */
 	char path[POPC_PATH_MAX + 64];
 	if (shard.count > 1)
-		snprintf(path, sizeof path, "%s/summary-shard-%lld-of-%lld.csv", a->dir, shard.index,
-			 shard.count);
+		snprintf(path, sizeof path, "%s/summary-shard-%lld-of-%lld.csv", a->dir,
+			 shard.index + 1, shard.count);
 	else
 		snprintf(path, sizeof path, "%s/summary.csv", a->dir);
 	popc_sweep_tally t;
@@ -434,6 +495,7 @@ int popc_cmd_sweep(int argc, char **argv)
 		{"shard", required_argument, NULL, OPT_SHARD},
 		{"list", no_argument, NULL, OPT_LIST},
 		{"program", required_argument, NULL, OPT_PROGRAM},
+		{"allow-other-build", no_argument, NULL, OPT_ALLOW_OTHER_BUILD},
 		{"quiet", no_argument, NULL, 'q'},
 		{"help", no_argument, NULL, 'h'},
 		{NULL, 0, NULL, 0},
@@ -456,6 +518,7 @@ int popc_cmd_sweep(int argc, char **argv)
 		case OPT_SHARD: a.shard_text = optarg; break;
 		case OPT_LIST: a.list = 1; break;
 		case OPT_PROGRAM: a.program = optarg; break;
+		case OPT_ALLOW_OTHER_BUILD: a.allow_other_build = 1; break;
 		case 'q': a.quiet = 1; break;
 		case 'h': usage(stdout); rc = 0; break;
 		default: usage(stderr); rc = 2; break;

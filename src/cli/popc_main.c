@@ -1,4 +1,6 @@
 /* popc: the experiment runner. Verbs dispatch to cmd_*.c. */
+#include <stdio.h>
+
 #include "cli.h"
 #include "popc/util/verb.h"
 #include "popc/util/stdfds.h"
@@ -15,9 +17,12 @@ int main(int argc, char **argv)
 		 "speed against error (docs/BENCHMARKS.md)"},
 		{"sweep", popc_cmd_sweep, "SCENE", "run a parameter sweep in parallel (Slurm, GNU parallel)"},
 	};
-	static const popc_program popc = {
+	/* --version names the build too (sweep plans record it: docs/SWEEPS.md) */
+	static char version[256];
+	snprintf(version, sizeof version, "%s (build %s)", popc_cli_version(), popc_cli_build_id());
+	const popc_program popc = {
 		.name = "popc",
-		.version = POPC_VERSION,
+		.version = version,
 		.synopsis = "VERB [options]",
 		.about = "Runs time-domain passivity controller (PO/PC) experiments on a simulated plant\n"
 			 "or a Modbus servo axis and writes CSV logs (Ryu, Hannaford, Kwon, Kim 2005).\n",

@@ -11,6 +11,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "popc/scene/data_path.h"
 #include "popc/scene/ini_lines.h"
 #include "popc/util/numfmt.h"
 #include "popc/util/parse.h"
@@ -132,7 +133,8 @@ static int is_path_key(const scene_key *k)
 	return k->type == KEY_STRING && strcmp(k->unit, "path") == 0;
 }
 
-static int resolve_relative(char *field, const char *scene_path, const char *key, popc_error *err);
+static int resolve_relative(char *field, const char *scene_path, const char *key, int is_map,
+			    popc_error *err);
 
 static void describe_range(const scene_key *k, char *buf, size_t cap)
 {
@@ -307,7 +309,8 @@ static int scene_set(popc_scene *s, const char *section, const char *key, const 
 		return unknown_key(sec, name, section_known, "--set: ", err);
 	int st = set_key(s, k, val, "--set ", option, err);
 	if (!st && is_path_key(k))
-		st = resolve_relative((char *)s + k->offset, NULL, who, err);
+		st = resolve_relative((char *)s + k->offset, NULL, who,
+				      k->offset == offsetof(popc_scene, axis_map), err);
 	char why[160];
 	if (!st && is_path_key(k) && unwritable(k, (char *)s + k->offset, why, sizeof why))
 		st = popc_error_set(err, POPC_ERR_INVALID,
@@ -447,12 +450,29 @@ static int scene_ini_handler(void *user, const char *section, const char *name, 
  * way it is made absolute when it is read (the working directory before a
  * relative scene path), so that the resolved scene, written to a log header
  * or a sweep's run directory, names the same file from any directory. */
-static int resolve_relative(char *field, const char *scene_path, const char *key, popc_error *err)
+static int resolve_relative(char *field, const char *scene_path, const char *key, int is_map,
+			    popc_error *err)
 {
 	/* key: "operator.table" in a scene file, the option's name otherwise
 	 * ("--set operator.table", "--map") */
 	if (!field[0] || field[0] == '/')
 		return 0;
+	/* axis.map: a bare name that is not a file where it points ("generic",
+	 * "cia402.ini") is an installed drive map (data_path.h). Found nowhere,
+	 * it stays relative as before: the map's reader then names the path, and
+	 * only when an axis.kind = modbus run reads it. */
+	if (is_map) {
+		char dir[POPC_PATH_MAX] = "", found[POPC_PATH_MAX];
+		const char *slash = scene_path ? strrchr(scene_path, '/') : NULL;
+		if (slash)
+			snprintf(dir, sizeof dir, "%.*s", (int)(slash - scene_path), scene_path);
+		popc_error lookup_err;
+		if (popc_data_find(POPC_DATA_DRIVES, field, slash ? dir : NULL, found, sizeof found,
+				   &lookup_err) == 1) {
+			memcpy(field, found, strlen(found) + 1);
+			return 0;
+		}
+	}
 	char cwd[POPC_PATH_MAX] = "";
 	if ((!scene_path || scene_path[0] != '/') && !getcwd(cwd, sizeof cwd))
 		cwd[0] = '\0'; /* then relative to the working directory, as given */
@@ -476,6 +496,13 @@ static int resolve_relative(char *field, const char *scene_path, const char *key
 
 int popc_scene_load(popc_scene *s, const char *path, popc_error *err)
 {
+	/* a bare name not in the working directory: an installed scene */
+	char found[POPC_PATH_MAX];
+	int looked = popc_data_find(POPC_DATA_SCENES, path, NULL, found, sizeof found, err);
+	if (looked < 0)
+		return looked;
+	if (looked == 1)
+		path = found;
 	FILE *f = fopen(path, "r");
 	if (!f)
 		return popc_error_set(err, POPC_ERR_INVALID, "%s: cannot open scene: %s", path,
@@ -515,9 +542,9 @@ int popc_scene_load(popc_scene *s, const char *path, popc_error *err)
 	}
 	int st = 0;
 	if (strcmp(table_before, s->op_table) != 0)
-		st = resolve_relative(s->op_table, path, "operator.table", err);
+		st = resolve_relative(s->op_table, path, "operator.table", 0, err);
 	if (!st && strcmp(map_before, s->axis_map) != 0)
-		st = resolve_relative(s->axis_map, path, "axis.map", err);
+		st = resolve_relative(s->axis_map, path, "axis.map", 1, err);
 	if (st)
 		return st;
 	/* resolved, a path must still be one a scene file can hold */

@@ -25,6 +25,7 @@
 #include "drive.h"
 #include "frame.h"
 #include "popc/axes/modbus_axis.h"
+#include "popc/scene/data_path.h"
 #include "popc/util/clock.h"
 #include "popc/util/parse.h"
 #include "popc/util/stdfds.h"
@@ -84,6 +85,10 @@ static void usage(FILE *f)
 	      "On exit it prints on standard error how many requests it served and how many\n"
 	      "received frames were malformed (bad CRC, another slave, a bad MBAP header, an\n"
 	      "unknown function): a client must never send one.\n"
+	      "MAPFILE and SCENE may be names of installed files: a name without a '/' that\n"
+	      "is not in the working directory is looked up in the data directories'\n"
+	      "drives/ and scenes/, as NAME then NAME.ini (POPC_DATA_PATH; popc(1)).\n"
+	      "\n"
 	      "Exit status: 0 stopped by a signal or --exit-after, 2 usage, 1 failure.\n",
 	      f);
 }
@@ -530,7 +535,14 @@ int main(int argc, char **argv)
 	popc_error err;
 	popc_register_map map;
 	popc_scene scene;
-	int st = popc_register_map_load(&map, map_path, &err);
+	/* a bare map name not in the working directory: an installed drive map
+	 * (data_path.h), as popc run --map finds it */
+	char map_found[POPC_PATH_MAX];
+	int st = popc_data_find(POPC_DATA_DRIVES, map_path, NULL, map_found, sizeof map_found, &err);
+	if (st == 1)
+		map_path = map_found;
+	if (st >= 0)
+		st = popc_register_map_load(&map, map_path, &err);
 	if (!st) {
 		popc_scene_defaults(&scene);
 		st = popc_scene_load(&scene, scene_path, &err);

@@ -19,8 +19,51 @@
 
 /* ---- the plan file ---------------------------------------------------------- */
 
+/* Adds "also_built_by = popc V (build B)" to DIR/sweep.plan, unless the plan
+ * names that build already (as its maker or in such a line). */
+int popc_sweep_dir_note_build(const popc_sweep_plan *p, const char *dir, popc_error *err)
+{
+	char path[POPC_PATH_MAX + 32], line[POPC_SWEEP_BUILD_MAX + 128], who[POPC_SWEEP_BUILD_MAX + 96];
+	snprintf(path, sizeof path, "%s/sweep.plan", dir);
+	popc_sweep_plan old;
+	int st = popc_sweep_plan_from_dir(&old, dir, err);
+	if (st)
+		return st;
+	int same = popc_sweep_plan_same_build(&old, p);
+	popc_sweep_plan_free(&old);
+	if (same)
+		return 0;
+	char *text;
+	size_t len;
+	st = popc_sweep_read_file(path, &text, &len, err);
+	if (st <= 0)
+		return st ? st : popc_error_set(err, POPC_ERR_IO, "%s: gone", path);
+	popc_sweep_plan_describe_build(p, who, sizeof who);
+	int n = snprintf(line, sizeof line, "also_built_by = %s\n", who);
+	/* the line at the start of a line of the file: already noted */
+	int noted = 0;
+	for (const char *at = strstr(text, line); at && !noted; at = strstr(at + 1, line))
+		noted = at == text || at[-1] == '\n';
+	if (noted) {
+		free(text);
+		return 0;
+	}
+	char *grown = realloc(text, len + (size_t)n + 2);
+	if (!grown) {
+		free(text);
+		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+	}
+	text = grown;
+	if (len && text[len - 1] != '\n')
+		text[len++] = '\n';
+	memcpy(text + len, line, (size_t)n + 1);
+	st = popc_write_file_atomic(path, text, len + (size_t)n, err);
+	free(text);
+	return st;
+}
+
 int popc_sweep_dir_prepare(const popc_sweep_plan *p, const char *dir, const char *scene_path,
-			   popc_error *err)
+			   int allow_other_build, popc_error *err)
 {
 	char path[POPC_PATH_MAX + 32];
 	int st = popc_mkdir_p(dir, err);
@@ -44,14 +87,30 @@ int popc_sweep_dir_prepare(const popc_sweep_plan *p, const char *dir, const char
 		if (st)
 			return st;
 		uint64_t old_id = old.plan_id;
+		int same_build = popc_sweep_plan_same_build(&old, p);
+		char old_build[POPC_SWEEP_BUILD_MAX + 96], this_build[POPC_SWEEP_BUILD_MAX + 96];
+		popc_sweep_plan_describe_build(&old, old_build, sizeof old_build);
+		popc_sweep_plan_describe_build(p, this_build, sizeof this_build);
 		popc_sweep_plan_free(&old);
 		if (old_id != p->plan_id)
 			return popc_error_set(err, POPC_ERR_INVALID,
 					      "%s holds another sweep (plan %016" PRIx64 "; this one is "
-					      "%016" PRIx64 ": a different scene, --vary list or popc "
-					      "version): choose another -o DIR",
+					      "%016" PRIx64 ": a different scene, --vary list or summary "
+					      "columns): choose another -o DIR",
 					      path, old_id, p->plan_id);
-		return 0;
+		/* the same runs by another build: its rows would sit next to the
+		 * first build's in one summary, which then belongs to neither */
+		if (!same_build && !allow_other_build)
+			return popc_error_set(err, POPC_ERR_INVALID,
+					      "%s: this sweep was made by %s; this is %s: a resume would "
+					      "mix the results of two builds in one summary. Resume with "
+					      "the first build, choose another -o DIR, or give "
+					      "--allow-other-build (the plan then records both)",
+					      path, old_build, this_build);
+		if (same_build)
+			return 0;
+		st = popc_sweep_dir_note_build(p, dir, err);
+		return st ? st : 1;
 	}
 
 	char *text = NULL;
@@ -61,8 +120,9 @@ int popc_sweep_dir_prepare(const popc_sweep_plan *p, const char *dir, const char
 		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
 	fprintf(f, "# popc sweep plan: written by popc sweep, read when the sweep resumes and by\n"
 		   "# popc sweep merge. Runs are DIR/runs/<id>; summary.csv has one row per run.\n");
-	fprintf(f, "format = 1\nplan_id = %016" PRIx64 "\nruns = %lld\nscene = %s\n", p->plan_id,
-		p->n_runs, scene_path);
+	fprintf(f, "format = 1\nplan_id = %016" PRIx64 "\npopc_version = %s\npopc_build = %s\n"
+		   "runs = %lld\nscene = %s\n",
+		p->plan_id, p->popc_version, p->popc_build, p->n_runs, scene_path);
 	for (int a = 0; a < p->n_axes; a++)
 		fprintf(f, "vary = %s.%s=%s\n", p->axes[a].section, p->axes[a].key, p->axes[a].spec);
 	fprintf(f, "columns = %s", p->columns);
@@ -107,6 +167,7 @@ int popc_sweep_plan_from_dir(popc_sweep_plan *p, const char *dir, popc_error *er
 	int n_axes = 0, have_id = 0, format = 0;
 	long long runs = -1;
 	uint64_t plan_id = 0;
+	char version[sizeof p->popc_version] = "", build[sizeof p->popc_build] = "";
 	char *columns = NULL;
 	int lineno = 0;
 	st = 0;
@@ -129,6 +190,10 @@ int popc_sweep_plan_from_dir(popc_sweep_plan *p, const char *dir, popc_error *er
 		} else if (strcmp(key, "plan_id") == 0) {
 			have_id = popc_parse_u64_span(value, value + strlen(value), UINT64_MAX,
 						      POPC_PARSE_BASE16, &plan_id) == 0;
+		} else if (strcmp(key, "popc_version") == 0) {
+			snprintf(version, sizeof version, "%s", value);
+		} else if (strcmp(key, "popc_build") == 0) {
+			snprintf(build, sizeof build, "%s", value);
 		} else if (strcmp(key, "runs") == 0) {
 			popc_parse_ll_text(value, 1, POPC_SWEEP_RUNS_MAX, &runs);
 		} else if (strcmp(key, "vary") == 0) {
@@ -170,6 +235,7 @@ int popc_sweep_plan_from_dir(popc_sweep_plan *p, const char *dir, popc_error *er
 	for (long long m = 10000; m < p->n_runs; m *= 10)
 		p->id_width++;
 	p->plan_id = plan_id;
+	popc_sweep_plan_set_build(p, version, build);
 	p->columns = popc_sweep_columns_header(axes, n_axes);
 	if (!p->columns)
 		st = popc_error_set(err, POPC_ERR_NOMEM, "out of memory");

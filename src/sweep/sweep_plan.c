@@ -282,6 +282,33 @@ long long popc_sweep_id_parse(const popc_sweep_plan *p, const char *text)
 	return v;
 }
 
+/* A field of one line: a line break would end the plan file's line. */
+static void copy_line(char *out, size_t cap, const char *text)
+{
+	snprintf(out, cap, "%.*s", (int)strcspn(text ? text : "", "\r\n"), text ? text : "");
+}
+
+void popc_sweep_plan_set_build(popc_sweep_plan *p, const char *version, const char *build)
+{
+	copy_line(p->popc_version, sizeof p->popc_version, version);
+	copy_line(p->popc_build, sizeof p->popc_build, build);
+}
+
+int popc_sweep_plan_same_build(const popc_sweep_plan *a, const popc_sweep_plan *b)
+{
+	return strcmp(a->popc_version, b->popc_version) == 0 &&
+	       strcmp(a->popc_build, b->popc_build) == 0;
+}
+
+void popc_sweep_plan_describe_build(const popc_sweep_plan *p, char *buf, size_t cap)
+{
+	if (!p->popc_version[0] && !p->popc_build[0])
+		snprintf(buf, cap, "a popc that recorded no version or build (before build ids)");
+	else
+		snprintf(buf, cap, "popc %s (build %s)", p->popc_version[0] ? p->popc_version : "?",
+			 p->popc_build[0] ? p->popc_build : "not recorded");
+}
+
 /* Hashes the base scene as popc_scene_write writes it. */
 static int hash_scene(const popc_scene *s, uint64_t *h, popc_error *err)
 {
@@ -509,7 +536,7 @@ int popc_sweep_shard_parse(const char *text, popc_sweep_shard *sh, popc_error *e
 	char buf[64];
 	const char *slash = strchr(text, '/');
 	if (!slash || strlen(text) >= sizeof buf)
-		return popc_error_set(err, POPC_ERR_INVALID, "--shard '%s': expected I/N (e.g. 0/4)", text);
+		return popc_error_set(err, POPC_ERR_INVALID, "--shard '%s': expected I/N (e.g. 1/4)", text);
 	memcpy(buf, text, (size_t)(slash - text));
 	buf[slash - text] = '\0';
 	long long i, n;
@@ -517,10 +544,15 @@ int popc_sweep_shard_parse(const char *text, popc_sweep_shard *sh, popc_error *e
 		return popc_error_set(err, POPC_ERR_INVALID,
 				      "--shard '%s': N must be a whole number in [1, %lld]", text,
 				      POPC_SWEEP_RUNS_MAX);
-	if (popc_parse_ll_text(buf, 0, n - 1, &i) != 0)
+	if (popc_parse_ll_text(buf, 0, 0, &i) == 0)
 		return popc_error_set(err, POPC_ERR_INVALID,
-				      "--shard '%s': I must be a whole number in [0, %lld]", text, n - 1);
-	sh->index = i;
+				      "--shard '%s': shards count from 1, as in Playwright, Jest and "
+				      "node --test: --shard 1/%lld ... --shard %lld/%lld make the whole sweep",
+				      text, n, n, n);
+	if (popc_parse_ll_text(buf, 1, n, &i) != 0)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "--shard '%s': I must be a whole number in [1, %lld]", text, n);
+	sh->index = i - 1;
 	sh->count = n;
 	return 0;
 }
@@ -537,12 +569,15 @@ int popc_sweep_shard_from_slurm(const char *task_id, const char *task_count, con
 		return popc_error_set(err, POPC_ERR_INVALID,
 				      "SLURM_ARRAY_TASK_ID=%s, SLURM_ARRAY_TASK_COUNT=%s: not whole numbers",
 				      task_id, task_count);
+	/* the array's k-th task (k from 0) is shard k + 1, whatever index the
+	 * array starts at: --array=0-3, 1-4 and 10-16:2 all make shards 1/4..4/4 */
 	long long off = id - min;
 	if (off < 0 || off % step != 0 || off / step >= count)
 		return popc_error_set(err, POPC_ERR_INVALID,
 				      "Slurm array task %lld (min %lld, step %lld, count %lld) is not one "
-				      "of a regular array: submit with --array=0-%lld (or pass --shard I/N)",
-				      id, min, step, count, count - 1);
+				      "of a regular array: submit with --array=1-%lld (any first index and "
+				      "step will do; a list such as 1,7 will not), or pass --shard I/N",
+				      id, min, step, count, count);
 	sh->index = off / step;
 	sh->count = count;
 	return 1;

@@ -212,7 +212,7 @@ expect_exit 2 "sweep -j 0x2 refused" "$POPC" sweep "$P" --vary run.duration=0.1,
 check "  names -j" err_has "-j '0x2'"
 expect_exit 2 "sweep --shard 0x0/2 refused" "$POPC" sweep "$P" --vary run.duration=0.1,0.2 --shard 0x0/2 -o "$T/hexshard"
 check "  names --shard" err_has "--shard '0x0/2'"
-expect_exit 0 "sweep --shard +0/2.0: a sign and 2.0 are whole numbers as in a scene" "$POPC" sweep "$P" --vary run.duration=0.1,0.2 --shard +0/2.0 --list -o "$T/signshard"
+expect_exit 0 "sweep --shard +1/2.0: a sign and 2.0 are whole numbers as in a scene" "$POPC" sweep "$P" --vary run.duration=0.1,0.2 --shard +1/2.0 --list -o "$T/signshard"
 expect_exit 2 "bench --min-time 0x1p-3 refused" "$POPC" bench loop --min-time 0x1p-3 --repeat 1
 check "  names --min-time" err_has "--min-time 0x1p-3"
 expect_exit 2 "bench --repeat ' 2' refused (no blanks in a number)" "$POPC" bench loop --repeat " 2"

@@ -32,7 +32,7 @@ LAYERS = ["util", "core", "scene", "log", "axes", "run", "sweep"]
 # Above every layer: may include any layer's headers.
 PROGRAM_DIRS = ["src/cli", "src/servo_sim", "analysis"]
 PROGRAMS = "programs"
-GENERATED = {"popc_config.h"}  # configure_file() output, in the build root
+GENERATED = {"popc_config.h", "popc_build_id.h"}  # configure_file() and vcs_tag() outputs, in the build dir
 
 INCLUDE = re.compile(r'^\s*#\s*include\s*([<"])([^">]+)[">]')
 BLOCK_COMMENT = re.compile(r"/\*.*?\*/", re.S)

@@ -75,7 +75,10 @@ expect_exit 1 "-o names a file" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/afile
 check "  says what could not be made" err_has "cannot create directory $T/afile/runs: Not a directory (is -o a file?)"
 expect_exit 2 "a sweep over a real axis" "$POPC" sweep "$SCENE" --set "axis.map=$SRC/data/drives/generic.ini" --set axis.connect=tcp:127.0.0.1:1 --vary axis.kind=sim,modbus -o "$T/bad"
 check "  names the run; nothing ran" err_has "run 0001 (axis.kind=modbus): axis.kind = modbus: a sweep runs the simulated axis only"
-expect_exit 2 "bad --shard" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/bad" --shard 2/2
+expect_exit 2 "bad --shard: past N" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/bad" --shard 3/2
+check "  names the range" err_has "I must be a whole number in [1, 2]"
+expect_exit 2 "--shard 0/2: shards count from 1" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/bad" --shard 0/2
+check "  says so, with the spelling to use" err_has "shards count from 1, as in Playwright, Jest and node --test: --shard 1/2 ... --shard 2/2 make the whole sweep"
 expect_exit 2 "bad -j" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/bad" -j 0
 check "nothing was written by refused sweeps" test ! -e "$T/bad"
 
@@ -180,7 +183,7 @@ check "  9 of 9 runs already done" err_has "9 of 9 runs already done"
 # (-j 2) get it, so they collide with each other too. Each must write a file
 # of its own: a row appended to the cut line would be lost, rows appended to
 # the cut header would make the file unreadable.
-expect_exit 0 "shard 0/3 of the sweep, to resume" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/p" --shard 0/3 --no-log -q
+expect_exit 0 "shard 1/3 of the sweep, to resume" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/p" --shard 1/3 --no-log -q
 H=$(hostname | tr / _)
 { head -1 "$S"; printf '0004,0.05,ref-en'; } > "$T/p/rows/$H.4242.csv"
 head -c 20 "$S" > "$T/p/rows/$H.4242.1.csv"
@@ -216,26 +219,78 @@ check "  1 run now" err_has "1 run now"
 check "  still one row per run" test "$(wc -l < "$T/f/summary.csv")" -eq 4
 
 # ---- shards: no overlap, together the whole sweep; merge equals one machine
-for i in 0 1 2; do
+# shards count from 1 (Playwright, Jest, node --test): 1/3, 2/3, 3/3
+for i in 1 2 3; do
   expect_exit 0 "shard $i/3" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/sh$i" --shard $i/3 --no-log -q
 done
-check "  shard 1 has runs 1, 4, 7" test "$(tail -n +2 "$T/sh1/summary-shard-1-of-3.csv" | cut -d, -f1 | tr '\n' ' ')" = "0001 0004 0007 "
-expect_exit 0 "merge 3 shard directories" "$POPC" sweep merge "$T/sh0" "$T/sh1" "$T/sh2" -o "$T/m"
+check "  shard 2/3 has runs 1, 4, 7" test "$(tail -n +2 "$T/sh2/summary-shard-2-of-3.csv" | cut -d, -f1 | tr '\n' ' ')" = "0001 0004 0007 "
+check "  shard 1/3 has runs 0, 3, 6" test "$(tail -n +2 "$T/sh1/summary-shard-1-of-3.csv" | cut -d, -f1 | tr '\n' ' ')" = "0000 0003 0006 "
+expect_exit 0 "merge 3 shard directories" "$POPC" sweep merge "$T/sh1" "$T/sh2" "$T/sh3" -o "$T/m"
 check "  merged summary equals the one-machine sweep (but wall time)" same_nowall "$T/m/summary.csv" "$S"
-expect_exit 1 "merge of two of three shards" "$POPC" sweep merge "$T/sh0" "$T/sh2" -o "$T/m2"
+expect_exit 1 "merge of two of three shards" "$POPC" sweep merge "$T/sh1" "$T/sh3" -o "$T/m2"
 check "  says 3 runs have no result" err_has "3 without a result"
-expect_exit 2 "merge of different sweeps" "$POPC" sweep merge "$T/sh0" "$T/f"
-# the Slurm array variables pick the shard, several shards share one directory
-for i in 0 1; do
-  expect_exit 0 "Slurm array task $i of 2" env SLURM_ARRAY_TASK_ID=$i SLURM_ARRAY_TASK_COUNT=2 SLURM_ARRAY_TASK_MIN=0 SLURM_ARRAY_TASK_STEP=1 \
-    "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/sl" --no-log -q
+expect_exit 2 "merge of different sweeps" "$POPC" sweep merge "$T/sh1" "$T/f"
+# --shard 1/2 and --shard 2/2 make the whole sweep, into one directory
+for i in 1 2; do
+  expect_exit 0 "--shard $i/2 into one directory" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/half" --shard $i/2 --no-log -q
 done
-check "  shard summaries named after the shard" test -s "$T/sl/summary-shard-0-of-2.csv" -a -s "$T/sl/summary-shard-1-of-2.csv"
-expect_exit 0 "merge the shared directory" "$POPC" sweep merge "$T/sl"
-check "  equals the one-machine sweep" same_nowall "$T/sl/summary.csv" "$S"
+expect_exit 0 "  merge: every run has a result" "$POPC" sweep merge "$T/half"
+check "  equals the one-machine sweep" same_nowall "$T/half/summary.csv" "$S"
+# the Slurm array variables pick the shard, several shards share one
+# directory; the array's first task is shard 1 whatever its index
+# (--array=0-1 and --array=1-2 alike)
+for first in 0 1; do
+  for k in 0 1; do
+    id=$((first + k))
+    expect_exit 0 "Slurm array task $id of --array=$first-$((first + 1))" env SLURM_ARRAY_TASK_ID=$id SLURM_ARRAY_TASK_COUNT=2 SLURM_ARRAY_TASK_MIN=$first SLURM_ARRAY_TASK_STEP=1 \
+      "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/sl$first" --no-log -q
+  done
+  check "  shard summaries named after the shard, from 1" test -s "$T/sl$first/summary-shard-1-of-2.csv" -a -s "$T/sl$first/summary-shard-2-of-2.csv" -a ! -e "$T/sl$first/summary-shard-0-of-2.csv"
+  expect_exit 0 "merge the shared directory" "$POPC" sweep merge "$T/sl$first"
+  check "  equals the one-machine sweep" same_nowall "$T/sl$first/summary.csv" "$S"
+done
+check "  --array=1-2's first task ran what --shard 1/2 runs" cmp -s <(nowall "$T/sl1/summary-shard-1-of-2.csv") <(nowall "$T/half/summary-shard-1-of-2.csv")
 expect_exit 2 "Slurm array that is not regular" env SLURM_ARRAY_TASK_ID=7 SLURM_ARRAY_TASK_COUNT=2 \
   "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/sl2" --no-log -q
-check "  says how to submit" err_has "--array=0-1"
+check "  says how to submit" err_has "--array=1-2"
+
+# ---- which popc made a sweep: recorded in the plan; a resume or merge by
+# another build is refused unless --allow-other-build, and then recorded.
+# "Another build" is made here by editing the plan's popc_build line, as a
+# sweep directory made by another popc has it.
+VERSION=$("$POPC" --version | sed -n 's/^popc \([^ ]*\) (build \(.*\))$/\1/p')
+BUILD_ID=$("$POPC" --version | sed -n 's/^popc \([^ ]*\) (build \(.*\))$/\2/p')
+check "popc --version names version and build ('$VERSION', '$BUILD_ID')" test -n "$VERSION" -a -n "$BUILD_ID"
+check "  the plan records the version" grep -qx "popc_version = $VERSION" "$T/s/sweep.plan"
+check "  the plan records the build" grep -qx "popc_build = $BUILD_ID" "$T/s/sweep.plan"
+cp -r "$T/s" "$T/ob"
+sed -i 's/^popc_build = .*/popc_build = other-build-1/' "$T/ob/sweep.plan"
+expect_exit 2 "resume of a sweep another build made" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/ob"
+check "  names both builds" err_has "this sweep was made by popc $VERSION (build other-build-1); this is popc $VERSION (build $BUILD_ID)"
+check "  says how to go on" err_has "--allow-other-build"
+check "  the plan is left as it was" test "$(grep -c also_built_by "$T/ob/sweep.plan")" -eq 0
+expect_exit 0 "  --allow-other-build resumes it" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/ob" --allow-other-build
+check "  with a note" err_has "was made by another popc build; resuming with popc $VERSION (build $BUILD_ID)"
+check "  the plan records the second build" grep -qx "also_built_by = popc $VERSION (build $BUILD_ID)" "$T/ob/sweep.plan"
+check "  the first build stays the plan's maker" grep -qx "popc_build = other-build-1" "$T/ob/sweep.plan"
+expect_exit 0 "  again" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/ob" --allow-other-build -q
+check "  the second build noted once" test "$(grep -c also_built_by "$T/ob/sweep.plan")" -eq 1
+expect_exit 0 "the same build resumes without the option" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/s" -q
+# a plan of a popc before build ids (no popc_version, popc_build lines)
+cp -r "$T/s" "$T/old"
+sed -i '/^popc_version = /d; /^popc_build = /d' "$T/old/sweep.plan"
+expect_exit 2 "resume of a plan that records no build" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/old"
+check "  says so" err_has "made by a popc that recorded no version or build (before build ids)"
+# merge: shards of two builds
+cp -r "$T/sh2" "$T/sh2o"
+sed -i 's/^popc_build = .*/popc_build = other-build-2/' "$T/sh2o/sweep.plan"
+expect_exit 2 "merge of shards of two builds" "$POPC" sweep merge "$T/sh1" "$T/sh2o" "$T/sh3" -o "$T/mo"
+check "  names both builds" err_has "$T/sh1 was made by popc $VERSION (build $BUILD_ID), $T/sh2o by popc $VERSION (build other-build-2)"
+check "  nothing written" test ! -e "$T/mo"
+expect_exit 0 "  --allow-other-build merges them" "$POPC" sweep merge "$T/sh1" "$T/sh2o" "$T/sh3" -o "$T/mo" --allow-other-build
+check "  equal to the one-machine sweep" same_nowall "$T/mo/summary.csv" "$S"
+check "  the merged plan records both builds" grep -qx "also_built_by = popc $VERSION (build other-build-2)" "$T/mo/sweep.plan"
+check "  ... and its maker" grep -qx "popc_build = $BUILD_ID" "$T/mo/sweep.plan"
 
 # ---- SIGINT: stops, keeps a whole summary, a second run completes the sweep
 # 8000 runs of 5 s: about 1 s at -j 2 in the release build (5 s runs, not 2 s:
@@ -267,8 +322,8 @@ check "  no temporary files left" test -z "$(find "$T/i" -name '*.tmp.*')"
 expect_exit 0 "the same sweep again completes it" "$POPC" sweep "$SCENE" "${BIG[@]}" -o "$T/i" --no-log -j 2 -q
 check "  8000 rows" test "$(wc -l < "$T/i/summary.csv")" -eq 8001
 check "  each run once, in order" test "$(tail -n +2 "$T/i/summary.csv" | cut -d, -f1 | uniq | wc -l)" -eq 8000
-expect_exit 0 "the first 200 runs uninterrupted" "$POPC" sweep "$SCENE" "${BIG[@]}" --shard 0/40 -o "$T/ref" --no-log -q
-check "  equal rows in both" cmp -s <(nowall "$T/ref/summary-shard-0-of-40.csv" | tail -n +2) <(nowall "$T/i/summary.csv" | awk -F, 'NR > 1 && $1 % 40 == 0')
+expect_exit 0 "the first 200 runs uninterrupted" "$POPC" sweep "$SCENE" "${BIG[@]}" --shard 1/40 -o "$T/ref" --no-log -q
+check "  equal rows in both" cmp -s <(nowall "$T/ref/summary-shard-1-of-40.csv" | tail -n +2) <(nowall "$T/i/summary.csv" | awk -F, 'NR > 1 && $1 % 40 == 0')
 
 # ---- a worker that dies: its run is recorded as failed, the sweep goes on
 # Starts the BIG sweep into $1 with -j $2, sends signal $3 to one worker (a

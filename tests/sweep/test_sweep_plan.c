@@ -302,14 +302,17 @@ static void test_shard_parse(void **state)
 		int ok;
 		long long index, count;
 	} cases[] = {
-		{"0/1", 1, 0, 1},   {"3/4", 1, 3, 4},  {"4/4", 0, 0, 0}, {"-1/4", 0, 0, 0},
+		/* I from 1 to N (Playwright, Jest, node --test); index I - 1 */
+		{"1/1", 1, 0, 1},   {"4/4", 1, 3, 4},  {"1/4", 1, 0, 4}, {"5/4", 0, 0, 0},
+		{"0/4", 0, 0, 0},   {"0/1", 0, 0, 0},  {"-1/4", 0, 0, 0},
 		{"1/0", 0, 0, 0},   {"1", 0, 0, 0},    {"a/b", 0, 0, 0}, {"1/2x", 0, 0, 0},
 		{"1 /2", 0, 0, 0},
 		/* whole numbers as everywhere (popc/util/parse.h): no blanks (strtoll
 		 * alone skips leading space), a sign and "1.0" are fine, no hex */
-		{" 1/2", 0, 0, 0},  {"1/ 2", 0, 0, 0}, {"+1/2", 1, 1, 2}, {"1/+2", 1, 1, 2},
-		{"-0/2", 1, 0, 2},  {"/2", 0, 0, 0},   {"1/", 0, 0, 0},   {"1/2 ", 0, 0, 0},
-		{"\t0/2", 0, 0, 0}, {"10/20", 1, 10, 20}, {"1.0/2e0", 1, 1, 2}, {"0x1/2", 0, 0, 0},
+		{" 1/2", 0, 0, 0},  {"1/ 2", 0, 0, 0}, {"+1/2", 1, 0, 2}, {"1/+2", 1, 0, 2},
+		{"-0/2", 0, 0, 0},  {"/2", 0, 0, 0},   {"1/", 0, 0, 0},   {"1/2 ", 0, 0, 0},
+		{"\t1/2", 0, 0, 0}, {"10/20", 1, 9, 20}, {"20/20", 1, 19, 20}, {"1.0/2e0", 1, 0, 2},
+		{"0x1/2", 0, 0, 0},
 		{"0.5/2", 0, 0, 0},
 	};
 	for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
@@ -322,6 +325,12 @@ static void test_shard_parse(void **state)
 			assert_int_equal(sh.count, cases[k].count);
 		}
 	}
+	/* 0/N, the old 0-based spelling, says why it is refused */
+	popc_sweep_shard sh;
+	popc_error err;
+	assert_int_equal(popc_sweep_shard_parse("0/2", &sh, &err), POPC_ERR_INVALID);
+	if (!strstr(err.msg, "count from 1") || !strstr(err.msg, "--shard 1/2 ... --shard 2/2"))
+		fail_msg("0/2: %s", err.msg);
 }
 
 static void test_shard_slurm(void **state)
@@ -334,11 +343,17 @@ static void test_shard_slurm(void **state)
 	} cases[] = {
 		{NULL, NULL, NULL, NULL, 0, 0, 0},       /* not in an array job */
 		{"3", NULL, NULL, NULL, 0, 0, 0},
-		{"0", "2", "0", "1", 1, 0, 2},           /* --array=0-1 */
+		/* index = shard - 1: the array's first task is shard 1/N, whatever
+		 * its index */
+		{"0", "2", "0", "1", 1, 0, 2},           /* --array=0-1: shards 1/2, 2/2 */
 		{"1", "2", "0", "1", 1, 1, 2},
+		{"1", "2", "1", "1", 1, 0, 2},           /* --array=1-2: shards 1/2, 2/2 */
+		{"2", "2", "1", "1", 1, 1, 2},
 		{"5", "4", "2", "1", 1, 3, 4},           /* --array=2-5 */
 		{"6", "3", "2", "2", 1, 2, 3},           /* --array=2-6:2 */
 		{"1", "2", NULL, NULL, 1, 1, 2},         /* no MIN/STEP: 0 and 1 */
+		{"3", "2", "1", "1", POPC_ERR_INVALID, 0, 0}, /* past the last task */
+		{"0", "2", "1", "1", POPC_ERR_INVALID, 0, 0}, /* before the first */
 		{"7", "2", "0", "1", POPC_ERR_INVALID, 0, 0}, /* --array=0,7: not regular */
 		{"3", "3", "2", "2", POPC_ERR_INVALID, 0, 0},
 		{"x", "2", "0", "1", POPC_ERR_INVALID, 0, 0},
@@ -433,6 +448,56 @@ static void test_rows(void **state)
 	popc_sweep_plan_free(&p);
 }
 
+/* Which popc made a plan: not part of its id; the directory refuses a
+ * resume by another build unless allowed, then records that build once. */
+static void test_plan_build(void **state)
+{
+	(void)state;
+	const char *vary[] = {"operator.speed=0.01,0.02"};
+	popc_sweep_plan a = make_plan(vary, 1, 0), b = make_plan(vary, 1, 0);
+	popc_sweep_plan_set_build(&a, "0.1.0", "abc123");
+	popc_sweep_plan_set_build(&b, "0.1.0", "def456\nplan_id = 0");
+	assert_int_equal(a.plan_id, b.plan_id);
+	assert_string_equal(b.popc_build, "def456"); /* one line of the plan file */
+	assert_false(popc_sweep_plan_same_build(&a, &b));
+	char text[256];
+	popc_sweep_plan_describe_build(&a, text, sizeof text);
+	assert_string_equal(text, "popc 0.1.0 (build abc123)");
+
+	char dir[] = "/tmp/popc-test-sweep-build-XXXXXX", plan_path[64], cmd[96];
+	assert_non_null(mkdtemp(dir));
+	popc_error err;
+	assert_int_equal(popc_sweep_dir_prepare(&a, dir, "scene.ini", 0, &err), 0);
+	popc_sweep_plan back;
+	assert_int_equal(popc_sweep_plan_from_dir(&back, dir, &err), 0);
+	assert_true(popc_sweep_plan_same_build(&back, &a));
+	popc_sweep_plan_free(&back);
+	assert_int_equal(popc_sweep_dir_prepare(&a, dir, "scene.ini", 0, &err), 0);
+	assert_int_equal(popc_sweep_dir_prepare(&b, dir, "scene.ini", 0, &err), POPC_ERR_INVALID);
+	assert_non_null(strstr(err.msg, "made by popc 0.1.0 (build abc123); this is popc 0.1.0 (build def456)"));
+	assert_int_equal(popc_sweep_dir_prepare(&b, dir, "scene.ini", 1, &err), 1);
+	assert_int_equal(popc_sweep_dir_prepare(&b, dir, "scene.ini", 1, &err), 1);
+	char *plan;
+	size_t len;
+	snprintf(plan_path, sizeof plan_path, "%s/sweep.plan", dir);
+	assert_int_equal(popc_sweep_read_file(plan_path, &plan, &len, &err), 1);
+	const char *line = "\nalso_built_by = popc 0.1.0 (build def456)\n";
+	const char *at = strstr(plan, line);
+	assert_non_null(at);
+	assert_null(strstr(at + 1, line)); /* once */
+	assert_non_null(strstr(plan, "\npopc_build = abc123\n")); /* the maker stays */
+	free(plan);
+	/* the plan, noted, still reads as the same plan of the first build */
+	assert_int_equal(popc_sweep_plan_from_dir(&back, dir, &err), 0);
+	assert_true(popc_sweep_plan_same_build(&back, &a));
+	assert_int_equal(back.plan_id, a.plan_id);
+	popc_sweep_plan_free(&back);
+	snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+	assert_int_equal(system(cmd), 0);
+	popc_sweep_plan_free(&a);
+	popc_sweep_plan_free(&b);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -441,6 +506,7 @@ int main(void)
 		cmocka_unit_test(test_plan_id),      cmocka_unit_test(test_plan_errors),
 		cmocka_unit_test(test_shards_cover), cmocka_unit_test(test_shard_parse),
 		cmocka_unit_test(test_shard_slurm),  cmocka_unit_test(test_rows),
+		cmocka_unit_test(test_plan_build),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

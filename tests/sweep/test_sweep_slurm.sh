@@ -100,13 +100,13 @@ ok "single-node Slurm up (ports $P1, $P2)"
 
 VARY=(--vary operator.speed=0.02:0.08:4 --vary controller.variant=none,ref-energy,improved)
 # the array: two shards, one CPU each, side by side on the 2-CPU node
-timeout 90 sbatch --wait --array=0-1 --cpus-per-task=1 --output="$T/job-%a.out" \
+timeout 90 sbatch --wait --array=1-2 --cpus-per-task=1 --output="$T/job-%a.out" \
   --chdir="$T" --export=ALL,POPC="$POPC" \
   "$SBATCH_SCRIPT" "$SCENE" "${VARY[@]}" -o "$T/out" --no-log >"$T/sbatch.txt" 2>&1
 rc=$?
-[ "$rc" -eq 0 ] || fail "sbatch --wait --array=0-1: exit $rc: $(cat "$T/sbatch.txt")"
+[ "$rc" -eq 0 ] || fail "sbatch --wait --array=1-2: exit $rc: $(cat "$T/sbatch.txt")"
 ok "array job done: $(head -1 "$T/sbatch.txt")"
-[ -s "$T/out/summary-shard-0-of-2.csv" ] && [ -s "$T/out/summary-shard-1-of-2.csv" ] || fail "the two shard summaries are missing"
+[ -s "$T/out/summary-shard-1-of-2.csv" ] && [ -s "$T/out/summary-shard-2-of-2.csv" ] || fail "the two shard summaries (1-of-2, 2-of-2) are missing"
 ok "both array tasks wrote their shard"
 "$POPC" sweep merge "$T/out" >"$T/merge.txt" 2>&1 || fail "merge: $(cat "$T/merge.txt")"
 ok "merged"

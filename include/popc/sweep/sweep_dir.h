@@ -1,7 +1,10 @@
 /* The sweep directory (src/sweep/sweep_dir.c): the plan file, run
  * directories and rows files.
  *
- *   DIR/sweep.plan        the plan (plan id, runs, vary specs, columns)
+ *   DIR/sweep.plan        the plan (plan id, the popc version and build that
+ *                         made it, runs, vary specs, columns; an
+ *                         also_built_by line per other build that resumed or
+ *                         merged it with --allow-other-build)
  *   DIR/scene.ini         the resolved base scene
  *   DIR/rows/HOST.PID.csv the rows of the runs one worker process made: the
  *                         header, then per run an optional "# <id> stop =
@@ -35,9 +38,19 @@
 #include "popc/util/error.h"
 
 /* Writes DIR/sweep.plan and DIR/scene.ini (creating DIR, DIR/rows and
- * DIR/runs), or, when DIR already holds a plan, checks it is the same plan. */
+ * DIR/runs), or, when DIR already holds a plan, checks it is the same plan
+ * and was made by the same popc version and build (p->popc_version,
+ * p->popc_build): another build is refused (POPC_ERR_INVALID, naming both)
+ * unless allow_other_build, and then recorded (popc_sweep_dir_note_build).
+ * Returns 0, 1 when another build was allowed and recorded, or a negative
+ * popc_status. */
 int popc_sweep_dir_prepare(const popc_sweep_plan *p, const char *dir, const char *scene_path,
-			   popc_error *err);
+			   int allow_other_build, popc_error *err);
+
+/* Records in DIR/sweep.plan that p's popc version and build added results
+ * to the sweep ("also_built_by = popc V (build B)", once per build), unless
+ * the plan was made by that build. */
+int popc_sweep_dir_note_build(const popc_sweep_plan *p, const char *dir, popc_error *err);
 
 /* A plan rebuilt from a sweep directory's plan file (no scene needed): rows
  * can be read and converted, runs cannot be made. */

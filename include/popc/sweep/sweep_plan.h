@@ -9,7 +9,8 @@
  * order of the product, are the same on every machine, and name the run's
  * directory DIR/runs/<id>/.
  *
- * Shard I of N owns the runs with i mod N == I: shards never overlap, cover
+ * Shard I of N (I from 1 to N, as the test runners Playwright, Jest and node
+ * --test count shards) owns the runs with i mod N == I - 1: shards never overlap, cover
  * the sweep together, and each gets a slice of every region of the product,
  * which balances the load when one corner of the product runs slower. */
 #ifndef POPC_SWEEP_PLAN_H
@@ -27,6 +28,7 @@
 #define POPC_SWEEP_RUNS_MAX 1000000000LL
 #define POPC_SWEEP_VALUE_MAX 256
 #define POPC_SWEEP_ID_MAX 16
+#define POPC_SWEEP_BUILD_MAX 128
 
 /* One --vary axis. */
 typedef struct popc_sweep_axis {
@@ -44,6 +46,13 @@ typedef struct popc_sweep_plan {
 	int id_width;
 	uint64_t plan_id;                /* FNV-1a of base scene text, axes and columns */
 	char *columns;                   /* summary.csv header line, with '\n' (sweep_columns.h) */
+	/* which popc made the plan: its version and build id (set by the program
+	 * with popc_sweep_plan_set_build; read back by popc_sweep_plan_from_dir;
+	 * "" when not recorded: a plan file of a popc before build ids). Not
+	 * part of plan_id: another build runs the same sweep, and may resume it
+	 * when asked (popc_sweep_dir_prepare). */
+	char popc_version[64];
+	char popc_build[POPC_SWEEP_BUILD_MAX];
 } popc_sweep_plan;
 
 /* Expands a range or list into values (no scene involved):
@@ -73,6 +82,15 @@ int popc_sweep_plan_init(popc_sweep_plan *p, const popc_scene *base, popc_sweep_
 			 int n_axes, int check_every_run, popc_error *err);
 void popc_sweep_plan_free(popc_sweep_plan *p);
 
+/* Records which popc makes the plan (cut to fit; a line break ends it). */
+void popc_sweep_plan_set_build(popc_sweep_plan *p, const char *version, const char *build);
+
+/* 1 when both plans were made by the same version and build. */
+int popc_sweep_plan_same_build(const popc_sweep_plan *a, const popc_sweep_plan *b);
+
+/* "popc 0.1.0 (build 2be9692abcde)", or words saying the plan records none. */
+void popc_sweep_plan_describe_build(const popc_sweep_plan *p, char *buf, size_t cap);
+
 /* The value index on every axis of run i (value_index has n_axes entries). */
 void popc_sweep_run_values(const popc_sweep_plan *p, long long i, int *value_index);
 
@@ -95,14 +113,16 @@ uint64_t popc_sweep_fnv1a(uint64_t h, const void *data, size_t n);
 /* ---- sharding ------------------------------------------------------------ */
 
 typedef struct popc_sweep_shard {
-	long long index, count;      /* shard index in [0, count) */
+	long long index, count;      /* index in [0, count): shard I/N has index I - 1 */
 } popc_sweep_shard;
 
-/* "I/N" with 0 <= I < N. */
+/* "I/N" with 1 <= I <= N (shard I/N gets index I - 1); "0/N" is refused with
+ * a message that shards count from 1. */
 int popc_sweep_shard_parse(const char *text, popc_sweep_shard *sh, popc_error *err);
 
 /* The shard of a Slurm array task: index (SLURM_ARRAY_TASK_ID - MIN) / STEP
- * of SLURM_ARRAY_TASK_COUNT. Pass the four variables' values (NULL when
+ * of SLURM_ARRAY_TASK_COUNT, i.e. shard (TASK_ID - MIN) / STEP + 1 of N, whatever
+ * index the array starts at. Pass the four variables' values (NULL when
  * unset; min and step may be NULL). Returns 1 when id and count are set and
  * give a shard, 0 when they are not set, or a negative popc_status. */
 int popc_sweep_shard_from_slurm(const char *task_id, const char *task_count, const char *task_min,
