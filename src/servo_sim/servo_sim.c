@@ -50,19 +50,24 @@ static void usage(FILE *f)
 	      "  --watchdog-ms MS      command watchdog (default: the map's drive.watchdog_ms)\n"
 	      "  --record FILE         on exit, write the last writes of command and enable\n"
 	      "                        there (oldest first), e.g. 'command 0' then 'enable 0x0000'\n"
-	      "  --notify-at N         print 'popc-servo-sim: request N' on stdout at request N\n"
+	      "  --notify-at AT        print 'popc-servo-sim: request N' on stdout at request AT\n"
 	      "  --pace-baud           RTU: hold each reply for the wire time of request and\n"
 	      "                        reply at the URI's baud plus two 3.5-character gaps\n"
 	      "                        (a pseudo-terminal does not pace bytes)\n"
-	      "fault injection (N: request number, from 1; COUNT: how many, default 1):\n"
-	      "  --drop N[,COUNT]      apply the request but send no reply\n"
-	      "  --delay N,MS[,COUNT]  reply MS milliseconds late\n"
-	      "  --exception N,CODE[,COUNT]  answer with Modbus exception CODE, apply nothing\n"
-	      "  --corrupt-crc N[,COUNT]     RTU: send the reply with a wrong CRC\n"
-	      "  --close-after N       TCP: close the connection after replying to request N\n"
+	      "fault injection (AT: N, request N from 1; or cC[+K], the request that writes\n"
+	      "command C, from 1 (the start's zero force is command 1; a retry that repeats\n"
+	      "the sequence value is the same command), or the K-th request after it;\n"
+	      "COUNT: how many requests from AT on, default 1):\n"
+	      "  --drop AT[,COUNT]     apply the request but send no reply\n"
+	      "  --delay AT,MS[,COUNT] reply MS milliseconds late; on TCP, when MS is above the\n"
+	      "                        map's timeout_ms, also not before the client has closed\n"
+	      "                        the connection (it gave up on the reply)\n"
+	      "  --exception AT,CODE[,COUNT]  answer with Modbus exception CODE, apply nothing\n"
+	      "  --corrupt-crc AT[,COUNT]     RTU: send the reply with a wrong CRC\n"
+	      "  --close-after AT      TCP: close the connection after replying to request AT\n"
 	      "                        (then accept the next one)\n"
-	      "  --exit-after N        close the link and exit after replying to request N\n"
-	      "  --fault-at N          set the drive's fault bits at request N\n"
+	      "  --exit-after AT       close the link and exit after replying to request AT\n"
+	      "  --fault-at AT         set the drive's fault bits at request AT\n"
 	      "  --start-faulted       report a fault from the start (it never clears)\n"
 	      "  --never-ready         never show the ready bits (an enable that never completes)\n"
 	      "  -h, --help            this help\n"
@@ -71,42 +76,95 @@ static void usage(FILE *f)
 	      f);
 }
 
+/* Where a fault hits: request `at`, known from the start (N) or once the
+ * request that writes command `cmd` arrives (cC[+K]: that request's number
+ * plus `off`). Counting commands, not requests, a fault hits the same tick
+ * however many transactions popc retried before it. */
+typedef struct trigger {
+	long at;        /* request number; 0: not known yet (or no trigger) */
+	long cmd, off;  /* cC+K: cmd = C > 0, off = K */
+} trigger;
+
 typedef struct fault_range {
-	long first, count, arg;
+	trigger first;
+	long count, arg;
 } fault_range;
+
+static int hits(const trigger *t, long n)
+{
+	return t->at > 0 && n == t->at;
+}
 
 static int in_range(const fault_range *r, long n)
 {
-	return r->first > 0 && n >= r->first && n < r->first + r->count;
+	return r->first.at > 0 && n >= r->first.at && n - r->first.at < r->count;
 }
 
-/* "N[,COUNT]" or, with want_arg, "N,ARG[,COUNT]": decimal integers and
- * nothing else (a value past the last one, a sign or a blank is refused,
- * not ignored). */
+/* Request n writes command c (0: none): the triggers on c learn their request. */
+static void resolve(trigger *t, long long c, long n)
+{
+	if (t->cmd > 0 && t->at == 0 && c == t->cmd)
+		t->at = n + t->off;
+}
+
+/* A decimal integer >= min at *p, digits only; *p moves past it. */
+static int parse_num(const char **p, long min, long *out)
+{
+	char *end;
+	if (**p < '0' || **p > '9')
+		return -1;
+	errno = 0;
+	long v = strtol(*p, &end, 10);
+	if (errno || v < min)
+		return -1;
+	*p = end;
+	*out = v;
+	return 0;
+}
+
+/* "N" (>= 1) or "cC" or "cC+K" (C >= 1, K >= 0) at *p. */
+static int parse_trigger(const char **p, trigger *t)
+{
+	*t = (trigger){0, 0, 0};
+	if (**p != 'c')
+		return parse_num(p, 1, &t->at);
+	(*p)++;
+	if (parse_num(p, 1, &t->cmd))
+		return -1;
+	if (**p == '+') {
+		(*p)++;
+		return parse_num(p, 0, &t->off);
+	}
+	return 0;
+}
+
+/* A trigger and nothing else. */
+static int parse_at(const char *text, trigger *t)
+{
+	return parse_trigger(&text, t) || *text ? -1 : 0;
+}
+
+/* "AT[,COUNT]" or, with want_arg, "AT,ARG[,COUNT]": a trigger, then decimal
+ * integers and nothing else (a value past the last one, a sign or a blank is
+ * refused, not ignored). */
 static int parse_range(const char *text, int want_arg, fault_range *r)
 {
-	long v[3] = {0, 0, 0};
-	int n = 0, max = want_arg ? 3 : 2;
+	long v[2] = {0, 0};
+	int n = 0, max = want_arg ? 2 : 1;
 	const char *p = text;
-	for (;;) {
-		if (n == max || *p < '0' || *p > '9')
-			return -1;
-		char *end;
-		errno = 0;
-		v[n++] = strtol(p, &end, 10);
-		if (errno)
-			return -1;
-		if (*end == '\0')
-			break;
-		if (*end != ',')
-			return -1;
-		p = end + 1;
-	}
-	if (v[0] < 1 || n < 1 + want_arg)
+	if (parse_trigger(&p, &r->first))
 		return -1;
-	r->first = v[0];
-	r->arg = want_arg ? v[1] : 0;
-	r->count = n > 1 + want_arg ? v[1 + want_arg] : 1;
+	while (*p) {
+		if (*p != ',' || n == max)
+			return -1;
+		p++;
+		if (parse_num(&p, 0, &v[n++]))
+			return -1;
+	}
+	if (n < want_arg)
+		return -1;
+	r->arg = want_arg ? v[0] : 0;
+	r->count = n > want_arg ? v[want_arg] : 1;
 	return r->count >= 1 ? 0 : -1;
 }
 
@@ -140,7 +198,7 @@ typedef struct server {
 	int capture[2];           /* socketpair: replies built here, then held or altered */
 	long requests;
 	fault_range drop, delay, exception, corrupt;
-	long close_after, exit_after, fault_at, notify_at;
+	trigger close_after, exit_after, fault_at, notify_at;
 	int pace_baud;
 	int exiting;
 } server;
@@ -221,15 +279,43 @@ static void send_raw(server *sv, const uint8_t *buf, int n)
 	}
 }
 
+/* --delay: the reply to request n leaves MS ms after the request came. A
+ * reply later than the map's timeout_ms is one the client has given up on:
+ * on TCP it is held until the client has closed the connection (popc
+ * reconnects after a timeout and sends nothing more on the old one), so
+ * that the client's own scheduling cannot make it arrive in time; on RTU,
+ * where the client drains the line instead, a request that came in the
+ * meantime is said (the late reply then follows the client's next request,
+ * which is not the case the option was asked for). */
+static void hold_late_reply(server *sv, long n, int64_t t_rx)
+{
+	sleep_until(sv, t_rx + sv->delay.arg * 1000000LL);
+	if (sv->delay.arg <= sv->drive.map.timeout_ms)
+		return;
+	int fd = modbus_get_socket(sv->ctx);
+	if (!sv->uri.rtu) {
+		wait_readable(sv, fd, -1);
+	} else if (wait_readable(sv, fd, 0) == 1) {
+		fprintf(stderr, "popc-servo-sim: request %ld: the next request came before this reply, "
+				"%ld ms late\n",
+			n, sv->delay.arg);
+	}
+}
+
 /* Handles one received request. Returns 1 to close the connection, 0 to go on. */
 static int handle(server *sv, const uint8_t *q, int len, int64_t t_rx)
 {
 	long n = ++sv->requests;
-	if (sv->notify_at && n == sv->notify_at) {
+	long long c = drive_command_of(&sv->drive, q, len, modbus_get_header_length(sv->ctx));
+	trigger *all[] = {&sv->notify_at, &sv->fault_at, &sv->close_after, &sv->exit_after,
+			  &sv->drop.first, &sv->delay.first, &sv->exception.first, &sv->corrupt.first};
+	for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
+		resolve(all[i], c, n);
+	if (hits(&sv->notify_at, n)) {
 		printf("popc-servo-sim: request %ld\n", n);
 		fflush(stdout);
 	}
-	if (sv->fault_at && n == sv->fault_at) {
+	if (hits(&sv->fault_at, n)) {
 		fprintf(stderr, "popc-servo-sim: injected drive fault at request %ld\n", n);
 		drive_set_fault(&sv->drive, "injected", 0);
 	}
@@ -242,7 +328,7 @@ static int handle(server *sv, const uint8_t *q, int len, int64_t t_rx)
 	if (in_range(&sv->drop, n))
 		return 0;
 	if (in_range(&sv->delay, n))
-		sleep_until(sv, t_rx + sv->delay.arg * 1000000LL);
+		hold_late_reply(sv, n, t_rx);
 	int corrupt = sv->uri.rtu && in_range(&sv->corrupt, n);
 	if (corrupt || (sv->uri.rtu && sv->pace_baud)) {
 		uint8_t buf[MODBUS_RTU_MAX_ADU_LENGTH + 8];
@@ -258,11 +344,11 @@ static int handle(server *sv, const uint8_t *q, int len, int64_t t_rx)
 	} else {
 		modbus_reply(sv->ctx, q, len, sv->drive.mb);
 	}
-	if (sv->exit_after && n >= sv->exit_after) {
+	if (sv->exit_after.at > 0 && n >= sv->exit_after.at) {
 		sv->exiting = 1;
 		return 1;
 	}
-	return sv->close_after && n == sv->close_after;
+	return hits(&sv->close_after, n);
 }
 
 /* Serves requests on the open link until it closes or a signal arrives. */
@@ -403,7 +489,7 @@ int main(int argc, char **argv)
 			break;
 		case OPT_WATCHDOG: bad = parse_count(optarg, 0, &watchdog) || watchdog > 600000; break;
 		case OPT_RECORD: record_path = optarg; break;
-		case OPT_NOTIFY: bad = parse_count(optarg, 1, &sv.notify_at); break;
+		case OPT_NOTIFY: bad = parse_at(optarg, &sv.notify_at); break;
 		case OPT_PACE: sv.pace_baud = 1; break;
 		case OPT_DROP: bad = parse_range(optarg, 0, &sv.drop); break;
 		case OPT_DELAY: bad = parse_range(optarg, 1, &sv.delay); break;
@@ -412,9 +498,9 @@ int main(int argc, char **argv)
 			      sv.exception.arg > 255;
 			break;
 		case OPT_CORRUPT: bad = parse_range(optarg, 0, &sv.corrupt); break;
-		case OPT_CLOSE: bad = parse_count(optarg, 1, &sv.close_after); break;
-		case OPT_EXIT: bad = parse_count(optarg, 1, &sv.exit_after); break;
-		case OPT_FAULT_AT: bad = parse_count(optarg, 1, &sv.fault_at); break;
+		case OPT_CLOSE: bad = parse_at(optarg, &sv.close_after); break;
+		case OPT_EXIT: bad = parse_at(optarg, &sv.exit_after); break;
+		case OPT_FAULT_AT: bad = parse_at(optarg, &sv.fault_at); break;
 		case OPT_START_FAULTED: start_faulted = 1; break;
 		case OPT_NEVER_READY: never_ready = 1; break;
 		case 'h': usage(stdout); return 0;
@@ -446,9 +532,9 @@ int main(int argc, char **argv)
 	}
 	if (!st)
 		st = popc_modbus_uri_parse(listen, &sv.uri, &err);
-	if (!st && sv.uri.rtu && (sv.close_after))
+	if (!st && sv.uri.rtu && (sv.close_after.at || sv.close_after.cmd))
 		st = popc_error_set(&err, POPC_ERR_INVALID, "--close-after needs a TCP link");
-	if (!st && !sv.uri.rtu && (sv.corrupt.first || sv.pace_baud))
+	if (!st && !sv.uri.rtu && (sv.corrupt.first.at || sv.corrupt.first.cmd || sv.pace_baud))
 		st = popc_error_set(&err, POPC_ERR_INVALID, "--corrupt-crc and --pace-baud need an RTU link");
 	if (st) {
 		fprintf(stderr, "popc-servo-sim: %s\n", err.msg);
