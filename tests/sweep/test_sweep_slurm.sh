@@ -29,11 +29,16 @@ for prog in munged slurmctld slurmd sbatch sinfo scontrol; do
 done
 [ "$(id -u)" -eq 0 ] || skip "a test cluster with SlurmUser=root needs root"
 
-# two free TCP ports: not in /proc/net/tcp{,6} as a local port
+# two free TCP ports: not in /proc/net/tcp{,6} as a local port, and below
+# the kernel's ephemeral range, so that no test running beside this one (a
+# popc-servo-sim on port 0, a client's connect) can be given one of them
+# between this check and the daemons' bind
 used=$(awk 'NR > 1 { split($2, a, ":"); print strtonum("0x" a[2]) }' /proc/net/tcp /proc/net/tcp6 2>/dev/null | sort -u)
+eph_lo=$(cut -f1 /proc/sys/net/ipv4/ip_local_port_range 2>/dev/null || echo 32768)
+[ "${eph_lo:-0}" -gt 12000 ] 2>/dev/null || eph_lo=32768
 free_port() {
   local p
-  for p in $(seq $((20000 + RANDOM % 20000)) 60000); do
+  for p in $(seq $((10000 + RANDOM % (eph_lo - 11000))) $((eph_lo - 1))); do
     if ! grep -qx "$p" <<<"$used" && [ "$p" != "${1:-}" ]; then echo "$p"; return; fi
   done
 }
@@ -99,13 +104,27 @@ done
 ok "single-node Slurm up (ports $P1, $P2)"
 
 VARY=(--vary operator.speed=0.02:0.08:4 --vary controller.variant=none,ref-energy,improved)
-# the array: two shards, one CPU each, side by side on the 2-CPU node
-timeout 90 sbatch --wait --array=0-1 --cpus-per-task=1 --output="$T/job-%a.out" \
+# the array: two shards, one CPU each, side by side on the 2-CPU node. Its
+# end is awaited by asking the controller for the tasks' states (bounded:
+# 90 s), not with sbatch --wait, which looks after 2 s and then only every
+# 8 s: the 1-second job took 10 s of this test that way.
+timeout 30 sbatch --parsable --array=0-1 --cpus-per-task=1 --output="$T/job-%a.out" \
   --chdir="$T" --export=ALL,POPC="$POPC" \
   "$SBATCH_SCRIPT" "$SCENE" "${VARY[@]}" -o "$T/out" --no-log >"$T/sbatch.txt" 2>&1
 rc=$?
-[ "$rc" -eq 0 ] || fail "sbatch --wait --array=0-1: exit $rc: $(cat "$T/sbatch.txt")"
-ok "array job done: $(head -1 "$T/sbatch.txt")"
+job=$(head -1 "$T/sbatch.txt" | cut -d';' -f1)
+[ "$rc" -eq 0 ] && [ -n "$job" ] || fail "sbatch --array=0-1: exit $rc: $(cat "$T/sbatch.txt")"
+# task_states: one "JobState ExitCode" line per array task
+task_states() { scontrol -o show job "$job" 2>/dev/null | sed -n 's/.* JobState=\([A-Z_]*\) .* ExitCode=\([0-9:]*\) .*/\1 \2/p'; }
+done_=
+for _ in $(seq 450); do
+  st=$(task_states)
+  if [ "$(echo "$st" | grep -c .)" -eq 2 ] && ! echo "$st" | grep -Eq '^(PENDING|RUNNING|CONFIGURING|COMPLETING|SUSPENDED|REQUEUED|RESIZING)'; then done_=1; break; fi
+  sleep 0.2
+done
+[ -n "$done_" ] || fail "array job $job not finished in 90 s: $(task_states | tr '\n' ' ')"
+[ "$(task_states | sort -u)" = "COMPLETED 0:0" ] || fail "array job $job: tasks ended $(task_states | tr '\n' ' ')"
+ok "array job $job done: both tasks COMPLETED, exit 0"
 [ -s "$T/out/summary-shard-0-of-2.csv" ] && [ -s "$T/out/summary-shard-1-of-2.csv" ] || fail "the two shard summaries are missing"
 ok "both array tasks wrote their shard"
 "$POPC" sweep merge "$T/out" >"$T/merge.txt" 2>&1 || fail "merge: $(cat "$T/merge.txt")"
