@@ -246,7 +246,15 @@ check "  says how to submit" err_has "--array=0-1"
 # blocks reading until a signal interrupts the read (no byte read: EINTR),
 # and the holder goes only after the sweep has ended. So the signal always
 # lands in the middle of the sweep, with run 0010 in that worker's hand,
-# whatever the machine's speed. (It was an 8000-run sweep signalled after
+# whatever the machine's speed. Three states are awaited by looking at /proc
+# (every 10 ms, 10 s at most; they come within microseconds): the planner
+# has closed the FIFO (it reads to the end of the feed, and a holder that
+# opened before would be a writer again and keep it waiting); the holder's
+# open returns when the worker's open meets it, before the worker's
+# descriptor exists, so the worker is found once it holds the FIFO; and the
+# signal is sent once the worker is blocked reading it (a signal that came
+# between its open and its read would leave it reading, stop flag set,
+# until the holder goes). (It was an 8000-run sweep signalled after
 # its first progress line in the hope that it was still going, and three
 # more run to the end: 187-313 s of the sanitized build.) Once the worker
 # has it open, the FIFO's path becomes a plain copy of the table: the run
@@ -259,6 +267,8 @@ tables=
 for i in $(seq -w 0 19); do cp "$TAB/table.csv" "$TAB/$i.csv"; tables=$tables${tables:+,}$i.csv; done
 MID=(--set operator.intent=table --set run.duration=0.5 --vary "operator.table=$tables" --no-log)
 mid() { (cd "$TAB" && "$@"); }
+# holds PID PATH: process PID has PATH open
+holds() { local f; for f in /proc/$1/fd/*; do [ "$(readlink "$f" 2>/dev/null)" = "$2" ] && return 0; done; return 1; }
 # caught DIR JOBS [ENV...]: starts the MID sweep into DIR with -j JOBS
 # (stderr in $T/err) and returns once a worker has run 0010 in hand: sets
 # pid (the sweep), worker (its child reading the FIFO) and holder.
@@ -270,6 +280,8 @@ caught() {
   cd - >/dev/null
   # the planner's read (bounded: a sweep that never planned must not hang the test)
   timeout 60 sh -c 'cat "$1" > "$2"' feed "$TAB/table.csv" "$TAB/10.csv"
+  local n=0
+  while holds "$pid" "$TAB/10.csv" && [ $((n += 1)) -le 1000 ]; do sleep 0.01; done
   # the holder: opens the FIFO for writing (so returns once the worker has
   # opened it), says so, writes nothing; for 60 s at most, so that a sweep
   # that ignored its signal fails (an empty table) instead of hanging
@@ -277,13 +289,22 @@ caught() {
   holder=$!
   worker= line=
   read -r -t 60 line <"$T/held"
-  if [ "$line" = open ]; then
+  local fd=
+  n=0
+  while [ "$line" = open ] && [ -z "$worker" ] && [ $((n += 1)) -le 1000 ]; do
     for c in $(cat /proc/$pid/task/*/children 2>/dev/null); do
       for f in /proc/$c/fd/*; do
-        [ "$(readlink "$f" 2>/dev/null)" = "$TAB/10.csv" ] && worker=$c
+        [ "$(readlink "$f" 2>/dev/null)" = "$TAB/10.csv" ] && { worker=$c; fd=${f##*/}; }
       done
     done
-  fi
+    [ -n "$worker" ] || sleep 0.01
+  done
+  # blocked in a system call on that descriptor (its first argument): the read
+  n=0
+  while [ -n "$worker" ] && [ "$(cut -d' ' -f2 "/proc/$worker/syscall" 2>/dev/null)" != "$(printf '0x%x' "$fd")" ]; do
+    [ $((n += 1)) -le 1000 ] || { worker=; break; }
+    sleep 0.01
+  done
   rm -f "$TAB/10.csv"; cp "$TAB/table.csv" "$TAB/10.csv"
 }
 # release: waits for the sweep (sets rc), then lets the holder go
