@@ -169,36 +169,70 @@ static int be16(const uint8_t *p)
 	return p[0] << 8 | p[1];
 }
 
+/* The registers a write request sets: [*addr, *addr + *n) from the words at
+ * *p. Returns 0 for a request that writes no register (or a malformed one,
+ * which modbus_reply answers with an exception). */
+static int write_span(const uint8_t *q, int len, int hl, int *addr, int *n, const uint8_t **p)
+{
+	if (len < hl + 5)
+		return 0;
+	switch (q[hl]) {
+	case MODBUS_FC_WRITE_SINGLE_REGISTER:
+		*addr = be16(q + hl + 1);
+		*n = 1;
+		*p = q + hl + 3;
+		return 1;
+	case MODBUS_FC_WRITE_MULTIPLE_REGISTERS:
+		*addr = be16(q + hl + 1);
+		*n = be16(q + hl + 3);
+		*p = q + hl + 6;
+		return *n >= 1 && *n <= MODBUS_MAX_WRITE_REGISTERS && *addr + *n <= TABLE_SIZE &&
+		       hl + 6 + 2 * *n <= len;
+	case MODBUS_FC_WRITE_AND_READ_REGISTERS:
+		if (len < hl + 10)
+			return 0;
+		*addr = be16(q + hl + 5);
+		*n = be16(q + hl + 7);
+		*p = q + hl + 10;
+		return *n >= 1 && *n <= MODBUS_MAX_WR_WRITE_REGISTERS && *addr + *n <= TABLE_SIZE &&
+		       hl + 10 + 2 * *n <= len;
+	default:
+		return 0;
+	}
+}
+
+long long drive_command_of(const servo_drive *d, const uint8_t *q, int len, int hl)
+{
+	const popc_register_map *m = &d->map;
+	int addr, n;
+	const uint8_t *p;
+	if (!write_span(q, len, hl, &addr, &n, &p))
+		return 0;
+	int ncmd = popc_reg_type_words(m->cmd.type);
+	if (addr + n <= m->cmd.reg || addr >= m->cmd.reg + ncmd)
+		return 0; /* the command register is not written */
+	if (m->cmd.seq_reg >= addr && m->cmd.seq_reg < addr + n && d->have_seq) {
+		int i = m->cmd.seq_reg - addr;
+		if ((uint16_t)(p[2 * i] << 8 | p[2 * i + 1]) == d->last_seq)
+			return 0; /* a retry of the last command */
+	}
+	return d->commands - d->seq_repeats + 1;
+}
+
 int drive_apply_request(servo_drive *d, const uint8_t *q, int len, int hl, int64_t now_ns)
 {
 	if (len < hl + 5)
 		return 0;
-	int fc = q[hl], addr = be16(q + hl + 1);
-	switch (fc) {
-	case MODBUS_FC_WRITE_SINGLE_COIL:
-		if (d->map.enable.table == POPC_TABLE_COIL && addr == d->map.enable.reg)
+	if (q[hl] == MODBUS_FC_WRITE_SINGLE_COIL) {
+		if (d->map.enable.table == POPC_TABLE_COIL && be16(q + hl + 1) == d->map.enable.reg)
 			enable_write(d, be16(q + hl + 3) == 0xFF00 ? 1 : 0, now_ns);
 		return 0;
-	case MODBUS_FC_WRITE_SINGLE_REGISTER:
-		return register_write(d, addr, 1, q + hl + 3, now_ns);
-	case MODBUS_FC_WRITE_MULTIPLE_REGISTERS: {
-		int n = be16(q + hl + 3);
-		if (n < 1 || n > MODBUS_MAX_WRITE_REGISTERS || addr + n > TABLE_SIZE || hl + 6 + 2 * n > len)
-			return 0; /* malformed: modbus_reply answers with an exception */
-		return register_write(d, addr, n, q + hl + 6, now_ns);
 	}
-	case MODBUS_FC_WRITE_AND_READ_REGISTERS: {
-		if (len < hl + 10)
-			return 0;
-		int waddr = be16(q + hl + 5), n = be16(q + hl + 7);
-		if (n < 1 || n > MODBUS_MAX_WR_WRITE_REGISTERS || waddr + n > TABLE_SIZE ||
-		    hl + 10 + 2 * n > len)
-			return 0;
-		return register_write(d, waddr, n, q + hl + 10, now_ns);
-	}
-	default:
+	int addr, n;
+	const uint8_t *p;
+	if (!write_span(q, len, hl, &addr, &n, &p))
 		return 0;
-	}
+	return register_write(d, addr, n, p, now_ns);
 }
 
 int drive_init(servo_drive *d, const popc_register_map *map, const popc_scene *scene, int lockstep,

@@ -72,6 +72,14 @@ void drive_free(servo_drive *d);
  * or -1 when the plant diverged (the drive faults). */
 int drive_apply_request(servo_drive *d, const uint8_t *query, int len, int hl, int64_t now_ns);
 
+/* The number of the new command a request writes, counted from 1 over the
+ * program's life (the start's zero force is command 1): the commands applied
+ * so far plus one, or 0 when the request writes no command or repeats the
+ * last sequence value (a retry, with the map's sequence register). A request
+ * answered with an exception applies nothing, so its retry carries the same
+ * number. Without a sequence register a retried command is a new one. */
+long long drive_command_of(const servo_drive *d, const uint8_t *query, int len, int hl);
+
 /* Time passes: the real-time plant catches up with the clock; the watchdog. */
 void drive_tick(servo_drive *d, int64_t now_ns);
 

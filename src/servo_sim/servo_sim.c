@@ -55,27 +55,32 @@ static void usage(FILE *f)
 	      "  --watchdog-ms MS      command watchdog (default: the map's drive.watchdog_ms)\n"
 	      "  --record FILE         on exit, write the last writes of command and enable\n"
 	      "                        there (oldest first), e.g. 'command 0' then 'enable 0x0000'\n"
-	      "  --notify-at N         print 'popc-servo-sim: request N' on stdout at request N\n"
+	      "  --notify-at AT        print 'popc-servo-sim: request N' on stdout at request AT\n"
 	      "  --pace-baud           RTU: hold each reply for the wire time of request and\n"
 	      "                        reply at the URI's baud plus two 3.5-character gaps\n"
 	      "                        (a pseudo-terminal does not pace bytes)\n"
-	      "fault injection (N: request number, from 1; COUNT: how many, default 1; both\n"
-	      "up to 10^15; MS up to 86400000, a day):\n"
-	      "  --drop N[,COUNT]      apply the request but send no reply\n"
-	      "  --delay N,MS[,COUNT]  reply MS milliseconds late\n"
-	      "  --duplicate N[,COUNT] send the reply twice (one write: both arrive together)\n"
-	      "  --reorder N[,COUNT]   hold the reply to N back and send it right after the\n"
+	      "fault injection (AT: N, request N from 1; or cC[+K], the request that writes\n"
+	      "command C, from 1 (the start's zero force is command 1; a retry that repeats\n"
+	      "the sequence value is the same command), or the K-th request after it;\n"
+	      "COUNT: how many requests from AT on, default 1; N, C, K and COUNT up to\n"
+	      "10^15; MS up to 86400000, a day):\n"
+	      "  --drop AT[,COUNT]     apply the request but send no reply\n"
+	      "  --delay AT,MS[,COUNT] reply MS milliseconds late; on TCP, when MS is above the\n"
+	      "                        map's timeout_ms, also not before the client has closed\n"
+	      "                        the connection (it gave up on the reply)\n"
+	      "  --duplicate AT[,COUNT] send the reply twice (one write: both arrive together)\n"
+	      "  --reorder AT[,COUNT]  hold the reply to AT back and send it right after the\n"
 	      "                        reply to the next request (one write)\n"
-	      "  --exception N,CODE[,COUNT]  answer with Modbus exception CODE, apply nothing\n"
-	      "  --corrupt-crc N[,COUNT]     RTU: send the reply with a wrong CRC\n"
-	      "  --wrong-unit N[,COUNT]      reply with the unit id (RTU: slave address) + 1\n"
-	      "  --wrong-tid N[,COUNT]       TCP: reply with the transaction id + 1\n"
-	      "  --wrong-protocol N,ID[,COUNT]  TCP: reply with protocol id ID (1-65535)\n"
-	      "  --wrong-length N[,COUNT]    TCP: reply with the MBAP length field + 1\n"
-	      "  --close-after N       TCP: close the connection after replying to request N\n"
+	      "  --exception AT,CODE[,COUNT]  answer with Modbus exception CODE, apply nothing\n"
+	      "  --corrupt-crc AT[,COUNT]     RTU: send the reply with a wrong CRC\n"
+	      "  --wrong-unit AT[,COUNT]      reply with the unit id (RTU: slave address) + 1\n"
+	      "  --wrong-tid AT[,COUNT]       TCP: reply with the transaction id + 1\n"
+	      "  --wrong-protocol AT,ID[,COUNT]  TCP: reply with protocol id ID (1-65535)\n"
+	      "  --wrong-length AT[,COUNT]    TCP: reply with the MBAP length field + 1\n"
+	      "  --close-after AT      TCP: close the connection after replying to request AT\n"
 	      "                        (then accept the next one)\n"
-	      "  --exit-after N        close the link and exit after replying to request N\n"
-	      "  --fault-at N          set the drive's fault bits at request N\n"
+	      "  --exit-after AT       close the link and exit after replying to request AT\n"
+	      "  --fault-at AT         set the drive's fault bits at request AT\n"
 	      "  --start-faulted       report a fault from the start (it never clears)\n"
 	      "  --never-ready         never show the ready bits (an enable that never completes)\n"
 	      "  --map-keys            list every register map key with its default and\n"
@@ -93,48 +98,107 @@ static void usage(FILE *f)
 	      f);
 }
 
+/* Where a fault hits: request `at`, known from the start (N) or once the
+ * request that writes command `cmd` arrives (cC[+K]: that request's number
+ * plus `off`). Counting commands, not requests, a fault hits the same tick
+ * however many transactions popc retried before it. */
+typedef struct trigger {
+	long at;        /* request number; 0: not known yet (or no trigger) */
+	long cmd, off;  /* cC+K: cmd = C > 0, off = K */
+} trigger;
+
 typedef struct fault_range {
-	long first, count, arg;
+	trigger first;
+	long count, arg;
 } fault_range;
+
+/* The option was given. */
+static int is_set(const trigger *t)
+{
+	return t->at > 0 || t->cmd > 0;
+}
+
+static int hits(const trigger *t, long n)
+{
+	return t->at > 0 && n == t->at;
+}
 
 static int in_range(const fault_range *r, long n)
 {
-	return r->first > 0 && n >= r->first && n < r->first + r->count;
+	return r->first.at > 0 && n >= r->first.at && n - r->first.at < r->count;
 }
 
-/* Request numbers and counts stop at 10^15 (32 years of requests at 1 MHz),
- * so first + count and a request counter never overflow a long; an
- * argument (a delay in ms, a code, a protocol id) stops at a day in ms, so
- * t + MS * 10^6 ns stays far inside an int64. */
+/* Request numbers, command numbers, offsets and counts stop at 10^15 (32
+ * years of requests at 1 MHz), so at + off, at + count and a request counter
+ * never overflow a long; an argument (a delay in ms, a code, a protocol id)
+ * stops at a day in ms, so t + MS * 10^6 ns stays far inside an int64. */
 #define FAULT_REQUEST_MAX 1000000000000000L
 #define FAULT_ARG_MAX 86400000L
 
-/* "N[,COUNT]" or, with want_arg, "N,ARG[,COUNT]": whole numbers as everywhere
- * (popc/util/parse.h), N and COUNT in [1, FAULT_REQUEST_MAX], ARG in
- * [0, FAULT_ARG_MAX]; a value past the last one, a blank or an empty field
- * is refused, not ignored. */
+/* Request n writes command c (0: none): the triggers on c learn their request. */
+static void resolve(trigger *t, long long c, long n)
+{
+	if (t->cmd > 0 && t->at == 0 && c == t->cmd)
+		t->at = n + t->off;
+}
+
+/* A whole number in [min, max] filling [s, end) (popc/util/parse.h). */
+static int parse_span(const char *s, const char *end, long min, long max, long *out)
+{
+	long long v;
+	if (popc_parse_ll_span(s, end, min, max, 0, &v) != 0)
+		return -1;
+	*out = (long)v;
+	return 0;
+}
+
+/* "N" (N >= 1) or "cC" or "cC+K" (C >= 1, K >= 0), all up to
+ * FAULT_REQUEST_MAX, filling [s, end). */
+static int parse_trigger(const char *s, const char *end, trigger *t)
+{
+	*t = (trigger){0, 0, 0};
+	if (s == end || *s != 'c')
+		return parse_span(s, end, 1, FAULT_REQUEST_MAX, &t->at);
+	s++;
+	const char *plus = memchr(s, '+', (size_t)(end - s));
+	if (!plus)
+		return parse_span(s, end, 1, FAULT_REQUEST_MAX, &t->cmd);
+	/* a sign after the '+' would be a second sign: "c5++3" is refused */
+	if (parse_span(s, plus, 1, FAULT_REQUEST_MAX, &t->cmd) || plus[1] == '+' || plus[1] == '-')
+		return -1;
+	return parse_span(plus + 1, end, 0, FAULT_REQUEST_MAX, &t->off);
+}
+
+/* A trigger and nothing else. */
+static int parse_at(const char *text, trigger *t)
+{
+	return parse_trigger(text, text + strlen(text), t);
+}
+
+/* "AT[,COUNT]" or, with want_arg, "AT,ARG[,COUNT]": a trigger, then whole
+ * numbers as everywhere (popc/util/parse.h), COUNT in [1, FAULT_REQUEST_MAX],
+ * ARG in [0, FAULT_ARG_MAX]; a value past the last one, a blank or an empty
+ * field is refused, not ignored. */
 static int parse_range(const char *text, int want_arg, fault_range *r)
 {
-	long long v[3] = {0, 0, 0};
-	int n = 0, max = want_arg ? 3 : 2;
-	for (const char *p = text;; n++) {
-		const char *end = p + strcspn(p, ",");
-		int is_arg = want_arg && n == 1;
-		if (n == max || popc_parse_ll_span(p, end, is_arg ? 0 : 1,
-						   is_arg ? FAULT_ARG_MAX : FAULT_REQUEST_MAX, 0,
-						   &v[n]) != 0)
-			return -1;
-		if (!*end) {
-			n++;
-			break;
-		}
-		p = end + 1;
-	}
-	if (n < 1 + want_arg)
+	long v[2] = {0, 0};
+	int n = 0, max = want_arg ? 2 : 1;
+	const char *end = text + strcspn(text, ",");
+	if (parse_trigger(text, end, &r->first))
 		return -1;
-	r->first = (long)v[0];
-	r->arg = want_arg ? (long)v[1] : 0;
-	r->count = n > 1 + want_arg ? (long)v[1 + want_arg] : 1;
+	while (*end) {
+		const char *p = end + 1;
+		end = p + strcspn(p, ",");
+		int is_arg = want_arg && n == 0;
+		if (n == max || parse_span(p, end, is_arg ? 0 : 1, is_arg ? FAULT_ARG_MAX : FAULT_REQUEST_MAX,
+					   &v[n]) != 0)
+			return -1;
+		n++;
+	}
+	if (n < want_arg)
+		return -1;
+	r->arg = want_arg ? v[0] : 0;
+	r->count = n > want_arg ? v[want_arg] : 1;
 	return 0;
 }
 
@@ -161,7 +225,7 @@ typedef struct server {
 	fault_range wrong_unit, wrong_tid, wrong_protocol, wrong_length;
 	uint8_t held[MODBUS_MAX_ADU_LENGTH + 8]; /* --reorder: a reply held back */
 	int n_held;
-	long close_after, exit_after, fault_at, notify_at;
+	trigger close_after, exit_after, fault_at, notify_at;
 	int pace_baud;
 	int exiting;
 } server;
@@ -291,15 +355,46 @@ static void send_altered_reply(server *sv, long n, const uint8_t *q, int len, in
 	send_raw(sv, buf, total);
 }
 
+/* --delay: the reply to request n leaves MS ms after the request came. A
+ * reply later than the map's timeout_ms is one the client has given up on:
+ * on TCP it is held until the client has closed the connection (popc
+ * reconnects after a timeout and sends nothing more on the old one), so
+ * that the client's own scheduling cannot make it arrive in time; on RTU,
+ * where the client drains the line instead, a request that came in the
+ * meantime is said (the late reply then follows the client's next request,
+ * which is not the case the option was asked for). */
+static void hold_late_reply(server *sv, long n, int64_t t_rx)
+{
+	sleep_until(sv, t_rx + sv->delay.arg * 1000000LL);
+	if (sv->delay.arg <= sv->drive.map.timeout_ms)
+		return;
+	int fd = modbus_get_socket(sv->ctx);
+	if (!sv->uri.rtu) {
+		wait_readable(sv, fd, -1);
+	} else if (wait_readable(sv, fd, 0) == 1) {
+		fprintf(stderr, "popc-servo-sim: request %ld: the next request came before this reply, "
+				"%ld ms late\n",
+			n, sv->delay.arg);
+	}
+}
+
 /* Handles one received request. Returns 1 to close the connection, 0 to go on. */
 static int handle(server *sv, const uint8_t *q, int len, int64_t t_rx)
 {
 	long n = ++sv->requests;
-	if (sv->notify_at && n == sv->notify_at) {
+	long long c = drive_command_of(&sv->drive, q, len, modbus_get_header_length(sv->ctx));
+	trigger *all[] = {&sv->notify_at, &sv->fault_at, &sv->close_after, &sv->exit_after,
+			  &sv->drop.first,       &sv->delay.first,        &sv->exception.first,
+			  &sv->corrupt.first,    &sv->duplicate.first,    &sv->reorder.first,
+			  &sv->wrong_unit.first, &sv->wrong_tid.first,    &sv->wrong_protocol.first,
+			  &sv->wrong_length.first};
+	for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
+		resolve(all[i], c, n);
+	if (hits(&sv->notify_at, n)) {
 		printf("popc-servo-sim: request %ld\n", n);
 		fflush(stdout);
 	}
-	if (sv->fault_at && n == sv->fault_at) {
+	if (hits(&sv->fault_at, n)) {
 		fprintf(stderr, "popc-servo-sim: injected drive fault at request %ld\n", n);
 		drive_set_fault(&sv->drive, "injected", 0);
 	}
@@ -312,16 +407,16 @@ static int handle(server *sv, const uint8_t *q, int len, int64_t t_rx)
 	if (in_range(&sv->drop, n))
 		return 0;
 	if (in_range(&sv->delay, n))
-		sleep_until(sv, t_rx + sv->delay.arg * 1000000LL);
+		hold_late_reply(sv, n, t_rx);
 	if (reply_altered(sv, n))
 		send_altered_reply(sv, n, q, len, t_rx);
 	else
 		modbus_reply(sv->ctx, q, len, sv->drive.mb);
-	if (sv->exit_after && n >= sv->exit_after) {
+	if (sv->exit_after.at > 0 && n >= sv->exit_after.at) {
 		sv->exiting = 1;
 		return 1;
 	}
-	return sv->close_after && n == sv->close_after;
+	return hits(&sv->close_after, n);
 }
 
 /* A received frame that is not a well-formed request: counted (the exit
@@ -493,7 +588,7 @@ int main(int argc, char **argv)
 			break;
 		case OPT_WATCHDOG: bad = parse_count(optarg, 0, 600000, &watchdog); break;
 		case OPT_RECORD: record_path = optarg; break;
-		case OPT_NOTIFY: bad = parse_count(optarg, 1, FAULT_REQUEST_MAX, &sv.notify_at); break;
+		case OPT_NOTIFY: bad = parse_at(optarg, &sv.notify_at); break;
 		case OPT_PACE: sv.pace_baud = 1; break;
 		case OPT_DROP: bad = parse_range(optarg, 0, &sv.drop); break;
 		case OPT_DELAY: bad = parse_range(optarg, 1, &sv.delay); break;
@@ -502,9 +597,9 @@ int main(int argc, char **argv)
 			      sv.exception.arg > 255;
 			break;
 		case OPT_CORRUPT: bad = parse_range(optarg, 0, &sv.corrupt); break;
-		case OPT_CLOSE: bad = parse_count(optarg, 1, FAULT_REQUEST_MAX, &sv.close_after); break;
-		case OPT_EXIT: bad = parse_count(optarg, 1, FAULT_REQUEST_MAX, &sv.exit_after); break;
-		case OPT_FAULT_AT: bad = parse_count(optarg, 1, FAULT_REQUEST_MAX, &sv.fault_at); break;
+		case OPT_CLOSE: bad = parse_at(optarg, &sv.close_after); break;
+		case OPT_EXIT: bad = parse_at(optarg, &sv.exit_after); break;
+		case OPT_FAULT_AT: bad = parse_at(optarg, &sv.fault_at); break;
 		case OPT_START_FAULTED: start_faulted = 1; break;
 		case OPT_NEVER_READY: never_ready = 1; break;
 		case OPT_MAP_KEYS: popc_register_map_print_keys(stdout); return 0;
@@ -553,11 +648,12 @@ int main(int argc, char **argv)
 	}
 	if (!st)
 		st = popc_modbus_uri_parse(listen, &sv.uri, &err);
-	if (!st && sv.uri.rtu && (sv.close_after))
+	if (!st && sv.uri.rtu && is_set(&sv.close_after))
 		st = popc_error_set(&err, POPC_ERR_INVALID, "--close-after needs a TCP link");
-	if (!st && !sv.uri.rtu && (sv.corrupt.first || sv.pace_baud))
+	if (!st && !sv.uri.rtu && (is_set(&sv.corrupt.first) || sv.pace_baud))
 		st = popc_error_set(&err, POPC_ERR_INVALID, "--corrupt-crc and --pace-baud need an RTU link");
-	if (!st && sv.uri.rtu && (sv.wrong_tid.first || sv.wrong_protocol.first || sv.wrong_length.first))
+	if (!st && sv.uri.rtu && (is_set(&sv.wrong_tid.first) || is_set(&sv.wrong_protocol.first) ||
+				   is_set(&sv.wrong_length.first)))
 		st = popc_error_set(&err, POPC_ERR_INVALID,
 				    "--wrong-tid, --wrong-protocol and --wrong-length need a TCP link (RTU "
 				    "frames have no MBAP header)");

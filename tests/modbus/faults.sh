@@ -6,15 +6,17 @@
 # FC03, and with FC16, FC04 and a separate status read.
 #   faults.sh SERVO_SIM tcp|rtu
 #
-# Request numbering with data/drives/popc-exact.ini (FC23, status in the
-# position block): 1 status read, 2 zero command, 3 enable, 4 ready poll,
-# 5 first position read (tick 0); request n >= 6 is the exchange that brings
-# tick n - 5. So a fault that stops the run at request N leaves N - 5 ticks.
+# The faults hit commands, not request numbers (popc-servo-sim's cC[+K]), so
+# that they land on the same tick however many transactions were retried
+# before: command 1 is the start's zero force, command c >= 2 is the
+# exchange that brings tick c - 1 (FC23: one request; FC16: the write, then
+# the reads). A fault that stops the run at command C leaves the C - 1 ticks
+# 0 .. C - 2. The maps are copies with a 500 ms response timeout (lib.sh).
 . "$(dirname "$0")/lib.sh"
 TRANSPORT=$2
-DUR=1.5
-N=400   # the request the faults hit: tick 395 (t = 0.395 s, at rest before the ramp;
-        # retry.sh hits tick 895, in contact)
+DUR=0.5 # 500 ticks: the faults need no contact (the soft limit below does: 1.5 s)
+C=196   # the command the faults hit: the exchange that brings tick 195 (t = 0.195 s,
+        # at rest before the ramp; retry.sh hits tick 895, in contact)
 
 if [ "$TRANSPORT" = rtu ]; then
 	start_socat
@@ -25,53 +27,61 @@ else
 fi
 
 # run_case NAME WANT_RC STOP_PATTERN WANT_ROWS MAP "SERVER OPTIONS" [popc options...]
-# WANT_ROWS: a number, or "all" (1 + duration * rate).
+# WANT_ROWS: a number, or "all" (1 + duration * rate). The duration is $DUR,
+# or RUN_DUR when set.
 run_case() {
-	local name=$1 want=$2 pat=$3 want_rows=$4 map=$5 sopts=$6
+	local name=$1 want=$2 pat=$3 want_rows=$4 map=$5 sopts=$6 dur=${RUN_DUR:-$DUR}
 	shift 6
 	# shellcheck disable=SC2086
 	start_server --map "$map" --listen "$LISTEN" --scene "$SCENE" --lockstep \
 		--record "$WORK/rec-$name.txt" $sopts
 	[ "$TRANSPORT" = rtu ] || CONNECT=$SRV_URI
 	local rc=0
-	"$POPC" run "$SCENE" --set run.duration=$DUR --axis modbus --map "$map" \
+	"$POPC" run "$SCENE" --set run.duration="$dur" --axis modbus --map "$map" \
 		--connect "$CONNECT" --free-run --log "$WORK/$name.csv" "$@" 2>"$WORK/$name.err" || rc=$?
 	expect_rc "$name" $rc "$want"
 	check_log "$WORK/$name.csv" "$pat"
 	local n
 	n=$(rows "$WORK/$name.csv")
-	[ "$want_rows" = all ] && want_rows=$(awk -v d=$DUR 'BEGIN { print d * 1000 + 1 }')
+	[ "$want_rows" = all ] && want_rows=$(awk -v d="$dur" 'BEGIN { print d * 1000 + 1 }')
 	[ "$n" -eq "$want_rows" ] || fail "$name: $n ticks logged, want $want_rows"
 }
 
 # 1. replies dropped three times in a row (max_failures = 3): communication lost
-run_case drop 4 '^# stop = communication lost: .*3 failed transactions in a row' $((N - 5)) \
-	"$EXACT_MAP" "--drop $N,3"
+run_case drop 4 '^# stop = communication lost: .*3 failed transactions in a row' $((C - 1)) \
+	"$EXACT_MAP" "--drop c$C,3"
 stop_server
 check_last_writes "$WORK/rec-drop.txt" 0x0000
 
 # 2. one reply dropped: retried, the run completes (a fresh position, never an old one)
-run_case drop1 0 '^# stop = completed$' all "$EXACT_MAP" "--drop $N,1"
+run_case drop1 0 '^# stop = completed$' all "$EXACT_MAP" "--drop c$C,1"
 stop_server
-grep -q '1 failed transactions' "$WORK/drop1.err" || fail "drop1: the failure is not reported"
+grep -q ' 1 failed transactions' "$WORK/drop1.err" || fail "drop1: want 1 failed transaction: $(grep 'link:' "$WORK/drop1.err")"
 check_last_writes "$WORK/rec-drop1.txt" 0x0000
 
-# 3. a reply 80 ms late (timeout 50 ms): timeout; TCP reconnects, RTU drains the
-#    late reply; the retry is answered: completes. (A single-threaded drive that
-#    stays silent for max_failures timeouts is a communication loss, as in 1.)
-run_case delay 0 '^# stop = completed$' all "$EXACT_MAP" "--delay $N,80"
+# 3. a reply 750 ms late (timeout 500 ms): timeout; TCP reconnects (the server
+#    holds the late reply until popc has closed the old connection), RTU drains
+#    the late reply (it comes 250 ms into the drain's 500 ms quiet wait: a
+#    margin either side 3.7 times the worst round trip measured under load);
+#    the retry is answered: completes, with one failed transaction. (A
+#    single-threaded drive that stays silent for max_failures timeouts is a
+#    communication loss, as in 1.)
+run_case delay 0 '^# stop = completed$' all "$EXACT_MAP" "--delay c$C,750"
 stop_server
+grep -q ' 1 failed transactions' "$WORK/delay.err" || fail "delay: want 1 failed transaction: $(grep 'link:' "$WORK/delay.err")"
+grep 'came before this reply' "$WORK/srv.err" &&
+	fail "delay: popc sent its next request before the late reply came: this machine stalled past the 250 ms margin"
 check_last_writes "$WORK/rec-delay.txt" 0x0000
 
 # 4. exception 4 (server device failure) three times: communication lost
-run_case exception 4 '^# stop = communication lost: .*Slave device or server failure' $((N - 5)) \
-	"$EXACT_MAP" "--exception $N,4,3"
+run_case exception 4 '^# stop = communication lost: .*Slave device or server failure' $((C - 1)) \
+	"$EXACT_MAP" "--exception c$C,4,3"
 stop_server
 check_last_writes "$WORK/rec-exception.txt" 0x0000
 
 # 5. the drive raises its fault bits: safety stop
-run_case fault 3 '^# stop = safety stop: drive fault: status 0x0008' $((N - 5)) \
-	"$EXACT_MAP" "--fault-at $N"
+run_case fault 3 '^# stop = safety stop: drive fault: status 0x0008' $((C - 1)) \
+	"$EXACT_MAP" "--fault-at c$C"
 stop_server
 check_last_writes "$WORK/rec-fault.txt" 0x0000
 
@@ -84,20 +94,25 @@ check_last_writes "$WORK/rec-start-faulted.txt" 0x0000
 # 7. position soft limit (a map whose soft_max_m is 1 mm; contact pushes ~2 mm in):
 #    the ticks before the first sample past 1 mm (found in the simulated run)
 sed 's/^soft_max_m = .*/soft_max_m = 0.001/' "$EXACT_MAP" >"$WORK/soft.ini"
-"$POPC" run "$SCENE" -q --set run.duration=$DUR --log "$WORK/soft-sim.csv" || fail "soft: sim run"
+"$POPC" run "$SCENE" -q --set run.duration=1.5 --log "$WORK/soft-sim.csv" || fail "soft: sim run"
 first=$(cols "$WORK/soft-sim.csv" | awk '$2 > 100 { print NR - 1; exit }')
-run_case soft 3 '^# stop = safety stop: position 0\.001[0-9]* m is outside the soft limits \[-0\.1, 0\.001\]' "$first" \
+[ -n "$first" ] || fail "soft: the simulated run never passes 1 mm"
+RUN_DUR=1.5 run_case soft 3 '^# stop = safety stop: position 0\.001[0-9]* m is outside the soft limits \[-0\.1, 0\.001\]' "$first" \
 	"$WORK/soft.ini" ""
 stop_server
 check_last_writes "$WORK/rec-soft.txt" 0x0000
 
-# 8. the drive's watchdog: commands 200 ms apart (run.rate = 5 Hz, paced) and a
-#    100 ms watchdog: the drive faults before the first command; safety stop
+# 8. the drive's watchdog: commands 1 s apart (run.rate = 1 Hz, paced) and a
+#    500 ms watchdog: the drive faults before the first command of the loop;
+#    safety stop. Pacing only ever makes the gap longer; what must not take
+#    500 ms is popc's start, from the enable write to the tick-0 read (four
+#    transactions, under 1 ms unloaded, 67 ms the worst round trip measured
+#    under load), or the drive faults during start instead.
 start_server --map "$EXACT_MAP" --listen "$LISTEN" --scene "$SCENE" --lockstep \
-	--watchdog-ms 100 --record "$WORK/rec-watchdog.txt"
+	--watchdog-ms 500 --record "$WORK/rec-watchdog.txt"
 [ "$TRANSPORT" = rtu ] || CONNECT=$SRV_URI
 rc=0
-"$POPC" run "$SCENE" -q --set run.duration=1 --set run.rate=5 --axis modbus --map "$EXACT_MAP" \
+"$POPC" run "$SCENE" -q --set run.duration=1 --set run.rate=1 --axis modbus --map "$EXACT_MAP" \
 	--connect "$CONNECT" --log "$WORK/watchdog.csv" || rc=$?
 stop_server
 expect_rc watchdog $rc 3
@@ -107,19 +122,24 @@ expect_rc watchdog $rc 3
 [ "$(rows "$WORK/watchdog.csv")" -eq 1 ] || fail "watchdog: want tick 0 only"
 check_last_writes "$WORK/rec-watchdog.txt" 0x0000
 
-# 9. a signal mid-run (real-time pacing at 1 kHz, 5 s), sent after request 300:
-#    SIGINT, SIGTERM, SIGHUP and SIGQUIT all stop safely with exit 5. (A
+# 9. a signal mid-run (real-time pacing at 1 kHz), sent once the server has
+#    seen command 100 (tick 99): SIGINT, SIGTERM, SIGHUP and SIGQUIT all stop
+#    safely with exit 5. The run is 60 s long, so that it is still going
+#    when the signal lands however slow the machine, and a popc that ignored
+#    the signal would end in 60 s (exit 0) instead of hanging the test. (A
 #    background job of a script starts with SIGINT and SIGQUIT ignored; popc
-#    installs its handlers over that.)
+#    installs its handlers over that. A SIGHUP ignored at start stays ignored,
+#    as nohup asks, so popc starts with SIGHUP at its default here: under
+#    nohup or a CI runner that ignores it, the HUP case would test nothing.)
 signal_case() {
 	local sig=$1 name=sig$1
 	start_server --map "$EXACT_MAP" --listen "$LISTEN" --scene "$SCENE" --lockstep \
-		--notify-at 300 --record "$WORK/rec-$name.txt"
+		--notify-at c100 --record "$WORK/rec-$name.txt"
 	[ "$TRANSPORT" = rtu ] || CONNECT=$SRV_URI
-	"$POPC" run "$SCENE" -q --axis modbus --map "$EXACT_MAP" --connect "$CONNECT" \
-		--log "$WORK/$name.csv" &
+	env --default-signal=HUP "$POPC" run "$SCENE" -q --set run.duration=60 --axis modbus \
+		--map "$EXACT_MAP" --connect "$CONNECT" --log "$WORK/$name.csv" &
 	local pid=$! line rc=0
-	read -r -t 20 -u 3 line || fail "$name: the server never saw request 300"
+	read -r -t 60 -u 3 line || fail "$name: the server never saw command 100"
 	kill -"$sig" $pid
 	wait $pid || rc=$?
 	stop_server
@@ -127,28 +147,31 @@ signal_case() {
 	check_log "$WORK/$name.csv" '^# stop = signal: interrupted by a signal'
 	local n
 	n=$(rows "$WORK/$name.csv")
-	[ "$n" -ge 295 ] && [ "$n" -lt 5001 ] || fail "$name: $n ticks logged"
+	[ "$n" -ge 99 ] || fail "$name: $n ticks logged, want 99 or more"
 	check_last_writes "$WORK/rec-$name.txt" 0x0000
 }
 for sig in INT TERM HUP QUIT; do
 	signal_case $sig
 done
 
-# 9b. SIGINT while every reply is dropped (timeout_ms 1000 x max_failures 2):
-#     the retry loop sees the signal after the attempt in flight times out and
-#     stops with exit 5 (not 4: the run ends because of the signal; the stop
-#     line says which transaction was failing), and stop() makes one attempt
-#     per write. Before the stop flag reached the axis, the retries ran out
-#     first: exit 4, "communication lost".
-sed -e 's/^timeout_ms = .*/timeout_ms = 1000/' -e 's/^max_failures = .*/max_failures = 2/' \
+# 9b. SIGINT while every reply is dropped: the retry loop sees the signal
+#     after the attempt in flight times out and stops with exit 5 (not 4: the
+#     run ends because of the signal; the stop line says which transaction was
+#     failing), and stop() makes one attempt per write. Before the stop flag
+#     reached the axis, the retries ran out first: exit 4, "communication
+#     lost". The signal must land before the retries run out, which the maps'
+#     2 s silence bound caps: timeout_ms 100 x max_failures 20 gives the test
+#     1.9 s from the server's notice of the first dropped attempt to its kill
+#     (under 1 ms unloaded; the widest window a map allows).
+sed -e 's/^timeout_ms = .*/timeout_ms = 100/' -e 's/^max_failures = .*/max_failures = 20/' \
 	"$EXACT_MAP" >"$WORK/slow.ini"
 start_server --map "$WORK/slow.ini" --listen "$LISTEN" --scene "$SCENE" --lockstep \
-	--drop $N,1000000 --notify-at $N --record "$WORK/rec-sigretry.txt"
+	--drop c$C,1000000 --notify-at c$C --record "$WORK/rec-sigretry.txt"
 [ "$TRANSPORT" = rtu ] || CONNECT=$SRV_URI
 "$POPC" run "$SCENE" --set run.duration=$DUR --axis modbus --map "$WORK/slow.ini" \
 	--connect "$CONNECT" --free-run --log "$WORK/sigretry.csv" 2>"$WORK/sigretry.err" &
 POPC_PID=$!
-read -r -t 20 -u 3 line || fail "sigretry: the server never saw request $N"
+read -r -t 60 -u 3 line || fail "sigretry: the server never saw command $C"
 kill -INT $POPC_PID
 rc=0
 wait $POPC_PID || rc=$?
@@ -156,14 +179,15 @@ stop_server
 expect_rc sigretry $rc 5
 check_log "$WORK/sigretry.csv" \
 	'^# stop = signal: interrupted by a signal while retrying the command write \+ position read \(FC23\)'
-[ "$(rows "$WORK/sigretry.csv")" -eq $((N - 5)) ] || fail "sigretry: $(rows "$WORK/sigretry.csv") ticks"
+[ "$(rows "$WORK/sigretry.csv")" -eq $((C - 1)) ] || fail "sigretry: $(rows "$WORK/sigretry.csv") ticks"
 grep -q 'safe stop incomplete' "$WORK/sigretry.err" ||
 	fail "sigretry: an unconfirmed safe stop is not said: $(cat "$WORK/sigretry.err")"
 check_last_writes "$WORK/rec-sigretry.txt" 0x0000
 
 # 9c. SIGINT while start waits for ready bits that never come (enable timeout
 #     60 s): start gives up at once, zero force and disable, exit 5, no tick.
-#     Requests: 1 status, 2 zero force, 3 enable, 4... ready polls.
+#     Requests: 1 status, 2 zero force, 3 enable, 4... ready polls (request 10
+#     is a poll however many of the first three were retried: max_failures 3).
 sed 's/^enable_timeout_ms = .*/enable_timeout_ms = 60000/' "$EXACT_MAP" >"$WORK/stuck.ini"
 start_server --map "$WORK/stuck.ini" --listen "$LISTEN" --scene "$SCENE" --lockstep \
 	--never-ready --notify-at 10 --record "$WORK/rec-sigenable.txt"
@@ -171,7 +195,7 @@ start_server --map "$WORK/stuck.ini" --listen "$LISTEN" --scene "$SCENE" --locks
 "$POPC" run "$SCENE" -q --axis modbus --map "$WORK/stuck.ini" --connect "$CONNECT" \
 	--log "$WORK/sigenable.csv" &
 POPC_PID=$!
-read -r -t 20 -u 3 line || fail "sigenable: the server never saw request 10"
+read -r -t 60 -u 3 line || fail "sigenable: the server never saw request 10"
 kill -INT $POPC_PID
 rc=0
 wait $POPC_PID || rc=$?
@@ -184,57 +208,55 @@ tail -n 1 "$WORK/sigenable.csv" |
 check_last_writes "$WORK/rec-sigenable.txt" 0x0000
 
 if [ "$TRANSPORT" = tcp ]; then
-	# 10. the server closes the connection after request N: reconnect, completes
-	run_case close 0 '^# stop = completed$' all "$EXACT_MAP" "--close-after $N"
+	# 10. the server closes the connection after command C: reconnect, completes
+	run_case close 0 '^# stop = completed$' all "$EXACT_MAP" "--close-after c$C"
 	stop_server
-	grep -q '1 reconnects' "$WORK/close.err" || fail "close: the reconnect is not reported"
+	grep -q ' 1 reconnects' "$WORK/close.err" || fail "close: want 1 reconnect: $(grep 'link:' "$WORK/close.err")"
 	check_last_writes "$WORK/rec-close.txt" 0x0000
 
-	# 11. the server goes away after request N: reconnects refused, communication
-	#     lost; ticks up to the one request N brought (N - 4 rows)
-	run_case gone 4 '^# stop = communication lost' $((N - 4)) "$EXACT_MAP" "--exit-after $N"
+	# 11. the server goes away after replying to command C: reconnects refused,
+	#     communication lost; ticks up to the one command C brought (C rows)
+	run_case gone 4 '^# stop = communication lost' $C "$EXACT_MAP" "--exit-after c$C"
 	wait_server_exit
 else
 	# 10. CRC corrupted once: retried, completes
-	run_case crc1 0 '^# stop = completed$' all "$EXACT_MAP" "--corrupt-crc $N"
+	run_case crc1 0 '^# stop = completed$' all "$EXACT_MAP" "--corrupt-crc c$C"
 	stop_server
 	check_last_writes "$WORK/rec-crc1.txt" 0x0000
 	# 11. CRC corrupted three times in a row: communication lost
-	run_case crc 4 '^# stop = communication lost: .*Invalid CRC' $((N - 5)) \
-		"$EXACT_MAP" "--corrupt-crc $N,3"
+	run_case crc 4 '^# stop = communication lost: .*Invalid CRC' $((C - 1)) \
+		"$EXACT_MAP" "--corrupt-crc c$C,3"
 	stop_server
 	check_last_writes "$WORK/rec-crc.txt" 0x0000
 fi
 
 # 12. maps without FC23 (the command written with FC16, then the position read)
 #     and with the status read on its own: drop once (completes), drop three
-#     times (exit 4), the fault bit (exit 3). Requests: 1 status, 2 zero force,
-#     3 enable, 4 ready poll, then RS reads for tick 0 and R requests per
-#     exchange after it; the exchange that brings tick j starts at request
-#     5 + RS + (j - 1) R. The faults hit the exchange that starts at request
-#     $N (tick j is the first one not logged); the three drops hit its last
-#     request (a read).
-# map_cases MAP RS R
+#     times (exit 4), the fault bit (exit 3). The exchange of command C is R
+#     requests: its write, then the reads (R = 2, or 3 with the status read on
+#     its own). The drop once and the fault hit its write; the three drops hit
+#     its last request (a read) and the two retries of that read. Each stops
+#     before tick C - 1: C - 1 ticks.
+# map_cases MAP R LAST: LAST names the exchange's last request in popc's message
 map_cases() {
-	local map=$1 rs=$2 r=$3 tag
+	local map=$1 r=$2 last=$3 tag
 	tag=$(basename "$map" .ini)
-	[ $(((N - 5 - rs) % r)) -eq 0 ] || { fail "$tag: request $N does not start an exchange"; return; }
-	local j=$(((N - 5 - rs) / r + 1))
-	run_case "$tag-drop1" 0 '^# stop = completed$' all "$map" "--drop $N,1"
+	run_case "$tag-drop1" 0 '^# stop = completed$' all "$map" "--drop c$C,1"
 	stop_server
-	grep -q '1 failed transactions' "$WORK/$tag-drop1.err" || fail "$tag-drop1: the failure is not reported"
+	grep -q ' 1 failed transactions' "$WORK/$tag-drop1.err" ||
+		fail "$tag-drop1: want 1 failed transaction: $(grep 'link:' "$WORK/$tag-drop1.err")"
 	check_last_writes "$WORK/rec-$tag-drop1.txt" 0x0000
-	run_case "$tag-drop" 4 '^# stop = communication lost: .*3 failed transactions in a row' $j \
-		"$map" "--drop $((N + r - 1)),3"
+	run_case "$tag-drop" 4 '^# stop = communication lost: .*3 failed transactions in a row \(last: '"$last" \
+		$((C - 1)) "$map" "--drop c$C+$((r - 1)),3"
 	stop_server
 	check_last_writes "$WORK/rec-$tag-drop.txt" 0x0000
-	run_case "$tag-fault" 3 '^# stop = safety stop: drive fault: status 0x0008' $j "$map" "--fault-at $N"
+	run_case "$tag-fault" 3 '^# stop = safety stop: drive fault: status 0x0008' $((C - 1)) "$map" "--fault-at c$C"
 	stop_server
 	check_last_writes "$WORK/rec-$tag-fault.txt" 0x0000
 }
 HERE=$POPC_SOURCE_ROOT/tests/modbus
-map_cases "$HERE/exact-fc16.ini" 1 2
-map_cases "$HERE/exact-fc16-sep.ini" 2 3
+map_cases "$(test_map "$HERE/exact-fc16.ini")" 2 'position read'
+map_cases "$(test_map "$HERE/exact-fc16-sep.ini")" 3 'status read'
 
 # 13. the log is a pipe whose reader goes away (SIGPIPE ignored): a write
 #     error ends the run (exit 1), not death by SIGPIPE (141), and the drive is

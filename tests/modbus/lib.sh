@@ -12,8 +12,32 @@ set -u
 SIM=${SIM:-$1}
 SCENE="$POPC_SOURCE_ROOT/data/scenes/paper.ini"
 DRIVES="$POPC_SOURCE_ROOT/data/drives"
-EXACT_MAP="${EXACT_MAP:-$DRIVES/popc-exact.ini}"
 WORK=$(mktemp -d "${TMPDIR:-/tmp}/popc-modbus.XXXXXX")
+
+# The response timeout of the maps the tests run with. A lockstep server
+# answers in microseconds, but on a loaded machine a reply can wait for the
+# scheduler: the worst lockstep round trip measured here was 67 ms (40 runs
+# of 1.5 s, sanitized build, two CPU-bound processes and the sanitized suite
+# beside it), and a real-time period of 100.8 ms was seen in CI. A reply
+# later than the timeout is a failed transaction that popc retries, and
+# every count the tests assert (failed transactions, retries, the ticks
+# before a fault) would move. 500 ms is 7.5 times the worst measured round
+# trip; with max_failures = 3 it stays within the maps' 2 s silence bound.
+# What it costs: each dropped reply waits one timeout (RTU: one more to
+# drain the line).
+LINK_TIMEOUT_MS=500
+
+# test_map MAP [OUT]: a copy of MAP (in $WORK, or OUT) with the response
+# timeout LINK_TIMEOUT_MS and max_failures 3; prints its path.
+test_map() {
+	local out=${2:-$WORK/$(basename "$1" .ini)-test.ini}
+	sed -e "s/^timeout_ms = [0-9]*/timeout_ms = $LINK_TIMEOUT_MS/" \
+		-e 's/^max_failures = [0-9]*/max_failures = 3/' "$1" >"$out"
+	grep -q "^timeout_ms = $LINK_TIMEOUT_MS" "$out" && grep -q '^max_failures = 3' "$out" ||
+		{ echo "test_map: $1 has no timeout_ms or max_failures line" >&2; exit 1; }
+	echo "$out"
+}
+EXACT_MAP="${EXACT_MAP:-$(test_map "$DRIVES/popc-exact.ini")}"
 SRV_PID=
 SOCAT_PID=
 FAILS=0

@@ -292,83 +292,127 @@ check "  equal to the one-machine sweep" same_nowall "$T/mo/summary.csv" "$S"
 check "  the merged plan records both builds" grep -qx "also_built_by = popc $VERSION (build other-build-2)" "$T/mo/sweep.plan"
 check "  ... and its maker" grep -qx "popc_build = $BUILD_ID" "$T/mo/sweep.plan"
 
-# ---- SIGINT: stops, keeps a whole summary, a second run completes the sweep
-# 8000 runs of 5 s: about 1 s at -j 2 in the release build (5 s runs, not 2 s:
-# the first progress line comes at the first 250 ms look past 10 %, and with
-# 2 s runs the whole sweep took 0.4 s, so a loaded machine could finish it
-# before the signal landed; now 3/4 of it is still to run then)
-BIG=(--vary operator.speed=0.01:0.1:4000 --vary controller.variant=ref-energy,improved --set run.duration=5)
-mkfifo "$T/fifo"
-"$POPC" sweep "$SCENE" "${BIG[@]}" -o "$T/i" --no-log -j 2 2>"$T/fifo" &
-pid=$!
-exec 3<"$T/fifo"
-# wait for the first progress line (10 % done): the workers are running
-got=
-while IFS= read -r -t 60 -u 3 line; do
-  case $line in *"runs ("*) got=1; break ;; esac
-done
+# ---- a sweep caught in a run: SIGINT to the sweep, or SIGKILL or SIGTERM to
+# the worker that has the run in hand. Not timed: the runs follow operator
+# tables, one file each, and run 0010's table is a FIFO. The sweep's planner
+# reads it first (fed once); the worker that takes run 0010 then opens it
+# and the test's holder, opening the other end, returns only then: that
+# worker has run 0010 in hand. The holder writes nothing, so the worker
+# blocks reading until a signal interrupts the read (no byte read: EINTR),
+# and the holder goes only after the sweep has ended. So the signal always
+# lands in the middle of the sweep, with run 0010 in that worker's hand,
+# whatever the machine's speed. Three states are awaited by looking at /proc
+# (every 10 ms, 10 s at most; they come within microseconds): the planner
+# has closed the FIFO (it reads to the end of the feed, and a holder that
+# opened before would be a writer again and keep it waiting); the holder's
+# open returns when the worker's open meets it, before the worker's
+# descriptor exists, so the worker is found once it holds the FIFO; and the
+# signal is sent once the worker is blocked reading it (a signal that came
+# between its open and its read would leave it reading, stop flag set,
+# until the holder goes). (It was an 8000-run sweep signalled after
+# its first progress line in the hope that it was still going, and three
+# more run to the end: 187-313 s of the sanitized build.) Once the worker
+# has it open, the FIFO's path becomes a plain copy of the table: the run
+# made again (a retry, a resume) reads that.
+TAB=$T/tab
+mkdir -p "$TAB"
+printf 't,x_d\n0,-0.01\n0.1,-0.01\n0.5,0.004\n' > "$TAB/table.csv"
+tables=
+# (names relative to $TAB, where the sweeps run: a --vary list is bounded)
+for i in $(seq -w 0 19); do cp "$TAB/table.csv" "$TAB/$i.csv"; tables=$tables${tables:+,}$i.csv; done
+MID=(--set operator.intent=table --set run.duration=0.5 --vary "operator.table=$tables" --no-log)
+mid() { (cd "$TAB" && "$@"); }
+# holds PID PATH: process PID has PATH open
+holds() { local f; for f in /proc/$1/fd/*; do [ "$(readlink "$f" 2>/dev/null)" = "$2" ] && return 0; done; return 1; }
+# caught DIR JOBS [ENV...]: starts the MID sweep into DIR with -j JOBS
+# (stderr in $T/err) and returns once a worker has run 0010 in hand: sets
+# pid (the sweep), worker (its child reading the FIFO) and holder.
+caught() {
+  local dir=$1 jobs=$2 line c f; shift 2
+  rm -f "$TAB/10.csv" "$T/held"; mkfifo "$TAB/10.csv" "$T/held"
+  cd "$TAB" && { env "$@" "$POPC" sweep "$SCENE" "${MID[@]}" -o "$dir" -j "$jobs" 2>"$T/err" & }
+  pid=$!
+  cd - >/dev/null
+  # the planner's read (bounded: a sweep that never planned must not hang the test)
+  timeout 60 sh -c 'cat "$1" > "$2"' feed "$TAB/table.csv" "$TAB/10.csv"
+  local n=0
+  while holds "$pid" "$TAB/10.csv" && [ $((n += 1)) -le 1000 ]; do sleep 0.01; done
+  # the holder: opens the FIFO for writing (so returns once the worker has
+  # opened it), says so, writes nothing; for 60 s at most, so that a sweep
+  # that ignored its signal fails (an empty table) instead of hanging
+  bash -c 'exec 7>"$1"; echo open; exec sleep 60' holder "$TAB/10.csv" >"$T/held" &
+  holder=$!
+  worker= line=
+  read -r -t 60 line <"$T/held"
+  local fd=
+  n=0
+  while [ "$line" = open ] && [ -z "$worker" ] && [ $((n += 1)) -le 1000 ]; do
+    for c in $(cat /proc/$pid/task/*/children 2>/dev/null); do
+      for f in /proc/$c/fd/*; do
+        [ "$(readlink "$f" 2>/dev/null)" = "$TAB/10.csv" ] && { worker=$c; fd=${f##*/}; }
+      done
+    done
+    [ -n "$worker" ] || sleep 0.01
+  done
+  # blocked in a system call on that descriptor (its first argument): the read
+  n=0
+  while [ -n "$worker" ] && [ "$(cut -d' ' -f2 "/proc/$worker/syscall" 2>/dev/null)" != "$(printf '0x%x' "$fd")" ]; do
+    [ $((n += 1)) -le 1000 ] || { worker=; break; }
+    sleep 0.01
+  done
+  rm -f "$TAB/10.csv"; cp "$TAB/table.csv" "$TAB/10.csv"
+}
+# release: waits for the sweep (sets rc), then lets the holder go
+release() { wait "$pid"; rc=$?; pid=; kill "$holder" 2>/dev/null; wait "$holder" 2>/dev/null; }
+# failed_ids SUMMARY: the ids of the runs whose exit_status is not 0
+failed_ids() { awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+  $c["exit_status"] != 0 { printf "%s ", $1 }' "$1"; }
+id_col() { tail -n +2 "$1" | cut -d, -f1 | tr '\n' ' '; }
+expect_exit 0 "the uninterrupted reference sweep (20 tables)" mid "$POPC" sweep "$SCENE" "${MID[@]}" -o "$T/ref" -j 2 -q
+check "  20 rows, all succeeded" test "$(id_col "$T/ref/summary.csv"),$(failed_ids "$T/ref/summary.csv")" = "$(seq -f '%04g' -s ' ' 0 19) ,"
+
+# SIGINT to the sweep alone: it passes it on to its workers, stops, keeps a
+# whole summary; a second run completes the sweep
+caught "$T/i" 2
+check "SIGINT: a worker has run 0010 in hand (pid ${worker:-none})" test -n "$worker"
 kill -INT "$pid"
-cat <&3 > "$T/err"   # until the sweep and its workers have closed stderr
-exec 3<&-
-wait "$pid"; rc=$?
-pid=
-check "SIGINT after the first progress line (saw it: ${got:-no})" test -n "$got"
+release
 check "  exit 5 (got $rc)" test "$rc" -eq 5
 check "  says how to resume" err_has "run the same command again to resume"
 n_done=$(($(wc -l < "$T/i/summary.csv") - 1))
-check "  a whole summary of the finished runs ($n_done of 8000)" test "$n_done" -gt 0 -a "$n_done" -lt 8000
+check "  a whole summary of the finished runs ($n_done of 20)" test "$n_done" -gt 0 -a "$n_done" -lt 20
+check "  run 0010, interrupted, has no row" bash -c "! grep -q '^0010,' '$T/i/summary.csv'"
 check "  well formed" well_formed "$T/i/summary.csv"
 check "  no temporary files left" test -z "$(find "$T/i" -name '*.tmp.*')"
-expect_exit 0 "the same sweep again completes it" "$POPC" sweep "$SCENE" "${BIG[@]}" -o "$T/i" --no-log -j 2 -q
-check "  8000 rows" test "$(wc -l < "$T/i/summary.csv")" -eq 8001
-check "  each run once, in order" test "$(tail -n +2 "$T/i/summary.csv" | cut -d, -f1 | uniq | wc -l)" -eq 8000
-expect_exit 0 "the first 200 runs uninterrupted" "$POPC" sweep "$SCENE" "${BIG[@]}" --shard 1/40 -o "$T/ref" --no-log -q
-check "  equal rows in both" cmp -s <(nowall "$T/ref/summary-shard-1-of-40.csv" | tail -n +2) <(nowall "$T/i/summary.csv" | awk -F, 'NR > 1 && $1 % 40 == 0')
+expect_exit 0 "the same sweep again completes it" mid "$POPC" sweep "$SCENE" "${MID[@]}" -o "$T/i" -j 2 -q
+check "  20 rows, each run once, in order" test "$(id_col "$T/i/summary.csv")" = "$(id_col "$T/ref/summary.csv")"
+check "  equal to the uninterrupted sweep (but wall time)" same_nowall "$T/i/summary.csv" "$T/ref/summary.csv"
 
 # ---- a worker that dies: its run is recorded as failed, the sweep goes on
-# Starts the BIG sweep into $1 with -j $2, sends signal $3 to one worker (a
-# child of the sweep, found by parent pid, not by name) after the first
-# progress line, and waits for the sweep: sets rc, worker, and $T/err.
-kill_a_worker() {
-  local dir=$1 jobs=$2 sig=$3 line
-  rm -f "$T/fifo2"; mkfifo "$T/fifo2"
-  "$POPC" sweep "$SCENE" "${BIG[@]}" -o "$dir" --no-log -j "$jobs" 2>"$T/fifo2" &
-  pid=$!
-  exec 3<"$T/fifo2"
-  got=
-  while IFS= read -r -t 60 -u 3 line; do
-    case $line in *"runs ("*) got=1; break ;; esac
-  done
-  worker=$(cut -d' ' -f1 "/proc/$pid/task/$pid/children" 2>/dev/null)
-  [ -n "$worker" ] && kill "-$sig" "$worker"
-  cat <&3 > "$T/err"
-  exec 3<&-
-  wait "$pid"; rc=$?
-  pid=
-}
-n_failed() { tail -n +2 "$1" | awk -F, '$4 != 0' | wc -l; }
 # SIGKILL (as the OOM killer): a sanitizer build turns SIGSEGV into exit 1
-kill_a_worker "$T/k" 2 KILL
-check "a worker killed by SIGKILL (pid ${worker:-none})" test -n "$worker"
+caught "$T/k" 2
+check "a worker killed by SIGKILL with run 0010 in hand (pid ${worker:-none})" test -n "$worker"
+[ -n "$worker" ] && kill -KILL "$worker"
+release
 check "  names the signal" err_has "died of signal 9"
-# the run it had in hand failed (exit 1), or none when the signal fell between
-# runs: then a run it had just taken runs again and all succeed (exit 0)
-nf=$(n_failed "$T/k/summary.csv")
-check "  at most one failed run ($nf), every run has a row" test "$nf" -le 1 -a "$(wc -l < "$T/k/summary.csv")" -eq 8001
-check "  exit 1 with the failed run, else 0 (got $rc)" test "$rc" -eq "$((nf > 0 ? 1 : 0))"
-expect_exit 0 "again: the crashed run is retried" "$POPC" sweep "$SCENE" "${BIG[@]}" -o "$T/k" --no-log -j 2 -q
-check "  all 8000 succeeded" test "$(tail -n +2 "$T/k/summary.csv" | awk -F, '$4 == 0' | wc -l)" -eq 8000
+check "  exactly run 0010 failed (failed: $(failed_ids "$T/k/summary.csv"))" test "$(failed_ids "$T/k/summary.csv")" = "0010 "
+check "  every run has a row" test "$(id_col "$T/k/summary.csv")" = "$(id_col "$T/ref/summary.csv")"
+check "  exit 1 (got $rc)" test "$rc" -eq 1
+expect_exit 0 "again: the crashed run is retried" mid "$POPC" sweep "$SCENE" "${MID[@]}" -o "$T/k" -j 2 -q
+check "  all 20 succeeded, as in the uninterrupted sweep" same_nowall "$T/k/summary.csv" "$T/ref/summary.csv"
 
 # SIGTERM to one worker, not the sweep: it stops its run unrecorded and ends;
-# a new worker takes over, and the dropped run runs again. With -j 1 the
-# sweep would otherwise have no worker left.
+# a new worker takes over the runs after 0010, and 0010 runs again at the
+# end. With -j 1 the sweep would otherwise have no worker left.
 for j in 1 2; do
-  kill_a_worker "$T/t$j" $j TERM
-  check "-j $j: a worker sent SIGTERM alone (pid ${worker:-none})" test -n "$worker"
+  caught "$T/t$j" $j
+  check "-j $j: a worker sent SIGTERM alone with run 0010 in hand (pid ${worker:-none})" test -n "$worker"
+  [ -n "$worker" ] && kill -TERM "$worker"
+  release
   check "  the sweep completes, exit 0 (got $rc)" test "$rc" -eq 0
   check "  says a new worker took over" err_has "stopped by a signal sent to it alone"
-  check "  every run has a row, once" test "$(tail -n +2 "$T/t$j/summary.csv" | cut -d, -f1 | uniq | wc -l)" -eq 8000
-  check "  all succeeded" test "$(n_failed "$T/t$j/summary.csv")" -eq 0
+  check "  ... and that run 0010 runs again" err_has "1 run taken by a worker that stopped before recording it: running it again"
+  check "  every run has a row, once, all as in the uninterrupted sweep" same_nowall "$T/t$j/summary.csv" "$T/ref/summary.csv"
 done
 
 # A worker that dies between taking a run and saying so in its slot (the test

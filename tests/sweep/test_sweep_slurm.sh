@@ -29,15 +29,47 @@ for prog in munged slurmctld slurmd sbatch sinfo scontrol; do
 done
 [ "$(id -u)" -eq 0 ] || skip "a test cluster with SlurmUser=root needs root"
 
-# two free TCP ports: not in /proc/net/tcp{,6} as a local port
-used=$(awk 'NR > 1 { split($2, a, ":"); print strtonum("0x" a[2]) }' /proc/net/tcp /proc/net/tcp6 2>/dev/null | sort -u)
+# two free TCP ports: ones this test can bind (python3 binds each on the
+# wildcard address, IPv4 and IPv6, and lets it go), and below the kernel's
+# ephemeral range, so that no test running beside this one (a
+# popc-servo-sim on port 0, a client's connect) can be given one of them
+# between this check and the daemons' bind. (It read /proc/net/tcp with
+# gawk's strtonum, which mawk lacks: every port looked free.)
+eph_lo=$(cut -f1 /proc/sys/net/ipv4/ip_local_port_range 2>/dev/null || echo 32768)
+[ "${eph_lo:-0}" -gt 12000 ] 2>/dev/null || eph_lo=32768
+# free_port [NOT]: a port in [10000, eph_lo) that binds, other than NOT
 free_port() {
-  local p
-  for p in $(seq $((20000 + RANDOM % 20000)) 60000); do
-    if ! grep -qx "$p" <<<"$used" && [ "$p" != "${1:-}" ]; then echo "$p"; return; fi
-  done
+  python3 - "$eph_lo" "${1:-0}" <<'PY'
+import random, socket, sys
+eph_lo, avoid = int(sys.argv[1]), int(sys.argv[2])
+start = random.randrange(10000, eph_lo - 1000)
+for p in list(range(start, eph_lo)) + list(range(10000, start)):
+    if p == avoid:
+        continue
+    try:
+        for fam, addr in ((socket.AF_INET, "0.0.0.0"), (socket.AF_INET6, "::")):
+            try:
+                s = socket.socket(fam, socket.SOCK_STREAM)
+                if fam == socket.AF_INET6:
+                    s.setsockopt(socket.IPPROTO_IPV6, socket.IPV6_V6ONLY, 1)
+            except OSError:
+                continue  # no IPv6 here
+            with s:
+                try:
+                    s.bind((addr, p))
+                except OSError as e:
+                    # 99: EADDRNOTAVAIL, IPv6 off; any other error: the port is taken
+                    if fam == socket.AF_INET6 and e.errno == 99:
+                        continue
+                    raise
+    except OSError:
+        continue
+    print(p)
+    sys.exit(0)
+sys.exit(1)
+PY
 }
-P1=$(free_port); P2=$(free_port "$P1")
+P1=$(free_port) && P2=$(free_port "$P1") || fail "no free TCP port below $eph_lo"
 
 # munge with its own key and socket
 dd if=/dev/urandom of="$T/munge.key" bs=1024 count=1 status=none
@@ -99,13 +131,27 @@ done
 ok "single-node Slurm up (ports $P1, $P2)"
 
 VARY=(--vary operator.speed=0.02:0.08:4 --vary controller.variant=none,ref-energy,improved)
-# the array: two shards, one CPU each, side by side on the 2-CPU node
-timeout 90 sbatch --wait --array=1-2 --cpus-per-task=1 --output="$T/job-%a.out" \
+# the array: two shards, one CPU each, side by side on the 2-CPU node. Its
+# end is awaited by asking the controller for the tasks' states (bounded:
+# 90 s), not with sbatch --wait, which looks after 2 s and then only every
+# 8 s: the 1-second job took 10 s of this test that way.
+timeout 30 sbatch --parsable --array=1-2 --cpus-per-task=1 --output="$T/job-%a.out" \
   --chdir="$T" --export=ALL,POPC="$POPC" \
   "$SBATCH_SCRIPT" "$SCENE" "${VARY[@]}" -o "$T/out" --no-log >"$T/sbatch.txt" 2>&1
 rc=$?
-[ "$rc" -eq 0 ] || fail "sbatch --wait --array=1-2: exit $rc: $(cat "$T/sbatch.txt")"
-ok "array job done: $(head -1 "$T/sbatch.txt")"
+job=$(head -1 "$T/sbatch.txt" | cut -d';' -f1)
+[ "$rc" -eq 0 ] && [ -n "$job" ] || fail "sbatch --array=1-2: exit $rc: $(cat "$T/sbatch.txt")"
+# task_states: one "JobState ExitCode" line per array task
+task_states() { scontrol -o show job "$job" 2>/dev/null | sed -n 's/.* JobState=\([A-Z_]*\) .* ExitCode=\([0-9:]*\) .*/\1 \2/p'; }
+done_=
+for _ in $(seq 450); do
+  st=$(task_states)
+  if [ "$(echo "$st" | grep -c .)" -eq 2 ] && ! echo "$st" | grep -Eq '^(PENDING|RUNNING|CONFIGURING|COMPLETING|SUSPENDED|REQUEUED|RESIZING)'; then done_=1; break; fi
+  sleep 0.2
+done
+[ -n "$done_" ] || fail "array job $job not finished in 90 s: $(task_states | tr '\n' ' ')"
+[ "$(task_states | sort -u)" = "COMPLETED 0:0" ] || fail "array job $job: tasks ended $(task_states | tr '\n' ' ')"
+ok "array job $job done: both tasks COMPLETED, exit 0"
 [ -s "$T/out/summary-shard-1-of-2.csv" ] && [ -s "$T/out/summary-shard-2-of-2.csv" ] || fail "the two shard summaries (1-of-2, 2-of-2) are missing"
 ok "both array tasks wrote their shard"
 "$POPC" sweep merge "$T/out" >"$T/merge.txt" 2>&1 || fail "merge: $(cat "$T/merge.txt")"
