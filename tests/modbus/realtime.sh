@@ -46,7 +46,10 @@ cat "$WORK/rt.err"
 for what in 'period dt' 'latency rtt'; do
 	line=$(grep "^  $what: " "$WORK/rt.err") || { fail "no '$what' statistics"; continue; }
 	echo "$line" | awk '{
-		for (i = 1; i <= NF; i++) { k = $i; sub(/,$/, "", $(i + 1)); v[k] = $(i + 1) + 0 }
+		# the value of each word is the next word, less a trailing comma; copied, not
+		# edited in place: assigning $(NF + 1) adds a field, and with i <= NF
+		# the loop never ended under gawk
+		for (i = 1; i < NF; i++) { val = $(i + 1); sub(/,$/, "", val); v[$i] = val + 0 }
 		ok = v["p50"] > 0 && v["p50"] <= v["p99"] && v["p99"] <= v["p99.9"] && v["p99.9"] <= v["max"] &&
 		     v["mean"] > 0 && v["mean"] <= v["max"]
 		exit !ok }' || fail "inconsistent statistics: $line"

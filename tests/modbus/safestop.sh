@@ -11,9 +11,13 @@
 # not say that the drive may still be enabled.
 #   safestop.sh SERVO_SIM
 #
-# Requests with data/drives/popc-exact.ini over 0.5 s: 1-5 start, 6-505 the
-# exchanges that bring ticks 1-500, 506 the safe stop's zero force (then its
-# retries), then the disable word.
+# The faults hit commands (popc-servo-sim's cC[+K], as in faults.sh), so
+# that they land on the same tick however many transactions were retried
+# before: over 0.5 s command 1 is the start's zero force, commands 2-501 the
+# exchanges that bring ticks 1-500, command 502 the safe stop's zero force
+# (its retries repeat it), and the request after it the disable word. The
+# map is the tests' copy with a 500 ms response timeout (lib.sh). (By
+# request number, 506, a timeout retry earlier in the run moved the fault.)
 . "$(dirname "$0")/lib.sh"
 DUR=0.5
 LISTEN="tcp:127.0.0.1:0"
@@ -48,15 +52,15 @@ stop_case() {
 # 1. the run completes; no reply to the safe stop's writes
 stop_case completed 4 \
 	'^# stop = safe stop incomplete: zero force not confirmed: .*3 failed transactions in a row.*; disable not confirmed: .*3 failed transactions in a row' \
-	501 "--drop 506,100"
+	501 "--drop c502,100"
 # 2. the run completes; the zero force is confirmed, the disable word is not
-stop_case disable 4 '^# stop = safe stop incomplete: disable not confirmed: ' 501 "--drop 507,100"
+stop_case disable 4 '^# stop = safe stop incomplete: disable not confirmed: ' 501 "--drop c502+1,100"
 # 3. a safety stop, and then no reply to the safe stop
 stop_case safety 3 \
 	'^# stop = safety stop: drive fault: .*; safe stop incomplete: zero force not confirmed: .*; disable not confirmed: ' \
-	295 "--fault-at 300 --drop 301,100"
+	295 "--fault-at c296 --drop c296+1,100"
 # 4. communication lost, and the safe stop unconfirmed as well
 stop_case lost 4 \
 	'^# stop = communication lost: .*; safe stop incomplete: zero force not confirmed: ' \
-	295 "--drop 300,1000"
+	295 "--drop c296,1000"
 finish

@@ -35,6 +35,13 @@ for opt in --drop --duplicate --reorder --corrupt-crc --wrong-unit --wrong-tid -
 	refused $opt "1,0"
 	refused $opt "1,2,3"
 	accepted $opt "1000000000000000,1000000000000000"
+	# AT by command (cC[+K]): C and K within the same 10^15
+	refused $opt "c0"
+	refused $opt "c1000000000000001"
+	refused $opt "c1+1000000000000001"
+	refused $opt "c5++1"
+	refused $opt "c5+"
+	accepted $opt "c1000000000000000+1000000000000000,1000000000000000"
 done
 refused --delay "1,86400001"                # t + MS * 10^6 ns
 refused --delay "1,$MAXL"

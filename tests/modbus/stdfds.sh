@@ -7,13 +7,14 @@
 # malformed frames it receives (a client must send none).
 #   stdfds.sh SERVO_SIM POPC_ANALYZE
 #
-# Requests with data/drives/popc-exact.ini: 1 status read, 2 zero command,
-# 3 enable, 4 ready poll, 5 position read (tick 0), n >= 6 the exchange that
-# brings tick n - 5.
+# The faults hit command C (popc-servo-sim's cC[+K], as in faults.sh):
+# command 1 is the start's zero force, command c >= 2 the exchange that
+# brings tick c - 1, however many transactions were retried before it; the
+# map is the tests' copy with a 500 ms response timeout (lib.sh).
 . "$(dirname "$0")/lib.sh"
 ANALYZE=$2
 DUR=0.5
-N=300
+C=296 # the exchange that brings tick 295
 LISTEN="tcp:127.0.0.1:0"
 
 # served_cleanly NAME: the server's exit report says 0 malformed frames
@@ -25,11 +26,11 @@ served_cleanly() {
 }
 
 # 1. stderr closed, and a reconnect (the server closes the connection after
-#    request N): the connection took descriptor 2, and the note 'reconnected
+#    command C's request): the connection took descriptor 2, and the note 'reconnected
 #    to ...' went into the new connection. The log goes to stdout, so that no
 #    file opens before the connection.
 start_server --map "$EXACT_MAP" --listen "$LISTEN" --scene "$SCENE" --lockstep \
-	--close-after $N --record "$WORK/rec-close.txt"
+	--close-after c$C --record "$WORK/rec-close.txt"
 rc=0
 "$POPC" run "$SCENE" --set run.duration=$DUR --axis modbus --map "$EXACT_MAP" \
 	--connect "$SRV_URI" --free-run --log - >"$WORK/close.csv" 2>&- || rc=$?
@@ -56,7 +57,7 @@ check_last_writes "$WORK/rec-rt.txt" 0x0000
 # 3. --log FILE with stderr closed: the log took descriptor 2 and began with a
 #    popc message; the analyser refused it
 start_server --map "$EXACT_MAP" --listen "$LISTEN" --scene "$SCENE" --lockstep \
-	--close-after $N --record "$WORK/rec-logfile.txt"
+	--close-after c$C --record "$WORK/rec-logfile.txt"
 rc=0
 "$POPC" run "$SCENE" --set run.duration=$DUR --axis modbus --map "$EXACT_MAP" \
 	--connect "$SRV_URI" --free-run --log "$WORK/logfile.csv" 2>&- || rc=$?
@@ -91,11 +92,11 @@ done
 # 5. popc-servo-sim with stderr closed: its socket pair for building replies
 #    took descriptor 2, so its note on the injected fault became the next
 #    reply popc received (a failed transaction in the safe stop). Requests
-#    N + 1.. (the safe stop) are answered through that pair (--duplicate).
+#    after it (the safe stop) are answered through that pair (--duplicate).
 rm -f "$WORK/srv.fifo"
 mkfifo "$WORK/srv.fifo"
-"$SIM" --map "$EXACT_MAP" --listen "$LISTEN" --scene "$SCENE" --lockstep --fault-at $N \
-	--duplicate $((N + 1)),100 --record "$WORK/rec-simerr.txt" >"$WORK/srv.fifo" 2>&- &
+"$SIM" --map "$EXACT_MAP" --listen "$LISTEN" --scene "$SCENE" --lockstep --fault-at c$C \
+	--duplicate c$C+1,100 --record "$WORK/rec-simerr.txt" >"$WORK/srv.fifo" 2>&- &
 SRV_PID=$!
 exec 3<"$WORK/srv.fifo"
 read -r -t 10 -u 3 line || { fail "simerr: popc-servo-sim did not get ready"; finish; }
