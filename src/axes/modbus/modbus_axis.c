@@ -219,6 +219,19 @@ static int get16(const uint8_t *p)
 	return p[0] << 8 | p[1];
 }
 
+/* The command registers' write part of an FC16 or FC23 request: first
+ * address, quantity, byte count, the words (Modbus Application Protocol
+ * V1.1b3, 6.12 and 6.17); returns its length. */
+static int put_command_block(const mb_axis *a, const mb_op *op, uint8_t *p)
+{
+	int n = put16(p, a->cmd_first);
+	n += put16(p + n, a->cmd_n);
+	p[n++] = (uint8_t)(2 * a->cmd_n);
+	for (int i = 0; i < a->cmd_n; i++)
+		n += put16(p + n, op->words[i]);
+	return n;
+}
+
 /* The request PDU of op (function code first); returns its length. */
 static int build_pdu(const mb_axis *a, const mb_op *op, uint8_t *pdu)
 {
@@ -243,21 +256,13 @@ static int build_pdu(const mb_axis *a, const mb_op *op, uint8_t *pdu)
 			break;
 		}
 		pdu[n++] = MODBUS_FC_WRITE_MULTIPLE_REGISTERS;
-		n += put16(pdu + n, a->cmd_first);
-		n += put16(pdu + n, a->cmd_n);
-		pdu[n++] = (uint8_t)(2 * a->cmd_n);
-		for (int i = 0; i < a->cmd_n; i++)
-			n += put16(pdu + n, op->words[i]);
+		n += put_command_block(a, op, pdu + n);
 		break;
 	case OP_WRITE_AND_READ:
 		pdu[n++] = MODBUS_FC_WRITE_AND_READ_REGISTERS;
 		n += put16(pdu + n, a->blk_reg);
 		n += put16(pdu + n, a->blk_n);
-		n += put16(pdu + n, a->cmd_first);
-		n += put16(pdu + n, a->cmd_n);
-		pdu[n++] = (uint8_t)(2 * a->cmd_n);
-		for (int i = 0; i < a->cmd_n; i++)
-			n += put16(pdu + n, op->words[i]);
+		n += put_command_block(a, op, pdu + n);
 		break;
 	case OP_WRITE_ENABLE:
 		if (m->enable.table == POPC_TABLE_COIL) {
