@@ -58,8 +58,8 @@ command -v git >/dev/null && git -C "$top" rev-parse --git-dir >/dev/null 2>&1 |
   { say "FAIL: $top is not a git checkout (the copy into the root is made with git archive)"; exit 1; }
 if ! command -v debootstrap >/dev/null; then
   say "debootstrap is missing: apt-get install debootstrap"
-  { DEBIAN_FRONTEND=noninteractive apt-get update -qq &&
-    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends debootstrap; } </dev/null >/tmp/$me-apt.$$ 2>&1
+  { DEBIAN_FRONTEND=noninteractive apt-get -o DPkg::Lock::Timeout=600 update -qq &&
+    DEBIAN_FRONTEND=noninteractive apt-get -o DPkg::Lock::Timeout=600 install -y -qq --no-install-recommends debootstrap; } </dev/null >/tmp/$me-apt.$$ 2>&1
   command -v debootstrap >/dev/null || { cat /tmp/$me-apt.$$; rm -f /tmp/$me-apt.$$; skip "debootstrap is not installed and apt-get could not install it"; }
   rm -f /tmp/$me-apt.$$
 fi

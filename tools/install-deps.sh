@@ -71,5 +71,8 @@ run() {
   echo "popc: install-deps: '$*' failed (exit $rc)" >&2
   exit 1
 }
-run $SUDO apt-get update -qq
-run $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+# another apt (an unattended upgrade, a second install-deps) may hold dpkg's
+# lock: wait for it (up to 10 minutes) instead of failing at once
+lock=(-o DPkg::Lock::Timeout=600)
+run $SUDO apt-get "${lock[@]}" update -qq
+run $SUDO apt-get "${lock[@]}" install -y -qq --no-install-recommends "${missing[@]}"
