@@ -376,6 +376,7 @@ static int energy_growth(sim_axis *s, long long j, double x_before, double f_c_N
 	return made > ENERGY_SURPLUS_MAX * (held + s->energy_floor_J) && isfinite(made);
 }
 
+POPC_FLOOR_CLONES
 static int sim_exchange(popc_axis *a, double f_c_N, popc_axis_sample *next, popc_error *err)
 {
 	sim_axis *s = a->priv;

@@ -12,8 +12,9 @@
  * implementation could show.
  *
  * It is not a second controller: it applies to the scenes the paper's loop
- * covers (exact integrator; variants none, po-pc, ref-energy; affine operator
- * intents with their breakpoints on ticks; no axis force limit) and its
+ * covers (exact integrator; every variant but filtered-velocity, Table I's
+ * ignore and hold with either Prev_fc reading; affine operator intents with
+ * their breakpoints on ticks; no axis force limit) and its
  * command sequence is checked bitwise against the real loop's before it is
  * timed (the operations are those of popc_controller_step and the sim axis'
  * exact hot path, in the same order). */
@@ -37,6 +38,7 @@ typedef struct fused_scene {
 	popc_intent intent;
 	popc_environment env;
 	popc_variant variant;
+	popc_ignore_mode ignore_mode;
 	double period_s, delta_m, pc_bound_N, tol_s, x0_m;
 	long long n_ticks;
 } fused_scene;
@@ -60,9 +62,8 @@ static int applies(const popc_scene *s, const char **why)
 {
 	if (s->integrator != POPC_INTEGRATOR_EXACT)
 		*why = "only the exact integrator";
-	else if (s->variant != POPC_VARIANT_NONE && s->variant != POPC_VARIANT_PO_PC &&
-		 s->variant != POPC_VARIANT_REF_ENERGY)
-		*why = "only the variants none, po-pc and ref-energy";
+	else if (s->variant == POPC_VARIANT_FILTERED_VELOCITY)
+		*why = "every variant but filtered-velocity (its FOAW estimator is a loop of its own)";
 	else if (s->intent == POPC_INTENT_SINE)
 		*why = "only affine operator intents (ramp, force, table)";
 	else
@@ -74,19 +75,30 @@ static int applies(const popc_scene *s, const char **why)
  * with ref[k] bit for bit and returns the first tick that differs (or the
  * number of commands when all agree); ref == NULL: returns the number of
  * commands. -1: a breakpoint of the intent inside a period (not covered). */
+/* cloned like the sim axis' exchange: the same floor instruction in both */
+POPC_FLOOR_CLONES
 static long long run_chain(fused_scene *f, const double *ref, double *x_end)
 {
 	const double T = f->period_s, delta = f->delta_m, bound = f->pc_bound_N;
 	const popc_plant_step_coeffs *c = &f->plant.full;
+	const popc_variant var = f->variant;
+	/* Table I's two halves: ignore the energy of one-count reversals, hold
+	 * f_pc while no count moves */
+	const int ignore = var == POPC_VARIANT_IGNORE || var == POPC_VARIANT_IMPROVED;
+	const int hold = var == POPC_VARIANT_HOLD || var == POPC_VARIANT_IMPROVED;
+	const int literal = f->ignore_mode == POPC_IGNORE_LITERAL;
 	popc_intent_segment g = {0};
 	popc_plant_state st = {f->x0_m, 0.0};
-	double x_prev = 0.0, f_e_prev = 0.0, f_c_prev = 0.0;
+	double x_prev = 0.0, f_e_prev = 0.0, f_c_prev = 0.0, f_pc_prev = 0.0;
+	double prev_fc = 0.0, prev_dx = 0.0;
+	long long count_prev = 0, prev_dcount = 0;
 	double W = 0.0, W_sum = 0.0, W_comp = 0.0, E = 0.0, E_sum = 0.0, E_comp = 0.0;
 	long long k;
 	for (k = 0; k + 1 < f->n_ticks; k++) {
 		/* sample: the encoder's count and the measured position */
-		double xm = popc_encoder_position((long long)floor(st.x_m / delta), delta);
-		double f_e, f_c;
+		long long count = (long long)floor(st.x_m / delta);
+		double xm = popc_encoder_position(count, delta);
+		double f_e, f_c, f_pc = 0.0;
 		if (k == 0) {
 			/* tick 0: v = 0, W(0) = E_ref(0) = 0, no PC */
 			f_e = popc_environment_force(&f->env, xm, 0.0);
@@ -95,21 +107,33 @@ static long long run_chain(fused_scene *f, const double *ref, double *x_end)
 			double v = (xm - x_prev) / T;
 			f_e = popc_environment_force(&f->env, xm, v);
 			double dx = xm - x_prev;
+			long long dcount = count - count_prev;
 			E = popc_compensated_add(&E_sum, &E_comp, (f_e + f_e_prev) * dx / 2.0);
-			W = popc_compensated_add(&W_sum, &W_comp, f_c_prev * dx);
-			double thr = f->variant == POPC_VARIANT_REF_ENERGY ? E : 0.0;
-			double f_pc = 0.0;
-			if (f->variant != POPC_VARIANT_NONE && W < thr && dx != 0.0)
+			if (ignore && dcount != 0 && dcount == -prev_dcount && (dcount == 1 || dcount == -1))
+				W = popc_compensated_add(&W_sum, &W_comp, -(prev_fc * prev_dx));
+			else
+				W = popc_compensated_add(&W_sum, &W_comp, f_c_prev * dx);
+			double thr = var == POPC_VARIANT_PO_PC ? 0.0 : E;
+			if (hold && dcount == 0)
+				f_pc = f_pc_prev;
+			else if (var != POPC_VARIANT_NONE && W < thr && dx != 0.0)
 				f_pc = (thr - W) / dx;
 			if (f_pc > bound)
 				f_pc = bound;
 			else if (f_pc < -bound)
 				f_pc = -bound;
 			f_c = f_e + f_pc;
+			if (ignore && dcount != 0) {
+				prev_fc = literal ? f_e : f_c_prev;
+				prev_dx = dx;
+				prev_dcount = dcount;
+			}
 		}
 		x_prev = xm;
+		count_prev = count;
 		f_e_prev = f_e;
 		f_c_prev = f_c;
+		f_pc_prev = f_pc;
 		if (ref && memcmp(&ref[k], &f_c, sizeof f_c) != 0)
 			break;
 		/* the plant over the period, f_c held, from the intent's segment */
@@ -142,6 +166,7 @@ int popc_bench_tick_floor(const popc_scene *s, const double *f_c_ref, long long 
 		return st;
 	popc_environment_from_scene(&f.env, s);
 	f.variant = s->variant;
+	f.ignore_mode = s->ignore_mode;
 	f.period_s = popc_scene_period_s(s);
 	f.delta_m = s->enc_resolution_m;
 	f.pc_bound_N = s->pc_bound_N;
@@ -167,9 +192,9 @@ int popc_bench_tick_floor(const popc_scene *s, const double *f_c_ref, long long 
 		double wall = 0.0, sink = 0.0;
 		long long ticks = 0;
 		do {
-			double t0 = popc_now_s();
+			double t0 = popc_thread_cpu_s();
 			ticks += run_chain(&f, NULL, &x_end) + 1;
-			wall += popc_now_s() - t0;
+			wall += popc_thread_cpu_s() - t0;
 			sink += x_end;
 		} while (wall < min_time_s);
 		if (isfinite(sink) && 1e9 * wall / (double)ticks < best)

@@ -28,4 +28,14 @@ static inline double popc_now_s(void)
 	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* CPU seconds this thread has run (CLOCK_THREAD_CPUTIME_ID): the clock of
+ * the compute benchmarks, which then measure the work and not the time the
+ * scheduler gave to other processes on a shared machine. */
+static inline double popc_thread_cpu_s(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
 #endif
