@@ -63,17 +63,19 @@ check "  exact's ticks per second" grep -q "^exact_ticks_per_s," "$T/out"
 # the tick's dependency chain (src/cli/bench_floor.c) is timed only when its
 # commands equal the real loop's bit for bit: for each variant it covers, on
 # the wall and on the spring
-for v in none po-pc ref-energy; do
+for v in none po-pc ref-energy ignore hold improved; do
   for e in wall spring; do
-    expect_exit 0 "bench loop, chain of $v on a $e" "$POPC" bench loop --format csv --min-time 0 \
-      --repeat 1 --set controller.variant=$v --set environment.kind=$e
-    check "  its commands equal the loop's" grep -qx "chain_commands_equal,1,," "$T/out"
-    check "  and it is timed" grep -Eq "^chain_floor_ns_per_tick,[0-9.e+-]+,[0-9.e+-]+,[0-9.e+-]+$" "$T/out"
+    for m in literal undo; do
+      expect_exit 0 "bench loop, chain of $v ($m) on a $e" "$POPC" bench loop --format csv --min-time 0 \
+        --repeat 1 --set controller.variant=$v --set environment.kind=$e --set controller.ignore_mode=$m
+      check "  its commands equal the loop's" grep -qx "chain_commands_equal,1,," "$T/out"
+      check "  and it is timed" grep -Eq "^chain_floor_ns_per_tick,[0-9.e+-]+,[0-9.e+-]+,[0-9.e+-]+$" "$T/out"
+    done
   done
 done
 expect_exit 0 "bench loop, a variant the chain does not cover" "$POPC" bench loop --min-time 0 \
-  --repeat 1 --set controller.variant=hold
-check "  says why it is not measured" grep -q "not measured for this scene (only the variants" "$T/out"
+  --repeat 1 --set controller.variant=filtered-velocity
+check "  says why it is not measured" grep -q "not measured for this scene (every variant but filtered-velocity" "$T/out"
 
 expect_exit 0 "bench log, CSV" "$POPC" bench log --format csv --rows 5000 --repeat 1 --dir "$T"
 check "  recompute from the log is bitwise" grep -qx "recompute_bitwise,1,," "$T/out"
