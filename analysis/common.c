@@ -671,9 +671,10 @@ int ana_log_next(ana_log *l, ana_row *out, popc_error *err)
 				"%s:%lld: column %d (t): uneven time steps: the step from line %lld (t = "
 				"%.17g) is %.17g s, %.3g %% off the period %.17g s (the first step, "
 				"lines %lld-%lld; the log gives no rate), more than %g %%. The analysis "
-				"uses one period T: resample the log, or give --set run.rate=HZ if the "
-				"device ran at a fixed rate and only its time stamps are uneven (energy: "
-				"--allow-uneven for the observers that do not use T)",
+				"uses one period T: resample the log, or give --set run.rate=HZ and "
+				"--jitter FRACTION if the device ran at a fixed rate and only its time "
+				"stamps are uneven (energy: --allow-uneven for the observers that do not "
+				"use T)",
 				l->r.path, line, l->c_t + 1, l->t_prev_line, l->t_prev_s, step,
 				100.0 * fabs(step - T) / T, T, l->ahead_line[0], l->ahead_line[1],
 				100.0 * ANA_PERIOD_REL_TOL);
