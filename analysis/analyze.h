@@ -157,7 +157,9 @@ typedef struct ana_log {
 	 * more than jitter T is refused naming its line */
 	double jitter;
 	int check_jitter;
-	double max_jitter;        /* the largest |step - T| / T seen */
+	double max_jitter;        /* the largest |step - T| / T seen, noted at the end */
+	long long max_jitter_line;
+	int quiet;                /* -q: no notes */
 	double t_prev_s;          /* the previous row's time, for the step check */
 	long long t_prev_line;
 	/* column indices, -1 when the file lacks them: c_t, c_x, ... c_rtt, one

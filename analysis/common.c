@@ -546,6 +546,7 @@ int ana_log_open(ana_log *l, const char *path, const ana_input_options *o, popc_
 	l->allow_uneven = o->allow_uneven;
 	l->jitter = o->jitter;
 	l->check_jitter = o->jitter > 0.0;
+	l->quiet = o->quiet;
 	popc_variant v;
 	popc_ignore_mode m;
 	ana_online_observer(&l->scene, &v, &m);
@@ -610,6 +611,19 @@ static void note_unfinished(ana_log *l)
 		l->verb ? l->verb : "analyze", l->r.path, cut, l->r.rows, l->r.last_row_line);
 }
 
+/* Under --jitter, what the stamps measured: a tolerance much wider than the
+ * jitter hides nothing, but the user should see how close a log came. */
+static void note_jitter(const ana_log *l)
+{
+	if (l->jitter <= 0.0 || l->quiet || l->k < 2)
+		return;
+	fprintf(stderr,
+		"popc-analyze %s: note: %s: the time steps are within %.3g %% of the nominal period "
+		"%g s (the largest at line %lld; --jitter %g allows %g %%)\n",
+		l->verb ? l->verb : "analyze", l->r.path, 100.0 * l->max_jitter, l->period_s,
+		l->max_jitter_line, l->jitter, 100.0 * l->jitter);
+}
+
 int ana_log_next(ana_log *l, ana_row *out, popc_error *err)
 {
 	const double *row;
@@ -620,8 +634,10 @@ int ana_log_next(ana_log *l, ana_row *out, popc_error *err)
 		row = l->ahead[l->ahead_pos++];
 	} else {
 		int got = popc_log_reader_next(&l->r, l->row, err);
-		if (got == 0 && !l->unfinished)
+		if (got == 0 && !l->unfinished) {
 			note_unfinished(l);
+			note_jitter(l);
+		}
 		if (got <= 0)
 			return got;
 		line = l->r.lineno;
@@ -657,8 +673,10 @@ int ana_log_next(ana_log *l, ana_row *out, popc_error *err)
 				l->r.path, line, l->c_t + 1, l->t_prev_line, l->t_prev_s, step,
 				100.0 * off, T, l->jitter, 100.0 * l->jitter,
 				l->verb ? l->verb : "the analysis");
-		if (off > l->max_jitter)
+		if (off > l->max_jitter) {
 			l->max_jitter = off;
+			l->max_jitter_line = line;
+		}
 		out->step_s = step;
 	}
 	if (l->period_from_time && !l->allow_uneven && l->k > 0) {
