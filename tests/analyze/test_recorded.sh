@@ -232,6 +232,12 @@ awk 'NR == 40 { $6 = "" } { print }' "$R/phantom.txt" >"$W/ph-short.txt"
 expect_rc 2 "$A" compare $PH --set run.rate=1000 "$W/ph-short.txt" &&
 	grep -q "ph-short.txt:40: 5 cells, expected 6 (short row)" "$W/err" &&
 	ok "a short headerless row: file, line" || fail "short row: $(cat "$W/err")"
+# a step no double can divide by (subnormal): energy does not check the
+# tolerance, but v = dx/dt would be inf: refused, named
+printf 't,x,f_c\n0,0,0\n5e-324,1e-5,1\n0.001,2e-5,1\n' >"$W/tiny.csv"
+expect_rc 2 "$A" energy --set run.rate=1000 --jitter 0.5 "$W/tiny.csv" &&
+	grep -q "tiny.csv:3: column 1 (t): the time step from line 2, 4.94066e-324 s, is no usable step" "$W/err" &&
+	ok "--jitter: a subnormal step refused, named" || fail "subnormal step: $(cat "$W/err")"
 # the first row of a headerless file is a row: its errors name line 2 (after a comment)
 sed '2s/^ *-0.01 /  zz /' "$R/phantom.txt" >"$W/ph-first.txt"
 expect_rc 2 "$A" compare $PH --set run.rate=1000 "$W/ph-first.txt" &&
