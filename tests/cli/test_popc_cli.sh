@@ -147,7 +147,7 @@ expect_exit 0 "scene show" "$POPC" scene show "$SRC/data/scenes/fig16.ini" --set
 cp "$T/out" "$T/resolved.ini"
 check "  every section present" test "$(grep -c '^\[' "$T/resolved.ini")" -eq 8
 check "  override applied" grep -qx "duration = 2" "$T/resolved.ini"
-check "  defaults explicit" grep -qx "ignore_mode = literal" "$T/resolved.ini"
+check "  defaults explicit" grep -qx "ignore_mode = undo" "$T/resolved.ini"
 "$POPC" run "$T/resolved.ini" -q --log "$T/a.csv"
 "$POPC" run "$SRC/data/scenes/fig16.ini" -q --set run.duration=2 --log "$T/b.csv"
 check "  the resolved scene reproduces the run's rows" cmp -s <(grep -v '^#' "$T/a.csv") <(grep -v '^#' "$T/b.csv")

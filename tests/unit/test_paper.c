@@ -160,9 +160,10 @@ static void test_ref_energy_chatters(void **state)
 	assert_true(late_rms(v) > 1.0); /* measured 2.40 N */
 }
 
-/* Fig. 16: Table I. Late PC RMS at least 10 times smaller than ref-energy's
- * (measured 0.0235 N against 2.40 N), W stays on E_ref (minimum gap measured
- * -5e-6 J, against -5.3e-3 J for ref-energy), velocity flips less often. */
+/* Fig. 16: Table I (controller.ignore_mode = undo, the default). Late PC RMS
+ * at least 10 times smaller than ref-energy's (measured 0.00576 N against
+ * 2.40 N), W stays on E_ref (minimum gap measured -5e-6 J, against -5.3e-3 J
+ * for ref-energy; at the end +3.5e-7 J), velocity flips less often. */
 static void test_improved_is_quiet(void **state)
 {
 	(void)state;
@@ -173,14 +174,19 @@ static void test_improved_is_quiet(void **state)
 	assert_true(x_range(v, 4.0) < 0.25 * x_range(POPC_VARIANT_NONE, 4.0));
 	double vs_ref = popc_metrics_vsign_rate(&runs[POPC_VARIANT_REF_ENERGY].sum.metrics.all, 1e-3);
 	double vs_imp = popc_metrics_vsign_rate(&runs[v].sum.metrics.all, 1e-3);
-	assert_true(vs_imp * 3.0 < vs_ref); /* measured 22.9 /s against 136 /s */
+	assert_true(vs_imp * 3.0 < vs_ref); /* measured 18.7 /s against 136 /s */
 }
 
 /* Figs. 14 and Sec. IV-B: each half of Table I alone lies between
- * (measured late RMS: ignore 0.66 N, hold 0.19 N). */
+ * (measured late RMS: ignore 0.0137 N, hold 0.193 N, improved 0.00576 N,
+ * ref-energy 2.40 N). With the undo reading ignore is quiet after its
+ * transient, as Fig. 14 (at least 10 times below ref-energy; measured 175
+ * times); its largest PC force is the transition's burst (measured 0.14 N). */
 static void test_ignore_and_hold_between(void **state)
 {
 	(void)state;
+	assert_true(10.0 * late_rms(POPC_VARIANT_IGNORE) <= late_rms(POPC_VARIANT_REF_ENERGY));
+	assert_true(runs[POPC_VARIANT_IGNORE].sum.metrics.all.pc_max_N < 1.0);
 	const popc_variant between[] = {POPC_VARIANT_IGNORE, POPC_VARIANT_HOLD};
 	for (int i = 0; i < 2; i++) {
 		double r = late_rms(between[i]);
@@ -221,7 +227,7 @@ static void test_offline_recompute_is_exact(void **state)
 	(void)state;
 	for (int v = 0; v < POPC_VARIANT_COUNT; v++) {
 		popc_observer o;
-		popc_observer_init(&o, (popc_variant)v, POPC_IGNORE_LITERAL);
+		popc_observer_init(&o, (popc_variant)v, POPC_IGNORE_UNDO); /* the scene's default */
 		for (long long k = 0; k < runs[v].n; k++) {
 			const popc_tick *t = &runs[v].rows[k].tick;
 			popc_observation ob;
