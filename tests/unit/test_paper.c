@@ -250,9 +250,10 @@ static void test_offline_recompute_is_exact(void **state)
  * of the step), and the run summary's fields are the log's: port_energy_end
  * and po_error_end at the last row bit for bit, po_error_max the largest
  * |W - E_port| over the rows. Measured (5 s; po_error_end, po_error_max):
- * none -7.2e-3, 9.6e-3 J; filtered-velocity +2.42e-2, 2.42e-2 J (its
- * observer says the VE absorbed 15 mJ while the port gave out 9 mJ);
- * improved -1.7e-5, 3.1e-5 J (docs/ANALYSIS.md has every variant). */
+ * none -3.3e-5, 4.9e-5 J; ref-energy -5.2e-3, 5.3e-3 J; filtered-velocity
+ * +2.42e-2, 2.42e-2 J (its observer says the VE absorbed 15 mJ while the
+ * port gave out 9 mJ); improved -1.7e-5, 3.1e-5 J (docs/ANALYSIS.md has
+ * every variant at 5 s and 20 s). */
 static void test_port_energy_every_variant(void **state)
 {
 	(void)state;

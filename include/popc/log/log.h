@@ -6,7 +6,7 @@
  *   # source = sim | modbus | replay
  *   # variant = ref-energy
  *   # [run] ... the whole resolved scene, prefixed "# "
- *   t,x,count[,x_true],v,f_e,f_pc,f_c,W,E_ref[,E_port],flags[,dt,rtt]
+ *   t,x,count[,x_true],v,f_e,f_pc,f_c,W,E_ref,flags[,E_port][,dt,rtt]
  *   0,-0.01,-1000,-0.01,0,0,0,0,0,0,0,0
  *
  * The columns, their units and which axes fill them: log_columns.h.

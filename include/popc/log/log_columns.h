@@ -36,8 +36,8 @@
 	COLUMN(F_C,    f_c,    "N",   ALWAYS, DOUBLE, tick.f_c_N,   "force command to the axis")             \
 	COLUMN(W,      W,      "J",   ALWAYS, DOUBLE, tick.W_J,     "passivity observer energy")             \
 	COLUMN(E_REF,  E_ref,  "J",   ALWAYS, DOUBLE, tick.E_ref_J, "reference energy")                      \
-	COLUMN(E_PORT, E_port, "J",   X_TRUE, DOUBLE, E_port_J,     "true energy into the VE port (ZOH)")    \
 	COLUMN(FLAGS,  flags,  "",    ALWAYS, FLAGS,  tick.flags,   "controller events, POPC_FLAG_*")        \
+	COLUMN(E_PORT, E_port, "J",   X_TRUE, DOUBLE, E_port_J,     "true energy into the VE port (ZOH)")    \
 	COLUMN(DT,     dt,     "s",   TIMING, DOUBLE, dt_s,         "measured period of the tick")           \
 	COLUMN(RTT,    rtt,    "s",   TIMING, DOUBLE, rtt_s,        "round trip of the axis transaction")
 
