@@ -192,6 +192,7 @@ typedef struct ana_log {
 typedef struct ana_row {
 	popc_tick tick;
 	double x_true_m;          /* NAN when absent */
+	double E_port_J;          /* the true port energy E_port(k); NAN when absent */
 	double dt_s, rtt_s;       /* NAN when absent */
 	/* the time step to this row: t(k) - t(k-1) under --jitter, else the
 	 * period T (and T on the first row) */
@@ -286,6 +287,11 @@ typedef struct ana_summary {
 	long long ticks;
 	double period_s;         /* the period the detector and the metrics used */
 	int has_pc_force, has_w; /* 0: the PC (W) columns are n/a */
+	/* the true port energy (the log's E_port column, port_energy.h) at the
+	 * end, the observer's error W - E_port there and its largest magnitude;
+	 * has_port_energy = 0 (n/a, empty in CSV) for a log without E_port or W */
+	int has_port_energy;
+	double port_energy_end_J, po_error_end_J, po_error_max_J;
 } ana_summary;
 
 /* Chatter has a verdict: the log has a PC force and at least one full

@@ -760,6 +760,7 @@ int ana_log_next(ana_log *l, ana_row *out, popc_error *err)
 	out->w_known = l->has_w;
 	out->line = line;
 	out->x_true_m = l->c_x_true >= 0 ? row[l->c_x_true] : (double)NAN;
+	out->E_port_J = l->c_E_port >= 0 ? row[l->c_E_port] : (double)NAN;
 	out->dt_s = l->c_dt >= 0 ? row[l->c_dt] : (double)NAN;
 	out->rtt_s = l->c_rtt >= 0 ? row[l->c_rtt] : (double)NAN;
 	l->x_prev_m = t->x_m;
