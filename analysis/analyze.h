@@ -36,7 +36,15 @@ typedef struct ana_input_options {
 	/* energy --allow-uneven: a log without a rate may have uneven time steps
 	 * (the verb then computes nothing that uses the period) */
 	int allow_uneven;
+	/* --jitter FRACTION: the time stamps are measured and may be off the
+	 * nominal period T = 1 / run.rate by this fraction of T (0: not given;
+	 * see ANA_JITTER_MAX and docs/ANALYSIS.md "Recorded device logs") */
+	double jitter;
 } ana_input_options;
+
+/* --jitter's largest fraction: past half a period a step is a dropped or a
+ * doubled sample, not jitter, and the nominal T no longer describes it. */
+#define ANA_JITTER_MAX 0.5
 
 /* A log that gives no rate takes its period T from its first time step; every
  * later step must equal T within this relative tolerance, or the log is
@@ -80,6 +88,8 @@ enum {
 	ANA_OPT_SET,
 	ANA_OPT_SCALE,
 	ANA_OPT_DECIMAL,
+	ANA_OPT_NO_HEADER,
+	ANA_OPT_JITTER,
 };
 /* Their case labels, for a verb's getopt switch (one list to extend). */
 #define ANA_INPUT_OPTION_CASES                                               \
@@ -88,31 +98,44 @@ enum {
 	case ANA_OPT_COMMENT:                                                \
 	case ANA_OPT_SET:                                                    \
 	case ANA_OPT_SCALE:                                                  \
-	case ANA_OPT_DECIMAL
+	case ANA_OPT_DECIMAL:                                                \
+	case ANA_OPT_NO_HEADER:                                              \
+	case ANA_OPT_JITTER
 #define ANA_INPUT_LONG_OPTIONS                                               \
 	{"column", required_argument, NULL, ANA_OPT_COLUMN},                 \
 	{"delimiter", required_argument, NULL, ANA_OPT_DELIMITER},           \
 	{"comment", required_argument, NULL, ANA_OPT_COMMENT},               \
 	{"set", required_argument, NULL, ANA_OPT_SET},                       \
 	{"scale", required_argument, NULL, ANA_OPT_SCALE},                   \
-	{"decimal", required_argument, NULL, ANA_OPT_DECIMAL}
+	{"decimal", required_argument, NULL, ANA_OPT_DECIMAL},               \
+	{"no-header", no_argument, NULL, ANA_OPT_NO_HEADER},                 \
+	{"jitter", required_argument, NULL, ANA_OPT_JITTER}
 /* popc's column names, each after a space: " t x count ..." */
 #define ANA_COLUMN_NAME(ID, name, unit, fill, format, field, meaning) " " #name
 #define ANA_COLUMN_NAMES POPC_LOG_COLUMN_TABLE(ANA_COLUMN_NAME)
 #define ANA_INPUT_HELP                                                                         \
-	"  --column NAME=HEADER     popc's column NAME is the file's column HEADER (repeatable;\n" \
-	"                           names:" ANA_COLUMN_NAMES ")\n"                               \
+	"  --column NAME=HEADER     popc's column NAME is the file's column HEADER, or its\n"    \
+	"                           N-th column with HEADER '#N' (repeatable; names:\n"        \
+	"                          " ANA_COLUMN_NAMES ")\n"                                     \
+	"  --no-header              the file has no column names line (recorded device logs):\n" \
+	"                           map its columns by position, e.g. --column x=#2\n"          \
 	"  --scale NAME=FACTOR      the file's column NAME times FACTOR is in SI units, e.g.\n"  \
 	"                           t=1e-3 (ms), x=1e-3 (mm), f_c=-1 (other sign convention)\n" \
 	"  --delimiter C            cell delimiter: ',' ';' tab ('\\t' or 'tab') or 'space'\n"    \
-	"                           (default: detected from the column names line)\n"             \
+	"                           (runs of spaces and tabs; default: detected from the\n"    \
+	"                           column names line, or the first row)\n"                   \
 	"  --decimal .|,            decimal mark of the numbers (default '.'); ',' reads\n"    \
 	"                           '1,5' as 1.5 exactly (European logs, ';' between cells;\n"  \
 	"                           not with --delimiter ',')\n"                                \
 	"  --comment C              comment character (default '#')\n"                            \
 	"  --set section.key=value  scene parameter the log lacks or overrides, e.g.\n"          \
 	"                           encoder.resolution=1e-5 environment.stiffness=1000\n"         \
-	"                           run.rate=1000 (repeatable)\n"
+	"                           run.rate=1000 (repeatable); a log without a time column\n" \
+	"                           needs run.rate: its t is k / run.rate\n"                    \
+	"  --jitter FRACTION        the time stamps are measured and may be off the period\n"  \
+	"                           1 / run.rate by FRACTION of it (<= 0.5; needs run.rate):\n" \
+	"                           measured steps are used where a definition allows (v =\n" \
+	"                           dx/dt, energy), others refuse a larger step naming it\n"
 
 /* Handles one of the ANA_OPT_* options; returns 0, or 2 after printing why. */
 int ana_input_option(ana_input_options *o, int opt, char *arg, const char *verb);
@@ -128,6 +151,15 @@ typedef struct ana_log {
 	double period_s;          /* 1 / run.rate, or the first time step */
 	int period_from_time;     /* 1: no rate known, taken from the time column */
 	int allow_uneven;         /* the time steps are not checked against period_s */
+	/* --jitter: the measured step t(k) - t(k-1) is ana_row.step_s, and when
+	 * check_jitter (a verb that uses the nominal T: every verb but energy,
+	 * which clears it unless an observer on T is asked for) a step off T by
+	 * more than jitter T is refused naming its line */
+	double jitter;
+	int check_jitter;
+	double max_jitter;        /* the largest |step - T| / T seen, noted at the end */
+	long long max_jitter_line;
+	int quiet;                /* -q: no notes */
 	double t_prev_s;          /* the previous row's time, for the step check */
 	long long t_prev_line;
 	/* column indices, -1 when the file lacks them: c_t, c_x, ... c_rtt, one
@@ -160,14 +192,19 @@ typedef struct ana_log {
 typedef struct ana_row {
 	popc_tick tick;
 	double x_true_m;          /* NAN when absent */
+	double E_port_J;          /* the true port energy E_port(k); NAN when absent */
 	double dt_s, rtt_s;       /* NAN when absent */
+	/* the time step to this row: t(k) - t(k-1) under --jitter, else the
+	 * period T (and T on the first row) */
+	double step_s;
 	double W_logged_J, E_ref_logged_J; /* NAN when absent */
 	int pc_force_known, w_known;       /* the ana_log's has_pc_force, has_w */
 	long long line;                    /* the row's line in the file, for messages */
 } ana_row;
 
 /* Opens a log: reader, scene (defaults, header, --set; validated), columns.
- * Requires t and a position (x or count). Errors name the file, line, column.
+ * Requires a position (x or count), and t or a rate (then t = k T, as popc
+ * writes it). Errors name the file, line, column.
  * A period taken from the time column must be a normal double (a step of
  * 5e-324 s has no finite rate 1/T: every rate, velocity and window built on it
  * would be inf or NaN). */
@@ -250,6 +287,11 @@ typedef struct ana_summary {
 	long long ticks;
 	double period_s;         /* the period the detector and the metrics used */
 	int has_pc_force, has_w; /* 0: the PC (W) columns are n/a */
+	/* the true port energy (the log's E_port column, port_energy.h) at the
+	 * end, the observer's error W - E_port there and its largest magnitude;
+	 * has_port_energy = 0 (n/a, empty in CSV) for a log without E_port or W */
+	int has_port_energy;
+	double port_energy_end_J, po_error_end_J, po_error_max_J;
 } ana_summary;
 
 /* Chatter has a verdict: the log has a PC force and at least one full

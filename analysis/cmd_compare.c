@@ -39,6 +39,9 @@ static int summary_finite(const char *path, const ana_summary *s, popc_error *er
 		{"the limit cycle's sustain", c->lc_sustain},
 		{"the limit cycle's PC RMS", c->lc_pc_rms_N},
 		{"the limit cycle's W - E_ref drift", c->lc_w_drift_J},
+		{"port_energy_end", s->port_energy_end_J},
+		{"po_error_end (W - E_port)", s->po_error_end_J},
+		{"po_error_max (max |W - E_port|)", s->po_error_max_J},
 	};
 	for (size_t i = 0; i < sizeof q / sizeof q[0]; i++)
 		if (!isfinite(q[i].v))
@@ -64,6 +67,7 @@ int ana_summarize(const char *path, const ana_input_options *o, const popc_chatt
 	s->has_pc_force = l.has_pc_force;
 	s->period_s = l.period_s;
 	s->has_w = l.has_w;
+	s->has_port_energy = l.c_E_port >= 0 && l.has_w;
 	snprintf(s->log, sizeof s->log, "%s", l.name);
 	snprintf(s->variant, sizeof s->variant, "%s", l.variant);
 	if (late_from_s < 0.0) {
@@ -102,6 +106,14 @@ int ana_summarize(const char *path, const ana_input_options *o, const popc_chatt
 					      path, row.line, row.tick.f_pc_N, row.tick.x_m);
 		}
 		popc_chatter_add(&det, &row.tick);
+		if (s->has_port_energy) {
+			/* W(k) - E_port(k): the observer's error at tick k */
+			const double e = row.tick.W_J - row.E_port_J;
+			s->port_energy_end_J = row.E_port_J;
+			s->po_error_end_J = e;
+			if (fabs(e) > s->po_error_max_J)
+				s->po_error_max_J = fabs(e);
+		}
 		if (on_row)
 			on_row(ctx, &row);
 		s->ticks++;
@@ -163,6 +175,7 @@ static const char *const columns[] = {
 	"log", "variant", "ticks", "duration_s", "pc_rms", "pc_rms_late", "pc_max", "pc_active",
 	"pc_energy", "w_minus_eref_min", "w_minus_eref_end", "vsign_rate", "vsign_rate_late",
 	"chatter_s", "chatter_intervals", "limit_cycle", "lc_amplitude", "lc_frequency",
+	"port_energy_end", "po_error_end", "po_error_max",
 };
 #define N_COLUMNS ((int)(sizeof columns / sizeof columns[0]))
 
@@ -183,10 +196,11 @@ void ana_summary_print_header(FILE *f, ana_format fmt)
 		fputs("|\n", f);
 		break;
 	default:
-		fprintf(f, "%-20s %-18s %7s %8s %8s %8s %8s %8s %10s %10s %10s %8s %8s %8s %4s %3s %10s %8s\n",
+		fprintf(f, "%-20s %-18s %7s %8s %8s %8s %8s %8s %10s %10s %10s %8s %8s %8s %4s %3s %10s %8s "
+			   "%10s %10s %10s\n",
 			"log", "variant", "ticks", "dur_s", "pc_rms", "rms_late", "pc_max", "active",
 			"pc_energy", "wme_min", "wme_end", "vsign/s", "vs_late", "chat_s", "n", "lc",
-			"lc_amp_m", "lc_Hz");
+			"lc_amp_m", "lc_Hz", "E_port_end", "poerr_end", "poerr_max");
 	}
 }
 
@@ -225,10 +239,15 @@ void ana_summary_print_row(FILE *f, ana_format fmt, const ana_summary *s)
 		else
 			fprintf(f, " %4s", "n/a");
 		if (ana_lc_checked(s))
-			fprintf(f, " %3d %10.3e %8.4g\n", c->limit_cycle, c->lc_amplitude_m,
+			fprintf(f, " %3d %10.3e %8.4g", c->limit_cycle, c->lc_amplitude_m,
 				c->lc_frequency_Hz);
 		else
-			fprintf(f, " %3s %10s %8s\n", "n/a", "n/a", "n/a");
+			fprintf(f, " %3s %10s %8s", "n/a", "n/a", "n/a");
+		if (s->has_port_energy)
+			fprintf(f, " %10.3e %10.3e %10.3e\n", s->port_energy_end_J, s->po_error_end_J,
+				s->po_error_max_J);
+		else
+			fprintf(f, " %10s %10s %10s\n", "n/a", "n/a", "n/a");
 		return;
 	}
 	const char *sep = fmt == ANA_CSV ? "," : " | ";
@@ -260,18 +279,28 @@ void ana_summary_print_row(FILE *f, ana_format fmt, const ana_summary *s)
 	 * and its amplitude and frequency, from a few turning points, are no
 	 * measurement */
 	if (!ana_lc_checked(s)) {
-		fprintf(f, "%s%s%s%s%s%s%s\n", sep, na, sep, na, sep, na,
-			fmt == ANA_MARKDOWN ? " |" : "");
+		fprintf(f, "%s%s%s%s%s%s", sep, na, sep, na, sep, na);
 	} else if (fmt == ANA_MARKDOWN) {
-		fprintf(f, "%s%d%s%.4g | %.4g |\n", sep, c->limit_cycle, sep, c->lc_amplitude_m,
+		fprintf(f, "%s%d%s%.4g%s%.4g", sep, c->limit_cycle, sep, c->lc_amplitude_m, sep,
 			c->lc_frequency_Hz);
 	} else {
 		fprintf(f, "%s%d%s", sep, c->limit_cycle, sep);
 		ana_put_double(f, c->lc_amplitude_m);
 		fputs(sep, f);
 		ana_put_double(f, c->lc_frequency_Hz);
-		fputc('\n', f);
 	}
+	/* the true port energy: only a log with E_port (and W) has it */
+	const double port[] = {s->port_energy_end_J, s->po_error_end_J, s->po_error_max_J};
+	for (int i = 0; i < 3; i++) {
+		fputs(sep, f);
+		if (!s->has_port_energy)
+			fputs(na, f);
+		else if (fmt == ANA_MARKDOWN)
+			fprintf(f, "%.4g", port[i]);
+		else
+			ana_put_double(f, port[i]);
+	}
+	fputs(fmt == ANA_MARKDOWN ? " |\n" : "\n", f);
 }
 
 static void usage(FILE *f)
@@ -284,7 +313,10 @@ static void usage(FILE *f)
 	      "  (share of ticks with f_pc != 0); pc_energy (J, sum f_pc(k-1) dx(k));\n"
 	      "  w_minus_eref_min, w_minus_eref_end (J); vsign_rate, vsign_rate_late (velocity\n"
 	      "  sign changes per second in contact); chatter_s, chatter_intervals, limit_cycle,\n"
-	      "  lc_amplitude (m), lc_frequency (Hz) from the chatter detector.\n"
+	      "  lc_amplitude (m), lc_frequency (Hz) from the chatter detector; port_energy_end\n"
+	      "  (J, the log's true port energy E_port at the end), po_error_end and\n"
+	      "  po_error_max (J, the observer's error W - E_port at the end, largest |.|),\n"
+	      "  n/a (empty in CSV) for a log without E_port (a real axis, a foreign log).\n"
 	      "The late window is the second half of run.duration (popc logs), else --late-from.\n"
 	      "A log without a PC force (no f_pc or f_c column) gets n/a (empty in CSV) for the\n"
 	      "PC and chatter columns, and for W - E_ref unless W and E_ref are logged; a log\n"

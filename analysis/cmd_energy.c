@@ -117,19 +117,24 @@ static void observer_for(const ana_log *l, definition d, popc_observer *o)
 	popc_observer_init(o, v, m);
 }
 
-/* One tick of one definition, with the library's observer. */
-static void step(energy_state *s, const ana_log *l, const popc_tick *t)
+/* One tick of one definition, with the library's observer. The period it
+ * multiplies (filtered only): the measured step under --jitter (the energy
+ * that flowed, f_c v dt), except for 'online', which reproduces the observer
+ * that ran on the nominal T. */
+static void step(energy_state *s, const ana_log *l, const ana_row *row)
 {
+	const popc_tick *t = &row->tick;
+	const double T = s->def == DEF_ONLINE ? l->period_s : row->step_s;
 	popc_observation ob;
 	if (s->def == DEF_EQ2) {
 		/* eq. 2 pairs f(t_k) with v(t_k): store f_c(k) as the force the next
 		 * update multiplies, before the update (dcount 0: no Table I memory) */
 		popc_observation none = {0.0, 0, 0u};
 		popc_observer_commit(&s->obs, &none, t->f_e_N, t->f_c_N);
-		popc_observer_update(&s->obs, t->x_m, t->count, t->v_mps, l->period_s, t->f_e_N, &ob);
+		popc_observer_update(&s->obs, t->x_m, t->count, t->v_mps, T, t->f_e_N, &ob);
 		return;
 	}
-	popc_observer_update(&s->obs, t->x_m, t->count, t->v_mps, l->period_s, t->f_e_N, &ob);
+	popc_observer_update(&s->obs, t->x_m, t->count, t->v_mps, T, t->f_e_N, &ob);
 	popc_observer_commit(&s->obs, &ob, t->f_e_N, t->f_c_N);
 }
 
@@ -175,6 +180,13 @@ static int energy_one(const char *path, const ana_input_options *in, const int *
 		}
 		want[n_want++] = (int)d;
 	}
+	/* --jitter: only an observer on the nominal T ('online' of a
+	 * filtered-velocity log: W += f_c v T as it ran) needs the steps within
+	 * the tolerance; the others use the measured steps, or none */
+	l.check_jitter = 0;
+	for (int i = 0; i < n_want; i++)
+		if (want[i] == DEF_ONLINE && uses_period(&l, DEF_ONLINE))
+			l.check_jitter = l.jitter > 0.0;
 	if (!l.has_pc_force) {
 		/* W is the sum of the command force over the motion: with neither f_c
 		 * nor f_pc it would be the environment's energy, E_ref, relabelled */
@@ -228,7 +240,7 @@ static int energy_one(const char *path, const ana_input_options *in, const int *
 		const popc_tick *t = &row.tick;
 		for (int i = 0; i < n_want; i++) {
 			energy_state *e = &s[i];
-			step(e, &l, t);
+			step(e, &l, &row);
 			double W = e->obs.W_J, E = e->obs.E_ref_J;
 			if (!isfinite(W) || !isfinite(E) || !isfinite(W - E)) {
 				/* sums of finite products beyond a double: say where,

@@ -9,6 +9,7 @@
 
 #include "analyze.h"
 #include "popc/core/encoder.h"
+#include "popc/core/port_energy.h"
 #include "popc/log/log.h"
 #include "popc/util/numfmt.h"
 #include "popc/scene/from_scene.h"
@@ -204,7 +205,17 @@ int ana_cmd_replay(int argc, char **argv)
 	}
 	ana_row row;
 	const double delta = base.enc_resolution_m;
+	/* E_port goes with x_true: the true port energy of the recorded run (its
+	 * f_c over its true trajectory), the same in every replay log and, for a
+	 * popc log, equal to the input's E_port bit for bit (port_energy.h) */
+	popc_port_energy port;
+	popc_port_energy_init(&port);
 	while ((st = ana_log_next(&l, &row, &err)) == 1) {
+		double E_port_J = 0.0;
+		if (columns & POPC_LOG_COL_X_TRUE) {
+			E_port_J = popc_port_energy_update(&port, row.x_true_m);
+			popc_port_energy_commit(&port, row.tick.f_c_N);
+		}
 		/* the measured position as the online loop forms it from the count */
 		double x = popc_encoder_position(row.tick.count, delta);
 		for (int i = 0; i < n_var; i++) {
@@ -213,6 +224,7 @@ int ana_cmd_replay(int argc, char **argv)
 			popc_controller_step(&outs[i].ctl, row.tick.count, x, &lr.tick);
 			lr.tick.t_s = row.tick.t_s;
 			lr.x_true_m = row.x_true_m;
+			lr.E_port_J = E_port_J;
 			lr.dt_s = row.dt_s;
 			lr.rtt_s = row.rtt_s;
 			if ((st = popc_log_write_row(&outs[i].w, &lr, &err)) != 0) {

@@ -223,6 +223,21 @@ int ana_input_option(ana_input_options *o, int opt, char *arg, const char *verb)
 		return 0;
 	case ANA_OPT_SCALE:
 		return scale_option(o, arg, verb);
+	case ANA_OPT_NO_HEADER:
+		o->reader.no_header = 1;
+		return 0;
+	case ANA_OPT_JITTER: {
+		double f = 0.0;
+		if (popc_parse_double_text(arg, &f) != 0 || !(f > 0.0 && f <= ANA_JITTER_MAX)) {
+			fprintf(stderr,
+				"popc-analyze %s: --jitter '%s': expected a fraction of the period in "
+				"(0, %g], e.g. 0.05 for steps within 5 %% of T\n",
+				verb, arg, ANA_JITTER_MAX);
+			return 2;
+		}
+		o->jitter = f;
+		return 0;
+	}
 	case ANA_OPT_SET:
 		if (!strchr(arg, '=') || !strchr(arg, '.')) {
 			fprintf(stderr, "popc-analyze %s: --set '%s': expected section.key=value\n",
@@ -463,14 +478,30 @@ int ana_log_open(ana_log *l, const char *path, const ana_input_options *o, popc_
 	}
 	l->has_pc_force = l->c_f_pc >= 0 || l->c_f_c >= 0;
 	l->has_w = l->has_pc_force || (l->c_W >= 0 && l->c_E_ref >= 0);
-	st = popc_log_reader_require(r, popc_log_columns[POPC_LOG_COLUMN_T].name, &l->c_t, err);
-	if (st != 0)
+	const int rate_given =
+		(l->is_popc && popc_log_reader_header(r, "run.rate")) || set_given(o, "run.rate");
+	if (l->c_t < 0 && !rate_given) {
+		/* without a time column the rate is the only clock: t = k T */
+		st = popc_error_set(err, POPC_ERR_INVALID,
+				    "%s: missing column 't': map the time column with --column "
+				    "t=HEADER (or t=#N, its position), or give the rate of a log "
+				    "without one with --set run.rate=HZ (then t = k / rate)%s",
+				    path, popc_log_reader_header_hint(r));
 		goto fail;
+	}
+	if (o->jitter > 0.0 && (!rate_given || l->c_t < 0)) {
+		st = popc_error_set(err, POPC_ERR_INVALID,
+				    "%s: --jitter %g: %s", path, o->jitter,
+				    l->c_t < 0 ? "the log has no time column whose steps could jitter"
+					       : "jitter is measured against the nominal period: give "
+						 "the device's rate with --set run.rate=HZ");
+		goto fail;
+	}
 	if (l->c_x < 0 && l->c_count < 0) {
 		st = popc_error_set(err, POPC_ERR_INVALID,
 				    "%s: missing column 'x' (or 'count'): map a position column with "
-				    "--column x=HEADER",
-				    path);
+				    "--column x=HEADER (or x=#N, its position)%s",
+				    path, popc_log_reader_header_hint(r));
 		goto fail;
 	}
 	/* the first two rows: the period of a log that does not give its rate */
@@ -492,8 +523,7 @@ int ana_log_open(ana_log *l, const char *path, const ana_input_options *o, popc_
 				    path, r->lineno);
 		goto fail;
 	}
-	if ((l->is_popc && popc_log_reader_header(r, "run.rate")) || set_given(o, "run.rate") ||
-	    l->n_ahead < 2) {
+	if (rate_given || l->n_ahead < 2) {
 		l->period_s = popc_scene_period_s(&l->scene);
 	} else {
 		l->period_s = l->ahead[1][l->c_t] - l->ahead[0][l->c_t];
@@ -514,6 +544,9 @@ int ana_log_open(ana_log *l, const char *path, const ana_input_options *o, popc_
 		}
 	}
 	l->allow_uneven = o->allow_uneven;
+	l->jitter = o->jitter;
+	l->check_jitter = o->jitter > 0.0;
+	l->quiet = o->quiet;
 	popc_variant v;
 	popc_ignore_mode m;
 	ana_online_observer(&l->scene, &v, &m);
@@ -578,6 +611,19 @@ static void note_unfinished(ana_log *l)
 		l->verb ? l->verb : "analyze", l->r.path, cut, l->r.rows, l->r.last_row_line);
 }
 
+/* Under --jitter, what the stamps measured: a tolerance much wider than the
+ * jitter hides nothing, but the user should see how close a log came. */
+static void note_jitter(const ana_log *l)
+{
+	if (l->jitter <= 0.0 || l->quiet || l->k < 2)
+		return;
+	fprintf(stderr,
+		"popc-analyze %s: note: %s: the time steps are within %.3g %% of the nominal period "
+		"%g s (the largest at line %lld; --jitter %g allows %g %%)\n",
+		l->verb ? l->verb : "analyze", l->r.path, 100.0 * l->max_jitter, l->period_s,
+		l->max_jitter_line, l->jitter, 100.0 * l->jitter);
+}
+
 int ana_log_next(ana_log *l, ana_row *out, popc_error *err)
 {
 	const double *row;
@@ -588,8 +634,10 @@ int ana_log_next(ana_log *l, ana_row *out, popc_error *err)
 		row = l->ahead[l->ahead_pos++];
 	} else {
 		int got = popc_log_reader_next(&l->r, l->row, err);
-		if (got == 0 && !l->unfinished)
+		if (got == 0 && !l->unfinished) {
 			note_unfinished(l);
+			note_jitter(l);
+		}
 		if (got <= 0)
 			return got;
 		line = l->r.lineno;
@@ -601,7 +649,36 @@ int ana_log_next(ana_log *l, ana_row *out, popc_error *err)
 	const double T = l->period_s;
 	popc_tick *t = &out->tick;
 	memset(out, 0, sizeof *out);
-	t->t_s = row[l->c_t];
+	/* no time column: the rate's clock, as popc's run writes it */
+	t->t_s = l->c_t >= 0 ? row[l->c_t] : (double)l->k * T;
+	out->step_s = T;
+	if (l->jitter > 0.0 && l->k > 0) {
+		/* measured stamps: the real step, for the definitions that take it;
+		 * a verb built on the nominal T refuses one beyond the tolerance */
+		const double step = t->t_s - l->t_prev_s;
+		const double off = fabs(step - T) / T;
+		if (!isnormal(step))
+			return popc_error_set(err, POPC_ERR_INVALID,
+					      "%s:%lld: column %d (t): the time step from line %lld, %g s, "
+					      "is no usable step (subnormal or overflowing)",
+					      l->r.path, line, l->c_t + 1, l->t_prev_line, step);
+		if (l->check_jitter && !(off <= l->jitter))
+			return popc_error_set(
+				err, POPC_ERR_INVALID,
+				"%s:%lld: column %d (t): the time step from line %lld (t = %.17g) is "
+				"%.17g s, %.3g %% off the nominal period %.17g s (run.rate), more than "
+				"--jitter %g (%g %%): %s uses the nominal T here (windows in ticks, "
+				"rates per second, the controller's or the online observer's step); "
+				"energy's definitions on the measured steps do not",
+				l->r.path, line, l->c_t + 1, l->t_prev_line, l->t_prev_s, step,
+				100.0 * off, T, l->jitter, 100.0 * l->jitter,
+				l->verb ? l->verb : "the analysis");
+		if (off > l->max_jitter) {
+			l->max_jitter = off;
+			l->max_jitter_line = line;
+		}
+		out->step_s = step;
+	}
 	if (l->period_from_time && !l->allow_uneven && l->k > 0) {
 		/* the period is the first step: every step must be it (the tolerance
 		 * and why: ANA_PERIOD_REL_TOL) */
@@ -612,9 +689,10 @@ int ana_log_next(ana_log *l, ana_row *out, popc_error *err)
 				"%s:%lld: column %d (t): uneven time steps: the step from line %lld (t = "
 				"%.17g) is %.17g s, %.3g %% off the period %.17g s (the first step, "
 				"lines %lld-%lld; the log gives no rate), more than %g %%. The analysis "
-				"uses one period T: resample the log, or give --set run.rate=HZ if the "
-				"device ran at a fixed rate and only its time stamps are uneven (energy: "
-				"--allow-uneven for the observers that do not use T)",
+				"uses one period T: resample the log, or give --set run.rate=HZ and "
+				"--jitter FRACTION if the device ran at a fixed rate and only its time "
+				"stamps are uneven (energy: --allow-uneven for the observers that do not "
+				"use T)",
 				l->r.path, line, l->c_t + 1, l->t_prev_line, l->t_prev_s, step,
 				100.0 * fabs(step - T) / T, T, l->ahead_line[0], l->ahead_line[1],
 				100.0 * ANA_PERIOD_REL_TOL);
@@ -642,7 +720,7 @@ int ana_log_next(ana_log *l, ana_row *out, popc_error *err)
 	if (l->c_v >= 0)
 		t->v_mps = row[l->c_v];
 	else /* the backward difference the non-filtered variants use online */
-		t->v_mps = l->k > 0 ? (t->x_m - l->x_prev_m) / T : 0.0;
+		t->v_mps = l->k > 0 ? (t->x_m - l->x_prev_m) / out->step_s : 0.0;
 	t->f_e_N = l->c_f_e >= 0 ? row[l->c_f_e]
 				 : popc_environment_force(&l->env, t->x_m, t->v_mps);
 	if (l->c_f_pc >= 0)
@@ -682,6 +760,7 @@ int ana_log_next(ana_log *l, ana_row *out, popc_error *err)
 	out->w_known = l->has_w;
 	out->line = line;
 	out->x_true_m = l->c_x_true >= 0 ? row[l->c_x_true] : (double)NAN;
+	out->E_port_J = l->c_E_port >= 0 ? row[l->c_E_port] : (double)NAN;
 	out->dt_s = l->c_dt >= 0 ? row[l->c_dt] : (double)NAN;
 	out->rtt_s = l->c_rtt >= 0 ? row[l->c_rtt] : (double)NAN;
 	l->x_prev_m = t->x_m;

@@ -104,7 +104,14 @@ typedef struct sim_axis {
 	popc_plant plant, exact;   /* exact: the reference the integrator is measured against */
 	int shadow;                /* 1 when plant is not already exact */
 	popc_intent intent;
+	/* The plant integrates y = x - x_rest, the displacement from its initial
+	 * rest position, with the input u - K x_rest (the same linear equation
+	 * in y): a hand held at rest then stays exactly at y = 0, where
+	 * stepping x itself drifts by an ulp or two per period (Phi x + Gam K x
+	 * rounds), enough to cross a count boundary that x_rest sits on and log
+	 * a spurious one-count velocity. x_true = x_rest + y. */
 	popc_plant_state st, st_exact;
+	double x_rest_m, k_x_rest_N; /* the origin, and K x_rest */
 	double period_s, delta_m, tol_s;
 	double diverged_m;         /* divergence bound of this scene (DIVERGED_FACTOR) */
 	long long k;               /* index of the current tick */
@@ -227,20 +234,21 @@ static int sim_sample(popc_axis *a, popc_axis_sample *out, popc_error *err)
 {
 	sim_axis *s = a->priv;
 	int ok;
-	out->count = popc_encoder_count(s->st.x_m, s->delta_m, &ok);
-	out->x_true_m = s->st.x_m;
+	const double x_m = s->x_rest_m + s->st.x_m;
+	out->count = popc_encoder_count(x_m, s->delta_m, &ok);
+	out->x_true_m = x_m;
 	out->dt_s = 0.0;
 	out->rtt_s = 0.0;
-	if (!isfinite(s->st.x_m) || !isfinite(s->st.v_mps) || fabs(s->st.x_m) > s->diverged_m) {
+	if (!isfinite(x_m) || !isfinite(s->st.v_mps) || fabs(x_m) > s->diverged_m) {
 		char what[200];
 		snprintf(what, sizeof what,
 			 "the plant diverged (x = %g m, v = %g m/s; the bound is %g m, %g x the scene's "
 			 "largest position + %g m)",
-			 s->st.x_m, s->st.v_mps, s->diverged_m, DIVERGED_FACTOR, DIVERGED_MARGIN_M);
+			 x_m, s->st.v_mps, s->diverged_m, DIVERGED_FACTOR, DIVERGED_MARGIN_M);
 		/* an integrator that diverges together with its exact shadow (fed the
 		 * same commands) only follows the physics */
 		int with_shadow = s->shadow && isfinite(s->st.x_m) &&
-				  fabs(s->st.x_m - s->st_exact.x_m) < 0.5 * fabs(s->st.x_m);
+				  fabs(s->st.x_m - s->st_exact.x_m) < 0.5 * fabs(x_m);
 		if (s->scene.integrator != POPC_INTEGRATOR_EXACT && !with_shadow)
 			return integrator_failed(s, what, err);
 		char pc_note[96] = ", or use a PC variant";
@@ -268,8 +276,8 @@ static int sim_sample(popc_axis *a, popc_axis_sample *out, popc_error *err)
 				      "counts of encoder.resolution = %g m, beyond 2^53 counts (where count x "
 				      "resolution stops being exact); nothing holds this pushed mass; raise "
 				      "encoder.resolution",
-				      (double)s->k * s->period_s, s->k, s->st.x_m,
-				      s->st.x_m / s->delta_m, s->delta_m);
+				      (double)s->k * s->period_s, s->k, x_m,
+				      x_m / s->delta_m, s->delta_m);
 	return 0;
 }
 
@@ -293,7 +301,7 @@ static int advance(sim_axis *s, popc_plant *p, popc_plant_state *st, double f_c,
 		popc_plant_input u;
 		double next;
 		popc_intent_input(&s->intent, t, &u, &next); /* next > t (intent.h) */
-		u.u0_N -= f_c;
+		u.u0_N = (u.u0_N - s->k_x_rest_N) - f_c; /* in y = x - x_rest */
 		if (next < t_end - s->tol_s && next > t) {
 			if ((status = popc_plant_step_h(p, st, &u, next - t)) != 0) {
 				*h_failed_s = next - t;
@@ -338,7 +346,8 @@ static int energy_growth(sim_axis *s, long long j, double x_before, double f_c_N
 	popc_plant_input um;
 	double nb, t_mid = ((double)s->k + 0.5) * s->period_s;
 	popc_intent_input(&s->intent, t_mid, &um, &nb);
-	double work = (um.u0_N + um.uc_N - f_c_N) * (s->st.x_m - x_before);
+	/* the balance of the y system (x_rest's spring force is part of its input) */
+	double work = ((um.u0_N - s->k_x_rest_N) + um.uc_N - f_c_N) * (s->st.x_m - x_before);
 	double e = 0.5 * c->mass_kg * s->st.v_mps * s->st.v_mps +
 		   0.5 * c->stiffness_Npm * s->st.x_m * s->st.x_m;
 	s->surplus_J += (e - s->energy_J) - work;
@@ -386,7 +395,7 @@ static int sim_exchange(popc_axis *a, double f_c_N, popc_axis_sample *next, popc
 		double t = (double)s->k * s->period_s, t_end = (double)(s->k + 1) * s->period_s;
 		popc_plant_input u;
 		if (popc_intent_period_input(&s->intent, &s->seg, t, t_end, s->tol_s, &u)) {
-			u.u0_N -= f_c_N;
+			u.u0_N = (u.u0_N - s->k_x_rest_N) - f_c_N; /* in y = x - x_rest */
 			popc_plant_step_exact(&s->plant.full, &s->st, &u);
 		} else if (advance(s, &s->plant, &s->st, f_c_N, &h_failed) != 0) {
 			return partial_step_failed(s, h_failed, err);
@@ -567,12 +576,14 @@ int popc_sim_axis_create(popc_axis **out, const popc_scene *sc, popc_error *err)
 		return st;
 	}
 	s->diverged_m = divergence_bound_m(sc, &s->intent);
-	s->st.x_m = initial_position_m(sc, &s->intent);
+	s->x_rest_m = initial_position_m(sc, &s->intent);
+	s->k_x_rest_N = cfg.stiffness_Npm * s->x_rest_m;
+	s->st.x_m = 0.0; /* y(0): at rest at x_rest */
 	s->st.v_mps = 0.0;
 	s->st_exact = s->st;
 	s->x_exact_min_m = s->x_exact_max_m = s->st.x_m;
-	/* v(0) = 0; E counts the plant's spring from x = 0 (where K x^2 / 2 is
-	 * zero), not from the equilibrium, like the energy balance's input work */
+	/* v(0) = 0; E counts the plant's spring from y = 0 (x = x_rest), like the
+	 * energy balance's input work, which holds u - K x_rest */
 	s->energy_J = s->energy_peak_J = 0.5 * cfg.stiffness_Npm * s->st.x_m * s->st.x_m;
 	s->blocks[0].surplus_start_J = 0.0;
 	s->blocks[0].peak_J = s->energy_J;

@@ -40,6 +40,7 @@ typedef struct fused_scene {
 	popc_variant variant;
 	popc_ignore_mode ignore_mode;
 	double period_s, delta_m, pc_bound_N, tol_s, x0_m;
+	double k_x0_N;         /* K x0: the plant steps y = x - x0, as the sim axis */
 	long long n_ticks;
 } fused_scene;
 
@@ -88,7 +89,7 @@ static long long run_chain(fused_scene *f, const double *ref, double *x_end)
 	const int hold = var == POPC_VARIANT_HOLD || var == POPC_VARIANT_IMPROVED;
 	const int literal = f->ignore_mode == POPC_IGNORE_LITERAL;
 	popc_intent_segment g = {0};
-	popc_plant_state st = {f->x0_m, 0.0};
+	popc_plant_state st = {0.0, 0.0}; /* y = x - x0 */
 	double x_prev = 0.0, f_e_prev = 0.0, f_c_prev = 0.0, f_pc_prev = 0.0;
 	double prev_fc = 0.0, prev_dx = 0.0;
 	long long count_prev = 0, prev_dcount = 0;
@@ -96,7 +97,7 @@ static long long run_chain(fused_scene *f, const double *ref, double *x_end)
 	long long k;
 	for (k = 0; k + 1 < f->n_ticks; k++) {
 		/* sample: the encoder's count and the measured position */
-		long long count = (long long)floor(st.x_m / delta);
+		long long count = (long long)floor((f->x0_m + st.x_m) / delta);
 		double xm = popc_encoder_position(count, delta);
 		double f_e, f_c, f_pc = 0.0;
 		if (k == 0) {
@@ -141,10 +142,10 @@ static long long run_chain(fused_scene *f, const double *ref, double *x_end)
 		popc_plant_input u;
 		if (!popc_intent_period_input(&f->intent, &g, t, t_end, f->tol_s, &u))
 			return -1;
-		u.u0_N -= f_c;
+		u.u0_N = (u.u0_N - f->k_x0_N) - f_c;
 		popc_plant_step_exact(c, &st, &u);
 	}
-	*x_end = st.x_m;
+	*x_end = f->x0_m + st.x_m;
 	return k;
 }
 
@@ -174,6 +175,7 @@ int popc_bench_tick_floor(const popc_scene *s, const double *f_c_ref, long long 
 	f.n_ticks = popc_scene_ticks(s) + 1;
 	if ((st = initial_position(s, &f.x0_m, err)) != 0)
 		goto done;
+	f.k_x0_N = cfg.stiffness_Npm * f.x0_m;
 	double x_end;
 	/* same commands as the real loop, bit for bit, or no figure */
 	long long agree = run_chain(&f, f_c_ref, &x_end);

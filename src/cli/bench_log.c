@@ -14,6 +14,7 @@
 #include "cli.h"
 #include "popc/core/controller.h"
 #include "popc/core/encoder.h"
+#include "popc/core/port_energy.h"
 #include "popc/log/log.h"
 #include "popc/log/log_reader.h"
 #include "popc/util/numfmt.h"
@@ -41,6 +42,8 @@ static popc_log_row *make_rows(const popc_scene *s0, long n, popc_error *err)
 		return NULL;
 	}
 	popc_axis_sample smp;
+	popc_port_energy port;
+	popc_port_energy_init(&port);
 	int st = ax->ops->sample(ax, &smp, err);
 	for (long i = 0; !st && i < n; i++) {
 		popc_log_row *r = &rows[i];
@@ -48,6 +51,8 @@ static popc_log_row *make_rows(const popc_scene *s0, long n, popc_error *err)
 		popc_controller_step(&ctl, smp.count, popc_encoder_position(smp.count, s.enc_resolution_m),
 				     &r->tick);
 		r->x_true_m = smp.x_true_m;
+		r->E_port_J = popc_port_energy_update(&port, smp.x_true_m);
+		popc_port_energy_commit(&port, r->tick.f_c_N);
 		r->dt_s = r->rtt_s = 0.0;
 		if (i + 1 < n)
 			st = ax->ops->exchange(ax, r->tick.f_c_N, &smp, err);

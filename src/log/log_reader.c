@@ -157,6 +157,15 @@ static int blank_or_comment(popc_log_reader *r, const char *line)
 	return 1;
 }
 
+/* A --column HEADER "#N": the position N (1-based), or 0 for a name. */
+static int column_position(const char *header)
+{
+	if (header[0] != '#' || header[1] < '1' || header[1] > '9' ||
+	    header[1 + strspn(header + 1, "0123456789")] != '\0' || strlen(header) > 6)
+		return 0;
+	return atoi(header + 1);
+}
+
 static char detect_delimiter(const char *line, int decimal_comma)
 {
 	const char cand[3] = {',', ';', '\t'};
@@ -318,15 +327,47 @@ int popc_log_reader_open(popc_log_reader *r, const char *path, const popc_log_re
 	if (n <= 0) {
 		popc_log_reader_close(r);
 		return popc_error_set(err, POPC_ERR_INVALID, "%s:%lld: %s", path, r->lineno,
-				      n < 0 ? "more than 64 columns" : "no column names");
+				      n < 0 ? "more than 64 columns"
+				      : r->opt.no_header ? "no cells in the first row"
+							 : "no column names");
+	}
+	if (r->opt.no_header) {
+		/* the line is the first row: kept to be returned by the first
+		 * popc_log_reader_next (the buffer moves on under it) */
+		r->first_row = dupn(line, len);
+		if (!r->first_row) {
+			popc_log_reader_close(r);
+			return popc_error_set(err, POPC_ERR_NOMEM, "%s: out of memory", path);
+		}
+		r->first_row_pending = 1;
+		r->first_row_complete = complete;
 	}
 	for (int i = 0; i < n; i++) {
-		r->col_name[i] = dupn(cs[i], (size_t)(ce[i] - cs[i]));
+		char position[16];
+		if (r->opt.no_header) /* named by position, as --column #N finds them */
+			snprintf(position, sizeof position, "#%d", i + 1);
+		r->col_name[i] = r->opt.no_header ? dupn(position, strlen(position))
+						  : dupn(cs[i], (size_t)(ce[i] - cs[i]));
 		if (!r->col_name[i]) {
 			popc_log_reader_close(r);
 			return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
 		}
 		r->n_cols = i + 1;
+	}
+	if (!r->opt.no_header) {
+		r->names_line = r->lineno;
+		r->names_numeric = 1;
+		for (int i = 0; i < r->n_cols && r->names_numeric; i++) {
+			double v;
+			const char *name = r->col_name[i];
+			r->names_numeric = popc_parse_double_exact(name, name + strlen(name), &v) ==
+					   POPC_PARSE_OK;
+		}
+		if (r->names_numeric)
+			snprintf(r->names_hint, sizeof r->names_hint,
+				 " (line %lld, read as the column names, holds only numbers: a file "
+				 "without a column names line needs --no-header)",
+				 r->lineno);
 	}
 	/* a repeated name would make a column lookup pick one of two silently; an
 	 * empty name (pandas' index column, a trailing delimiter) is never looked
@@ -336,17 +377,31 @@ int popc_log_reader_open(popc_log_reader *r, const char *path, const popc_log_re
 			if (r->col_name[i][0] && strcmp(r->col_name[i], r->col_name[j]) == 0) {
 				popc_error_set(err, POPC_ERR_INVALID,
 					       "%s:%lld: column %d (%s) repeats the name of column %d "
-					       "(line %lld): column names must be unique",
-					       path, r->lineno, i + 1, r->col_name[i], j + 1, r->lineno);
+					       "(line %lld): column names must be unique%s",
+					       path, r->lineno, i + 1, r->col_name[i], j + 1, r->lineno,
+					       r->names_hint);
 				popc_log_reader_close(r);
 				return POPC_ERR_INVALID;
 			}
 	for (int i = 0; i < r->opt.n_map; i++)
 		if (popc_log_reader_column(r, r->opt.map_name[i]) < 0) {
+			const char *h = r->opt.map_header[i];
+			char hint[200] = "";
+			if (column_position(h) > 0)
+				snprintf(hint, sizeof hint, " (it has %d column%s)", r->n_cols,
+					 r->n_cols == 1 ? "" : "s");
+			else if (h[strspn(h, "0123456789")] == '\0')
+				/* what a user of a headerless file types first */
+				snprintf(hint, sizeof hint,
+					 " (a column by position is '#%s'%s)", h,
+					 r->opt.no_header ? ""
+							  : "; a file without a column names line "
+							    "needs --no-header");
+			else if (r->names_numeric)
+				snprintf(hint, sizeof hint, "%s", r->names_hint);
 			popc_error_set(err, POPC_ERR_INVALID,
-				       "%s:%lld: --column %s=%s: the file has no column '%s'", path,
-				       r->lineno, r->opt.map_name[i], r->opt.map_header[i],
-				       r->opt.map_header[i]);
+				       "%s:%lld: --column %s=%s: the file has no column '%s'%s", path,
+				       r->lineno, r->opt.map_name[i], h, h, hint);
 			popc_log_reader_close(r);
 			return POPC_ERR_INVALID;
 		}
@@ -388,6 +443,12 @@ int popc_log_reader_next(popc_log_reader *r, double *values, popc_error *err)
 	size_t len;
 	int complete;
 	for (;;) {
+		if (r->first_row_pending) { /* no_header: read at open, r->lineno is its line */
+			r->first_row_pending = 0;
+			line = r->first_row;
+			complete = r->first_row_complete;
+			break;
+		}
 		int got = next_line(r, &line, &len, &complete);
 		if (got < 0)
 			return line_error(r, got, err);
@@ -485,11 +546,17 @@ int popc_log_reader_unfinished(const popc_log_reader *r)
 int popc_log_reader_column(const popc_log_reader *r, const char *name)
 {
 	const char *header = name;
+	int mapped = 0;
 	for (int i = 0; i < r->opt.n_map; i++)
-		if (strcmp(r->opt.map_name[i], name) == 0)
+		if (strcmp(r->opt.map_name[i], name) == 0) {
 			header = r->opt.map_header[i];
+			mapped = 1;
+		}
 	if (!header[0])
 		return -1;
+	const int position = mapped ? column_position(header) : 0;
+	if (position)
+		return position <= r->n_cols ? position - 1 : -1;
 	for (int i = 0; i < r->n_cols; i++)
 		if (strcmp(r->col_name[i], header) == 0)
 			return i;
@@ -503,8 +570,13 @@ int popc_log_reader_require(const popc_log_reader *r, const char *name, int *ind
 	if (*index >= 0)
 		return 0;
 	return popc_error_set(err, POPC_ERR_INVALID,
-			      "%s: missing column '%s' (map another header to it with --column %s=HEADER)",
-			      r->path, name, name);
+			      "%s: missing column '%s' (map another header to it with --column %s=HEADER)%s",
+			      r->path, name, name, r->names_hint);
+}
+
+const char *popc_log_reader_header_hint(const popc_log_reader *r)
+{
+	return r->names_hint;
 }
 
 const char *popc_log_reader_header(const popc_log_reader *r, const char *key)
@@ -553,6 +625,9 @@ void popc_log_reader_close(popc_log_reader *r)
 	r->n_cols = r->n_keys = 0;
 	free(r->buf);
 	r->buf = NULL;
+	free(r->first_row);
+	r->first_row = NULL;
+	r->first_row_pending = 0;
 }
 
 int popc_log_reader_add_mapping(popc_log_reader_options *opt, char *text, popc_error *err)

@@ -6,6 +6,7 @@
 
 #include "popc/core/controller.h"
 #include "popc/core/encoder.h"
+#include "popc/core/port_energy.h"
 #include "popc/util/numfmt.h"
 #include "popc/util/clock.h"
 #include "popc/scene/from_scene.h"
@@ -40,6 +41,12 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 		if (st)
 			why = st == POPC_ERR_INTERRUPTED ? "signal" : "axis sample failed";
 	}
+	/* the true port energy, for an axis that knows its true position (the
+	 * log's E_port column is filled by the same axes as x_true) */
+	const int has_true_x = (axis->ops->log_columns & POPC_LOG_COL_X_TRUE) != 0;
+	popc_port_energy port;
+	popc_port_energy_init(&port);
+	sum->has_port_energy = has_true_x;
 	long long k = 0;
 	for (; !st && k < n_ticks; k++) {
 		if (opt && opt->stop_flag && *opt->stop_flag) {
@@ -53,6 +60,17 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 		popc_controller_step(&ctl, smp.count, popc_encoder_position(smp.count, s->enc_resolution_m),
 				     &row.tick);
 		row.x_true_m = smp.x_true_m;
+		row.E_port_J = 0.0;
+		if (has_true_x) {
+			row.E_port_J = popc_port_energy_update(&port, smp.x_true_m);
+			popc_port_energy_commit(&port, row.tick.f_c_N);
+			/* W(k) - E_port(k): the observer's error at tick k */
+			double e = row.tick.W_J - row.E_port_J;
+			sum->port_energy_J = row.E_port_J;
+			sum->po_error_end_J = e;
+			if (fabs(e) > sum->po_error_max_J)
+				sum->po_error_max_J = fabs(e);
+		}
 		row.dt_s = smp.dt_s;
 		row.rtt_s = smp.rtt_s;
 		popc_metrics_add(&sum->metrics, &row.tick);
@@ -121,7 +139,9 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
  *
  * FIELD(ID, name, unit, format, value, meaning): value is an expression of
  * sum (the popc_run_summary), s (the scene) and m (sum's metrics); format is
- * TEXT (a name), INT (a decimal integer) or REAL (shortest round-trip form). */
+ * TEXT (a name), INT (a decimal integer), REAL (shortest round-trip form) or
+ * PORT (REAL for an axis with a true position, sum->has_port_energy; an
+ * empty cell otherwise, as the log has no E_port column: never a NaN). */
 #define RUN_SUMMARY_FIELDS(FIELD)                                                                   \
 	FIELD(VARIANT, variant, "", TEXT, popc_variant_name(s->variant), "controller variant")     \
 	FIELD(INTEGRATOR, integrator, "", TEXT, popc_integrator_name(sum->integrator),              \
@@ -155,7 +175,13 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 	      "velocity sign changes in contact per second")                                        \
 	FIELD(VSIGN_RATE_LATE, vsign_rate_late, "1/s", REAL,                                        \
 	      popc_metrics_vsign_rate(&m->late, m->period_s),                                       \
-	      "velocity sign changes in contact per second, second half")
+	      "velocity sign changes in contact per second, second half")                           \
+	FIELD(PORT_ENERGY_END, port_energy_end, "J", PORT, sum->port_energy_J,                      \
+	      "true energy into the VE port at the last tick (E_port)")                             \
+	FIELD(PO_ERROR_END, po_error_end, "J", PORT, sum->po_error_end_J,                           \
+	      "observer error W - E_port at the last tick")                                         \
+	FIELD(PO_ERROR_MAX, po_error_max, "J", PORT, sum->po_error_max_J,                           \
+	      "max |W - E_port| over the run")
 
 enum summary_field_id {
 #define FIELD_ID(ID, name, unit, format, value, meaning) SUMMARY_##ID,
@@ -164,7 +190,7 @@ enum summary_field_id {
 	SUMMARY_N_FIELDS
 };
 
-typedef enum summary_format { SUMMARY_TEXT, SUMMARY_INT, SUMMARY_REAL } summary_format;
+typedef enum summary_format { SUMMARY_TEXT, SUMMARY_INT, SUMMARY_REAL, SUMMARY_PORT } summary_format;
 
 static const struct summary_field {
 	const char *name, *unit, *meaning;
@@ -190,6 +216,7 @@ static void summary_values(const popc_run_summary *sum, const popc_scene *s,
 #define VALUE_TEXT(e) .text = (e)
 #define VALUE_INT(e) .integer = (e)
 #define VALUE_REAL(e) .real = (e)
+#define VALUE_PORT(e) .real = (e)
 #define FIELD_VALUE(ID, name, unit, format, value, meaning)                                         \
 	v[SUMMARY_##ID] = (summary_value){VALUE_##format(value)};
 	RUN_SUMMARY_FIELDS(FIELD_VALUE)
@@ -218,6 +245,11 @@ void popc_run_summary_print(const popc_run_summary *sum, const popc_scene *s, FI
 	fprintf(f, "  W - E_ref: final %.4g J, minimum %.4g J; velocity sign changes in contact %.4g /s\n",
 		v[SUMMARY_W_MINUS_EREF_END].real, v[SUMMARY_W_MINUS_EREF_MIN].real,
 		v[SUMMARY_VSIGN_RATE].real);
+	if (sum->has_port_energy)
+		fprintf(f, "  true port energy E_port: final %.4g J; observer error W - E_port: final %.4g J, "
+			"largest |.| %.4g J\n",
+			v[SUMMARY_PORT_ENERGY_END].real, v[SUMMARY_PO_ERROR_END].real,
+			v[SUMMARY_PO_ERROR_MAX].real);
 }
 
 void popc_run_summary_csv_header(FILE *f)
@@ -240,7 +272,10 @@ void popc_run_summary_csv_row(const popc_run_summary *sum, const popc_scene *s, 
 		switch (summary_fields[i].format) {
 		case SUMMARY_TEXT: fputs(v[i].text, f); break;
 		case SUMMARY_INT: fprintf(f, "%lld", v[i].integer); break;
+		case SUMMARY_PORT:  /* no true position: an empty cell */
 		case SUMMARY_REAL: {
+			if (summary_fields[i].format == SUMMARY_PORT && !sum->has_port_energy)
+				break;
 			char b[POPC_DOUBLE_TEXT_MAX + 1];
 			popc_format_double(v[i].real, b);
 			fputs(b, f);

@@ -77,7 +77,7 @@ static const scene_key scene_keys[] = {
 	 "PO/PC variant (DESIGN section 4)", "ref-energy"},
 	NUM("controller", "pc_bound", pc_bound_N, "5", 0, 1e6, 1, "N", "bound on |f_pc|"),
 	{"controller", "ignore_mode", KEY_ENUM, OFF(ignore_mode), 0, 0, 0, "", popc_ignore_mode_names,
-	 "Table I Prev_fc: literal f_e(k) or undo f_c(k-1)", "literal"},
+	 "Table I Prev_fc: undo f_c(k-1) (Fig. 7) or literal f_e(k) (docs/TABLE1.md)", "undo"},
 	{"controller", "foaw_window", KEY_INT, OFF(foaw_window), 1, POPC_FOAW_MAX_WINDOW, 0,
 	 "samples", NULL, "filtered-velocity: longest FOAW window", "16"},
 	NUM("controller", "foaw_noise", foaw_noise_m, "0", 0, 1, 0, "m",

@@ -47,7 +47,7 @@ check text.csv "$W/text.csv:$((names + 5)): column 6 (f_e)"
 check nan.csv "$W/nan.csv:$((names + 7)): column 9 (W): NaN is not allowed"
 check time.csv "$W/time.csv:$((names + 9)): column 1 (t): time .* does not increase"
 check noposition.csv "missing column 'x'"
-check short.csv "$W/short.csv:$((names + 3)): 2 cells, expected 11"
+check short.csv "$W/short.csv:$((names + 3)): 2 cells, expected 12"
 check dupname.csv "$W/dupname.csv:$cnames: column 3 (x) repeats the name of column 2"
 # flags is a bit set: a value that is no integer in [0, 2^32 - 1] is refused,
 # not truncated (3.5 read as 3, 1e30 and -1 as 0)

@@ -28,6 +28,27 @@ awk -v a="$(col ref-energy vsign_rate)" -v b="$(col improved vsign_rate)" \
 awk -v w="$(col none w_minus_eref_end)" 'BEGIN { exit !(w < -8e-3 && w > -11e-3) }' &&
 	ok "none: W - E_ref ends near -9.5e-3 J" || fail "none w_minus_eref_end $(col none w_minus_eref_end)"
 
+# The true port energy columns are the run summary's fields, bit for bit, from
+# the log's E_port (and W); a log without E_port (cut to popc's columns minus
+# x_true and E_port, as a device log) has them empty, never 0.
+"$POPC" run "$SCENES/paper.ini" --variant filtered-velocity --log "$W/fv.csv" -q --summary "$W/fv-sum.csv" ||
+	fail "popc run filtered-velocity"
+expect_rc 0 "$A" compare --format csv "$W/fv.csv" || finish
+for f in port_energy_end po_error_end po_error_max; do
+	a=$(awk -F, -v n=$f 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next } { print $c[n] }' "$W/out")
+	b=$(awk -F, -v n=$f 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next } { print $c[n] }' "$W/fv-sum.csv")
+	[ -n "$a" ] && [ "$a" = "$b" ] && ok "compare $f = the run summary's ($a J)" || fail "compare $f '$a', summary '$b'"
+done
+# filtered-velocity's observer ends about 24 mJ above what the port truly took
+awk -v e="$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next } { print $c["po_error_end"] }' "$W/out")" \
+	'BEGIN { exit !(e > 0.01 && e < 0.05) }' && ok "filtered-velocity: W - E_port at the end 1e-2 to 5e-2 J" ||
+	fail "filtered-velocity po_error_end: $(cat "$W/out")"
+grep -v '^#' "$W/fv.csv" | cut -d, -f1-3,5-11 >"$W/noport.csv"
+expect_rc 0 "$A" compare --format csv "$W/noport.csv" &&
+	awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+		{ exit !($c["port_energy_end"] == "" && $c["po_error_end"] == "" && $c["po_error_max"] == "") }' "$W/out" &&
+	ok "a log without E_port: the port cells empty" || fail "no E_port: $(cat "$W/out")"
+
 expect_rc 0 "$A" compare --format markdown "$W/none.csv" && grep -q '^| log | variant |' "$W/out" &&
 	grep -q '^| none | none |' "$W/out" && ok "markdown" || fail "markdown: $(cat "$W/out")"
 expect_rc 0 "$A" compare "$W/none.csv" && grep -q '^none ' "$W/out" && ok "text"

@@ -55,7 +55,7 @@ P=$SRC/data/scenes/paper.ini
 for m in trapezoid rk4 semi-implicit-euler euler; do
 	case_run "paper.$m" "$P" --set integrator.method=$m --set integrator.substeps=10 --set run.duration=2
 done
-case_run paper.undo "$P" --variant improved --set controller.ignore_mode=undo
+case_run paper.literal "$P" --variant improved --set controller.ignore_mode=literal
 case_run paper.sine "$P" --variant improved --set operator.intent=sine --set operator.amplitude=0.015 \
 	--set operator.frequency=0.7 --set operator.x0=-0.005
 case_run paper.force "$P" --variant hold --set operator.intent=force --set operator.force=2

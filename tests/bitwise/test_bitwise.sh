@@ -49,7 +49,7 @@ bitwise_cases() {
   echo "paper-spring-damped paper.ini --variant po-pc --set environment.kind=spring --set environment.damping=0.3 --set operator.intent=sine"
   echo "paper-spring-rk4 paper.ini --set environment.kind=spring --set integrator.method=rk4"
   echo "paper-device-spring paper.ini --variant improved --set device.damping=0.2 --set device.stiffness=20"
-  echo "paper-ignore-undo paper.ini --variant ignore --set controller.ignore_mode=undo"
+  echo "paper-ignore-literal paper.ini --variant ignore --set controller.ignore_mode=literal"
   echo "paper-foaw paper.ini --variant filtered-velocity --set controller.foaw_window=64 --set controller.foaw_noise=2e-5"
   echo "paper-10khz paper.ini --variant improved --set run.rate=10000 --set run.duration=1"
 }

@@ -31,7 +31,7 @@ for kib in 100 101 102 103 104; do
 	case $last in
 	"# stop = log write failed: $log: write failed: File too large") with_stop=$((with_stop + 1)) ;;
 	[0-9]*) without_stop=$((without_stop + 1))
-		check "  the last row is whole (11 cells)" test "$(echo "$last" | awk -F, '{print NF}')" -eq 11 ;;
+		check "  the last row is whole (12 cells)" test "$(echo "$last" | awk -F, '{print NF}')" -eq 12 ;;
 	*) bad "  ends in neither a row nor the stop line: '$last'" ;;
 	esac
 	expect_exit 0 "  popc-analyze energy --check reads it" "$A" energy --check "$log"

@@ -110,7 +110,7 @@ check "  summary states the speed" err_has "x real time"
 check "  log has the provenance header" grep -qx "# source = sim" "$T/paper.csv"
 check "  log names the variant" grep -qx "# variant = ref-energy" "$T/paper.csv"
 check "  log holds the resolved scene" grep -qx "# \[encoder\]" "$T/paper.csv"
-check "  log has the column names" grep -qx "t,x,count,x_true,v,f_e,f_pc,f_c,W,E_ref,flags" "$T/paper.csv"
+check "  log has the column names" grep -qx "t,x,count,x_true,v,f_e,f_pc,f_c,W,E_ref,flags,E_port" "$T/paper.csv"
 rows=$(grep -c '^[0-9-]' "$T/paper.csv")
 check "  log has 5001 rows (t = 0 .. 5 s), got $rows" test "$rows" -eq 5001
 check "  log ends with the stop reason" test "$(tail -n 1 "$T/paper.csv")" = "# stop = completed"
@@ -147,7 +147,7 @@ expect_exit 0 "scene show" "$POPC" scene show "$SRC/data/scenes/fig16.ini" --set
 cp "$T/out" "$T/resolved.ini"
 check "  every section present" test "$(grep -c '^\[' "$T/resolved.ini")" -eq 8
 check "  override applied" grep -qx "duration = 2" "$T/resolved.ini"
-check "  defaults explicit" grep -qx "ignore_mode = literal" "$T/resolved.ini"
+check "  defaults explicit" grep -qx "ignore_mode = undo" "$T/resolved.ini"
 "$POPC" run "$T/resolved.ini" -q --log "$T/a.csv"
 "$POPC" run "$SRC/data/scenes/fig16.ini" -q --set run.duration=2 --log "$T/b.csv"
 check "  the resolved scene reproduces the run's rows" cmp -s <(grep -v '^#' "$T/a.csv") <(grep -v '^#' "$T/b.csv")
@@ -245,6 +245,6 @@ check "SIGINT: exit 5 (got $rc)" test "$rc" -eq 5
 check "  log ends with the signal stop line" grep -q "^# stop = signal" "$T/int.csv"
 last=$(grep '^[0-9]' "$T/int.csv" | tail -n 1)
 cells=$(echo "$last" | awk -F, '{print NF}')
-check "  last row is complete ($cells cells)" test "$cells" -eq 11
+check "  last row is complete ($cells cells)" test "$cells" -eq 12
 
 check_summary

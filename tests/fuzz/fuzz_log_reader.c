@@ -5,7 +5,8 @@
  * increasing time, every error of a row names the file and that row's line.
  *
  * Input: byte 0 picks the options, byte 1 bit 0 says that the next line holds
- * --column mappings (NAME=HEADER separated by blanks); the rest is the log. */
+ * --column mappings (NAME=HEADER separated by blanks, HEADER "#N" a position),
+ * bit 1 --no-header; the rest is the log. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -35,6 +36,7 @@ int popc_fuzz_log_reader(const uint8_t *data, size_t size)
 	opt.decimal = decimals[(data[0] >> 3) & 3];
 	opt.comment = comments[(data[0] >> 5) & 3];
 	const int all_columns = (data[0] >> 7) & 1; /* else popc-analyze's choice */
+	opt.no_header = (data[1] >> 1) & 1;
 	const uint8_t *file = data + 2;
 	size_t file_size = size - 2;
 	char maps[512] = "";

@@ -122,9 +122,9 @@ static void test_column_names_line(void **state)
 	(void)state;
 	static const char *const expected[N_SETS] = {
 		"t,x,count,v,f_e,f_pc,f_c,W,E_ref,flags",
-		"t,x,count,x_true,v,f_e,f_pc,f_c,W,E_ref,flags",
+		"t,x,count,x_true,v,f_e,f_pc,f_c,W,E_ref,flags,E_port",
 		"t,x,count,v,f_e,f_pc,f_c,W,E_ref,flags,dt,rtt",
-		"t,x,count,x_true,v,f_e,f_pc,f_c,W,E_ref,flags,dt,rtt",
+		"t,x,count,x_true,v,f_e,f_pc,f_c,W,E_ref,flags,E_port,dt,rtt",
 	};
 	for (int k = 0; k < N_SETS; k++) {
 		const unsigned set = column_sets[k];

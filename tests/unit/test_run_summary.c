@@ -107,7 +107,7 @@ static void check_summary(const char *what, const popc_run_summary *sum, const p
 			    "variant,integrator,substeps,status,ticks,sim_time_s,wall_time_s,"
 			    "realtime_factor,ns_per_tick,integrator_error_m,pc_active,pc_rms,pc_max,"
 			    "pc_rms_late,pc_energy,w_minus_eref_min,w_minus_eref_end,vsign_rate,"
-			    "vsign_rate_late\n");
+			    "vsign_rate_late,port_energy_end,po_error_end,po_error_max\n");
 	enum { MAX_CELLS = 64 };
 	char *names[MAX_CELLS], *cells[MAX_CELLS];
 	const int n_names = split_cells(header, names, MAX_CELLS);
@@ -119,6 +119,16 @@ static void check_summary(const char *what, const popc_run_summary *sum, const p
 	for (int i = 2; i < n_cells; i++) {
 		double v;
 		const char *end = cells[i] + strlen(cells[i]);
+		/* the true port energy: a number with a true position, else an
+		 * empty cell (never NaN, never a 0 that reads as "no error") */
+		if (strncmp(names[i], "port_energy", 11) == 0 || strncmp(names[i], "po_error", 8) == 0) {
+			if (!sum->has_port_energy) {
+				if (cells[i][0] != '\0')
+					fail_msg("%s: %s = '%s' without a true position", what, names[i],
+						 cells[i]);
+				continue;
+			}
+		}
 		if (popc_parse_double(cells[i], end, &v) != (size_t)(end - cells[i]) || !isfinite(v))
 			fail_msg("%s: %s = '%s' is no finite number", what, names[i], cells[i]);
 	}
@@ -175,6 +185,12 @@ static void test_sim_axis(void **state)
 			snprintf(what, sizeof what, "sim %s%s", popc_integrator_name(methods[k]),
 				 zero ? " 0 s" : "");
 			check_summary(what, &sum, &s);
+			assert_true(sum.has_port_energy);
+			/* W(0) = E_port(0) = 0: a zero-length run has no error */
+			if (zero)
+				assert_true(sum.po_error_max_J == 0.0 && sum.port_energy_J == 0.0);
+			else
+				assert_true(sum.po_error_max_J >= fabs(sum.po_error_end_J));
 		}
 }
 
@@ -197,6 +213,7 @@ static void test_drive_axis(void **state)
 		assert_int_equal(sum.ticks, fail_at[k] < 0 ? 501 : fail_at[k]);
 		char what[64];
 		snprintf(what, sizeof what, "drive failing at %d", fail_at[k]);
+		assert_false(sum.has_port_energy);
 		check_summary(what, &sum, &s);
 	}
 }

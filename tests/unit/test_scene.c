@@ -64,7 +64,7 @@ static void test_good_scene_and_overrides(void **state)
 	(void)state;
 	const char *path = write_scene("good.ini", "; comment\n# another\n[run]\nduration = 2.5 ; s\n"
 						   "rate=2000\n[controller]\nvariant = improved\n"
-						   "ignore_mode = undo\n[integrator]\nmethod = rk4\n"
+						   "ignore_mode = literal\n[integrator]\nmethod = rk4\n"
 						   "substeps = 7\n[operator]\nintent = sine\n");
 	popc_scene s;
 	popc_error err;
@@ -72,7 +72,7 @@ static void test_good_scene_and_overrides(void **state)
 	assert_int_equal(popc_scene_load(&s, path, &err), 0);
 	assert_true(s.duration_s == 2.5 && s.rate_Hz == 2000.0);
 	assert_int_equal(s.variant, POPC_VARIANT_IMPROVED);
-	assert_int_equal(s.ignore_mode, POPC_IGNORE_UNDO);
+	assert_int_equal(s.ignore_mode, POPC_IGNORE_LITERAL); /* not the default (undo) */
 	assert_int_equal(s.integrator, POPC_INTEGRATOR_RK4);
 	assert_int_equal(s.substeps, 7);
 	assert_int_equal(s.intent, POPC_INTENT_SINE);

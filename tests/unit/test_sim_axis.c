@@ -148,11 +148,59 @@ static void test_steep_segment_shorter_than_the_tolerance(void **state)
 	assert_true(a[N - 1] > a[300] + 1e-3);
 }
 
+/* A hand held at rest with x0 exactly on a count boundary (x0 = n delta, the
+ * ramp starting later) must read one count and zero velocity until it moves.
+ * Before the plant stepped y = x - x_rest (sim_axis.c), the exact step of x
+ * itself rounded Phi x + Gam K x to x - 1 ulp at the first period (x_true =
+ * -0.010000000000000002 for x0 = -0.01) and kept drifting: the count fell to
+ * n - 1 at t = 0.001 s, a logged velocity of -delta / T = -0.01 m/s in free
+ * space. Now the state stays exactly at rest: every true position equals x0
+ * bit for bit, for every integrator. */
+static void test_rest_on_a_count_boundary(void **state)
+{
+	(void)state;
+	enum { N = 500 }; /* 0.5 s, the ramp starts at 1 s */
+	const double x0s[] = {-0.01, -0.02, -0.0125, -0.005, 0.0, 0.004};
+	const popc_integrator methods[] = {POPC_INTEGRATOR_EXACT, POPC_INTEGRATOR_TRAPEZOID,
+					   POPC_INTEGRATOR_RK4, POPC_INTEGRATOR_SEMI_IMPLICIT_EULER,
+					   POPC_INTEGRATOR_EULER};
+	for (size_t i = 0; i < sizeof x0s / sizeof x0s[0]; i++) {
+		for (size_t m = 0; m < sizeof methods / sizeof methods[0]; m++) {
+			popc_scene s;
+			popc_error err;
+			scene_no_contact(&s);
+			s.op_x0_m = x0s[i];
+			s.op_t0_s = 1.0;
+			s.duration_s = 0.5;
+			s.integrator = methods[m];
+			s.substeps = 10;
+			popc_axis *axis;
+			if (popc_sim_axis_create(&axis, &s, &err))
+				fail_msg("%s", err.msg);
+			popc_axis_sample smp;
+			assert_int_equal(axis->ops->sample(axis, &smp, &err), 0);
+			const long long count0 = smp.count;
+			/* the case itself: x0 is on the boundary of its count */
+			assert_true((double)count0 * s.enc_resolution_m == x0s[i]);
+			for (int k = 1; k < N; k++) {
+				if (axis->ops->exchange(axis, 0.0, &smp, &err))
+					fail_msg("%s", err.msg);
+				if (smp.count != count0 || smp.x_true_m != x0s[i])
+					fail_msg("x0 = %g, %s: tick %d: count %lld (at t = 0: %lld), "
+						 "x_true = %.17g", x0s[i], popc_integrator_name(methods[m]), k,
+						 smp.count, count0, smp.x_true_m);
+			}
+			popc_axis_destroy(&axis);
+		}
+	}
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_breakpoint_one_ulp_after_a_tick),
 		cmocka_unit_test(test_steep_segment_shorter_than_the_tolerance),
+		cmocka_unit_test(test_rest_on_a_count_boundary),
 	};
 	return cmocka_run_group_tests_name("sim axis", tests, setup, teardown);
 }

@@ -29,9 +29,11 @@ extern const char *const popc_variant_names[];
 const char *popc_variant_name(popc_variant v);
 int popc_variant_from_name(const char *name, popc_variant *out);
 
-/* Table I's "Prev_fc = f_c(k)": literal reads it as the VE force f_e(k) stored
- * before the PC is added; undo stores f_c(k-1), so that a one-count reversal
- * removes exactly the previous step's PO increment. */
+/* Table I's "Prev_fc = f_c(k)" (docs/TABLE1.md): undo (the scene default)
+ * stores f_c(k-1), so that a one-count reversal removes exactly the previous
+ * step's PO increment and W returns to E(k-1) as in the paper's Fig. 7
+ * derivation; literal reads it as printed, the VE force f_e(k) stored before
+ * the PC is added. */
 typedef enum popc_ignore_mode { POPC_IGNORE_LITERAL, POPC_IGNORE_UNDO } popc_ignore_mode;
 extern const char *const popc_ignore_mode_names[];
 

@@ -6,8 +6,8 @@
  *   # source = sim | modbus | replay
  *   # variant = ref-energy
  *   # [run] ... the whole resolved scene, prefixed "# "
- *   t,x,count,x_true,v,f_e,f_pc,f_c,W,E_ref,flags[,dt,rtt]
- *   0,-0.01,-1000,-0.01,0,0,0,0,0,0,0
+ *   t,x,count[,x_true],v,f_e,f_pc,f_c,W,E_ref,flags[,E_port][,dt,rtt]
+ *   0,-0.01,-1000,-0.01,0,0,0,0,0,0,0,0
  *
  * The columns, their units and which axes fill them: log_columns.h.
  *

@@ -37,6 +37,7 @@
 	COLUMN(W,      W,      "J",   ALWAYS, DOUBLE, tick.W_J,     "passivity observer energy")             \
 	COLUMN(E_REF,  E_ref,  "J",   ALWAYS, DOUBLE, tick.E_ref_J, "reference energy")                      \
 	COLUMN(FLAGS,  flags,  "",    ALWAYS, FLAGS,  tick.flags,   "controller events, POPC_FLAG_*")        \
+	COLUMN(E_PORT, E_port, "J",   X_TRUE, DOUBLE, E_port_J,     "true energy into the VE port (ZOH)")    \
 	COLUMN(DT,     dt,     "s",   TIMING, DOUBLE, dt_s,         "measured period of the tick")           \
 	COLUMN(RTT,    rtt,    "s",   TIMING, DOUBLE, rtt_s,        "round trip of the axis transaction")
 
@@ -58,6 +59,7 @@ typedef enum popc_log_cell_format {
 typedef struct popc_log_row {
 	popc_tick tick;
 	double x_true_m;
+	double E_port_J;          /* port_energy.h: E_port(k), with x_true_m */
 	double dt_s, rtt_s;
 } popc_log_row;
 

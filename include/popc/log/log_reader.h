@@ -8,6 +8,12 @@
  *
  * A UTF-8 byte order mark at the start of the file is skipped.
  *
+ * Columns by position: a --column HEADER "#N" (N = 1, 2, ...) is the file's
+ * N-th column, whatever its name, so "#2" never names a column called "#2".
+ * A file without a column names line (opt.no_header, recorded device logs)
+ * has columns named "#1", "#2", ... after the cell count of its first row,
+ * which is read as a row.
+ *
  * Numbers use a decimal point, or a decimal comma with opt.decimal = ','.
  *
  * Cells may be in double quotes (RFC 4180). Column names may be empty (pandas'
@@ -48,6 +54,8 @@ typedef struct popc_log_reader_options {
 	 * same number, and a '.' in it is an error (a thousands separator or a
 	 * mixed file). Excludes the delimiter ','; detection then picks ';' or tab. */
 	char decimal;
+	/* 1: no column names line; the first line that is no comment is a row */
+	int no_header;
 	/* --column NAME=HEADER: popc's name NAME is the file's column HEADER */
 	int n_map;
 	const char *map_name[POPC_LOG_MAX_COLUMNS];
@@ -82,6 +90,14 @@ typedef struct popc_log_reader {
 	double t_prev;
 	long long last_row_line;        /* line of the last row returned (0: none) */
 	long long cut_line;             /* a popc log's last line, cut (no newline); 0: none */
+	long long names_line;           /* the column names line (0: no_header) */
+	char names_hint[160];           /* popc_log_reader_header_hint's text */
+	/* every column name is a number: likely a headerless file read without
+	 * no_header (its first row taken for names); errors then say so */
+	int names_numeric;
+	char *first_row;                /* no_header: the first row, read at open */
+	int first_row_pending;          /* 1 until popc_log_reader_next returned it */
+	int first_row_complete;         /* it ended with a newline */
 } popc_log_reader;
 
 /* How a popc log ended, when it did not end as popc ends one (a whole last
@@ -106,7 +122,8 @@ int popc_log_reader_next(popc_log_reader *r, double *values, popc_error *err);
  * POPC_ERR_INVALID for an index out of range. */
 int popc_log_reader_use_columns(popc_log_reader *r, const int *cols, int n);
 
-/* Index of popc's column NAME (through the --column map), or -1. */
+/* Index of popc's column NAME (through the --column map; a mapped "#N" is
+ * position N), or -1. */
 int popc_log_reader_column(const popc_log_reader *r, const char *name);
 
 /* Like popc_log_reader_column, but a missing column is an error naming it. */
@@ -127,6 +144,10 @@ int popc_log_reader_scene(const popc_log_reader *r, popc_scene *s, popc_error *e
 int popc_log_reader_unfinished(const popc_log_reader *r);
 
 void popc_log_reader_close(popc_log_reader *r);
+
+/* " (line L holds only numbers: ... --no-header ...)" when the column names
+ * are all numbers, else "": for messages about a column not found. */
+const char *popc_log_reader_header_hint(const popc_log_reader *r);
 
 /* Parses "NAME=HEADER" into the options' map (pointers into text). */
 int popc_log_reader_add_mapping(popc_log_reader_options *opt, char *text, popc_error *err);

@@ -17,6 +17,11 @@ typedef struct popc_run_summary {
 	int substeps;
 	double integrator_error_m;    /* max |x - x_exact| at the samples; 0 when exact */
 	popc_metrics metrics;
+	/* the true port energy (port_energy.h), for an axis with a true
+	 * position (has_port_energy; all 0 otherwise): E_port at the last tick,
+	 * the observer's error W - E_port there, and its largest magnitude */
+	int has_port_energy;
+	double port_energy_J, po_error_end_J, po_error_max_J;
 	int status;                   /* 0 or the popc_status that stopped the run */
 	char stop_reason[POPC_ERROR_MSG_MAX + 64];
 } popc_run_summary;
