@@ -3,7 +3,7 @@
 # column named and typed (floating point, count and flags integers), every
 # cell bit for bit against the log's text and popc-analyze's values.
 #
-#   readers.sh pandas|duckdb [SERVO_SIM]   (POPC, POPC_ANALYZE, POPC_SOURCE_ROOT,
+#   readers.sh pandas|duckdb|gnuplot [SERVO_SIM]   (POPC, POPC_ANALYZE, POPC_SOURCE_ROOT,
 #                                           POPC_BUILD_ROOT from the environment)
 #
 # Logs of every source: sim (the paper scene, improved), modbus (the same
@@ -12,6 +12,9 @@
 # zero for its first 30 s (contact at 30.2 s): DuckDB samples the first 20480
 # rows to type a column, and cells written "0" typed f_pc, W and f_e as BIGINT.
 #
+# gnuplot (Debian's gnuplot-nox) is checked by its stats command on every
+# column, by name: the record count, minimum and maximum (printed with 17
+# digits) equal the log's, bit for bit.
 # pandas is Debian's python3-pandas. DuckDB is the npm package pinned in
 # package.json / package-lock.json, installed here with `npm ci` into the
 # build directory; exit 77 (skip), saying why, when node or npm is missing or
@@ -63,6 +66,8 @@ duckdb)
 		fi
 	fi
 	cp "$HERE/read_duckdb.mjs" "$NPM/" ;; # node finds node_modules beside the script
+gnuplot)
+	command -v gnuplot >/dev/null || skip "gnuplot missing (Debian: apt-get install gnuplot-nox)" ;;
 *) die "unknown reader $READER" ;;
 esac
 
@@ -118,6 +123,37 @@ done
 status=0
 if [ "$READER" = pandas ]; then
 	PYTHONPATH=$HERE "$PY" "$HERE/read_pandas.py" "${pairs[@]}" || status=1
+elif [ "$READER" = gnuplot ]; then
+	for log in "${logs[@]}"; do
+		names=$(grep -v '^#' "$log" | head -n 1)
+		{
+			echo "set datafile separator ','"
+			for c in ${names//,/ }; do
+				echo "stats '$log' using '$c' nooutput"
+				echo "print sprintf('$c %d %.17g %.17g', STATS_records, STATS_min, STATS_max)"
+			done
+		} >"$W/stats.gp"
+		gnuplot "$W/stats.gp" >"$W/stats.txt" 2>&1 || { cat "$W/stats.txt" >&2; die "$log: gnuplot failed"; }
+		python3 - "$log" "$W/stats.txt" <<'PY' || status=1
+import struct, sys
+log, stats = sys.argv[1:3]
+lines = [l.rstrip("\n") for l in open(log) if not l.startswith("#")]
+header, rows = lines[0].split(","), [l.split(",") for l in lines[1:]]
+bits = lambda v: struct.pack("<d", v)
+fails = 0
+got = {l.split()[0]: l.split()[1:] for l in open(stats)}
+for j, name in enumerate(header):
+    col = [float(r[j]) for r in rows]
+    want = [str(len(col)), min(col), max(col)]
+    g = got.get(name)
+    if not g or g[0] != want[0] or bits(float(g[1])) != bits(want[1]) or bits(float(g[2])) != bits(want[2]):
+        print(f"FAIL: gnuplot: {log}: column {name}: records, min, max {g}, want {want[0]} {want[1]!r} {want[2]!r}")
+        fails += 1
+if not fails:
+    print(f"gnuplot: {log}: {len(header)} columns by name, {len(rows)} records, minima and maxima bit for bit")
+sys.exit(1 if fails else 0)
+PY
+	done
 else
 	for log in "${logs[@]}"; do
 		node "$NPM/read_duckdb.mjs" "$log" "$log.json" || die "$log: DuckDB read failed"
