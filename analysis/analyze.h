@@ -320,7 +320,9 @@ int ana_summarize(const char *path, const ana_input_options *o, const popc_chatt
 		  double late_from_s, ana_summary *s, ana_row_fn on_row, void *ctx,
 		  popc_error *err);
 
-typedef enum ana_format { ANA_TEXT, ANA_CSV, ANA_MARKDOWN } ana_format;
+/* ANA_JSON: one JSON object per row on one line (JSON Lines), the CSV's names
+ * and cells typed (popc/util/json.h); compare only */
+typedef enum ana_format { ANA_TEXT, ANA_CSV, ANA_MARKDOWN, ANA_JSON } ana_format;
 int ana_format_from_name(const char *name, ana_format *f);
 void ana_summary_print_header(FILE *f, ana_format fmt);
 void ana_summary_print_row(FILE *f, ana_format fmt, const ana_summary *s);

@@ -156,7 +156,7 @@ int ana_cmd_chatter(int argc, char **argv)
 	while ((c = getopt_long(argc, argv, "qh", opts, NULL)) != -1) {
 		switch (c) {
 		case OPT_FORMAT:
-			if (ana_format_from_name(optarg, &fmt) != 0 || fmt == ANA_MARKDOWN) {
+			if (ana_format_from_name(optarg, &fmt) != 0 || fmt == ANA_MARKDOWN || fmt == ANA_JSON) {
 				fprintf(stderr, "popc-analyze chatter: --format '%s': text or csv\n", optarg);
 				rc = 2;
 				goto out;

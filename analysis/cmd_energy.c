@@ -401,7 +401,7 @@ int ana_cmd_energy(int argc, char **argv)
 			break;
 		}
 		case OPT_FORMAT:
-			if (ana_format_from_name(optarg, &fmt) != 0 || fmt == ANA_MARKDOWN) {
+			if (ana_format_from_name(optarg, &fmt) != 0 || fmt == ANA_MARKDOWN || fmt == ANA_JSON) {
 				fprintf(stderr, "popc-analyze energy: --format '%s': text or csv\n", optarg);
 				rc = 2;
 				goto out;

@@ -781,6 +781,8 @@ int ana_format_from_name(const char *name, ana_format *f)
 		*f = ANA_CSV;
 	else if (strcmp(name, "markdown") == 0 || strcmp(name, "md") == 0)
 		*f = ANA_MARKDOWN;
+	else if (strcmp(name, "json") == 0)
+		*f = ANA_JSON;
 	else
 		return -1;
 	return 0;

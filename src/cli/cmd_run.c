@@ -1,4 +1,5 @@
-/* popc run SCENE [--set k=v]... [--variant NAME] [--log FILE] [--summary FILE] */
+/* popc run SCENE [--set k=v]... [--variant NAME] [--log FILE] [--summary FILE]
+ *          [--summary-format csv|json] */
 #include <errno.h>
 #include <getopt.h>
 #include <stdio.h>
@@ -27,6 +28,10 @@ static void usage(FILE *f)
 	      "                           '-': standard output, with its header unless\n"
 	      "                           appending to a file that is not empty; not\n"
 	      "                           with --log -)\n"
+	      "  --summary-format csv|json  the summary as a CSV row (default) or as one JSON\n"
+	      "                           object on one line (JSON Lines: appending adds a\n"
+	      "                           line; the CSV header's names, numbers as JSON\n"
+	      "                           numbers, null for an empty cell; docs/READING.md)\n"
 	      "  --axis sim|modbus        axis.kind: the simulated plant or a servo drive\n"
 	      "  --map FILE               axis.map: the drive's register map (docs/MODBUS.md)\n"
 	      "  --connect URI            axis.connect: tcp:HOST[:PORT] (PORT 502 if left out)\n"
@@ -55,8 +60,33 @@ static void usage(FILE *f)
 	      f);
 }
 
-enum { OPT_SET = 256, OPT_VARIANT, OPT_LOG, OPT_SUMMARY, OPT_AXIS, OPT_MAP, OPT_CONNECT,
-       OPT_FREE_RUN, OPT_RT };
+enum { OPT_SET = 256, OPT_VARIANT, OPT_LOG, OPT_SUMMARY, OPT_SUMMARY_FORMAT, OPT_AXIS, OPT_MAP,
+       OPT_CONNECT, OPT_FREE_RUN, OPT_RT };
+
+/* The summary as one JSON object on one line: the CSV header's names and the
+ * row's cells, typed by the summary table (popc_run_summary_json_kind). */
+static int write_summary_json(FILE *f, const char *header, const char *axis_names,
+			      const char *row, const char *axis_values)
+{
+	size_t nl = strlen(header) + strlen(axis_names) + 1, rl = strlen(row) + strlen(axis_values) + 1;
+	char *names_line = malloc(nl), *row_line = malloc(rl);
+	if (!names_line || !row_line) {
+		free(names_line);
+		free(row_line);
+		return -1;
+	}
+	snprintf(names_line, nl, "%s%s", header, axis_names);
+	snprintf(row_line, rl, "%s%s", row, axis_values);
+	const char *names[256];
+	popc_json_kind kinds[256];
+	int n = popc_json_csv_names(names_line, names, 256);
+	for (int i = 0; i < n; i++)
+		kinds[i] = popc_run_summary_json_kind(names[i]);
+	popc_json_csv_object(f, n, names, kinds, row_line, strlen(row_line));
+	free(names_line);
+	free(row_line);
+	return 0;
+}
 
 /* Appends the run's summary row, and the axis' own columns (a real axis:
  * period and latency percentiles) after the run's, to f (opened for
@@ -64,8 +94,8 @@ enum { OPT_SET = 256, OPT_VARIANT, OPT_LOG, OPT_SUMMARY, OPT_AXIS, OPT_MAP, OPT_
  * stops the run before it starts, not after it is done); an empty file, or a
  * stream without a position (standard output on a pipe or a terminal), gets
  * the header first. Closes f, or flushes it when it is stdout. */
-static int write_summary_file(FILE *f, const popc_run_summary *sum, const popc_scene *s,
-			      const char *axis_names, const char *axis_values)
+static int write_summary_file(FILE *f, int json, const popc_run_summary *sum,
+			      const popc_scene *s, const char *axis_names, const char *axis_values)
 {
 	char *header = NULL, *row = NULL;
 	size_t hl = 0, rl = 0;
@@ -81,12 +111,18 @@ static int write_summary_file(FILE *f, const popc_run_summary *sum, const popc_s
 	}
 	int st = -1;
 	if (header && row && hl && rl) {
-		/* a pipe cannot seek: ftell fails, and the reader gets a header */
-		long at = fseek(f, 0, SEEK_END) == 0 ? ftell(f) : -1;
-		if (at <= 0)
-			fprintf(f, "%.*s%s\n", (int)hl - 1, header, axis_names); /* drop the '\n' */
-		fprintf(f, "%.*s%s\n", (int)rl - 1, row, axis_values);
-		st = 0;
+		header[hl - 1] = '\0'; /* the '\n': the axis' columns follow */
+		row[rl - 1] = '\0';
+		if (json) {
+			st = write_summary_json(f, header, axis_names, row, axis_values);
+		} else {
+			/* a pipe cannot seek: ftell fails, and the reader gets a header */
+			long at = fseek(f, 0, SEEK_END) == 0 ? ftell(f) : -1;
+			if (at <= 0)
+				fprintf(f, "%s%s\n", header, axis_names);
+			fprintf(f, "%s%s\n", row, axis_values);
+			st = 0;
+		}
 	}
 	if (f == stdout ? fflush(f) != 0 || ferror(f) : fclose(f) != 0)
 		st = -1;
@@ -146,6 +182,7 @@ int popc_cmd_run(int argc, char **argv)
 		{"variant", required_argument, NULL, OPT_VARIANT},
 		{"log", required_argument, NULL, OPT_LOG},
 		{"summary", required_argument, NULL, OPT_SUMMARY},
+		{"summary-format", required_argument, NULL, OPT_SUMMARY_FORMAT},
 		{"axis", required_argument, NULL, OPT_AXIS},
 		{"map", required_argument, NULL, OPT_MAP},
 		{"connect", required_argument, NULL, OPT_CONNECT},
@@ -158,6 +195,7 @@ int popc_cmd_run(int argc, char **argv)
 	char **sets = NULL;
 	int n_sets = 0, quiet = 0, c;
 	const char *variant = NULL, *log_path = NULL, *summary_path = NULL;
+	int summary_json = 0;
 	const char *axis_opt[3] = {NULL, NULL, NULL}; /* --axis, --map, --connect */
 	/* a signal ends a real axis' retries and waits too */
 	popc_axis_create_options axis_create = {.notes = stderr, .stop_flag = &popc_cli_stop};
@@ -174,6 +212,14 @@ int popc_cmd_run(int argc, char **argv)
 		case OPT_VARIANT: variant = optarg; break;
 		case OPT_LOG: log_path = optarg; break;
 		case OPT_SUMMARY: summary_path = optarg; break;
+		case OPT_SUMMARY_FORMAT:
+			if (strcmp(optarg, "csv") != 0 && strcmp(optarg, "json") != 0) {
+				fprintf(stderr, "popc run: --summary-format '%s': csv or json\n", optarg);
+				free(sets);
+				return 2;
+			}
+			summary_json = strcmp(optarg, "json") == 0;
+			break;
 		case OPT_AXIS: axis_opt[0] = optarg; break;
 		case OPT_MAP: axis_opt[1] = optarg; break;
 		case OPT_CONNECT: axis_opt[2] = optarg; break;
@@ -258,7 +304,7 @@ int popc_cmd_run(int argc, char **argv)
 		axis->ops->report(axis, quiet ? NULL : stderr, axis_names, axis_values,
 				  sizeof axis_names);
 	popc_axis_destroy(&axis);
-	if (summary && write_summary_file(summary, &sum, &s, axis_names, axis_values) != 0) {
+	if (summary && write_summary_file(summary, summary_json, &sum, &s, axis_names, axis_values) != 0) {
 		fprintf(stderr, "popc run: %s: cannot write the summary: %s\n", summary_path,
 			strerror(errno));
 		if (!run_st)

@@ -285,3 +285,11 @@ void popc_run_summary_csv_row(const popc_run_summary *sum, const popc_scene *s, 
 	}
 	fputc('\n', f);
 }
+
+popc_json_kind popc_run_summary_json_kind(const char *name)
+{
+	for (int i = 0; i < SUMMARY_N_FIELDS; i++)
+		if (strcmp(summary_fields[i].name, name) == 0)
+			return summary_fields[i].format == SUMMARY_TEXT ? POPC_JSON_TEXT : POPC_JSON_NUMBER;
+	return POPC_JSON_AUTO;
+}
