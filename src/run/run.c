@@ -40,6 +40,17 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 		if (st)
 			why = st == POPC_ERR_INTERRUPTED ? "signal" : "axis sample failed";
 	}
+	/* run.delay_ticks = d: the command of tick k reaches the axis with the
+	 * exchange of tick k + d (sent after tick k + d's sample), so it acts
+	 * from t = (k + 1 + d) T, d periods later than without delay; the first
+	 * d exchanges send 0 N (nothing computed yet). A ring of d commands in
+	 * the loop, so every axis kind sees the same delayed command stream;
+	 * d = 0 sends f_c(k) itself, today's loop bit for bit. */
+	const int delay = s->delay_ticks;
+	double delayed_N[POPC_SCENE_MAX_DELAY_TICKS];
+	int delay_next = 0;
+	for (int i = 0; i < delay; i++)
+		delayed_N[i] = 0.0;
 	long long k = 0;
 	for (; !st && k < n_ticks; k++) {
 		if (opt && opt->stop_flag && *opt->stop_flag) {
@@ -63,7 +74,13 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 			break;
 		}
 		sum->ticks = k + 1;
-		if (k + 1 < n_ticks && (st = axis->ops->exchange(axis, row.tick.f_c_N, &smp, err)) != 0) {
+		double command_N = row.tick.f_c_N;
+		if (delay > 0) {
+			command_N = delayed_N[delay_next];
+			delayed_N[delay_next] = row.tick.f_c_N;
+			delay_next = delay_next + 1 == delay ? 0 : delay_next + 1;
+		}
+		if (k + 1 < n_ticks && (st = axis->ops->exchange(axis, command_N, &smp, err)) != 0) {
 			why = st == POPC_ERR_NUMERIC ? "integrator unstable"
 			      : st == POPC_ERR_DIVERGED ? "closed loop diverged"
 			      : st == POPC_ERR_SAFETY ? "safety stop"
@@ -155,7 +172,10 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 	      "velocity sign changes in contact per second")                                        \
 	FIELD(VSIGN_RATE_LATE, vsign_rate_late, "1/s", REAL,                                        \
 	      popc_metrics_vsign_rate(&m->late, m->period_s),                                       \
-	      "velocity sign changes in contact per second, second half")
+	      "velocity sign changes in contact per second, second half")                          \
+	FIELD(RENDERED_STIFFNESS, rendered_stiffness, "N/m", REAL,                                  \
+	      popc_metrics_rendered_stiffness(m),                                                   \
+	      "least squares f_c / penetration over the ticks in contact")
 
 enum summary_field_id {
 #define FIELD_ID(ID, name, unit, format, value, meaning) SUMMARY_##ID,

@@ -26,6 +26,7 @@ const popc_sweep_column popc_sweep_columns[] = {
 	RUN_METRIC("pc_rms_late"),
 	RUN_METRIC("vsign_rate_late"),
 	RUN_METRIC("integrator_error_m"),
+	RUN_METRIC("rendered_stiffness"),
 	{"chatter_s", POPC_SWEEP_CELL_CHATTER_S, POPC_SWEEP_FORMAT_DOUBLE,
 	 POPC_SWEEP_EMPTY_CHATTER_UNCHECKED},
 	{"chatter_intervals", POPC_SWEEP_CELL_CHATTER_INTERVALS, POPC_SWEEP_FORMAT_INT,
