@@ -166,37 +166,30 @@ static int reversals_repeated(popc_controller *c, long long dcount)
 	return c->reversal_tick[c->reversal_next] > c->tick - c->cfg.reversal_window_ticks;
 }
 
-/* energy-bounding (after Kim and Ryu 2004), two bounds on f_c(k):
- * 1. the zero-order hold: a force step df held over a displacement dx
- *    generates at most |df| |dx| / 2 more energy than the continuous element
- *    (rectangle against trapezoid), while the physical damping b dissipates
- *    at least b dx^2 / T per period (Cauchy-Schwarz: integral of v^2 >= dx^2 / T);
- *    so |f_c(k) - f_c(k-1)| <= 2 b |dx(k)| / T, f_c moving towards f_e(k);
- * 2. the sampled environment itself (the energy reservoir): it may give back
- *    no more than it has taken, W(k+1) = W(k) + f_c(k) dx(k+1) >= 0, with
- *    dx(k+1) predicted as dx(k): when f_c(k) dx(k) < 0, |f_c(k)| <= W(k) / |dx(k)|.
- * Returns f_c(k) - f_e(k) (the PC force). */
-static double energy_bounded_pc(const popc_controller *c, double f_e, double dx, double W,
-				unsigned *flags)
+/* energy-bounding (after Kim and Ryu 2004): a force step df held by the
+ * zero-order hold over a displacement dx generates at most |df| |dx| / 2
+ * more energy than the continuous element (rectangle against trapezoid),
+ * while the physical damping b dissipates at least b dx^2 / T over the period
+ * (Cauchy-Schwarz: the integral of v^2 is >= dx^2 / T). A force that moves
+ * with the displacement at a stiffness of at most K_b = 2 b / T keeps the
+ * first below the second; so f_c follows the displacement at K_b,
+ *   f_c(k) = f_c(k-1) + K_b dx(k),
+ * and never beyond the environment: saturated to [0, f_e(k)] (or
+ * [f_e(k), 0] when f_e < 0). The saturation only lowers |f_c|: where the
+ * environment is softer than K_b, f_c = f_e; where it is stiffer, the device
+ * feels K_b, the stiffness actually rendered (rendered_stiffness in the run
+ * summary). Returns f_c(k) - f_e(k) (the PC force). */
+static double energy_bounded_pc(const popc_controller *c, double f_e, double dx, unsigned *flags)
 {
-	const double f_prev = c->obs.f_c_prev_N;
-	const double step_max = 2.0 * c->cfg.damping_Nspm * fabs(dx) / c->cfg.period_s;
-	double step = f_e - f_prev;
-	if (step > step_max) {
-		step = step_max;
+	const double k_b = 2.0 * c->cfg.damping_Nspm / c->cfg.period_s;
+	double f = c->obs.f_c_prev_N + k_b * dx;
+	const double lo = f_e < 0.0 ? f_e : 0.0, hi = f_e > 0.0 ? f_e : 0.0;
+	if (f > hi)
+		f = hi;
+	else if (f < lo)
+		f = lo;
+	if (f != f_e)
 		*flags |= POPC_FLAG_BOUND;
-	} else if (step < -step_max) {
-		step = -step_max;
-		*flags |= POPC_FLAG_BOUND;
-	}
-	double f = f_prev + step;
-	if (f * dx < 0.0) {
-		double f_max = W > 0.0 ? W / fabs(dx) : 0.0;
-		if (fabs(f) > f_max) {
-			f = f > 0.0 ? f_max : -f_max;
-			*flags |= POPC_FLAG_BOUND;
-		}
-	}
 	return f - f_e;
 }
 
@@ -286,7 +279,7 @@ void popc_controller_step(popc_controller *c, long long count, double x_m, popc_
 		}
 		break;
 	case POPC_VARIANT_ENERGY_BOUNDING:
-		f_pc = energy_bounded_pc(c, f_e, ob.dx_m, W, &flags);
+		f_pc = energy_bounded_pc(c, f_e, ob.dx_m, &flags);
 		break;
 	case POPC_VARIANT_WINDOWED_PO:
 		f_pc = windowed_pc(c, po_inc_J, ob.dx_m, &flags);

@@ -85,7 +85,7 @@ static const scene_key scene_keys[] = {
 	NUM("controller", "foaw_noise", foaw_noise_m, "0", 0, 1, 0, "m",
 	    "filtered-velocity: FOAW noise band d (0: the encoder resolution)"),
 	{"controller", "reversal_count", KEY_INT, OFF(reversal_count), 1, POPC_REVERSAL_MAX_COUNT, 0,
-	 "", NULL, "pc-off-reversals: reversals of the count direction that turn the PC off ...", "3"},
+	 "", NULL, "pc-off-reversals: reversals of the count direction that turn the PC off ...", "4"},
 	{"controller", "reversal_window", KEY_INT, OFF(reversal_window), 1, 1e7, 0, "ticks", NULL,
 	 "pc-off-reversals: ... when they fall within this many ticks", "100"},
 	{"controller", "po_window", KEY_INT, OFF(po_window), 1, POPC_PO_MAX_WINDOW, 0, "ticks", NULL,
