@@ -316,6 +316,9 @@ static int energy_one(const char *path, const ana_input_options *in, const int *
 		if (e->def == DEF_ONLINE) {
 			popc_observer o;
 			observer_for(&l, DEF_ONLINE, &o);
+			/* every other variant logs seed eq. 3's W: pc-off-reversals,
+			 * energy-bounding (its reservoir is that W) and windowed-po (its
+			 * window sums eq. 3's increments; the W column is the whole sum) */
 			definition d = o.variant == POPC_VARIANT_FILTERED_VELOCITY ? DEF_FILTERED
 				       : o.variant == POPC_VARIANT_IGNORE ||
 						 o.variant == POPC_VARIANT_IMPROVED

@@ -27,7 +27,8 @@ static void usage(FILE *f)
 	      "with its own variant reproduces its rows exactly.\n"
 	      "\n"
 	      "  --variant NAME           none, po-pc, ref-energy, filtered-velocity, ignore,\n"
-	      "                           hold, improved, or 'all' (repeatable)\n"
+	      "                           hold, improved, pc-off-reversals, energy-bounding,\n"
+	      "                           windowed-po, or 'all' (repeatable)\n"
 	      "  -o, --output-dir DIR     write DIR/<log>.<variant>.csv (default: .)\n"
 	      "  --prefix P               write P<variant>.csv instead\n"
 	      "  -q, --quiet              do not list the files written\n" ANA_INPUT_HELP
@@ -79,7 +80,8 @@ int ana_cmd_replay(int argc, char **argv)
 			if (!all && popc_variant_from_name(optarg, &v) != 0) {
 				fprintf(stderr,
 					"popc-analyze replay: --variant '%s': none, po-pc, ref-energy, "
-					"filtered-velocity, ignore, hold, improved or all\n",
+					"filtered-velocity, ignore, hold, improved, pc-off-reversals, "
+					"energy-bounding, windowed-po or all\n",
 					optarg);
 				rc = 2;
 				goto out;

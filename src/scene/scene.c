@@ -41,6 +41,8 @@ static const char *const axis_names[] = {"sim", "modbus", NULL};
 static const scene_key scene_keys[] = {
 	NUM("run", "duration", duration_s, "5", 0, 1e7, 1, "s", "simulated time"),
 	NUM("run", "rate", rate_Hz, "1000", 1, 1e6, 0, "Hz", "control rate 1/T"),
+	{"run", "delay_ticks", KEY_INT, OFF(delay_ticks), 0, POPC_SCENE_MAX_DELAY_TICKS, 0, "periods", NULL,
+	 "loop delay: the command of tick k takes effect at tick k + 1 + delay_ticks", "0"},
 
 	NUM("operator", "mass", op_mass_kg, "0.1", 0, 1e3, 0, "kg", "hand mass M_HO"),
 	NUM("operator", "damping", op_damping_Nspm, "0.5", 0, 1e6, 0, "N s/m", "hand damping B_HO"),
@@ -82,6 +84,16 @@ static const scene_key scene_keys[] = {
 	 "samples", NULL, "filtered-velocity: longest FOAW window", "16"},
 	NUM("controller", "foaw_noise", foaw_noise_m, "0", 0, 1, 0, "m",
 	    "filtered-velocity: FOAW noise band d (0: the encoder resolution)"),
+	{"controller", "reversal_count", KEY_INT, OFF(reversal_count), 1, POPC_REVERSAL_MAX_COUNT, 0,
+	 "", NULL, "pc-off-reversals: reversals of the count direction that turn the PC off ...", "4"},
+	{"controller", "reversal_window", KEY_INT, OFF(reversal_window), 1, 1e7, 0, "ticks", NULL,
+	 "pc-off-reversals: ... when they fall within this many ticks", "100"},
+	{"controller", "po_window", KEY_INT, OFF(po_window), 1, POPC_PO_MAX_WINDOW, 0, "ticks", NULL,
+	 "windowed-po: the PO sums W - E_ref over the last po_window ticks", "25"},
+	NUM("controller", "po_velocity_floor", po_velocity_floor_mps, "0.01", 0, 1e3, 0, "m/s",
+	    "windowed-po: no PC below this measured speed |dx| / T"),
+	NUM("controller", "po_damping_max", po_damping_max_Nspm, "50", 0, 1e9, 0, "N s/m",
+	    "windowed-po: bound on the PC's damping |f_pc| / |v|"),
 
 	{"integrator", "method", KEY_ENUM, OFF(integrator), 0, 0, 0, "", popc_integrator_names,
 	 "plant integration", "exact"},

@@ -33,6 +33,7 @@ const popc_sweep_column popc_sweep_columns[] = {
 	RUN_METRIC("port_energy_end"),
 	RUN_METRIC("po_error_end"),
 	RUN_METRIC("po_error_max"),
+	RUN_METRIC("rendered_stiffness"),
 	{"chatter_s", POPC_SWEEP_CELL_CHATTER_S, POPC_SWEEP_FORMAT_DOUBLE,
 	 POPC_SWEEP_EMPTY_CHATTER_UNCHECKED},
 	{"chatter_intervals", POPC_SWEEP_CELL_CHATTER_INTERVALS, POPC_SWEEP_FORMAT_INT,
