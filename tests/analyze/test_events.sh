@@ -64,14 +64,17 @@ expect_rc 2 "$A" events --settle-hold -1 "$W/synth.csv" && grep -q "settle-hold"
 	ok "--settle-hold -1 refused" || fail "--settle-hold -1"
 
 # A real run: the same definitions in awk over the log's count, f_pc, W and
-# E_ref columns give the same ticks.
+# E_ref columns give the same ticks (times kept as the log spells them).
 run_scene paper.ini "$W/paper.csv" --set controller.ignore_mode=undo
 expect_rc 0 "$A" events --format csv "$W/paper.csv" || finish
-got=$(sed -n 2p "$W/out" | cut -d, -f2-12)
+# both sides as %.17g, so that popc-analyze's shortest round-trip text and
+# awk's own print of the same double compare equal
+norm() { awk -F, '{ for (i = 1; i <= NF; i++) printf "%s%s", (i > 1 ? "," : ""), ($i == "" ? "" : sprintf("%.17g", $i)); print "" }'; }
+got=$(sed -n 2p "$W/out" | cut -d, -f2-12 | norm)
 ref=$(grep -v '^#' "$W/paper.csv" | awk -F, -v hold=0.5 '
 NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
 {
-	t = $col["t"] + 0; c = $col["count"] + 0; pc = ($col["f_pc"] + 0) != 0
+	t = $col["t"]; c = $col["count"] + 0; pc = ($col["f_pc"] + 0) != 0
 	we = $col["W"] - $col["E_ref"]; n++
 	d = n > 1 ? c - cp : 0
 	calm = d >= -1 && d <= 1
@@ -90,7 +93,7 @@ NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
 	}
 	dp = d; pc2 = pc1; pc1 = pc; cp = c; tp = t; wep = we
 }
-END { print s "," send "," (inrun ? rs : "") "," f5 "," f8 "," f5f "," f8f "," nfast "," n5 "," n8 }')
+END { print s "," send "," (inrun ? rs : "") "," f5 "," f8 "," f5f "," f8f "," nfast "," n5 "," n8 }' | norm)
 if [ "$(echo "$got" | cut -d, -f1-4,6-)" = "$ref" ]; then
 	ok "paper scene: events equal a separate implementation ($ref)"
 else
