@@ -31,6 +31,7 @@ static void usage(FILE *f)
 {
 	fputs("usage: popc sweep SCENE --vary section.key=LIST [--vary ...] -o DIR [options]\n"
 	      "       popc sweep merge DIR... [-o DIR] [--allow-other-build]\n"
+	      "       popc sweep stats DIR --by KEY[,KEY...] [--metrics ...] [--format ...]\n"
 	      "\n"
 	      "Runs the cartesian product of the --vary lists on the scene, in parallel, and\n"
 	      "writes DIR/summary.csv: one row per run with its id, the varied values, its exit\n"
@@ -73,6 +74,9 @@ static void usage(FILE *f)
 	      "                           plan records every build that added results\n"
 	      "  -q, --quiet              no progress\n"
 	      "  -h, --help               this help\n"
+	      "\n"
+	      "stats: median, quartiles and range of the metrics per group of runs\n"
+	      "('popc sweep stats --help').\n"
 	      "\n"
 	      "merge: gathers the runs of shard outputs (or of --list runs) into one\n"
 	      "summary.csv in DIR (default: the first DIR), equal to a one-machine sweep's but\n"
@@ -481,6 +485,11 @@ static int sweep_main(const sweep_args *a)
 
 int popc_cmd_sweep(int argc, char **argv)
 {
+	if (argc >= 2 && strcmp(argv[1], "stats") == 0) {
+		static char prog[] = "popc sweep stats";
+		argv[1] = prog;
+		return popc_cmd_sweep_stats(argc - 1, argv + 1);
+	}
 	if (argc >= 2 && strcmp(argv[1], "merge") == 0) {
 		static char prog[] = "popc sweep merge"; /* getopt's messages name argv[0] */
 		argv[1] = prog;
