@@ -165,6 +165,9 @@ static int link_open(mb_axis *a, popc_error *err)
 			modbus_close(a->ctx);
 			return st;
 		}
+		/* what was on the line before is unknown: the first request keeps
+		 * the gap too, counted from the port's opening */
+		a->line_busy_ns = popc_now_ns();
 	}
 	a->connected = 1;
 	return 0;
@@ -454,19 +457,22 @@ static int check_reply(mb_axis *a, const mb_op *op, const uint8_t *req, const ui
 
 /* RTU: keeps the map's rtu_frame_gap_ms of silence between the last frame
  * on the line (a reply received, a request sent, a drain) and the next
- * request, on top of the 3.5 characters libmodbus keeps. Measured on the
+ * request (the first one: from the port's opening), on top of the 3.5
+ * characters libmodbus keeps. Measured on the
  * monotonic clock from the moment popc last saw the line busy, which is at
  * or after the frame's end: the silence on the wire is at least the gap. */
 static void keep_frame_gap(mb_axis *a)
 {
 	int64_t gap_ns = (int64_t)a->map.rtu_frame_gap_ms * 1000000;
-	if (!a->uri.rtu || gap_ns <= 0 || a->line_busy_ns == 0)
+	if (!a->uri.rtu || gap_ns <= 0)
 		return;
 	int64_t until = a->line_busy_ns + gap_ns, now = popc_now_ns();
 	if (now < until) {
 		a->gap_waits++;
 		struct timespec ts = {(time_t)(until / 1000000000), (long)(until % 1000000000)};
-		while (clock_nanosleep(POPC_CLOCK_ID, TIMER_ABSTIME, &ts, NULL) == EINTR && !interrupted(a))
+		/* kept after a signal too (at most 1 s): a drive may ignore a frame
+		 * that comes early, and the safe stop's zero force must arrive */
+		while (clock_nanosleep(POPC_CLOCK_ID, TIMER_ABSTIME, &ts, NULL) == EINTR)
 			;
 		now = popc_now_ns();
 	}
