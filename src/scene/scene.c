@@ -470,7 +470,7 @@ static int resolve_relative(char *field, const char *scene_path, const char *key
 	if (!field[0] || field[0] == '/')
 		return 0;
 	/* axis.map: a bare name that is not a file where it points ("generic",
-	 * "cia402.ini") is an installed drive map (data_path.h). Found nowhere,
+	 * "cia402-lohi.ini") is an installed drive map (data_path.h). Found nowhere,
 	 * it stays relative as before: the map's reader then names the path, and
 	 * only when an axis.kind = modbus run reads it. */
 	if (is_map) {

@@ -89,7 +89,11 @@ static void usage(FILE *f)
 	      "\n"
 	      "On exit it prints on standard error how many requests it served and how many\n"
 	      "received frames were malformed (bad CRC, another slave, a bad MBAP header, an\n"
-	      "unknown function): a client must never send one.\n"
+	      "unknown function): a client must never send one; over RTU also the shortest\n"
+	      "silence it measured before a request (a map's rtu_frame_gap_ms kept).\n"
+	      "A map's position.direction and command.direction = reversed are honoured\n"
+	      "(the registers hold minus the position and minus the force); its RTU line\n"
+	      "keys rs485, rts and rts_delay_us are not used (the drive's side of the line).\n"
 	      "MAPFILE and SCENE may be names of installed files: a name without a '/' that\n"
 	      "is not in the working directory is looked up in the data directories'\n"
 	      "drives/ and scenes/, as NAME then NAME.ini (POPC_DATA_PATH; popc(1)).\n"
@@ -228,6 +232,12 @@ typedef struct server {
 	trigger close_after, exit_after, fault_at, notify_at;
 	int pace_baud;
 	int exiting;
+	/* RTU: the silence before each request, from the end of the last frame
+	 * on the line (a request received or a reply sent) to the request's
+	 * first byte: what a drive that needs a gap between frames sees */
+	int64_t line_busy_ns;      /* 0: no frame yet */
+	int64_t silence_min_ns;    /* -1: no request after a frame yet */
+	long silences;
 } server;
 
 /* Waits until fd is readable, a timeout (ms, -1: none) passes or a
@@ -304,6 +314,7 @@ static void send_raw(server *sv, const uint8_t *buf, int n)
 		}
 		off += (int)w;
 	}
+	sv->line_busy_ns = popc_now_ns();
 }
 
 /* The reply faults that alter or hold the built frame (the others act on
@@ -400,6 +411,7 @@ static int handle(server *sv, const uint8_t *q, int len, int64_t t_rx)
 	}
 	if (in_range(&sv->exception, n)) {
 		modbus_reply_exception(sv->ctx, q, (unsigned)sv->exception.arg);
+		sv->line_busy_ns = popc_now_ns();
 		return 0;
 	}
 	drive_tick(&sv->drive, t_rx);
@@ -408,10 +420,12 @@ static int handle(server *sv, const uint8_t *q, int len, int64_t t_rx)
 		return 0;
 	if (in_range(&sv->delay, n))
 		hold_late_reply(sv, n, t_rx);
-	if (reply_altered(sv, n))
+	if (reply_altered(sv, n)) {
 		send_altered_reply(sv, n, q, len, t_rx);
-	else
+	} else {
 		modbus_reply(sv->ctx, q, len, sv->drive.mb);
+		sv->line_busy_ns = popc_now_ns();
+	}
 	if (sv->exit_after.at > 0 && n >= sv->exit_after.at) {
 		sv->exiting = 1;
 		return 1;
@@ -436,7 +450,8 @@ static void serve_link(server *sv)
 	int tick_ms = sv->drive.watchdog_ms > 0 ? 5 : 100;
 	while (!stop_requested && !sv->exiting) {
 		int r = wait_readable(sv, fd, tick_ms);
-		drive_tick(&sv->drive, popc_now_ns());
+		int64_t t_first = popc_now_ns(); /* the request's first byte is here (r == 1) */
+		drive_tick(&sv->drive, t_first);
 		if (r < 0)
 			return;
 		if (r == 0)
@@ -444,6 +459,13 @@ static void serve_link(server *sv)
 		errno = 0;
 		int len = modbus_receive(sv->ctx, q);
 		int64_t t_rx = popc_now_ns();
+		if (sv->uri.rtu && sv->line_busy_ns > 0) {
+			int64_t silence = t_first - sv->line_busy_ns;
+			if (sv->silence_min_ns < 0 || silence < sv->silence_min_ns)
+				sv->silence_min_ns = silence;
+			sv->silences++;
+		}
+		sv->line_busy_ns = t_rx;
 		if (len < 0) {
 			if (!sv->uri.rtu) {
 				/* the client left (ECONNRESET: libmodbus' word for an
@@ -698,16 +720,20 @@ int main(int argc, char **argv)
 	sigdelset(&sv.run_mask, SIGTERM);
 	sigdelset(&sv.run_mask, SIGINT);
 
+	sv.silence_min_ns = -1;
 	int rc = run_server(&sv);
-	char repeats[96] = "";
+	char repeats[96] = "", silence[128] = "";
+	if (sv.uri.rtu && sv.silences > 0)
+		snprintf(silence, sizeof silence, "; shortest silence before a request %.3f ms (%ld requests)",
+			 1e-6 * (double)sv.silence_min_ns, sv.silences);
 	if (map.cmd.seq_reg >= 0)
 		snprintf(repeats, sizeof repeats, " (%lld repeated the sequence value: retries)",
 			 sv.drive.seq_repeats);
 	fprintf(stderr,
 		"popc-servo-sim: stopped after %ld requests (%ld malformed), %lld commands%s, %lld "
-		"periods%s%s\n",
+		"periods%s%s%s\n",
 		sv.requests, sv.malformed, sv.drive.commands, repeats, sv.drive.k, sv.drive.fault ? "; fault: " : "",
-		sv.drive.fault ? sv.drive.fault_why : "");
+		sv.drive.fault ? sv.drive.fault_why : "", silence);
 	if (record) {
 		drive_write_record(&sv.drive, record);
 		if (fclose(record) != 0) {

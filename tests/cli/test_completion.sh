@@ -78,7 +78,7 @@ offers "  replay --variant: names and all" _popc_analyze popc-analyze "replay x.
 includes "  a verb's options, from its --help" _popc_analyze popc-analyze "energy --" --observer --check --output --column --set
 offers "  --format" _popc_analyze popc-analyze "compare x.csv --format m" "markdown"
 if [ -e "$T/bin/popc-servo-sim" ]; then
-  offers "popc-servo-sim --map" _popc_servo_sim popc-servo-sim "--map c" "cia402"
+  offers "popc-servo-sim --map" _popc_servo_sim popc-servo-sim "--map c" "cia402-lohi"
   offers "  --scene" _popc_servo_sim popc-servo-sim "--map generic --scene no" "no-pc"
   includes "  options, from its --help" _popc_servo_sim popc-servo-sim "--" --map --listen --scene --lockstep --map-keys
 fi
