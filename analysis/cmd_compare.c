@@ -57,7 +57,7 @@ int ana_summarize(const char *path, const ana_input_options *o, const popc_chatt
 	ana_log l;
 	/* the detector's and the metrics' contact share read the environment */
 	ana_input_options oe = *o;
-	oe.uses |= ANA_USES_ENVIRONMENT;
+	oe.uses |= ANA_USES_ENVIRONMENT | ANA_USES_PC_BOUND;
 	int st = ana_log_open(&l, path, &oe, err);
 	if (st)
 		return st;
@@ -75,7 +75,9 @@ int ana_summarize(const char *path, const ana_input_options *o, const popc_chatt
 	popc_metrics m;
 	popc_metrics_init(&m, &l.env, l.period_s, late_from_s);
 	popc_chatter_config cc = *ccfg;
+	/* the thresholds are relative to the scene analysed (its header, --set) */
 	cc.resolution_m = l.scene.enc_resolution_m;
+	cc.pc_bound_N = l.scene.pc_bound_N;
 	popc_chatter det;
 	st = popc_chatter_init(&det, &cc, l.period_s, &l.env, err);
 	if (st) {
