@@ -10,7 +10,7 @@
  *
  * Limit cycle (seed Fig. 10, and the sampled spring without PC, Fig. 6): over
  * the last seconds of the log the position keeps oscillating with an amplitude
- * far above the encoder resolution, at a low frequency, in contact, and does
+ * of several encoder counts, at most a tenth of the control rate, in contact, and does
  * not decay: turning points in the window's first and last quarter (an
  * oscillation that began inside the window, such as an approach from rest and
  * its bounces, is not yet one), the amplitude ratio between them scaled to
