@@ -8,6 +8,7 @@
 #include "analyze.h"
 #include "popc/core/metrics.h"
 #include "popc/util/parse.h"
+#include "popc/util/usage_hint.h"
 
 /* Every number of the summary is finite: the rows are (ana_log_next), the
  * RMS is taken without overflow (popc_sum_squares), the rates per second are
@@ -353,12 +354,12 @@ int ana_cmd_compare(int argc, char **argv)
 			if ((rc = ana_input_option(&in, c, optarg, "compare")) != 0)
 				goto out;
 			break;
-		default: usage(stderr); rc = 2; goto out;
+		default: popc_option_hint(argv[0], opts, argc, argv); rc = 2; goto out;
 		}
 	}
 	if (optind >= argc) {
 		fprintf(stderr, "popc-analyze compare: missing LOG\n");
-		usage(stderr);
+		popc_help_hint(argv[0], "options");
 		rc = 2;
 		goto out;
 	}
