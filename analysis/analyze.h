@@ -78,6 +78,7 @@ enum {
 	ANA_USES_CONTROLLER = 1u << 2,  /* PC bound, Table I mode, FOAW: replay */
 	ANA_USES_ENCODER = 1u << 3,
 	ANA_USES_RATE = 1u << 4,
+	ANA_USES_PC_BOUND = 1u << 5,    /* the chatter threshold is a share of it */
 };
 
 /* The long options of ana_input_options, to splice into a verb's table. */

@@ -9,6 +9,7 @@
 #include "popc/core/metrics.h"
 #include "popc/util/json.h"
 #include "popc/util/parse.h"
+#include "popc/util/usage_hint.h"
 
 /* Every number of the summary is finite: the rows are (ana_log_next), the
  * RMS is taken without overflow (popc_sum_squares), the rates per second are
@@ -61,7 +62,7 @@ int ana_summarize(const char *path, const ana_input_options *o, const popc_chatt
 	ana_log l;
 	/* the detector's and the metrics' contact share read the environment */
 	ana_input_options oe = *o;
-	oe.uses |= ANA_USES_ENVIRONMENT;
+	oe.uses |= ANA_USES_ENVIRONMENT | ANA_USES_PC_BOUND;
 	int st = ana_log_open(&l, path, &oe, err);
 	if (st)
 		return st;
@@ -80,7 +81,9 @@ int ana_summarize(const char *path, const ana_input_options *o, const popc_chatt
 	popc_metrics m;
 	popc_metrics_init(&m, &l.env, l.period_s, late_from_s);
 	popc_chatter_config cc = *ccfg;
+	/* the thresholds are relative to the scene analysed (its header, --set) */
 	cc.resolution_m = l.scene.enc_resolution_m;
+	cc.pc_bound_N = l.scene.pc_bound_N;
 	popc_chatter det;
 	st = popc_chatter_init(&det, &cc, l.period_s, &l.env, err);
 	if (st) {
@@ -412,12 +415,12 @@ int ana_cmd_compare(int argc, char **argv)
 			if ((rc = ana_input_option(&in, c, optarg, "compare")) != 0)
 				goto out;
 			break;
-		default: usage(stderr); rc = 2; goto out;
+		default: popc_option_hint(argv[0], opts, argc, argv); rc = 2; goto out;
 		}
 	}
 	if (optind >= argc) {
 		fprintf(stderr, "popc-analyze compare: missing LOG\n");
-		usage(stderr);
+		popc_help_hint(argv[0], "options");
 		rc = 2;
 		goto out;
 	}

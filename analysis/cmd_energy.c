@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "analyze.h"
+#include "popc/util/usage_hint.h"
 
 typedef enum definition {
 	DEF_ONLINE,
@@ -418,12 +419,12 @@ int ana_cmd_energy(int argc, char **argv)
 			if ((rc = ana_input_option(&in, c, optarg, "energy")) != 0)
 				goto out;
 			break;
-		default: usage(stderr); rc = 2; goto out;
+		default: popc_option_hint(argv[0], opts, argc, argv); rc = 2; goto out;
 		}
 	}
 	if (optind >= argc) {
 		fprintf(stderr, "popc-analyze energy: missing LOG\n");
-		usage(stderr);
+		popc_help_hint(argv[0], "options");
 		rc = 2;
 		goto out;
 	}

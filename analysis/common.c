@@ -324,7 +324,7 @@ static const struct {
 	{"environment.position", ANA_USES_ENVIRONMENT},
 	{"controller.variant", ANA_USES_VARIANT},
 	{"controller.ignore_mode", ANA_USES_VARIANT | ANA_USES_CONTROLLER},
-	{"controller.pc_bound", ANA_USES_CONTROLLER},
+	{"controller.pc_bound", ANA_USES_CONTROLLER | ANA_USES_PC_BOUND},
 	{"controller.foaw_window", ANA_USES_CONTROLLER},
 	{"controller.foaw_noise", ANA_USES_CONTROLLER},
 };

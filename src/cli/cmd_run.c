@@ -11,6 +11,8 @@
 #include "popc/log/log.h"
 #include "popc/run/run.h"
 #include "popc/util/same_file.h"
+#include "popc/util/usage_hint.h"
+#include "progress.h"
 
 static void usage(FILE *f)
 {
@@ -35,12 +37,14 @@ static void usage(FILE *f)
 	      "                           numbers, null for an empty cell; docs/READING.md)\n"
 	      "  --axis sim|modbus        axis.kind: the simulated plant or a servo drive\n"
 	      "  --map FILE               axis.map: the drive's register map (docs/MODBUS.md)\n"
-	      "  --connect URI            axis.connect: tcp:HOST[:PORT] (PORT 502 if left out)\n"
-	      "                           or rtu:DEVICE[:BAUD[:8E1]] (19200 baud, 8E1 if left out)\n"
+	      "  --connect URI            axis.connect:\n"
+	      "                           " POPC_URI_NOTATION "\n"
+	      "                           (" POPC_URI_DEFAULTS ";\n"
+	      "                           FORMAT: data bits, parity N/E/O, stop bits)\n"
 	      "  --free-run               modbus: no deadlines, each tick as soon as the last\n"
 	      "                           is done (lockstep dry runs against popc-servo-sim)\n"
 	      "  --rt                     modbus: try SCHED_FIFO and mlockall (notes if denied)\n"
-	      "  -q, --quiet              no summary on standard error\n"
+	      "  -q, --quiet              no summary and no progress line on standard error\n"
 	      "  -h, --help               this help\n"
 	      "\n"
 	      "A relative path (operator.table, axis.map) is relative to where it is written:\n"
@@ -176,6 +180,44 @@ static int refuse_overwriting_inputs(const popc_scene *s, const char *scene_path
 	return 0;
 }
 
+/* popc run's progress line (progress.h): simulated (or run) time against
+ * the scene's duration, checked every 1024 ticks so that the clock is read
+ * about once a millisecond of simulated time at 1 kHz, not every tick. */
+typedef struct run_progress {
+	cli_progress line;
+	double duration_s, t_s;
+	long long ticks;
+} run_progress;
+
+static void draw_progress(run_progress *p, int final)
+{
+	double el = cli_progress_elapsed_s(&p->line);
+	double frac = p->duration_s > 0.0 ? p->t_s / p->duration_s : 1.0;
+	double eta = frac > 0.0 ? el * (1.0 - frac) / frac : -1.0;
+	char eta_text[32], counts[96], rest[64];
+	cli_format_duration(eta, eta_text, sizeof eta_text);
+	snprintf(counts, sizeof counts, "%.4g/%.4g s", p->t_s, p->duration_s);
+	snprintf(rest, sizeof rest, "ETA %s", eta_text);
+	cli_progress_bar(&p->line, "popc run: ", frac, counts, rest, final);
+}
+
+static void show_progress(void *user, const popc_tick *tick)
+{
+	run_progress *p = user;
+	p->t_s = tick->t_s;
+	if ((++p->ticks & 1023) == 0 && cli_progress_due(&p->line, 0))
+		draw_progress(p, 0);
+}
+
+/* completed: the run reached its duration (the last tick is one period short) */
+static void progress_end(run_progress *p, int completed)
+{
+	if (completed)
+		p->t_s = p->duration_s;
+	if (cli_progress_due(&p->line, 1))
+		draw_progress(p, 1);
+}
+
 int popc_cmd_run(int argc, char **argv)
 {
 	static const struct option opts[] = {
@@ -228,7 +270,7 @@ int popc_cmd_run(int argc, char **argv)
 		case OPT_RT: axis_create.realtime = 1; break;
 		case 'q': quiet = 1; break;
 		case 'h': usage(stdout); free(sets); return 0;
-		default: usage(stderr); free(sets); return 2;
+		default: popc_option_hint(argv[0], opts, argc, argv); free(sets); return 2;
 		}
 	}
 	int summary_stdout = summary_path && strcmp(summary_path, "-") == 0;
@@ -238,7 +280,7 @@ int popc_cmd_run(int argc, char **argv)
 						       : "--log - and --summary - both name standard "
 							 "output: give one of them a file";
 		fprintf(stderr, "popc run: %s\n", why);
-		usage(stderr);
+		popc_help_hint(argv[0], "options");
 		free(sets);
 		return 2;
 	}
@@ -294,8 +336,18 @@ int popc_cmd_run(int argc, char **argv)
 		ro.log = &log;
 	}
 	popc_cli_install_signals();
+	/* the progress line: on a terminal, not with -q, once the run has taken
+	 * a second (POPC_PROGRESS_AFTER_S); the hook is set only then, so a run
+	 * whose stderr is a file or a pipe runs exactly as before */
+	run_progress prog = {.duration_s = s.duration_s};
+	cli_progress_start(&prog.line, quiet, cli_progress_after_s(1.0));
+	if (prog.line.shown) {
+		ro.on_tick = show_progress;
+		ro.tick_user = &prog;
+	}
 	popc_run_summary sum;
 	int run_st = popc_run(&s, axis, &ro, &sum, &err);
+	progress_end(&prog, run_st == 0 && !popc_cli_stop);
 	popc_error cerr;
 	int close_st = log_path ? popc_log_close(&log, &cerr) : 0;
 	if (!quiet)

@@ -26,6 +26,7 @@
 #include "sweep_list.h"
 #include "sweep_pool.h"
 #include "sweep_progress.h"
+#include "popc/util/usage_hint.h"
 
 static void usage(FILE *f)
 {
@@ -170,7 +171,7 @@ static int cmd_merge(int argc, char **argv)
 		case OPT_ALLOW_OTHER_BUILD: allow_other_build = 1; break;
 		case 'q': quiet = 1; break;
 		case 'h': usage(stdout); return 0;
-		default: usage(stderr); return 2;
+		default: popc_option_hint(argv[0], opts, argc, argv); return 2;
 		}
 	}
 	if (optind >= argc) {
@@ -530,7 +531,7 @@ int popc_cmd_sweep(int argc, char **argv)
 		case OPT_ALLOW_OTHER_BUILD: a.allow_other_build = 1; break;
 		case 'q': a.quiet = 1; break;
 		case 'h': usage(stdout); rc = 0; break;
-		default: usage(stderr); rc = 2; break;
+		default: popc_option_hint(argv[0], opts, argc, argv); rc = 2; break;
 		}
 	}
 	if (rc < 0) {
@@ -554,7 +555,7 @@ int popc_cmd_sweep(int argc, char **argv)
 			rc = 1;
 		} else if (why) {
 			fprintf(stderr, "popc sweep: %s\n", why);
-			usage(stderr);
+			popc_help_hint(argv[0], "options");
 			rc = 2;
 		} else {
 			a.scene_path = argv[optind];

@@ -105,7 +105,7 @@ static const scene_key scene_keys[] = {
 	{"axis", "map", KEY_STRING, OFF(axis_map), 0, 0, 0, "path", NULL,
 	 "modbus: register map file (relative as operator.table)", ""},
 	{"axis", "connect", KEY_STRING, OFF(axis_connect), 0, 0, 0, "uri", NULL,
-	 "modbus: tcp:HOST:PORT or rtu:DEVICE[:BAUD[:8N1]]", ""},
+	 "modbus: " POPC_URI_NOTATION, ""},
 };
 
 #define N_KEYS (sizeof scene_keys / sizeof scene_keys[0])

@@ -22,6 +22,8 @@
 
 #include <modbus.h>
 
+#include "popc_config.h"
+
 #include "drive.h"
 #include "frame.h"
 #include "popc/axes/modbus_axis.h"
@@ -29,6 +31,7 @@
 #include "popc/util/clock.h"
 #include "popc/util/parse.h"
 #include "popc/util/stdfds.h"
+#include "popc/util/usage_hint.h"
 
 static volatile sig_atomic_t stop_requested = 0;
 
@@ -43,8 +46,10 @@ static void usage(FILE *f)
 	fputs("usage: popc-servo-sim --map MAPFILE --listen URI --scene SCENE [options]\n"
 	      "\n"
 	      "A Modbus server that behaves like a servo drive described by MAPFILE, wrapped\n"
-	      "around the simulated plant of SCENE. URI: tcp:HOST:PORT (PORT 0: any free\n"
-	      "port) or rtu:DEVICE[:BAUD[:8N1]]. Prints 'popc-servo-sim: listening on URI'\n"
+	      "around the simulated plant of SCENE.\n"
+	      "URI: " POPC_URI_NOTATION "\n"
+	      "(" POPC_URI_DEFAULTS "; FORMAT: data bits, parity N/E/O,\n"
+	      "stop bits; PORT 0: any free port). Prints 'popc-servo-sim: listening on URI'\n"
 	      "on standard output when ready; stops cleanly on SIGTERM or SIGINT.\n"
 	      "\n"
 	      "  --lockstep            advance the plant one control period per force command\n"
@@ -86,6 +91,7 @@ static void usage(FILE *f)
 	      "  --map-keys            list every register map key with its default and\n"
 	      "                        allowed values, and exit (docs/MODBUS.md)\n"
 	      "  -h, --help            this help\n"
+	      "  --version             print popc-servo-sim's version and exit\n"
 	      "\n"
 	      "On exit it prints on standard error how many requests it served and how many\n"
 	      "received frames were malformed (bad CRC, another slave, a bad MBAP header, an\n"
@@ -588,6 +594,7 @@ int main(int argc, char **argv)
 		{"wrong-protocol", required_argument, NULL, OPT_WRONG_PROTOCOL},
 		{"wrong-length", required_argument, NULL, OPT_WRONG_LENGTH},
 		{"help", no_argument, NULL, 'h'},
+		{"version", no_argument, NULL, 'V'},
 		{NULL, 0, NULL, 0},
 	};
 	static server sv;
@@ -595,6 +602,8 @@ int main(int argc, char **argv)
 	const char *sets[64];
 	int n_sets = 0, lockstep = 0, start_faulted = 0, never_ready = 0, c;
 	long watchdog = -1;
+	static char prog[] = "popc-servo-sim";
+	argv[0] = prog; /* getopt's messages name argv[0], not the path it was run by */
 	while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
 		int bad = 0;
 		switch (c) {
@@ -635,7 +644,8 @@ int main(int argc, char **argv)
 			break;
 		case OPT_WRONG_LENGTH: bad = parse_range(optarg, 0, &sv.wrong_length); break;
 		case 'h': usage(stdout); return 0;
-		default: usage(stderr); return 2;
+		case 'V': printf("popc-servo-sim %s\n", POPC_VERSION); return 0;
+		default: popc_option_hint("popc-servo-sim", opts, argc, argv); return 2;
 		}
 		if (bad) {
 			fprintf(stderr, "popc-servo-sim: bad value '%s' for --%s\n", optarg,
@@ -646,7 +656,7 @@ int main(int argc, char **argv)
 	if (optind != argc || !map_path || !listen || !scene_path) {
 		fprintf(stderr, "popc-servo-sim: %s\n",
 			optind != argc ? "unexpected argument" : "--map, --listen and --scene are required");
-		usage(stderr);
+		popc_help_hint("popc-servo-sim", "options");
 		return 2;
 	}
 	popc_error err;

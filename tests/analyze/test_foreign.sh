@@ -103,8 +103,8 @@ expect_rc 0 "$A" compare --format csv "$W/run 1, \"fast\".csv" &&
 	[ "$(tail -n 1 "$W/out" | sed 's/^"run 1, ""fast""",//')" = "$(cat "$W/want")" ] &&
 	ok "compare CSV: a name with ',' and '\"' quoted" || fail "CSV name quoting: $(cat "$W/out")"
 # (thresholds 0: every window flagged, so there is a row to print)
-expect_rc 1 "$A" chatter --format csv --threshold pc_rms=0 --threshold pc_flip_rate=0 \
-	--threshold vsign_rate=0 --threshold contact=0 "$W/run 1, \"fast\".csv" &&
+expect_rc 1 "$A" chatter --format csv --threshold pc_rms_share=0 --threshold pc_flip_share=0 \
+	--threshold vsign_share=0 --threshold contact=0 "$W/run 1, \"fast\".csv" &&
 	grep -q '^"run 1, ""fast""",chatter,' "$W/out" && ok "chatter CSV: name quoted" ||
 	fail "chatter CSV name: $(cat "$W/out")"
 cp "$W/plain.csv" "$W/a|b.csv"

@@ -15,6 +15,12 @@
 #include "popc/core/plant.h"
 #include "popc/util/error.h"
 
+/* The connection URI notation of axis.connect (popc_modbus_uri), spelt the
+ * same in every program's help and message: popc run --connect,
+ * popc-servo-sim --listen, the scene key, the parser's errors. */
+#define POPC_URI_NOTATION "tcp:HOST[:PORT] or rtu:DEVICE[:BAUD[:FORMAT]]"
+#define POPC_URI_DEFAULTS "PORT 502, BAUD 19200, FORMAT 8E1 if left out"
+
 #define POPC_PATH_MAX 1024
 #define POPC_NAME_MAX 64
 /* run.delay_ticks' upper end: the run keeps that many commands in a ring */
