@@ -18,7 +18,8 @@
 
 #define MAX_LOGS 256
 #define FIGS_DEFAULT                                                                               \
-	((1u << RF_CONTACT) | (1u << RF_FIG4) | (1u << RF_FIG5) | (1u << RF_FIG6) | (1u << RF_FIG8))
+	((1u << RF_CONTACT) | (1u << RF_FIG4) | (1u << RF_FIG5) | (1u << RF_FIG6) | (1u << RF_FIG8) | \
+	 (1u << RF_FIG11))
 
 static void usage(FILE *f)
 {
@@ -36,6 +37,7 @@ static void usage(FILE *f)
 	      "  NAME-fig6   paper Figs. 6 and 7: force against position, the first press and\n"
 	      "              the ticks around the Fig. 5 event\n"
 	      "  NAME-fig8   paper Fig. 8: zoom where the PC acts and the next tick does not move\n"
+	      "  NAME-fig11  paper Fig. 11: true against measured position over the last ticks\n"
 	      "  NAME-zoom   with --zoom T: the zoom panels at time T\n"
 	      "and for all logs variants.png/.pdf (overlay), compare.csv and compare.md, index.md\n"
 	      "and index.html (which figure reproduces which). Force axes are shared by every\n"
@@ -43,7 +45,7 @@ static void usage(FILE *f)
 	      "\n"
 	      "  -o, --output-dir DIR     the report directory (created if missing)\n"
 	      "  --figure N               only the panels of paper figure N, one of 3, 4, 5, 6, 8,\n"
-	      "                           10, 14, 16 (3, 10, 14, 16: the contact response;\n"
+	      "                           10, 11, 14, 16 (3, 10, 14, 16: the contact response;\n"
 	      "                           repeatable); no overlay or tables. Default: every figure\n"
 	      "                           that applies, the overlay and the tables\n"
 	      "  --zoom T                 also the zoom panels at time T s (NAME-zoom)\n"
@@ -127,7 +129,8 @@ static void on_row(void *ctx, const ana_row *r)
 	p->k++;
 }
 
-static const char *const fig_suffixes_reserved[] = {"-fig4", "-fig5", "-fig6", "-fig8", "-zoom"};
+static const char *const fig_suffixes_reserved[] = {"-fig4", "-fig5", "-fig6",
+						    "-fig8", "-fig11", "-zoom"};
 
 static void safe_name(const char *in, char *out, size_t cap)
 {
@@ -214,6 +217,7 @@ int report_log_has(const report_log *lg, report_fig fig, unsigned figs)
 	case RF_FIG8: return lg->has_window[RW_FIG8];
 	case RF_ZOOM: return lg->has_window[RW_ZOOM];
 	case RF_FIG6: return lg->has_window[RW_PRESS];
+	case RF_FIG11: return lg->has_window[RW_END];
 	default: return 1;
 	}
 }
@@ -362,10 +366,11 @@ static int figure_option(const char *arg, unsigned *figs, int *fig_asked)
 	case 5: *figs |= 1u << RF_FIG5; return 0;
 	case 6: *figs |= 1u << RF_FIG6; return 0;
 	case 8: *figs |= 1u << RF_FIG8; return 0;
+	case 11: *figs |= 1u << RF_FIG11; return 0;
 	default:
 		fprintf(stderr,
 			"popc-analyze report: --figure '%s': the paper figures a report draws are 3, "
-			"4, 5, 6, 8, 10, 14, 16 (6 includes 7; 3, 10, 14, 16 are the contact response)\n",
+			"4, 5, 6, 8, 10, 11, 14, 16 (6 includes 7; 3, 10, 14, 16 are the contact response)\n",
 			arg);
 		return 2;
 	}
@@ -392,7 +397,10 @@ static int write_window_data(const report_out *ro, const report_log *lg, report_
 		if (w7->n > 0)
 			bad |= report_window_write(w7, f) != 0;
 	} else {
-		report_win w = fig == RF_FIG5 ? RW_FIG5 : fig == RF_FIG8 ? RW_FIG8 : RW_ZOOM;
+		report_win w = fig == RF_FIG5	? RW_FIG5
+			       : fig == RF_FIG8 ? RW_FIG8
+			       : fig == RF_FIG11 ? RW_END
+						: RW_ZOOM;
 		bad |= report_window_write(&cap->w[w], f) != 0;
 	}
 	return report_close(f, path, bad);
@@ -579,8 +587,10 @@ int ana_cmd_report(int argc, char **argv)
 		}
 		script_safe(lg->sum.variant);
 		snprintf(lg->name, sizeof lg->name, "%s", names[i - optind].name);
+		report_capture_finish(&pass.cap);
 		for (int w = 0; w < RW_COUNT; w++)
 			lg->has_window[w] = pass.cap.w[w].event_index >= 0;
+		lg->t_event_s[RW_END] = pass.cap.w[RW_END].t_event_s;
 		if (lg->has_window[RW_PRESS])
 			lg->t_event_s[RW_PRESS] = pass.cap.w[RW_PRESS].t_event_s;
 		if (!isnan(zoom_s) && !lg->has_window[RW_ZOOM])
@@ -667,7 +677,7 @@ int ana_cmd_report(int argc, char **argv)
 		if (!any) {
 			fprintf(stderr,
 				"popc-analyze report: --figure %d: %s in any log, so nothing drawn for it\n",
-				fg == RF_FIG5 ? 5 : fg == RF_FIG8 ? 8 : 6,
+				fg == RF_FIG5 ? 5 : fg == RF_FIG8 ? 8 : fg == RF_FIG11 ? 11 : 6,
 				fg == RF_FIG6 ? "no contact" : "no such event");
 			if (rc == 0)
 				rc = 1;

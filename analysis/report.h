@@ -16,14 +16,24 @@ enum { D_X, D_X_TRUE, D_V, D_F_E, D_F_PC, D_F_C, D_W, D_E_REF, D_WME, D_E_PORT, 
 /* The figures a report draws per log. RF_CONTACT is the contact response
  * (paper Figs. 3, 10, 14, 16 by variant), the others one paper figure each;
  * RF_ZOOM is the zoom at a time the user gives (--zoom T). */
-typedef enum report_fig { RF_CONTACT, RF_FIG4, RF_FIG5, RF_FIG6, RF_FIG8, RF_ZOOM, RF_COUNT } report_fig;
+typedef enum report_fig {
+	RF_CONTACT,
+	RF_FIG4,
+	RF_FIG5,
+	RF_FIG6,
+	RF_FIG8,
+	RF_FIG11,
+	RF_ZOOM,
+	RF_COUNT
+} report_fig;
 
 /* The file-name suffix of each figure ("" for the contact response: NAME.png). */
 extern const char *const report_fig_suffix[RF_COUNT];
 
 /* Windows of raw rows: the events of Figs. 5 and 8, the user's --zoom time,
- * and the first press into the wall (Fig. 6). */
-typedef enum report_win { RW_FIG5, RW_FIG8, RW_ZOOM, RW_PRESS, RW_COUNT } report_win;
+ * the first press into the wall (Fig. 6), the log's last ticks (Fig. 11: the
+ * low-velocity phase at the end of the paper's run). */
+typedef enum report_win { RW_FIG5, RW_FIG8, RW_ZOOM, RW_PRESS, RW_END, RW_COUNT } report_win;
 
 /* Ticks kept either side of an event: 15 periods (15 ms at 1 kHz) show the
  * paper's two-tick events with the steps that lead to them and follow. */
@@ -45,6 +55,7 @@ typedef struct report_window {
 	int event_index;    /* rows[event_index] is the event tick; -1: not reached */
 	int after;          /* rows still to keep after the event (press: after leaving) */
 	int closed;
+	int pos;            /* RW_END: the next row to overwrite */
 	report_sample *rows;
 } report_window;
 
@@ -59,6 +70,8 @@ typedef struct report_capture {
  * always captured). Returns 0, or -1 out of memory. */
 int report_capture_init(report_capture *c, const double t_event_s[RW_COUNT]);
 void report_capture_add(report_capture *c, const report_sample *s, int in_contact);
+/* After the last row: RW_END's ring in time order, its middle tick the event. */
+void report_capture_finish(report_capture *c);
 void report_capture_free(report_capture *c);
 /* Writes a window's rows ("t x x_true ..." per line, NaN for missing). */
 int report_window_write(const report_window *w, FILE *f);

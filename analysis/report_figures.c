@@ -7,7 +7,8 @@
 
 #include "report.h"
 
-const char *const report_fig_suffix[RF_COUNT] = {"", "-fig4", "-fig5", "-fig6", "-fig8", "-zoom"};
+const char *const report_fig_suffix[RF_COUNT] = {"",      "-fig4",  "-fig5", "-fig6",
+						 "-fig8", "-fig11", "-zoom"};
 
 int report_contact_paper_fig(const char *variant)
 {
@@ -79,7 +80,8 @@ static void parameter_box(FILE *f, const report_log *lg)
 	const ana_summary *s = &lg->sum;
 	fprintf(f,
 		"  set label 99 \"variant %s\\nK_e = %g N/m, delta = %g m\\nT = %g s, pc_bound = %g N\\n"
-		"ignore_mode = %s\" at screen 0.995, 0.995 right front boxed\n",
+		"ignore_mode = %s\" at screen 0.99, 0.99 right front boxed\n"
+		"  set key outside right bottom # the first panel's: the box is above it\n",
 		s->variant, s->env_stiffness_Npm, s->enc_resolution_m, s->period_s, s->pc_bound_N,
 		s->ignore_mode);
 }
@@ -125,7 +127,9 @@ static void end(FILE *f)
 /* After a panel: back to the defaults the next panel expects. */
 static void reset(FILE *f)
 {
-	fputs("  unset label 99\n  unset arrow\n  unset object\n  set autoscale y\n", f);
+	fputs("  unset label 99\n  unset arrow\n  unset object\n  set autoscale y\n"
+	      "  set key outside right top vertical\n",
+	      f);
 }
 
 /* The PC force axis, the same in every figure of the report. */
@@ -239,12 +243,11 @@ static void write_fig4(FILE *f, const report_log *lg)
 		fprintf(f,
 			"  set arrow 1 from first %.9g, graph 0 to first %.9g, graph 1 nohead lw 2 "
 			"lc rgb \"#d62728\"\n"
-			"  set label 1 \"within one count (+-%.3g m/s) from t = %.4g s (paper: after 2.5 "
-			"s)\" at first %.9g, graph 0.92 left offset 1,0 front\n",
-			lg->t_one_count_s, lg->t_one_count_s, count_v, lg->t_one_count_s,
-			lg->t_one_count_s);
+			"  set title \"red line: within one count (+-%.3g m/s) from t = %.4g s on (paper: "
+			"after 2.5 s)\"\n",
+			lg->t_one_count_s, lg->t_one_count_s, count_v, lg->t_one_count_s);
 	fputs("  plot data using 1:4 with lines lw 1 title \"v, zoomed\"\n"
-	      "  unset label 1\n  set ytics autofreq\n",
+	      "  unset title\n  set ytics autofreq\n",
 	      f);
 	end(f);
 }
@@ -253,24 +256,33 @@ static void write_fig4(FILE *f, const report_log *lg)
 static void write_zoom(FILE *f, report_fig fig, const report_log *lg)
 {
 	const ana_summary *s = &lg->sum;
-	report_win w = fig == RF_FIG5 ? RW_FIG5 : fig == RF_FIG8 ? RW_FIG8 : RW_ZOOM;
+	report_win w = fig == RF_FIG5	? RW_FIG5
+		       : fig == RF_FIG8 ? RW_FIG8
+		       : fig == RF_FIG11 ? RW_END
+					: RW_ZOOM;
 	const double t = lg->t_event_s[w];
 	char what[400], tx[300];
 	if (fig == RF_FIG5)
 		snprintf(what, sizeof what,
-			 "paper Fig. 5: sudden sign change of the velocity and its effect on W - E_ref "
+			 "paper Fig. 5: sudden sign change of the velocity, its effect on W - E_ref\\n"
 			 "(paper: t = 3.173/3.174 s; here t = %.4f s)",
 			 t);
 	else if (fig == RF_FIG8)
 		snprintf(what, sizeof what,
-			 "paper Fig. 8: zero velocity after the PC acts, W - E_ref unchanged (paper: t "
-			 "= 2.957/2.958 s; here t = %.4f s)",
+			 "paper Fig. 8: zero velocity after the PC acts, W - E_ref unchanged\\n"
+			 "(paper: t = 2.957/2.958 s; here t = %.4f s)",
 			 t);
+	else if (fig == RF_FIG11)
+		snprintf(what, sizeof what,
+			 "paper Fig. 11: true against measured position at low velocity\\n"
+			 "(the log's last %d ticks, around t = %.4f s)",
+			 2 * REPORT_ZOOM_TICKS + 1, t);
 	else
 		snprintf(what, sizeof what, "zoom at t = %.6g s (--zoom), in the form of paper Figs. 5 and 8",
 			 t);
 	int panels = 3 + (s->has_w ? 1 : 0) + (s->has_pc_force ? 1 : 0);
-	begin(f, lg, fig, fig == RF_FIG5 ? 5 : fig == RF_FIG8 ? 8 : 0, what, panels, 1, "1000,1300",
+	begin(f, lg, fig, fig == RF_FIG5 ? 5 : fig == RF_FIG8 ? 8 : fig == RF_FIG11 ? 11 : 0, what,
+	      panels, 1, "1000,1300",
 	      "7.5in,9.5in");
 	const double T = s->period_s;
 	fprintf(f,
@@ -284,13 +296,12 @@ static void write_zoom(FILE *f, report_fig fig, const report_log *lg)
 		t + (REPORT_ZOOM_TICKS + 0.5) * T, t, t, t + T, t + T);
 	/* each tick's value holds until the next (ZOH): steps, with the ticks marked */
 	fprintf(f,
-		"  set ylabel \"position (m)\"\n  set format y \"%%.5f\"\n"
+		"  set ylabel \"position (m)\"\n  set format y \"%%.6f\"\n"
 		"  plot data using 1:2 with steps lw 2 lc rgb \"#1f77b4\" title \"measured x\"%s\n"
-		"  set format y \"%%g\"\n  unset label 99\n",
+		"  set format y \"%%g\"\n  unset label 99\n  set key outside right top vertical\n",
 		true_x(lg, "data", tx, sizeof tx));
 	fputs("  set ylabel \"v (m/s)\"\n"
-	      "  plot data using 1:4 with linespoints pt 7 ps 0.7 lw 1 title \"v (one count/T = "
-	      "steps of delta/T)\"\n",
+	      "  plot data using 1:4 with linespoints pt 7 ps 0.7 lw 1 title \"v = dx/T\"\n",
 	      f);
 	if (s->has_w)
 		fputs("  set ylabel \"W - E_ref (J)\"\n"
@@ -315,15 +326,15 @@ static void write_fig6(FILE *f, const report_log *lg, report_win fig7_window)
 {
 	const ana_summary *s = &lg->sum;
 	begin(f, lg, RF_FIG6, 6,
-	      "paper Fig. 6: force against position, first press and release; Fig. 7: the same at "
-	      "the velocity sign change of Fig. 5",
+	      "paper Fig. 6: force against position, first press and release\\n"
+	      "Fig. 7: the same at the velocity sign change of Fig. 5",
 	      1, 2, "1300,650", "10in,5in");
 	const char *x = lg->has_x_true ? "3" : "2";
 	fprintf(f,
 		"  data = \"%s-fig6.dat\"\n"
 		"  K = %.17g\n  xw = %.17g\n"
 		"  spring(x) = x >= xw ? K * (x - xw) : 0\n"
-		"  set lmargin at screen 0.07\n  set rmargin at screen 0.48\n"
+		"  set lmargin at screen 0.06\n  set rmargin at screen 0.44\n  set key inside top left\n"
 		"  set xlabel \"%s position (m)\"\n  set ylabel \"force (N)\"\n"
 		"  plot data index 0 using %s:5 with steps lw 1 dt 2 lc rgb \"gray30\" title \"f_e held "
 		"(ZOH)\", data index 0 using %s:7 with steps lw 1 lc rgb \"#2ca02c\" title \"f_c held "
@@ -331,7 +342,7 @@ static void write_fig6(FILE *f, const report_log *lg, report_win fig7_window)
 		lg->name, s->env_stiffness_Npm, s->env_position_m, lg->has_x_true ? "true" : "measured", x,
 		x);
 	reset(f);
-	fputs("  set lmargin at screen 0.57\n  set rmargin at screen 0.98\n"
+	fputs("  set lmargin at screen 0.51\n  set rmargin at screen 0.84\n  set key inside top left\n"
 	      "  set xlabel \"measured position x (m)\"\n",
 	      f);
 	if (!lg->has_window[fig7_window] || isnan(lg->t_event_s[fig7_window])) {
@@ -343,6 +354,7 @@ static void write_fig6(FILE *f, const report_log *lg, report_win fig7_window)
 	}
 	/* the ticks k-3 .. k+3 around the event tick k, each point labelled */
 	fprintf(f,
+		"  set xtics %.9g\n  set format x \"%%.5f\"\n  set xtics rotate by 30 right\n"
 		"  E = %d\n  near(i) = i >= E - 3 && i <= E + 3\n"
 		"  set title \"Fig. 7: ticks k-3..k+3 at t(k) = %.4f s%s\"\n"
 		"  plot data index 1 using (near($0) ? $2 : 1/0):7 with steps lw 2 lc rgb \"#2ca02c\" "
@@ -350,7 +362,7 @@ static void write_fig6(FILE *f, const report_log *lg, report_win fig7_window)
 		"\"gray30\" title \"f_e\", data index 1 using (near($0) ? $2 : 1/0):7:(sprintf(\"%%+d\", "
 		"int($0) - E)) with labels point pt 7 ps 0.7 offset 0.8,0.6 notitle, spring(x) with lines "
 		"lw 1 lc rgb \"black\" title \"K_e x\"\n  unset title\n",
-		REPORT_ZOOM_TICKS, lg->t_event_s[fig7_window],
+		s->enc_resolution_m, REPORT_ZOOM_TICKS, lg->t_event_s[fig7_window],
 		fig7_window == RW_ZOOM ? " (--zoom)" : "");
 	end(f);
 }
@@ -363,6 +375,7 @@ int report_write_figure(FILE *f, report_fig fig, const report_log *lg, const rep
 	case RF_FIG4: write_fig4(f, lg); break;
 	case RF_FIG5:
 	case RF_FIG8:
+	case RF_FIG11:
 	case RF_ZOOM: write_zoom(f, fig, lg); break;
 	case RF_FIG6:
 		write_fig6(f, lg, lg->has_window[RW_FIG5] ? RW_FIG5 : RW_ZOOM);

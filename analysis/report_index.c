@@ -21,6 +21,8 @@ static const struct {
 	{"Figs. 6 and 7", "force against position: the first press and release against the ideal "
 			  "spring; the ticks around the Fig. 5 event"},
 	{"Fig. 8", "zoom where the PC becomes active and the next tick does not move"},
+	{"Fig. 11", "true against measured position (and the zoom panels) over the log's last "
+		    "ticks, the low-velocity phase"},
 	{"none (form of Figs. 5, 8)", "zoom at the time given with --zoom T"},
 };
 

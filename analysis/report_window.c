@@ -15,7 +15,7 @@ int report_capture_init(report_capture *c, const double t_event_s[RW_COUNT])
 		report_window *w = &c->w[i];
 		w->event_index = -1;
 		w->t_event_s = t_event_s[i];
-		w->wanted = i == RW_PRESS || !isnan(t_event_s[i]);
+		w->wanted = i == RW_PRESS || i == RW_END || !isnan(t_event_s[i]);
 		if (!w->wanted)
 			continue;
 		w->cap = i == RW_PRESS ? REPORT_ZOOM_TICKS + REPORT_PRESS_TICKS + REPORT_ZOOM_TICKS
@@ -53,6 +53,13 @@ void report_capture_add(report_capture *c, const report_sample *s, int in_contac
 		report_window *w = &c->w[i];
 		if (!w->wanted || w->closed)
 			continue;
+		if (i == RW_END) { /* a ring: the last cap rows */
+			w->rows[w->pos] = *s;
+			w->pos = (w->pos + 1) % w->cap;
+			if (w->n < w->cap)
+				w->n++;
+			continue;
+		}
 		if (w->event_index < 0) {
 			/* the event tick: the first row at or after the event time (an
 			 * event found in the log is one of its rows' times, exactly);
@@ -75,6 +82,30 @@ void report_capture_add(report_capture *c, const report_sample *s, int in_contac
 	c->ring_pos = (c->ring_pos + 1) % REPORT_ZOOM_TICKS;
 	if (c->ring_n < REPORT_ZOOM_TICKS)
 		c->ring_n++;
+}
+
+void report_capture_finish(report_capture *c)
+{
+	report_window *w = &c->w[RW_END];
+	if (w->n == 0)
+		return;
+	if (w->n == w->cap && w->pos > 0) {
+		/* rotate left by pos, in place: three reversals */
+		report_sample tmp;
+#define REVERSE(lo, hi)                                                                            \
+	for (int a = (lo), b = (hi) - 1; a < b; a++, b--) {                                          \
+		tmp = w->rows[a];                                                                  \
+		w->rows[a] = w->rows[b];                                                           \
+		w->rows[b] = tmp;                                                                  \
+	}
+		REVERSE(0, w->pos)
+		REVERSE(w->pos, w->cap)
+		REVERSE(0, w->cap)
+#undef REVERSE
+		w->pos = 0;
+	}
+	w->event_index = w->n / 2;
+	w->t_event_s = w->rows[w->event_index].t_s;
 }
 
 void report_capture_free(report_capture *c)
