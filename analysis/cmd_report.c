@@ -70,7 +70,6 @@ typedef struct report_pass {
 	ana_decimator dec;
 	report_capture cap;
 	report_log *lg;
-	long long count_prev;
 	int k;
 } report_pass;
 
@@ -117,15 +116,8 @@ static void on_row(void *ctx, const ana_row *r)
 		lg->f_c_min_N = fmin(lg->f_c_min_N, fmin(t->f_c_N, t->f_e_N));
 		lg->f_c_max_N = fmax(lg->f_c_max_N, fmax(t->f_c_N, t->f_e_N));
 	}
-	/* Fig. 4's "within one count from": the tick after the last move of two
-	 * counts or more */
-	if (p->k > 0 && llabs(t->count - p->count_prev) >= 2)
-		lg->t_one_count_s = NAN;
-	else if (p->k > 0 && isnan(lg->t_one_count_s))
-		lg->t_one_count_s = t->t_s;
 	lg->has_x_true |= !isnan(r->x_true_m);
 	lg->has_e_port |= !isnan(r->extra[0]);
-	p->count_prev = t->count;
 	p->k++;
 }
 
@@ -364,13 +356,15 @@ static int figure_option(const char *arg, unsigned *figs, int *fig_asked)
 		return 0;
 	case 4: *figs |= 1u << RF_FIG4; return 0;
 	case 5: *figs |= 1u << RF_FIG5; return 0;
-	case 6: *figs |= 1u << RF_FIG6; return 0;
+	case 6:
+	case 7: *figs |= 1u << RF_FIG6; return 0;
 	case 8: *figs |= 1u << RF_FIG8; return 0;
 	case 11: *figs |= 1u << RF_FIG11; return 0;
 	default:
 		fprintf(stderr,
 			"popc-analyze report: --figure '%s': the paper figures a report draws are 3, "
-			"4, 5, 6, 8, 10, 11, 14, 16 (6 includes 7; 3, 10, 14, 16 are the contact response)\n",
+			"4, 5, 6 (or 7), 8, 10, 11, 14, 16 (one figure draws 6 and 7; 3, 10, 14, 16 "
+			"are the contact response)\n",
 			arg);
 		return 2;
 	}
@@ -406,31 +400,22 @@ static int write_window_data(const report_out *ro, const report_log *lg, report_
 	return report_close(f, path, bad);
 }
 
-/* The events of Figs. 5 and 8, when the report draws them. */
+/* The events of Figs. 4, 5 and 8 (and the settled stretch the contact
+ * response's position axis shows), when the report draws them. */
 static int find_events(report_log *lg, const ana_input_options *in, unsigned figs, int *rc)
 {
-	static const struct {
-		report_win w;
-		unsigned needs;
-	} ev[] = {{RW_FIG5, (1u << RF_FIG5) | (1u << RF_FIG6)}, {RW_FIG8, 1u << RF_FIG8}};
-	for (size_t i = 0; i < sizeof ev / sizeof ev[0]; i++) {
-		if (!(figs & ev[i].needs))
-			continue;
-		if (strcmp(lg->path, "-") == 0) {
-			fprintf(stderr, "popc-analyze report: note: standard input is read once: no "
-					"event figures for it\n");
-			continue;
-		}
-		char why[300] = "";
-		popc_error err;
-		int st = report_find_event(ev[i].w, lg->path, in, &lg->t_event_s[ev[i].w], why,
-					   sizeof why, &err);
-		if (st < 0) {
-			*rc = ana_fail("report", st, &err);
-			return -1;
-		}
-		if (st == 0 && why[0])
-			fprintf(stderr, "popc-analyze report: note: %s: %s\n", lg->path, why);
+	if (!(figs & ~(1u << RF_ZOOM) & ~(1u << RF_FIG11)))
+		return 0;
+	if (strcmp(lg->path, "-") == 0) {
+		fprintf(stderr, "popc-analyze report: note: standard input is read once: no events "
+				"(Figs. 4, 5, 8) found in it\n");
+		return 0;
+	}
+	popc_error err;
+	int st = report_find_events(lg, in, &err);
+	if (st < 0) {
+		*rc = ana_fail("report", st, &err);
+		return -1;
 	}
 	return 0;
 }
@@ -546,7 +531,9 @@ int ana_cmd_report(int argc, char **argv)
 			lg->t_event_s[w] = NAN;
 		lg->t_event_s[RW_ZOOM] = zoom_s;
 		lg->t_contact_s = NAN;
-		lg->t_one_count_s = NAN;
+		lg->t_settle_s = NAN;
+		lg->t_settle_final_s = NAN;
+		lg->x_settled_min_m = lg->x_settled_max_m = NAN;
 		lg->f_c_min_N = INFINITY;
 		lg->f_c_max_N = -INFINITY;
 		if (find_events(lg, &in, figs, &rc) != 0)

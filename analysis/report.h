@@ -86,7 +86,10 @@ typedef struct report_log {
 	double t_contact_s;     /* the first tick with f_e != 0; NAN: never in contact */
 	double x_contact_min_m, x_contact_max_m; /* x and x_true from t_contact on */
 	double f_c_min_N, f_c_max_N;
-	double t_one_count_s;   /* from here on no tick moves more than one count */
+	/* Fig. 4 (ana_events): the velocity within one count for ANA_SETTLE_HOLD_S
+	 * from t_settle_s, to the end from t_settle_final_s; NAN: not found */
+	double t_settle_s, t_settle_final_s;
+	double x_settled_min_m, x_settled_max_m; /* x over the settled stretch; NAN: none */
 	double t_event_s[RW_COUNT]; /* NAN: no such event (RW_ZOOM: no --zoom) */
 	int has_window[RW_COUNT];   /* the window has rows in NAME-figN.dat */
 } report_log;
@@ -109,11 +112,10 @@ int report_write_figure(FILE *f, report_fig fig, const report_log *lg, const rep
 			int fig_asked);
 int report_write_overlay(FILE *f, const report_log *logs, int n, const report_scales *sc);
 
-/* The event of paper figure 5 or 8 in the log at path: 1 and *t_s when found,
- * 0 when the log has none (or no finder is built in: *why says so), or a
- * negative popc_status with err set. */
-int report_find_event(report_win which, const char *path, const ana_input_options *in,
-		      double *t_s, char *why, size_t why_cap, popc_error *err);
+/* The events of paper Figs. 4, 5 and 8 in lg->path (ana_find_events): sets
+ * lg->t_event_s[RW_FIG5], [RW_FIG8], t_settle_s, t_settle_final_s (NAN: none).
+ * Returns 0 or a negative popc_status with err set. */
+int report_find_events(report_log *lg, const ana_input_options *in, popc_error *err);
 
 /* Where the report goes, and the logs it reads: no output may replace one. */
 typedef struct report_out {

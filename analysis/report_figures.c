@@ -143,9 +143,19 @@ static void f_c_range(FILE *f, const report_scales *sc)
 	fprintf(f, "  set yrange [%.6g:%.6g] # shared f_c scale\n", sc->f_c_min_N, sc->f_c_max_N);
 }
 
-/* The position axis around the contact: the counts there, not the approach. */
+/* The position axis where the counts show: the settled stretch (Fig. 4's
+ * settle, when the events give it) or else everything from the first contact. */
 static void contact_x_range(FILE *f, const report_log *lg)
 {
+	if (!isnan(lg->x_settled_min_m)) {
+		double pad = 5.0 * lg->sum.enc_resolution_m;
+		fprintf(f,
+			"  set yrange [%.9g:%.9g] # x while settled (from t = %.6g s), 5 counts "
+			"either side\n"
+			"  set ylabel \"position (m), settled range\"\n",
+			lg->x_settled_min_m - pad, lg->x_settled_max_m + pad, lg->t_settle_s);
+		return;
+	}
 	if (isnan(lg->t_contact_s))
 		return;
 	double pad = 3.0 * lg->sum.enc_resolution_m;
@@ -239,13 +249,18 @@ static void write_fig4(FILE *f, const report_log *lg)
 		"  set ylabel \"v (m/s), +-4 counts/T\"\n  set xlabel \"t (s)\"\n"
 		"  set yrange [%.6g:%.6g]\n  set ytics %.6g\n",
 		-4.5 * count_v, 4.5 * count_v, count_v);
-	if (!isnan(lg->t_one_count_s))
+	if (!isnan(lg->t_settle_s)) {
+		char final[120] = "";
+		if (!isnan(lg->t_settle_final_s))
+			snprintf(final, sizeof final, "; to the end from %.4g s", lg->t_settle_final_s);
 		fprintf(f,
 			"  set arrow 1 from first %.9g, graph 0 to first %.9g, graph 1 nohead lw 2 "
 			"lc rgb \"#d62728\"\n"
-			"  set title \"red line: within one count (+-%.3g m/s) from t = %.4g s on (paper: "
-			"after 2.5 s)\"\n",
-			lg->t_one_count_s, lg->t_one_count_s, count_v, lg->t_one_count_s);
+			"  set title \"red line: within one count (+-%.3g m/s) for %g s from t = %.4g s%s "
+			"(paper: after 2.5 s)\"\n",
+			lg->t_settle_s, lg->t_settle_s, count_v, ANA_SETTLE_HOLD_S, lg->t_settle_s,
+			final);
+	}
 	fputs("  plot data using 1:4 with lines lw 1 title \"v, zoomed\"\n"
 	      "  unset title\n  set ytics autofreq\n",
 	      f);
