@@ -124,6 +124,8 @@ typedef struct report_out {
 	int n_inputs;
 } report_out;
 
+/* 0 when path is not one of the input logs; else -1 after saying so. */
+int report_check_not_input(const report_out *ro, const char *path);
 /* Opens DIR/file for writing (path gets the full name): NULL after one
  * message when it is an input log or cannot be opened. */
 FILE *report_open(const report_out *ro, const char *file, char *path, size_t cap);
