@@ -200,7 +200,7 @@ static void write_contact(FILE *f, const report_log *lg, const report_scales *sc
 		true_x(lg, "data", tx, sizeof tx));
 	reset(f);
 	fputs("  set ylabel \"velocity (m/s)\"\n"
-	      "  plot data using 1:4 with lines lw 1 title \"v = (x(k) - x(k-1)) / T\"\n",
+	      "  plot data using 1:4 with lines lw 1 title \"v, the controller's\"\n",
 	      f);
 	fprintf(f, "  set ylabel \"energy (J)\"\n  plot %sdata using 1:9 with lines lw 1 dt 2 title "
 		   "\"E_ref\"%s\n",
@@ -237,7 +237,10 @@ static void write_fig4(FILE *f, const report_log *lg)
 {
 	const ana_summary *s = &lg->sum;
 	const double count_v = s->enc_resolution_m / s->period_s; /* one count per tick */
-	begin(f, lg, RF_FIG4, 4, "paper Fig. 4: backward velocity v(k) = (x(k) - x(k-1)) / T", 2, 1,
+	begin(f, lg, RF_FIG4, 4,
+	      "paper Fig. 4: backward velocity v(k) = (x(k) - x(k-1)) / T\\n(the log's v: "
+	      "filtered-velocity logs its filtered velocity)",
+	      2, 1,
 	      "1000,750", "7.5in,5.5in");
 	fprintf(f, "  data = \"%s.dat\"\n  set xrange [%.9g:%.9g]\n", lg->name, lg->t_first_s,
 		lg->t_last_s);
