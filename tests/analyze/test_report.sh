@@ -43,11 +43,14 @@ grep -q '<td class="l"><code>LOG-fig5.png</code></td><td class="l">Fig. 5</td>' 
 	grep -q 'paper Fig. 16: contact response' "$R/index.html" && grep -q 'src="ref-energy-fig8.png"' "$R/index.html" &&
 	ok "index: report figure to paper figure" || fail "index mapping"
 # one f_pc scale and one f_c scale in every figure and the overlay: 1.1 x the
-# largest |f_pc| of the three logs (ref-energy at its 5 N bound)
+# largest |f_pc| of the three logs (compare.csv's pc_max; ref-energy at its 5 N
+# bound: 5.5)
+want=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) if ($i == "pc_max") k = i; next }
+	$k > m { m = $k } END { printf "  set yrange [%.6g:%.6g]", -1.1 * m, 1.1 * m }' "$R/compare.csv")
 scales=$(grep -h 'shared f_pc scale' "$R"/*.gp | sed 's/ *#.*//' | sort -u)
-[ "$(grep -l 'shared f_pc scale' "$R"/*.gp | wc -l)" -ge 4 ] && [ "$scales" = "  set yrange [-5.5:5.5]" ] &&
+[ "$(grep -l 'shared f_pc scale' "$R"/*.gp | wc -l)" -ge 4 ] && [ "$scales" = "$want" ] &&
 	grep -q 'shared f_pc scale' "$R/improved.gp" && grep -q 'shared f_pc scale' "$R/variants.gp" &&
-	ok "f_pc scale shared: $scales" || fail "f_pc scales: $scales"
+	ok "f_pc scale shared: $scales" || fail "f_pc scales: $scales (want $want)"
 [ "$(grep -h 'shared f_c scale' "$R"/*.gp | sort -u | wc -l)" -eq 1 ] && grep -q 'shared f_c scale' "$R/improved.gp" &&
 	ok "f_c scale shared" || fail "f_c scales: $(grep -h 'shared f_c scale' "$R"/*.gp | sort -u)"
 # The zooms contain the events the 'events' verb finds: the event's row is in
