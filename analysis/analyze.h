@@ -21,6 +21,7 @@
 /* Options every verb that reads logs accepts (--column, --delimiter,
  * --decimal, --comment, --set, --scale). */
 #define ANA_MAX_SCALES 16
+#define ANA_MAX_EXTRA 4
 typedef struct ana_input_options {
 	popc_log_reader_options reader;
 	/* --scale NAME=FACTOR: the file's NAME column times FACTOR is SI */
@@ -40,6 +41,10 @@ typedef struct ana_input_options {
 	 * nominal period T = 1 / run.rate by this fraction of T (0: not given;
 	 * see ANA_JITTER_MAX and docs/ANALYSIS.md "Recorded device logs") */
 	double jitter;
+	/* columns outside popc's table that a verb reads by name when a log has
+	 * them (report: E_port), handed out in ana_row.extra (NaN when absent) */
+	int n_extra;
+	const char *extra_name[ANA_MAX_EXTRA];
 } ana_input_options;
 
 /* --jitter's largest fraction: past half a period a step is a dropped or a
@@ -187,6 +192,8 @@ typedef struct ana_log {
 	popc_observer obs;        /* recomputes W and E_ref when the file lacks them */
 	const char *verb;         /* for the note on an unfinished log */
 	int unfinished;           /* popc_log_reader_unfinished at the end, once noted */
+	int n_extra;
+	int c_extra[ANA_MAX_EXTRA]; /* the file's index of each extra column, -1: absent */
 } ana_log;
 
 /* One row as analysed: the tick plus the optional columns. */
@@ -201,6 +208,7 @@ typedef struct ana_row {
 	double W_logged_J, E_ref_logged_J; /* NAN when absent */
 	int pc_force_known, w_known;       /* the ana_log's has_pc_force, has_w */
 	long long line;                    /* the row's line in the file, for messages */
+	double extra[ANA_MAX_EXTRA];       /* ana_input_options.extra_name's cells; NAN: absent */
 } ana_row;
 
 /* Opens a log: reader, scene (defaults, header, --set; validated), columns.
@@ -354,6 +362,10 @@ typedef struct ana_summary {
 	 * has_port_energy = 0 (n/a, empty in CSV) for a log without E_port or W */
 	int has_port_energy;
 	double port_energy_end_J, po_error_end_J, po_error_max_J;
+	/* the scene the log ran (header, then --set; paper defaults for what a
+	 * foreign log lacks): the report's parameter box */
+	double env_stiffness_Npm, env_position_m, enc_resolution_m, pc_bound_N;
+	char ignore_mode[16];
 } ana_summary;
 
 /* Chatter has a verdict: the log has a PC force and at least one full

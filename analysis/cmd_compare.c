@@ -72,6 +72,12 @@ int ana_summarize(const char *path, const ana_input_options *o, const popc_chatt
 	s->has_port_energy = l.c_E_port >= 0 && l.has_w;
 	snprintf(s->log, sizeof s->log, "%s", l.name);
 	snprintf(s->variant, sizeof s->variant, "%s", l.variant);
+	s->env_stiffness_Npm = l.scene.env_stiffness_Npm;
+	s->env_position_m = l.scene.env_position_m;
+	s->enc_resolution_m = l.scene.enc_resolution_m;
+	s->pc_bound_N = l.scene.pc_bound_N;
+	snprintf(s->ignore_mode, sizeof s->ignore_mode, "%s",
+		 popc_ignore_mode_names[l.scene.ignore_mode]);
 	if (late_from_s < 0.0) {
 		/* the online summary's late window: the second half of the run, the
 		 * seed's low-velocity phase; a log without a duration: all of it */
