@@ -36,8 +36,10 @@ static void usage(FILE *f)
 	      "                           the control rate), lc_contact=0.1, lc_sustain=0.8\n"
 	      "  -q, --quiet              print nothing; the exit status tells\n" ANA_INPUT_HELP
 	      "  -h, --help               this help\n"
-	      "\n"
-	      "Exit status (like diff): 0 nothing flagged, 1 chatter or a limit cycle flagged,\n"
+	      "\n",
+	      f);
+	/* two strings: one would pass the 4095 characters C99 promises */
+	fputs("Exit status (like diff): 0 nothing flagged, 1 chatter or a limit cycle flagged,\n"
 	      "2 trouble (bad usage or input). A log without a PC force (no f_pc or f_c\n"
 	      "column, none mapped with --column) cannot be checked for chatter: its limit\n"
 	      "cycle is still reported (it needs only positions), and the exit status is 2.\n"

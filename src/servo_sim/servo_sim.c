@@ -63,8 +63,10 @@ static void usage(FILE *f)
 	      "  --notify-at AT        print 'popc-servo-sim: request N' on stdout at request AT\n"
 	      "  --pace-baud           RTU: hold each reply for the wire time of request and\n"
 	      "                        reply at the URI's baud plus two 3.5-character gaps\n"
-	      "                        (a pseudo-terminal does not pace bytes)\n"
-	      "fault injection (AT: N, request N from 1; or cC[+K], the request that writes\n"
+	      "                        (a pseudo-terminal does not pace bytes)\n",
+	      f);
+	/* two strings: one would pass the 4095 characters C99 promises */
+	fputs("fault injection (AT: N, request N from 1; or cC[+K], the request that writes\n"
 	      "command C, from 1 (the start's zero force is command 1; a retry that repeats\n"
 	      "the sequence value is the same command), or the K-th request after it;\n"
 	      "COUNT: how many requests from AT on, default 1; N, C, K and COUNT up to\n"
