@@ -21,6 +21,7 @@
 /* Options every verb that reads logs accepts (--column, --delimiter,
  * --decimal, --comment, --set, --scale). */
 #define ANA_MAX_SCALES 16
+#define ANA_MAX_EXTRA 4
 typedef struct ana_input_options {
 	popc_log_reader_options reader;
 	/* --scale NAME=FACTOR: the file's NAME column times FACTOR is SI */
@@ -40,6 +41,10 @@ typedef struct ana_input_options {
 	 * nominal period T = 1 / run.rate by this fraction of T (0: not given;
 	 * see ANA_JITTER_MAX and docs/ANALYSIS.md "Recorded device logs") */
 	double jitter;
+	/* columns outside popc's table that a verb reads by name when a log has
+	 * them (report: E_port), handed out in ana_row.extra (NaN when absent) */
+	int n_extra;
+	const char *extra_name[ANA_MAX_EXTRA];
 } ana_input_options;
 
 /* --jitter's largest fraction: past half a period a step is a dropped or a
@@ -78,6 +83,7 @@ enum {
 	ANA_USES_CONTROLLER = 1u << 2,  /* PC bound, Table I mode, FOAW: replay */
 	ANA_USES_ENCODER = 1u << 3,
 	ANA_USES_RATE = 1u << 4,
+	ANA_USES_PC_BOUND = 1u << 5,    /* the chatter threshold is a share of it */
 };
 
 /* The long options of ana_input_options, to splice into a verb's table. */
@@ -186,6 +192,8 @@ typedef struct ana_log {
 	popc_observer obs;        /* recomputes W and E_ref when the file lacks them */
 	const char *verb;         /* for the note on an unfinished log */
 	int unfinished;           /* popc_log_reader_unfinished at the end, once noted */
+	int n_extra;
+	int c_extra[ANA_MAX_EXTRA]; /* the file's index of each extra column, -1: absent */
 } ana_log;
 
 /* One row as analysed: the tick plus the optional columns. */
@@ -200,6 +208,7 @@ typedef struct ana_row {
 	double W_logged_J, E_ref_logged_J; /* NAN when absent */
 	int pc_force_known, w_known;       /* the ana_log's has_pc_force, has_w */
 	long long line;                    /* the row's line in the file, for messages */
+	double extra[ANA_MAX_EXTRA];       /* ana_input_options.extra_name's cells; NAN: absent */
 } ana_row;
 
 /* Opens a log: reader, scene (defaults, header, --set; validated), columns.
@@ -268,12 +277,73 @@ void ana_put_double(FILE *f, double v);
 /* Chatter thresholds from "--threshold name=value". */
 int ana_threshold_option(popc_chatter_config *cfg, char *arg, const char *verb);
 
+/* The paper's timeline events in a log (docs/ANALYSIS.md, "Events"). Ticks
+ * k = 0, 1, ... are the log's rows; dcount(k) = count(k) - count(k-1) is the
+ * backward-difference velocity in counts per period (seed Fig. 4), "calm" when
+ * |dcount(k)| <= 1 (row 0 is calm); the PC is active at k when f_pc(k) != 0.
+ * - settle: settle_s = t(k) (tick settle_tick) of the first calm tick that
+ *   starts a stretch of calm ticks lasting at least hold_s (or reaching the
+ *   end of the log) after at least one tick that is not calm (the approach;
+ *   a log calm throughout settles at its first row). Fig. 4: t > 2.5 s. settle_end_s: the first tick after it
+ *   that is not calm (NAN: calm to the end). settle_final_s: the start of the
+ *   calm stretch that reaches the end (NAN when the last tick is not calm):
+ *   "within one count from here to the end". NAN (tick -1) when none.
+ * - Fig. 5 event at k: the PC active at k, dcount(k) = +-1, dcount(k+1) =
+ *   -dcount(k) and (W - E_ref)(k+1) < (W - E_ref)(k). fig5_s = t(k) of the
+ *   first at or after settle_s (the paper shows it in the low-velocity phase:
+ *   3.173 s), fig5_dw_J its change of W - E_ref at k+1 (< 0); fig5_first_s
+ *   the first anywhere. Needs a PC force and W (pc_known, w_known).
+ * - Fig. 8 event at k: the PC active at k, not at k-1 (or k the first row),
+ *   and dcount(k+1) = 0, so that the PC's force moves no energy at k+1.
+ *   fig8_s = t(k) of the first at or after settle_s (paper: 2.957 s);
+ *   fig8_first_s the first anywhere. Needs a PC force.
+ *   NAN: no such event (or not checkable).
+ * n_* count every occurrence (n_fast: ticks that are not calm);
+ * x_*_settled_m is the measured position's range over the settled stretch
+ * [settle_s, settle_end_s) (NAN when never settled). */
+#define ANA_SETTLE_HOLD_S 0.5
+typedef struct ana_events {
+	double settle_s, settle_end_s, settle_final_s;
+	long long settle_tick;
+	long long n_fast;
+	double x_min_settled_m, x_max_settled_m;
+	double fig5_s, fig5_dw_J, fig5_first_s;
+	long long n_fig5;
+	double fig8_s, fig8_first_s;
+	long long n_fig8;
+	long long ticks;
+	int pc_known, w_known;       /* the log has a PC force, W */
+} ana_events;
+
+/* Streaming form, for a verb that reads the log already (ana_summarize's
+ * on_row): init (hold_s: the settle stretch's least length, ANA_SETTLE_HOLD_S
+ * by default), one call per row in order, finish. */
+typedef struct ana_events_finder {
+	ana_events ev;
+	double hold_s;
+	long long n, count_prev, dcount_prev;
+	double t_prev_s, we_prev_J;
+	int pc_active_prev, pc_active_prev2;
+	int in_run, settled, settle_open;  /* a calm stretch; settle found; still in it */
+	double run_start_s, run_x_min_m, run_x_max_m;
+	double run_fig5_s, run_fig5_dw_J, run_fig8_s; /* first events of the stretch */
+	long long run_start_tick;
+} ana_events_finder;
+void ana_find_events_init(ana_events_finder *f, double hold_s);
+void ana_find_events_row(ana_events_finder *f, const ana_row *row);
+void ana_find_events_finish(const ana_events_finder *f, ana_events *ev);
+
+/* Reads the whole log at path and finds its events: 0 or a popc_status. */
+int ana_find_events(const char *path, const ana_input_options *o, double hold_s, ana_events *ev,
+		    popc_error *err);
+
 /* Verbs */
 int ana_cmd_energy(int argc, char **argv);
 int ana_cmd_chatter(int argc, char **argv);
 int ana_cmd_compare(int argc, char **argv);
 int ana_cmd_replay(int argc, char **argv);
 int ana_cmd_report(int argc, char **argv);
+int ana_cmd_events(int argc, char **argv);
 
 /* compare's one row, shared by compare and report. */
 typedef struct ana_summary {
@@ -292,6 +362,10 @@ typedef struct ana_summary {
 	 * has_port_energy = 0 (n/a, empty in CSV) for a log without E_port or W */
 	int has_port_energy;
 	double port_energy_end_J, po_error_end_J, po_error_max_J;
+	/* the scene the log ran (header, then --set; paper defaults for what a
+	 * foreign log lacks): the report's parameter box */
+	double env_stiffness_Npm, env_position_m, enc_resolution_m, pc_bound_N;
+	char ignore_mode[16];
 } ana_summary;
 
 /* Chatter has a verdict: the log has a PC force and at least one full
@@ -320,7 +394,9 @@ int ana_summarize(const char *path, const ana_input_options *o, const popc_chatt
 		  double late_from_s, ana_summary *s, ana_row_fn on_row, void *ctx,
 		  popc_error *err);
 
-typedef enum ana_format { ANA_TEXT, ANA_CSV, ANA_MARKDOWN } ana_format;
+/* ANA_JSON: one JSON object per row on one line (JSON Lines), the CSV's names
+ * and cells typed (popc/util/json.h); compare only */
+typedef enum ana_format { ANA_TEXT, ANA_CSV, ANA_MARKDOWN, ANA_JSON } ana_format;
 int ana_format_from_name(const char *name, ana_format *f);
 void ana_summary_print_header(FILE *f, ana_format fmt);
 void ana_summary_print_row(FILE *f, ana_format fmt, const ana_summary *s);

@@ -15,6 +15,8 @@ int main(int argc, char **argv)
 		{"compare", ana_cmd_compare, "LOG...", "one row of metrics per log (text, CSV, Markdown)"},
 		{"replay", ana_cmd_replay, "LOG --variant V",
 		 "run controller variants over a recorded position trace"},
+		{"events", ana_cmd_events, "LOG...",
+		 "the paper's timeline: velocity settling, Fig. 5 and Fig. 8 events"},
 		{"report", ana_cmd_report, "LOG... -o DIR", "gnuplot figures (PNG, PDF), table and index page"},
 	};
 	static const popc_program analyze = {

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "analyze.h"
+#include "popc/util/usage_hint.h"
 
 static void usage(FILE *f)
 {
@@ -24,16 +25,21 @@ static void usage(FILE *f)
 	      "                           or is shorter than one window;\n"
 	      "                           kind limit_cycle_not_checked: the log is shorter\n"
 	      "                           than half a limit-cycle window)\n"
-	      "  --threshold NAME=VALUE   change a threshold (repeatable); names and defaults:\n"
-	      "                           window=0.1 s, pc_rms=0.5 N, pc_flip_rate=100 /s,\n"
-	      "                           vsign_rate=100 /s, contact=0.5 (share of window),\n"
-	      "                           lc_window=2 s, lc_amplitude=50 counts,\n"
-	      "                           lc_hysteresis=5 counts, lc_freq_min=1 Hz,\n"
-	      "                           lc_freq_max=50 Hz, lc_contact=0.1, lc_sustain=0.8\n"
+	      "  --threshold NAME=VALUE   change a threshold (repeatable); relative to the\n"
+	      "                           log's scene (header, or --set controller.pc_bound,\n"
+	      "                           encoder.resolution, run.rate); names and defaults:\n"
+	      "                           window=0.1 s, pc_rms_share=0.05 (of the PC bound),\n"
+	      "                           pc_flip_share=0.1 and vsign_share=0.1 (per control\n"
+	      "                           tick), contact=0.5 (share of window), lc_window=2 s,\n"
+	      "                           lc_amplitude=4 counts, lc_hysteresis=3 counts,\n"
+	      "                           lc_cycles=2 (per lc_window), lc_freq_share=0.1 (of\n"
+	      "                           the control rate), lc_contact=0.1, lc_sustain=0.8\n"
 	      "  -q, --quiet              print nothing; the exit status tells\n" ANA_INPUT_HELP
 	      "  -h, --help               this help\n"
-	      "\n"
-	      "Exit status (like diff): 0 nothing flagged, 1 chatter or a limit cycle flagged,\n"
+	      "\n",
+	      f);
+	/* two strings: one would pass the 4095 characters C99 promises */
+	fputs("Exit status (like diff): 0 nothing flagged, 1 chatter or a limit cycle flagged,\n"
 	      "2 trouble (bad usage or input). A log without a PC force (no f_pc or f_c\n"
 	      "column, none mapped with --column) cannot be checked for chatter: its limit\n"
 	      "cycle is still reported (it needs only positions), and the exit status is 2.\n"
@@ -74,13 +80,17 @@ static void print_text(const ana_summary *s)
 		       s->ticks, r->lc_min_ticks);
 	else
 		printf("; %s\n", r->limit_cycle ? "LIMIT CYCLE" : "no limit cycle");
+	const popc_chatter_thresholds *th = &r->thr;
 	if (checked)
-		printf("  windows: max PC RMS %.3g N, max PC sign flips %.4g /s, ", r->max_pc_rms_N,
-		       r->max_pc_flip_rate_Hz);
+		printf("  windows: max PC RMS %.3g N (threshold %.3g), max PC sign flips %.4g /s "
+		       "(%.4g), ",
+		       r->max_pc_rms_N, th->pc_rms_min_N, r->max_pc_flip_rate_Hz,
+		       th->pc_flip_rate_min_Hz);
 	else
 		printf("  windows: max PC RMS n/a, max PC sign flips n/a, ");
 	if (r->windows > 0)
-		printf("max velocity sign changes %.4g /s in contact\n", r->max_vsign_rate_Hz);
+		printf("max velocity sign changes %.4g /s in contact (%.4g)\n", r->max_vsign_rate_Hz,
+		       th->vsign_rate_min_Hz);
 	else
 		printf("max velocity sign changes n/a (no full window)\n");
 	if (!ana_lc_checked(s)) {
@@ -90,9 +100,10 @@ static void print_text(const ana_summary *s)
 		       r->lc_min_ticks);
 		return;
 	}
-	printf("  last %.3g s: amplitude %.3g m at %.3g Hz, %.0f %% in contact, sustain %.3g, ",
-	       r->lc_span_s, r->lc_amplitude_m, r->lc_frequency_Hz, 100.0 * r->lc_contact,
-	       r->lc_sustain);
+	printf("  last %.3g s: amplitude %.3g m (threshold %.3g) at %.3g Hz (%.3g to %.3g), "
+	       "%.0f %% in contact, sustain %.3g, ",
+	       r->lc_span_s, r->lc_amplitude_m, th->lc_amplitude_min_m, r->lc_frequency_Hz,
+	       th->lc_freq_min_Hz, th->lc_freq_max_Hz, 100.0 * r->lc_contact, r->lc_sustain);
 	if (s->has_pc_force)
 		printf("PC RMS %.3g N, ", r->lc_pc_rms_N);
 	else
@@ -156,7 +167,7 @@ int ana_cmd_chatter(int argc, char **argv)
 	while ((c = getopt_long(argc, argv, "qh", opts, NULL)) != -1) {
 		switch (c) {
 		case OPT_FORMAT:
-			if (ana_format_from_name(optarg, &fmt) != 0 || fmt == ANA_MARKDOWN) {
+			if (ana_format_from_name(optarg, &fmt) != 0 || fmt == ANA_MARKDOWN || fmt == ANA_JSON) {
 				fprintf(stderr, "popc-analyze chatter: --format '%s': text or csv\n", optarg);
 				rc = 2;
 				goto out;
@@ -172,12 +183,12 @@ int ana_cmd_chatter(int argc, char **argv)
 			if ((rc = ana_input_option(&in, c, optarg, "chatter")) != 0)
 				goto out;
 			break;
-		default: usage(stderr); rc = 2; goto out;
+		default: popc_option_hint(argv[0], opts, argc, argv); rc = 2; goto out;
 		}
 	}
 	if (optind >= argc) {
 		fprintf(stderr, "popc-analyze chatter: missing LOG\n");
-		usage(stderr);
+		popc_help_hint(argv[0], "options");
 		rc = 2;
 		goto out;
 	}

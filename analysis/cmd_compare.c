@@ -7,7 +7,9 @@
 
 #include "analyze.h"
 #include "popc/core/metrics.h"
+#include "popc/util/json.h"
 #include "popc/util/parse.h"
+#include "popc/util/usage_hint.h"
 
 /* Every number of the summary is finite: the rows are (ana_log_next), the
  * RMS is taken without overflow (popc_sum_squares), the rates per second are
@@ -60,7 +62,7 @@ int ana_summarize(const char *path, const ana_input_options *o, const popc_chatt
 	ana_log l;
 	/* the detector's and the metrics' contact share read the environment */
 	ana_input_options oe = *o;
-	oe.uses |= ANA_USES_ENVIRONMENT;
+	oe.uses |= ANA_USES_ENVIRONMENT | ANA_USES_PC_BOUND;
 	int st = ana_log_open(&l, path, &oe, err);
 	if (st)
 		return st;
@@ -70,6 +72,12 @@ int ana_summarize(const char *path, const ana_input_options *o, const popc_chatt
 	s->has_port_energy = l.c_E_port >= 0 && l.has_w;
 	snprintf(s->log, sizeof s->log, "%s", l.name);
 	snprintf(s->variant, sizeof s->variant, "%s", l.variant);
+	s->env_stiffness_Npm = l.scene.env_stiffness_Npm;
+	s->env_position_m = l.scene.env_position_m;
+	s->enc_resolution_m = l.scene.enc_resolution_m;
+	s->pc_bound_N = l.scene.pc_bound_N;
+	snprintf(s->ignore_mode, sizeof s->ignore_mode, "%s",
+		 popc_ignore_mode_names[l.scene.ignore_mode]);
 	if (late_from_s < 0.0) {
 		/* the online summary's late window: the second half of the run, the
 		 * seed's low-velocity phase; a log without a duration: all of it */
@@ -79,7 +87,9 @@ int ana_summarize(const char *path, const ana_input_options *o, const popc_chatt
 	popc_metrics m;
 	popc_metrics_init(&m, &l.env, l.period_s, late_from_s);
 	popc_chatter_config cc = *ccfg;
+	/* the thresholds are relative to the scene analysed (its header, --set) */
 	cc.resolution_m = l.scene.enc_resolution_m;
+	cc.pc_bound_N = l.scene.pc_bound_N;
 	popc_chatter det;
 	st = popc_chatter_init(&det, &cc, l.period_s, &l.env, err);
 	if (st) {
@@ -178,10 +188,32 @@ static const char *const columns[] = {
 	"port_energy_end", "po_error_end", "po_error_max",
 };
 #define N_COLUMNS ((int)(sizeof columns / sizeof columns[0]))
+/* The columns that are text in JSON (the others are numbers, or null where
+ * the CSV cell is empty): the log's name and its variant. */
+#define N_TEXT_COLUMNS 2
+
+/* A row in JSON: the CSV row, as one object of the columns' names. */
+static void print_json_row(FILE *f, const ana_summary *s)
+{
+	char *row = NULL;
+	size_t len = 0;
+	FILE *m = open_memstream(&row, &len);
+	if (!m)
+		return;
+	ana_summary_print_row(m, ANA_CSV, s);
+	if (fclose(m) == 0 && row) {
+		popc_json_kind kinds[N_COLUMNS];
+		for (int i = 0; i < N_COLUMNS; i++)
+			kinds[i] = i < N_TEXT_COLUMNS ? POPC_JSON_TEXT : POPC_JSON_NUMBER;
+		popc_json_csv_object(f, N_COLUMNS, columns, kinds, row, len);
+	}
+	free(row);
+}
 
 void ana_summary_print_header(FILE *f, ana_format fmt)
 {
 	switch (fmt) {
+	case ANA_JSON: break; /* each object names its columns */
 	case ANA_CSV:
 		for (int i = 0; i < N_COLUMNS; i++)
 			fprintf(f, "%s%s", i ? "," : "", columns[i]);
@@ -206,6 +238,10 @@ void ana_summary_print_header(FILE *f, ana_format fmt)
 
 void ana_summary_print_row(FILE *f, ana_format fmt, const ana_summary *s)
 {
+	if (fmt == ANA_JSON) {
+		print_json_row(f, s);
+		return;
+	}
 	const popc_chatter_result *c = &s->chatter;
 	double v[] = {s->duration_s,     s->pc_rms_N,          s->pc_rms_late_N,
 		      s->pc_max_N,       s->pc_active,         s->pc_energy_J,
@@ -325,7 +361,9 @@ static void usage(FILE *f)
 	      "window (--threshold lc_window, default 2 s: 1 s) for limit_cycle,\n"
 	      "lc_amplitude and lc_frequency: they were not checked (a note on stderr).\n"
 	      "\n"
-	      "  --format text|csv|markdown  output format (default text)\n"
+	      "  --format text|csv|markdown|json  output format (default text); json: one\n"
+	      "                           object per log on one line (JSON Lines), the CSV's\n"
+	      "                           names, numbers as JSON numbers, null for n/a\n"
 	      "  --late-from T            start of the late window (s)\n"
 	      "  --threshold NAME=VALUE   a chatter threshold (see 'chatter --help'; repeatable)\n" ANA_INPUT_HELP
 	      "  -h, --help               this help\n"
@@ -359,7 +397,7 @@ int ana_cmd_compare(int argc, char **argv)
 		switch (c) {
 		case OPT_FORMAT:
 			if (ana_format_from_name(optarg, &fmt) != 0) {
-				fprintf(stderr, "popc-analyze compare: --format '%s': text, csv or markdown\n",
+				fprintf(stderr, "popc-analyze compare: --format '%s': text, csv, markdown or json\n",
 					optarg);
 				rc = 2;
 				goto out;
@@ -383,12 +421,12 @@ int ana_cmd_compare(int argc, char **argv)
 			if ((rc = ana_input_option(&in, c, optarg, "compare")) != 0)
 				goto out;
 			break;
-		default: usage(stderr); rc = 2; goto out;
+		default: popc_option_hint(argv[0], opts, argc, argv); rc = 2; goto out;
 		}
 	}
 	if (optind >= argc) {
 		fprintf(stderr, "popc-analyze compare: missing LOG\n");
-		usage(stderr);
+		popc_help_hint(argv[0], "options");
 		rc = 2;
 		goto out;
 	}

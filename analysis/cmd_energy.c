@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "analyze.h"
+#include "popc/util/usage_hint.h"
 
 typedef enum definition {
 	DEF_ONLINE,
@@ -316,6 +317,9 @@ static int energy_one(const char *path, const ana_input_options *in, const int *
 		if (e->def == DEF_ONLINE) {
 			popc_observer o;
 			observer_for(&l, DEF_ONLINE, &o);
+			/* every other variant logs seed eq. 3's W: pc-off-reversals,
+			 * energy-bounding (its reservoir is that W) and windowed-po (its
+			 * window sums eq. 3's increments; the W column is the whole sum) */
 			definition d = o.variant == POPC_VARIANT_FILTERED_VELOCITY ? DEF_FILTERED
 				       : o.variant == POPC_VARIANT_IGNORE ||
 						 o.variant == POPC_VARIANT_IMPROVED
@@ -401,7 +405,7 @@ int ana_cmd_energy(int argc, char **argv)
 			break;
 		}
 		case OPT_FORMAT:
-			if (ana_format_from_name(optarg, &fmt) != 0 || fmt == ANA_MARKDOWN) {
+			if (ana_format_from_name(optarg, &fmt) != 0 || fmt == ANA_MARKDOWN || fmt == ANA_JSON) {
 				fprintf(stderr, "popc-analyze energy: --format '%s': text or csv\n", optarg);
 				rc = 2;
 				goto out;
@@ -415,12 +419,12 @@ int ana_cmd_energy(int argc, char **argv)
 			if ((rc = ana_input_option(&in, c, optarg, "energy")) != 0)
 				goto out;
 			break;
-		default: usage(stderr); rc = 2; goto out;
+		default: popc_option_hint(argv[0], opts, argc, argv); rc = 2; goto out;
 		}
 	}
 	if (optind >= argc) {
 		fprintf(stderr, "popc-analyze energy: missing LOG\n");
-		usage(stderr);
+		popc_help_hint(argv[0], "options");
 		rc = 2;
 		goto out;
 	}

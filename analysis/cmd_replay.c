@@ -13,6 +13,8 @@
 #include "popc/log/log.h"
 #include "popc/util/numfmt.h"
 #include "popc/scene/from_scene.h"
+#include "popc/util/atomic_file.h" /* popc_mkdir_p */
+#include "popc/util/usage_hint.h"
 
 #define MAX_VARIANTS POPC_VARIANT_COUNT
 
@@ -27,8 +29,9 @@ static void usage(FILE *f)
 	      "with its own variant reproduces its rows exactly.\n"
 	      "\n"
 	      "  --variant NAME           none, po-pc, ref-energy, filtered-velocity, ignore,\n"
-	      "                           hold, improved, or 'all' (repeatable)\n"
-	      "  -o, --output-dir DIR     write DIR/<log>.<variant>.csv (default: .)\n"
+	      "                           hold, improved, pc-off-reversals, energy-bounding,\n"
+	      "                           windowed-po, or 'all' (repeatable)\n"
+	      "  -o, --output-dir DIR     write DIR/<log>.<variant>.csv (default: .); makes DIR\n"
 	      "  --prefix P               write P<variant>.csv instead\n"
 	      "  -q, --quiet              do not list the files written\n" ANA_INPUT_HELP
 	      "  -h, --help               this help\n"
@@ -79,7 +82,8 @@ int ana_cmd_replay(int argc, char **argv)
 			if (!all && popc_variant_from_name(optarg, &v) != 0) {
 				fprintf(stderr,
 					"popc-analyze replay: --variant '%s': none, po-pc, ref-energy, "
-					"filtered-velocity, ignore, hold, improved or all\n",
+					"filtered-velocity, ignore, hold, improved, pc-off-reversals, "
+					"energy-bounding, windowed-po or all\n",
 					optarg);
 				rc = 2;
 				goto out;
@@ -103,7 +107,7 @@ int ana_cmd_replay(int argc, char **argv)
 			if ((rc = ana_input_option(&in, c, optarg, "replay")) != 0)
 				goto out;
 			break;
-		default: usage(stderr); rc = 2; goto out;
+		default: popc_option_hint(argv[0], opts, argc, argv); rc = 2; goto out;
 		}
 	}
 	if (optind + 1 != argc || n_var == 0 || (dir && prefix)) {
@@ -112,7 +116,7 @@ int ana_cmd_replay(int argc, char **argv)
 			: optind + 1 < argc  ? "exactly one LOG"
 			: n_var == 0         ? "missing --variant"
 					     : "--output-dir and --prefix exclude each other");
-		usage(stderr);
+		popc_help_hint(argv[0], "options");
 		rc = 2;
 		goto out;
 	}
@@ -126,8 +130,18 @@ int ana_cmd_replay(int argc, char **argv)
 	/* every output path first, before the log is read: a directory that is
 	 * not there, a path that is a directory, an output that is the input
 	 * (nothing is opened, and so nothing truncated, before all are safe) */
-	if (dir && (rc = ana_output_dir_usable("replay", "-o", dir, 0)) != 0)
-		goto out;
+	if (dir) {
+		/* -o DIR makes DIR (and its parents), as every -o of popc does; a
+		 * path that exists as a file is refused just below */
+		popc_error merr;
+		if (popc_mkdir_p(dir, &merr) != 0) {
+			fprintf(stderr, "popc-analyze replay: -o %s: %s\n", dir, merr.msg);
+			rc = 2;
+			goto out;
+		}
+		if ((rc = ana_output_dir_usable("replay", "-o", dir, 0)) != 0)
+			goto out;
+	}
 	char log_name[256];
 	ana_log_name(path, log_name, sizeof log_name);
 	for (int i = 0; i < n_var; i++) {

@@ -324,7 +324,7 @@ static const struct {
 	{"environment.position", ANA_USES_ENVIRONMENT},
 	{"controller.variant", ANA_USES_VARIANT},
 	{"controller.ignore_mode", ANA_USES_VARIANT | ANA_USES_CONTROLLER},
-	{"controller.pc_bound", ANA_USES_CONTROLLER},
+	{"controller.pc_bound", ANA_USES_CONTROLLER | ANA_USES_PC_BOUND},
 	{"controller.foaw_window", ANA_USES_CONTROLLER},
 	{"controller.foaw_noise", ANA_USES_CONTROLLER},
 };
@@ -456,10 +456,16 @@ int ana_log_open(ana_log *l, const char *path, const ana_input_options *o, popc_
 #define INDEX(ID, name, unit, fill, format, field, meaning) l->c_##name,
 	const int cols[] = {POPC_LOG_COLUMN_TABLE(INDEX)};
 #undef INDEX
-	int used[sizeof cols / sizeof cols[0]], n_used = 0;
+	int used[sizeof cols / sizeof cols[0] + ANA_MAX_EXTRA], n_used = 0;
 	for (size_t i = 0; i < sizeof cols / sizeof cols[0]; i++)
 		if (cols[i] >= 0)
 			used[n_used++] = cols[i];
+	l->n_extra = o->n_extra < ANA_MAX_EXTRA ? o->n_extra : ANA_MAX_EXTRA;
+	for (int i = 0; i < l->n_extra; i++) {
+		l->c_extra[i] = popc_log_reader_column(r, o->extra_name[i]);
+		if (l->c_extra[i] >= 0)
+			used[n_used++] = l->c_extra[i];
+	}
 	popc_log_reader_use_columns(r, used, n_used);
 	for (int i = 0; i < POPC_LOG_MAX_COLUMNS; i++)
 		l->scale[i] = 1.0;
@@ -763,6 +769,8 @@ int ana_log_next(ana_log *l, ana_row *out, popc_error *err)
 	out->E_port_J = l->c_E_port >= 0 ? row[l->c_E_port] : (double)NAN;
 	out->dt_s = l->c_dt >= 0 ? row[l->c_dt] : (double)NAN;
 	out->rtt_s = l->c_rtt >= 0 ? row[l->c_rtt] : (double)NAN;
+	for (int i = 0; i < ANA_MAX_EXTRA; i++)
+		out->extra[i] = i < l->n_extra && l->c_extra[i] >= 0 ? row[l->c_extra[i]] : (double)NAN;
 	l->x_prev_m = t->x_m;
 	l->k++;
 	return 1;
@@ -781,6 +789,8 @@ int ana_format_from_name(const char *name, ana_format *f)
 		*f = ANA_CSV;
 	else if (strcmp(name, "markdown") == 0 || strcmp(name, "md") == 0)
 		*f = ANA_MARKDOWN;
+	else if (strcmp(name, "json") == 0)
+		*f = ANA_JSON;
 	else
 		return -1;
 	return 0;

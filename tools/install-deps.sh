@@ -29,7 +29,13 @@ paper=(gcc libc6-dev meson ninja-build pkg-config libinih-dev libmodbus-dev libc
 # the build skips them, -Dman=auto) and man-db (tests/cli/test_install.sh
 # reads the installed pages with man). Not gawk: the tests run with
 # Debian's default awk, mawk (under gawk realtime.sh's field loop never ends).
-test=("${paper[@]}" socat parallel slurm-wlm munge python3 clang scdoc man-db)
+# python3-pandas and nodejs with npm: tests/readers reads logs with real
+# pandas and with DuckDB's npm package (which the test installs itself with
+# `npm ci` from tests/readers/package-lock.json; it skips when the registry
+# is unreachable). npm only where no npm is there: NodeSource's nodejs
+# bundles its own, and Debian's npm package cannot be installed beside it.
+test=("${paper[@]}" socat parallel slurm-wlm munge python3 clang scdoc man-db python3-pandas nodejs)
+command -v npm >/dev/null 2>&1 || test+=(npm)
 
 usage() { echo "usage: tools/install-deps.sh [--list] [paper|test]..." >&2; exit 2; }
 list=

@@ -19,6 +19,7 @@
 #include "bench.h"
 #include "cli.h"
 #include "popc/util/atomic_file.h" /* popc_mkdir_p */
+#include "popc/util/usage_hint.h"
 
 static void usage(FILE *f)
 {
@@ -120,14 +121,14 @@ int popc_cmd_bench(int argc, char **argv)
 			break;
 		case OPT_DIR: o.dir = optarg; break;
 		case 'h': usage(stdout); free(o.sets); return 0;
-		default: usage(stderr); free(o.sets); return 2;
+		default: popc_option_hint(argv[0], opts, argc, argv); free(o.sets); return 2;
 		}
 	}
 	if (optind + 1 != argc) {
 		fprintf(stderr, "popc bench: %s\n",
 			optind >= argc ? "missing what to measure (integrators, loop or log)"
 				       : "one thing to measure at a time");
-		usage(stderr);
+		popc_help_hint(argv[0], "options");
 		free(o.sets);
 		return 2;
 	}

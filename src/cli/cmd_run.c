@@ -1,4 +1,5 @@
-/* popc run SCENE [--set k=v]... [--variant NAME] [--log FILE] [--summary FILE] */
+/* popc run SCENE [--set k=v]... [--variant NAME] [--log FILE] [--summary FILE]
+ *          [--summary-format csv|json] */
 #include <errno.h>
 #include <getopt.h>
 #include <stdio.h>
@@ -10,6 +11,8 @@
 #include "popc/log/log.h"
 #include "popc/run/run.h"
 #include "popc/util/same_file.h"
+#include "popc/util/usage_hint.h"
+#include "progress.h"
 
 static void usage(FILE *f)
 {
@@ -21,20 +24,27 @@ static void usage(FILE *f)
 	      "\n"
 	      "  --set section.key=value  override a scene key (repeatable, validated)\n"
 	      "  --variant NAME           controller.variant: none, po-pc, ref-energy,\n"
-	      "                           filtered-velocity, ignore, hold, improved\n"
+	      "                           filtered-velocity, ignore, hold, improved,\n"
+	      "                           pc-off-reversals, energy-bounding, windowed-po\n"
 	      "  --log FILE               write the CSV log to FILE ('-': standard output)\n"
 	      "  --summary FILE           append the summary as a CSV row (header if new;\n"
 	      "                           '-': standard output, with its header unless\n"
 	      "                           appending to a file that is not empty; not\n"
 	      "                           with --log -)\n"
+	      "  --summary-format csv|json  the summary as a CSV row (default) or as one JSON\n"
+	      "                           object on one line (JSON Lines: appending adds a\n"
+	      "                           line; the CSV header's names, numbers as JSON\n"
+	      "                           numbers, null for an empty cell; docs/READING.md)\n"
 	      "  --axis sim|modbus        axis.kind: the simulated plant or a servo drive\n"
 	      "  --map FILE               axis.map: the drive's register map (docs/MODBUS.md)\n"
-	      "  --connect URI            axis.connect: tcp:HOST[:PORT] (PORT 502 if left out)\n"
-	      "                           or rtu:DEVICE[:BAUD[:8E1]] (19200 baud, 8E1 if left out)\n"
+	      "  --connect URI            axis.connect:\n"
+	      "                           " POPC_URI_NOTATION "\n"
+	      "                           (" POPC_URI_DEFAULTS ";\n"
+	      "                           FORMAT: data bits, parity N/E/O, stop bits)\n"
 	      "  --free-run               modbus: no deadlines, each tick as soon as the last\n"
 	      "                           is done (lockstep dry runs against popc-servo-sim)\n"
 	      "  --rt                     modbus: try SCHED_FIFO and mlockall (notes if denied)\n"
-	      "  -q, --quiet              no summary on standard error\n"
+	      "  -q, --quiet              no summary and no progress line on standard error\n"
 	      "  -h, --help               this help\n"
 	      "\n"
 	      "A relative path (operator.table, axis.map) is relative to where it is written:\n"
@@ -55,8 +65,33 @@ static void usage(FILE *f)
 	      f);
 }
 
-enum { OPT_SET = 256, OPT_VARIANT, OPT_LOG, OPT_SUMMARY, OPT_AXIS, OPT_MAP, OPT_CONNECT,
-       OPT_FREE_RUN, OPT_RT };
+enum { OPT_SET = 256, OPT_VARIANT, OPT_LOG, OPT_SUMMARY, OPT_SUMMARY_FORMAT, OPT_AXIS, OPT_MAP,
+       OPT_CONNECT, OPT_FREE_RUN, OPT_RT };
+
+/* The summary as one JSON object on one line: the CSV header's names and the
+ * row's cells, typed by the summary table (popc_run_summary_json_kind). */
+static int write_summary_json(FILE *f, const char *header, const char *axis_names,
+			      const char *row, const char *axis_values)
+{
+	size_t nl = strlen(header) + strlen(axis_names) + 1, rl = strlen(row) + strlen(axis_values) + 1;
+	char *names_line = malloc(nl), *row_line = malloc(rl);
+	if (!names_line || !row_line) {
+		free(names_line);
+		free(row_line);
+		return -1;
+	}
+	snprintf(names_line, nl, "%s%s", header, axis_names);
+	snprintf(row_line, rl, "%s%s", row, axis_values);
+	const char *names[256];
+	popc_json_kind kinds[256];
+	int n = popc_json_csv_names(names_line, names, 256);
+	for (int i = 0; i < n; i++)
+		kinds[i] = popc_run_summary_json_kind(names[i]);
+	popc_json_csv_object(f, n, names, kinds, row_line, strlen(row_line));
+	free(names_line);
+	free(row_line);
+	return 0;
+}
 
 /* Appends the run's summary row, and the axis' own columns (a real axis:
  * period and latency percentiles) after the run's, to f (opened for
@@ -64,8 +99,8 @@ enum { OPT_SET = 256, OPT_VARIANT, OPT_LOG, OPT_SUMMARY, OPT_AXIS, OPT_MAP, OPT_
  * stops the run before it starts, not after it is done); an empty file, or a
  * stream without a position (standard output on a pipe or a terminal), gets
  * the header first. Closes f, or flushes it when it is stdout. */
-static int write_summary_file(FILE *f, const popc_run_summary *sum, const popc_scene *s,
-			      const char *axis_names, const char *axis_values)
+static int write_summary_file(FILE *f, int json, const popc_run_summary *sum,
+			      const popc_scene *s, const char *axis_names, const char *axis_values)
 {
 	char *header = NULL, *row = NULL;
 	size_t hl = 0, rl = 0;
@@ -81,12 +116,18 @@ static int write_summary_file(FILE *f, const popc_run_summary *sum, const popc_s
 	}
 	int st = -1;
 	if (header && row && hl && rl) {
-		/* a pipe cannot seek: ftell fails, and the reader gets a header */
-		long at = fseek(f, 0, SEEK_END) == 0 ? ftell(f) : -1;
-		if (at <= 0)
-			fprintf(f, "%.*s%s\n", (int)hl - 1, header, axis_names); /* drop the '\n' */
-		fprintf(f, "%.*s%s\n", (int)rl - 1, row, axis_values);
-		st = 0;
+		header[hl - 1] = '\0'; /* the '\n': the axis' columns follow */
+		row[rl - 1] = '\0';
+		if (json) {
+			st = write_summary_json(f, header, axis_names, row, axis_values);
+		} else {
+			/* a pipe cannot seek: ftell fails, and the reader gets a header */
+			long at = fseek(f, 0, SEEK_END) == 0 ? ftell(f) : -1;
+			if (at <= 0)
+				fprintf(f, "%s%s\n", header, axis_names);
+			fprintf(f, "%s%s\n", row, axis_values);
+			st = 0;
+		}
 	}
 	if (f == stdout ? fflush(f) != 0 || ferror(f) : fclose(f) != 0)
 		st = -1;
@@ -139,6 +180,44 @@ static int refuse_overwriting_inputs(const popc_scene *s, const char *scene_path
 	return 0;
 }
 
+/* popc run's progress line (progress.h): simulated (or run) time against
+ * the scene's duration, checked every 1024 ticks so that the clock is read
+ * about once a millisecond of simulated time at 1 kHz, not every tick. */
+typedef struct run_progress {
+	cli_progress line;
+	double duration_s, t_s;
+	long long ticks;
+} run_progress;
+
+static void draw_progress(run_progress *p, int final)
+{
+	double el = cli_progress_elapsed_s(&p->line);
+	double frac = p->duration_s > 0.0 ? p->t_s / p->duration_s : 1.0;
+	double eta = frac > 0.0 ? el * (1.0 - frac) / frac : -1.0;
+	char eta_text[32], counts[96], rest[64];
+	cli_format_duration(eta, eta_text, sizeof eta_text);
+	snprintf(counts, sizeof counts, "%.4g/%.4g s", p->t_s, p->duration_s);
+	snprintf(rest, sizeof rest, "ETA %s", eta_text);
+	cli_progress_bar(&p->line, "popc run: ", frac, counts, rest, final);
+}
+
+static void show_progress(void *user, const popc_tick *tick)
+{
+	run_progress *p = user;
+	p->t_s = tick->t_s;
+	if ((++p->ticks & 1023) == 0 && cli_progress_due(&p->line, 0))
+		draw_progress(p, 0);
+}
+
+/* completed: the run reached its duration (the last tick is one period short) */
+static void progress_end(run_progress *p, int completed)
+{
+	if (completed)
+		p->t_s = p->duration_s;
+	if (cli_progress_due(&p->line, 1))
+		draw_progress(p, 1);
+}
+
 int popc_cmd_run(int argc, char **argv)
 {
 	static const struct option opts[] = {
@@ -146,6 +225,7 @@ int popc_cmd_run(int argc, char **argv)
 		{"variant", required_argument, NULL, OPT_VARIANT},
 		{"log", required_argument, NULL, OPT_LOG},
 		{"summary", required_argument, NULL, OPT_SUMMARY},
+		{"summary-format", required_argument, NULL, OPT_SUMMARY_FORMAT},
 		{"axis", required_argument, NULL, OPT_AXIS},
 		{"map", required_argument, NULL, OPT_MAP},
 		{"connect", required_argument, NULL, OPT_CONNECT},
@@ -158,6 +238,7 @@ int popc_cmd_run(int argc, char **argv)
 	char **sets = NULL;
 	int n_sets = 0, quiet = 0, c;
 	const char *variant = NULL, *log_path = NULL, *summary_path = NULL;
+	int summary_json = 0;
 	const char *axis_opt[3] = {NULL, NULL, NULL}; /* --axis, --map, --connect */
 	/* a signal ends a real axis' retries and waits too */
 	popc_axis_create_options axis_create = {.notes = stderr, .stop_flag = &popc_cli_stop};
@@ -174,6 +255,14 @@ int popc_cmd_run(int argc, char **argv)
 		case OPT_VARIANT: variant = optarg; break;
 		case OPT_LOG: log_path = optarg; break;
 		case OPT_SUMMARY: summary_path = optarg; break;
+		case OPT_SUMMARY_FORMAT:
+			if (strcmp(optarg, "csv") != 0 && strcmp(optarg, "json") != 0) {
+				fprintf(stderr, "popc run: --summary-format '%s': csv or json\n", optarg);
+				free(sets);
+				return 2;
+			}
+			summary_json = strcmp(optarg, "json") == 0;
+			break;
 		case OPT_AXIS: axis_opt[0] = optarg; break;
 		case OPT_MAP: axis_opt[1] = optarg; break;
 		case OPT_CONNECT: axis_opt[2] = optarg; break;
@@ -181,7 +270,7 @@ int popc_cmd_run(int argc, char **argv)
 		case OPT_RT: axis_create.realtime = 1; break;
 		case 'q': quiet = 1; break;
 		case 'h': usage(stdout); free(sets); return 0;
-		default: usage(stderr); free(sets); return 2;
+		default: popc_option_hint(argv[0], opts, argc, argv); free(sets); return 2;
 		}
 	}
 	int summary_stdout = summary_path && strcmp(summary_path, "-") == 0;
@@ -191,7 +280,7 @@ int popc_cmd_run(int argc, char **argv)
 						       : "--log - and --summary - both name standard "
 							 "output: give one of them a file";
 		fprintf(stderr, "popc run: %s\n", why);
-		usage(stderr);
+		popc_help_hint(argv[0], "options");
 		free(sets);
 		return 2;
 	}
@@ -247,8 +336,18 @@ int popc_cmd_run(int argc, char **argv)
 		ro.log = &log;
 	}
 	popc_cli_install_signals();
+	/* the progress line: on a terminal, not with -q, once the run has taken
+	 * a second (POPC_PROGRESS_AFTER_S); the hook is set only then, so a run
+	 * whose stderr is a file or a pipe runs exactly as before */
+	run_progress prog = {.duration_s = s.duration_s};
+	cli_progress_start(&prog.line, quiet, cli_progress_after_s(1.0));
+	if (prog.line.shown) {
+		ro.on_tick = show_progress;
+		ro.tick_user = &prog;
+	}
 	popc_run_summary sum;
 	int run_st = popc_run(&s, axis, &ro, &sum, &err);
+	progress_end(&prog, run_st == 0 && !popc_cli_stop);
 	popc_error cerr;
 	int close_st = log_path ? popc_log_close(&log, &cerr) : 0;
 	if (!quiet)
@@ -258,7 +357,7 @@ int popc_cmd_run(int argc, char **argv)
 		axis->ops->report(axis, quiet ? NULL : stderr, axis_names, axis_values,
 				  sizeof axis_names);
 	popc_axis_destroy(&axis);
-	if (summary && write_summary_file(summary, &sum, &s, axis_names, axis_values) != 0) {
+	if (summary && write_summary_file(summary, summary_json, &sum, &s, axis_names, axis_values) != 0) {
 		fprintf(stderr, "popc run: %s: cannot write the summary: %s\n", summary_path,
 			strerror(errno));
 		if (!run_st)

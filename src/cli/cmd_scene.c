@@ -8,6 +8,7 @@
 #include "popc/core/intent.h"
 #include "popc/scene/data_path.h"
 #include "popc/scene/from_scene.h"
+#include "popc/util/usage_hint.h"
 
 static void usage(FILE *f)
 {
@@ -54,7 +55,7 @@ static int scene_list(int argc, char **argv)
 		switch (c) {
 		case 'm': maps = 1; break;
 		case 'h': usage(stdout); return 0;
-		default: usage(stderr); return 2;
+		default: popc_option_hint(argv[0], opts, argc, argv); return 2;
 		}
 	}
 	if (optind < argc) {
@@ -76,7 +77,13 @@ int popc_cmd_scene(int argc, char **argv)
 		return scene_list(argc - 1, argv + 1);
 	if (!keys && strcmp(argv[1], "show") != 0) {
 		fprintf(stderr, "popc scene: unknown action '%s'\n", argv[1]);
-		usage(stderr);
+		static const char *const actions[] = {"show", "keys", "list"};
+		const char *near = popc_nearest_name(argv[1], actions, 3);
+		if (near)
+			fprintf(stderr, "popc scene: did you mean '%s'? ('popc scene --help' lists "
+					"the actions)\n", near);
+		else
+			popc_help_hint("popc scene", "actions");
 		return 2;
 	}
 	static const struct option show_opts[] = {
@@ -102,13 +109,13 @@ int popc_cmd_scene(int argc, char **argv)
 			}
 			break;
 		case 'h': usage(stdout); free(sets); return 0;
-		default: usage(stderr); free(sets); return 2;
+		default: popc_option_hint(argv[0], opts, argc, argv); free(sets); return 2;
 		}
 	}
 	if (keys) {
 		if (optind < argc) {
 			fprintf(stderr, "popc scene keys: unexpected argument '%s'\n", argv[optind]);
-			usage(stderr);
+			popc_help_hint(argv[0], "options");
 			return 2;
 		}
 		popc_scene_print_keys(stdout);

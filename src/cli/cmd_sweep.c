@@ -26,11 +26,13 @@
 #include "sweep_list.h"
 #include "sweep_pool.h"
 #include "sweep_progress.h"
+#include "popc/util/usage_hint.h"
 
 static void usage(FILE *f)
 {
 	fputs("usage: popc sweep SCENE --vary section.key=LIST [--vary ...] -o DIR [options]\n"
 	      "       popc sweep merge DIR... [-o DIR] [--allow-other-build]\n"
+	      "       popc sweep stats DIR --by KEY[,KEY...] [--metrics ...] [--format ...]\n"
 	      "\n"
 	      "Runs the cartesian product of the --vary lists on the scene, in parallel, and\n"
 	      "writes DIR/summary.csv: one row per run with its id, the varied values, its exit\n"
@@ -73,6 +75,9 @@ static void usage(FILE *f)
 	      "                           plan records every build that added results\n"
 	      "  -q, --quiet              no progress\n"
 	      "  -h, --help               this help\n"
+	      "\n"
+	      "stats: median, quartiles and range of the metrics per group of runs\n"
+	      "('popc sweep stats --help').\n"
 	      "\n"
 	      "merge: gathers the runs of shard outputs (or of --list runs) into one\n"
 	      "summary.csv in DIR (default: the first DIR), equal to a one-machine sweep's but\n"
@@ -166,7 +171,7 @@ static int cmd_merge(int argc, char **argv)
 		case OPT_ALLOW_OTHER_BUILD: allow_other_build = 1; break;
 		case 'q': quiet = 1; break;
 		case 'h': usage(stdout); return 0;
-		default: usage(stderr); return 2;
+		default: popc_option_hint(argv[0], opts, argc, argv); return 2;
 		}
 	}
 	if (optind >= argc) {
@@ -481,6 +486,11 @@ static int sweep_main(const sweep_args *a)
 
 int popc_cmd_sweep(int argc, char **argv)
 {
+	if (argc >= 2 && strcmp(argv[1], "stats") == 0) {
+		static char prog[] = "popc sweep stats";
+		argv[1] = prog;
+		return popc_cmd_sweep_stats(argc - 1, argv + 1);
+	}
 	if (argc >= 2 && strcmp(argv[1], "merge") == 0) {
 		static char prog[] = "popc sweep merge"; /* getopt's messages name argv[0] */
 		argv[1] = prog;
@@ -521,7 +531,7 @@ int popc_cmd_sweep(int argc, char **argv)
 		case OPT_ALLOW_OTHER_BUILD: a.allow_other_build = 1; break;
 		case 'q': a.quiet = 1; break;
 		case 'h': usage(stdout); rc = 0; break;
-		default: usage(stderr); rc = 2; break;
+		default: popc_option_hint(argv[0], opts, argc, argv); rc = 2; break;
 		}
 	}
 	if (rc < 0) {
@@ -545,7 +555,7 @@ int popc_cmd_sweep(int argc, char **argv)
 			rc = 1;
 		} else if (why) {
 			fprintf(stderr, "popc sweep: %s\n", why);
-			usage(stderr);
+			popc_help_hint(argv[0], "options");
 			rc = 2;
 		} else {
 			a.scene_path = argv[optind];

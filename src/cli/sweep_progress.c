@@ -5,45 +5,27 @@
 #include <unistd.h>
 
 #include "popc/util/clock.h"
-
-static void fmt_duration(double s, char *buf, size_t cap)
-{
-	if (!(s >= 0) || s > 1e8) {
-		snprintf(buf, cap, "--:--");
-		return;
-	}
-	long t = (long)(s + 0.5);
-	if (t >= 3600)
-		snprintf(buf, cap, "%ld:%02ld:%02ld", t / 3600, t / 60 % 60, t % 60);
-	else
-		snprintf(buf, cap, "%ld:%02ld", t / 60, t % 60);
-}
+#include "progress.h"
 
 void sweep_progress_show(sweep_progress *p, int final)
 {
 	if (p->quiet || p->total == 0)
 		return;
-	double t = popc_now_s();
-	if (p->tty && !final && t - p->t_last < 0.1)
+	if (p->tty && !final && !cli_progress_due(&p->line, 0))
 		return; /* redraw at most 10 times a second */
-	double el = t - p->t_start;
+	double el = popc_now_s() - p->t_start;
 	double rate = el > 0 ? (double)p->done_now / el : 0.0;
 	double eta = rate > 0 ? (double)(p->total - p->done) / rate : -1.0;
 	char eta_text[32];
-	fmt_duration(eta, eta_text, sizeof eta_text);
+	cli_format_duration(eta, eta_text, sizeof eta_text);
 	int pct = (int)(100 * p->done / p->total);
 	if (p->tty) {
-		enum { WIDTH = 24 };
-		char bar[WIDTH + 1];
-		int fill = (int)(WIDTH * p->done / p->total);
-		for (int i = 0; i < WIDTH; i++)
-			bar[i] = i < fill ? '#' : '.';
-		bar[WIDTH] = '\0';
-		fprintf(stderr, "\r[%s] %lld/%lld %3d%% %.1f runs/s ETA %s failed %lld\033[K", bar,
-			p->done, p->total, pct, rate, eta_text, p->failed_now);
-		if (final)
-			fputc('\n', stderr);
-		p->t_last = t;
+		/* the bar of every long verb (progress.c) */
+		char counts[64], rest[128];
+		snprintf(counts, sizeof counts, "%lld/%lld", p->done, p->total);
+		snprintf(rest, sizeof rest, "%.1f runs/s ETA %s failed %lld", rate, eta_text,
+			 p->failed_now);
+		cli_progress_bar(&p->line, "", (double)p->done / (double)p->total, counts, rest, final);
 		return;
 	}
 	/* not a terminal: a plain line at every tenth of the way, and at the end */
@@ -60,6 +42,8 @@ void sweep_progress_start(sweep_progress *p, int quiet, long long total, long lo
 {
 	*p = (sweep_progress){.quiet = quiet, .tty = isatty(STDERR_FILENO), .total = total,
 			      .done = done_before, .t_start = popc_now_s()};
+	/* a sweep draws its bar from the start (after 0 s): it takes long */
+	cli_progress_start(&p->line, quiet, 0.0);
 	p->last_decile = (int)(10 * p->done / (total ? total : 1));
 	p->last_done = p->done;
 }

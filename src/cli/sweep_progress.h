@@ -5,14 +5,16 @@
 #define POPC_CLI_SWEEP_PROGRESS_H
 
 #include "popc/sweep/sweep_plan.h"
+#include "progress.h"
 
 typedef struct sweep_progress {
 	int quiet, tty;
 	long long total, done;         /* done includes runs finished before (resumed) */
 	long long done_now, failed_now; /* runs made by this invocation, failed among them */
-	double t_start, t_last;
+	double t_start;
 	int last_decile;
 	long long last_done;   /* done at the last plain line */
+	cli_progress line;     /* the bar on a terminal (progress.h) */
 } sweep_progress;
 
 /* Starts the clock: total runs of the shard, done_before of them finished by

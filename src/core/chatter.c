@@ -3,6 +3,7 @@
 
 #include <math.h>
 #include <stddef.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -13,22 +14,34 @@ void popc_chatter_config_defaults(popc_chatter_config *c)
 	memset(c, 0, sizeof *c);
 	/* 100 ms: ten cycles of a 100 Hz switching, one cycle of the ~9 Hz contact mode */
 	c->window_s = 0.1;
-	/* 10 % of the paper scene's 5 N PC bound; improved stays below 0.1 N per window */
-	c->pc_rms_min_N = 0.5;
-	/* a flip every 10 ms or faster: > 5 times the 18 reversals/s of the 9 Hz mode */
-	c->pc_flip_rate_min_Hz = 100.0;
-	c->vsign_rate_min_Hz = 100.0;
+	/* 5 % of the bound: chatter at the bound has an RMS near the bound (20
+	 * times this); the paper scene's improved stays below 1.7 % (0.082 N of
+	 * 5 N), its one-count dither with a +-0.3 N PC is 6 % (docs/ANALYSIS.md) */
+	c->pc_rms_share = 0.05;
+	/* a flip every 10 control ticks or faster (100 /s at 1 kHz): chatter
+	 * switches on the scale of the control period; the 9 Hz contact mode
+	 * reverses 18 times a second, 5.6 times fewer */
+	c->pc_flip_share = 0.1;
+	c->vsign_share = 0.1;
 	c->contact_min = 0.5;
 	c->lc_window_s = 2.0;
-	/* 50 counts: far above the 1-count quantization dither, 3x below the
-	 * +-150 counts of the paper scene's limit cycle */
-	c->lc_amplitude_min_counts = 50.0;
-	c->lc_hysteresis_counts = 5.0;
-	c->lc_freq_min_Hz = 1.0;
-	c->lc_freq_max_Hz = 50.0;
+	/* 4 counts of half swing (8 peak to peak): 4 times the one-count
+	 * quantization dither's swing; the smallest cycle a coarse encoder still
+	 * shows as motion */
+	c->lc_amplitude_min_counts = 4.0;
+	/* a reversal needs a return of 3 counts: a one-count dither (swing 1)
+	 * and one straddling two boundaries (swing 2) never count */
+	c->lc_hysteresis_counts = 3.0;
+	/* two full cycles in the window (1 Hz in 2 s) */
+	c->lc_cycles_min = 2.0;
+	/* at least 10 samples per cycle (100 Hz at 1 kHz): the sample nearest a
+	 * peak is within pi/10 of phase of it, so a swing is measured to within
+	 * 1 - cos(pi/10) = 5 % */
+	c->lc_freq_max_share = 0.1;
 	c->lc_contact_min = 0.1;
 	c->lc_sustain_min = 0.8;
 	c->resolution_m = 1e-5;
+	c->pc_bound_N = 5.0;
 }
 
 typedef struct threshold_key {
@@ -39,18 +52,29 @@ typedef struct threshold_key {
 
 static const threshold_key keys[] = {
 	{"window", offsetof(popc_chatter_config, window_s), 1e-6, 1e3},
-	{"pc_rms", offsetof(popc_chatter_config, pc_rms_min_N), 0.0, 1e12},
-	{"pc_flip_rate", offsetof(popc_chatter_config, pc_flip_rate_min_Hz), 0.0, 1e9},
-	{"vsign_rate", offsetof(popc_chatter_config, vsign_rate_min_Hz), 0.0, 1e9},
+	{"pc_rms_share", offsetof(popc_chatter_config, pc_rms_share), 0.0, 1e6},
+	{"pc_flip_share", offsetof(popc_chatter_config, pc_flip_share), 0.0, 1.0},
+	{"vsign_share", offsetof(popc_chatter_config, vsign_share), 0.0, 1.0},
 	{"contact", offsetof(popc_chatter_config, contact_min), 0.0, 1.0},
 	{"lc_window", offsetof(popc_chatter_config, lc_window_s), 1e-6, 1e6},
 	{"lc_amplitude", offsetof(popc_chatter_config, lc_amplitude_min_counts), 0.0, 1e12},
 	{"lc_hysteresis", offsetof(popc_chatter_config, lc_hysteresis_counts), 1e-3, 1e12},
-	{"lc_freq_min", offsetof(popc_chatter_config, lc_freq_min_Hz), 0.0, 1e9},
-	{"lc_freq_max", offsetof(popc_chatter_config, lc_freq_max_Hz), 0.0, 1e9},
+	{"lc_cycles", offsetof(popc_chatter_config, lc_cycles_min), 0.0, 1e9},
+	{"lc_freq_share", offsetof(popc_chatter_config, lc_freq_max_share), 0.0, 0.5},
 	{"lc_contact", offsetof(popc_chatter_config, lc_contact_min), 0.0, 1.0},
 	{"lc_sustain", offsetof(popc_chatter_config, lc_sustain_min), 0.0, 1e9},
-	{"resolution", offsetof(popc_chatter_config, resolution_m), 1e-15, 1e3},
+};
+
+/* The absolute thresholds of before and what replaces each. */
+static const struct {
+	const char *old_name, *hint;
+} renamed[] = {
+	{"pc_rms", "pc_rms_share (a share of controller.pc_bound; 0.05: 0.25 N at 5 N)"},
+	{"pc_flip_rate", "pc_flip_share (flips per control tick; 0.1: 100 /s at 1 kHz)"},
+	{"vsign_rate", "vsign_share (sign changes per control tick; 0.1: 100 /s at 1 kHz)"},
+	{"lc_freq_min", "lc_cycles (full cycles in lc_window; 2: 1 Hz in 2 s)"},
+	{"lc_freq_max", "lc_freq_share (a share of the control rate; 0.1: 100 Hz at 1 kHz)"},
+	{"resolution", "--set encoder.resolution=M (the scene's, not a threshold)"},
 };
 
 int popc_chatter_config_set(popc_chatter_config *c, const char *name, const char *value,
@@ -67,11 +91,16 @@ int popc_chatter_config_set(popc_chatter_config *c, const char *name, const char
 		*(double *)(void *)((char *)c + keys[i].offset) = v;
 		return 0;
 	}
-	return popc_error_set(err, POPC_ERR_INVALID,
-			      "unknown threshold '%s' (window, pc_rms, pc_flip_rate, vsign_rate, "
-			      "contact, lc_window, lc_amplitude, lc_hysteresis, lc_freq_min, "
-			      "lc_freq_max, lc_contact, lc_sustain, resolution)",
-			      name);
+	for (size_t i = 0; i < sizeof renamed / sizeof renamed[0]; i++)
+		if (strcmp(renamed[i].old_name, name) == 0)
+			return popc_error_set(err, POPC_ERR_INVALID,
+					      "threshold '%s' is relative to the scene now: use %s", name,
+					      renamed[i].hint);
+	char list[256] = "";
+	size_t n = 0;
+	for (size_t i = 0; i < sizeof keys / sizeof keys[0] && n < sizeof list; i++)
+		n += (size_t)snprintf(list + n, sizeof list - n, "%s%s", i ? ", " : "", keys[i].name);
+	return popc_error_set(err, POPC_ERR_INVALID, "unknown threshold '%s' (%s)", name, list);
 }
 
 int popc_chatter_init(popc_chatter *d, const popc_chatter_config *cfg, double period_s,
@@ -82,11 +111,26 @@ int popc_chatter_init(popc_chatter *d, const popc_chatter_config *cfg, double pe
 		return popc_error_set(err, POPC_ERR_INVALID,
 				      "chatter detector: period %g s must be positive", period_s);
 	if (!(cfg->resolution_m > 0.0) || !(cfg->window_s > 0.0) || !(cfg->lc_window_s > 0.0) ||
-	    !(cfg->lc_hysteresis_counts > 0.0) || cfg->lc_freq_min_Hz > cfg->lc_freq_max_Hz)
+	    !(cfg->lc_hysteresis_counts > 0.0) || !(cfg->pc_bound_N >= 0.0) ||
+	    !isfinite(cfg->pc_bound_N) || !isfinite(cfg->resolution_m))
 		return popc_error_set(err, POPC_ERR_INVALID,
 				      "chatter detector: resolution, window, lc_window and "
-				      "lc_hysteresis must be positive and lc_freq_min <= lc_freq_max");
+				      "lc_hysteresis must be positive, the PC bound finite and >= 0");
+	popc_chatter_thresholds th = {
+		.pc_rms_min_N = cfg->pc_rms_share * cfg->pc_bound_N,
+		.pc_flip_rate_min_Hz = cfg->pc_flip_share / period_s,
+		.vsign_rate_min_Hz = cfg->vsign_share / period_s,
+		.lc_amplitude_min_m = cfg->lc_amplitude_min_counts * cfg->resolution_m,
+		.lc_hysteresis_m = cfg->lc_hysteresis_counts * cfg->resolution_m,
+		.lc_freq_min_Hz = cfg->lc_cycles_min / cfg->lc_window_s,
+		.lc_freq_max_Hz = cfg->lc_freq_max_share / period_s,
+	};
+	/* lc_freq_min above lc_freq_max (a log sampled below 20 Hz with the
+	 * defaults) is no error: no frequency passes, and the limit cycle cannot
+	 * be flagged at that rate */
 	d->cfg = *cfg;
+	d->thr = th;
+	d->res.thr = th;
 	d->env = *env;
 	d->period_s = period_s;
 	double sub = cfg->window_s / period_s / POPC_CHATTER_SUBBLOCKS;
@@ -150,8 +194,9 @@ static void evaluate_window(popc_chatter *d)
 		r->max_pc_flip_rate_Hz = flips;
 	if (contact >= d->cfg.contact_min && vrate > r->max_vsign_rate_Hz)
 		r->max_vsign_rate_Hz = vrate;
-	int flagged = contact >= d->cfg.contact_min && rms >= d->cfg.pc_rms_min_N &&
-		      flips >= d->cfg.pc_flip_rate_min_Hz && vrate >= d->cfg.vsign_rate_min_Hz;
+	const popc_chatter_thresholds *th = &d->thr;
+	int flagged = contact >= d->cfg.contact_min && rms >= th->pc_rms_min_N &&
+		      flips >= th->pc_flip_rate_min_Hz && vrate >= th->vsign_rate_min_Hz;
 	if (!flagged)
 		return;
 	/* the flagged stretch: from the first to the last sub-block in which the
@@ -187,7 +232,7 @@ static void evaluate_window(popc_chatter *d)
  * has come back by h from its extreme; its swing is extreme - previous turn. */
 static void track_turns(popc_chatter *d, double x)
 {
-	const double h = d->cfg.lc_hysteresis_counts * d->cfg.resolution_m;
+	const double h = d->thr.lc_hysteresis_m;
 	double swing = 0.0;
 	if (d->lc_dir == 0) {
 		if (!d->started) {
@@ -416,10 +461,10 @@ void popc_chatter_finish(popc_chatter *d, popc_chatter_result *r)
 		}
 	}
 	const popc_chatter_config *c = &d->cfg;
-	res->limit_cycle = popc_chatter_lc_checked(res) &&
-			   res->lc_amplitude_m >= c->lc_amplitude_min_counts * c->resolution_m &&
-			   res->lc_frequency_Hz >= c->lc_freq_min_Hz &&
-			   res->lc_frequency_Hz <= c->lc_freq_max_Hz &&
+	const popc_chatter_thresholds *th = &d->thr;
+	res->limit_cycle = popc_chatter_lc_checked(res) && res->lc_amplitude_m >= th->lc_amplitude_min_m &&
+			   res->lc_frequency_Hz >= th->lc_freq_min_Hz &&
+			   res->lc_frequency_Hz <= th->lc_freq_max_Hz &&
 			   res->lc_contact >= c->lc_contact_min && res->lc_sustain >= c->lc_sustain_min;
 	*r = *res;
 }

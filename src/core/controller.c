@@ -5,8 +5,17 @@
 #include <math.h>
 #include <string.h>
 
-const char *const popc_variant_names[] = {"none",   "po-pc", "ref-energy", "filtered-velocity",
-					  "ignore", "hold",  "improved",   NULL};
+const char *const popc_variant_names[] = {"none",
+					  "po-pc",
+					  "ref-energy",
+					  "filtered-velocity",
+					  "ignore",
+					  "hold",
+					  "improved",
+					  "pc-off-reversals",
+					  "energy-bounding",
+					  "windowed-po",
+					  NULL};
 const char *const popc_ignore_mode_names[] = {"literal", "undo", NULL};
 
 const char *popc_variant_name(popc_variant v)
@@ -110,6 +119,16 @@ void popc_controller_init(popc_controller *c, const popc_controller_config *cfg)
 {
 	memset(c, 0, sizeof *c);
 	c->cfg = *cfg;
+	/* the rings' lengths within their arrays whatever the caller filled in
+	 * (the scene's ranges are the same) */
+	if (c->cfg.reversal_count < 1)
+		c->cfg.reversal_count = 1;
+	if (c->cfg.reversal_count > POPC_REVERSAL_MAX_COUNT)
+		c->cfg.reversal_count = POPC_REVERSAL_MAX_COUNT;
+	if (c->cfg.po_window_ticks < 1)
+		c->cfg.po_window_ticks = 1;
+	if (c->cfg.po_window_ticks > POPC_PO_MAX_WINDOW)
+		c->cfg.po_window_ticks = POPC_PO_MAX_WINDOW;
 	popc_observer_init(&c->obs, cfg->variant, cfg->ignore_mode);
 	popc_foaw_init(&c->foaw, cfg->foaw_window, cfg->foaw_noise_m, cfg->resolution_m,
 		       cfg->period_s);
@@ -124,6 +143,87 @@ static double pc_force(double W, double threshold, double dx)
 	return 0.0;
 }
 
+/* pc-off-reversals (seed Sec. VI: "turn off the PC when the velocity sign
+ * change is repeated"): a reversal is a tick whose count moved against the
+ * last count that moved. Returns whether at least reversal_count reversals
+ * fall in the ticks (k - reversal_window, k], k = c->tick. */
+static int reversals_repeated(popc_controller *c, long long dcount)
+{
+	const int n = c->cfg.reversal_count;
+	if (dcount != 0) {
+		int dir = dcount > 0 ? 1 : -1;
+		if (c->last_dir != 0 && dir != c->last_dir) {
+			c->reversal_tick[c->reversal_next] = c->tick;
+			c->reversal_next = (c->reversal_next + 1) % n;
+			if (c->n_reversals < n)
+				c->n_reversals++;
+		}
+		c->last_dir = dir;
+	}
+	if (c->n_reversals < n)
+		return 0;
+	/* the oldest of the last n reversals is the next slot of the ring */
+	return c->reversal_tick[c->reversal_next] > c->tick - c->cfg.reversal_window_ticks;
+}
+
+/* energy-bounding (after Kim and Ryu 2004): a force step df held by the
+ * zero-order hold over a displacement dx generates at most |df| |dx| / 2
+ * more energy than the continuous element (rectangle against trapezoid),
+ * while the physical damping b dissipates at least b dx^2 / T over the period
+ * (Cauchy-Schwarz: the integral of v^2 is >= dx^2 / T). A force that moves
+ * with the displacement at a stiffness of at most K_b = 2 b / T keeps the
+ * first below the second; so f_c follows the displacement at K_b,
+ *   f_c(k) = f_c(k-1) + K_b dx(k),
+ * and never beyond the environment: saturated to [0, f_e(k)] (or
+ * [f_e(k), 0] when f_e < 0). The saturation only lowers |f_c|: where the
+ * environment is softer than K_b, f_c = f_e; where it is stiffer, the device
+ * feels K_b, the stiffness actually rendered (rendered_stiffness in the run
+ * summary). Returns f_c(k) - f_e(k) (the PC force). */
+static double energy_bounded_pc(const popc_controller *c, double f_e, double dx, unsigned *flags)
+{
+	const double k_b = 2.0 * c->cfg.damping_Nspm / c->cfg.period_s;
+	double f = c->obs.f_c_prev_N + k_b * dx;
+	const double lo = f_e < 0.0 ? f_e : 0.0, hi = f_e > 0.0 ? f_e : 0.0;
+	if (f > hi)
+		f = hi;
+	else if (f < lo)
+		f = lo;
+	if (f != f_e)
+		*flags |= POPC_FLAG_BOUND;
+	return f - f_e;
+}
+
+/* windowed-po: D(k) = sum over the last po_window ticks of the increments of
+ * W - E_ref (seed eq. 3 and the trapezoid reference); when D(k) < 0, the
+ * measured speed |dx| / T is at least the floor and a count moved, the PC
+ * dissipates -D(k) over the next step as a damper, f_pc = -D(k) / dx(k), its
+ * damping |f_pc| / |v| at most po_damping_max. Energy older than the window
+ * is forgotten, so a long passive history no longer hides a new active
+ * phase, and an old deficit no longer drives the PC for ever. */
+static double windowed_pc(popc_controller *c, double inc_J, double dx, unsigned *flags)
+{
+	const int n = c->cfg.po_window_ticks;
+	double old = 0.0;
+	if (c->po_n == n)
+		old = c->po_inc_J[c->po_next];
+	else
+		c->po_n++;
+	c->po_inc_J[c->po_next] = inc_J;
+	c->po_next = (c->po_next + 1) % n;
+	popc_compensated_add(&c->po_sum_J, &c->po_comp_J, inc_J);
+	const double D = popc_compensated_add(&c->po_sum_J, &c->po_comp_J, -old);
+	const double speed = fabs(dx) / c->cfg.period_s;
+	if (!(D < 0.0) || dx == 0.0 || speed < c->cfg.po_velocity_floor_mps)
+		return 0.0;
+	double f_pc = -D / dx;
+	const double f_max = c->cfg.po_damping_max_Nspm * speed;
+	if (fabs(f_pc) > f_max) {
+		f_pc = f_pc > 0.0 ? f_max : -f_max;
+		*flags |= POPC_FLAG_BOUND;
+	}
+	return f_pc;
+}
+
 void popc_controller_step(popc_controller *c, long long count, double x_m, popc_tick *out)
 {
 	const popc_controller_config *cfg = &c->cfg;
@@ -135,6 +235,13 @@ void popc_controller_step(popc_controller *c, long long count, double x_m, popc_
 	c->started = 1;
 
 	double f_e = popc_environment_force(&cfg->env, x_m, v);
+	/* windowed-po's increment of W - E_ref, from the observer's state before
+	 * its update: f_c(k-1) dx(k) - (f_e(k) + f_e(k-1)) dx(k) / 2 */
+	double po_inc_J = 0.0;
+	if (cfg->variant == POPC_VARIANT_WINDOWED_PO && c->obs.started) {
+		double dx = x_m - c->obs.x_prev_m;
+		po_inc_J = c->obs.f_c_prev_N * dx - (f_e + c->obs.f_e_prev_N) * dx / 2.0;
+	}
 	popc_observation ob;
 	observer_update(&c->obs, x_m, count, v, cfg->period_s, f_e, &ob);
 	const double W = c->obs.W_J, E_ref = c->obs.E_ref_J;
@@ -163,6 +270,20 @@ void popc_controller_step(popc_controller *c, long long count, double x_m, popc_
 			f_pc = pc_force(W, E_ref, ob.dx_m);
 		}
 		break;
+	case POPC_VARIANT_PC_OFF_REVERSALS:
+		f_pc = pc_force(W, E_ref, ob.dx_m);
+		if (reversals_repeated(c, ob.dcount)) {
+			if (f_pc != 0.0)
+				flags |= POPC_FLAG_PC_OFF;
+			f_pc = 0.0;
+		}
+		break;
+	case POPC_VARIANT_ENERGY_BOUNDING:
+		f_pc = energy_bounded_pc(c, f_e, ob.dx_m, &flags);
+		break;
+	case POPC_VARIANT_WINDOWED_PO:
+		f_pc = windowed_pc(c, po_inc_J, ob.dx_m, &flags);
+		break;
 	default:
 		break;
 	}
@@ -170,7 +291,11 @@ void popc_controller_step(popc_controller *c, long long count, double x_m, popc_
 		f_pc = 0.0;
 		flags |= POPC_FLAG_GUARD;
 	}
-	if (f_pc > cfg->pc_bound_N) {
+	/* energy-bounding's f_pc is what takes f_c back within the energy bound:
+	 * clamping it would undo the bound, so pc_bound does not apply to it */
+	if (cfg->variant == POPC_VARIANT_ENERGY_BOUNDING) {
+		/* no clamp */
+	} else if (f_pc > cfg->pc_bound_N) {
 		f_pc = cfg->pc_bound_N;
 		flags |= POPC_FLAG_CLAMP;
 	} else if (f_pc < -cfg->pc_bound_N) {
@@ -192,6 +317,7 @@ void popc_controller_step(popc_controller *c, long long count, double x_m, popc_
 	}
 	observer_commit(&c->obs, &ob, f_e, f_c);
 	c->f_pc_prev_N = f_pc;
+	c->tick++;
 
 	out->x_m = x_m;
 	out->count = count;

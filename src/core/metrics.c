@@ -44,6 +44,11 @@ void popc_metrics_add(popc_metrics *m, const popc_tick *t)
 		}
 	}
 	int contact = popc_environment_in_contact(&m->env, t->x_m);
+	if (contact) {
+		double pen = t->x_m - m->env.position_m;
+		m->fc_pen_sum_Nm += t->f_c_N * pen;
+		m->pen_sq_sum_m2 += pen * pen;
+	}
 	window_add(&m->all, t, contact, sign_change);
 	if (t->t_s >= m->late_from_s)
 		window_add(&m->late, t, contact, sign_change);
@@ -65,6 +70,14 @@ double popc_metrics_pc_rms(const popc_metrics_window *w)
 double popc_metrics_active_fraction(const popc_metrics_window *w)
 {
 	return w->ticks ? (double)w->active_ticks / (double)w->ticks : 0.0;
+}
+
+double popc_metrics_rendered_stiffness(const popc_metrics *m)
+{
+	if (!(m->pen_sq_sum_m2 > 0.0))
+		return 0.0;
+	double k = m->fc_pen_sum_Nm / m->pen_sq_sum_m2;
+	return isfinite(k) ? k : 0.0; /* never an inf in a summary cell */
 }
 
 double popc_metrics_vsign_rate(const popc_metrics_window *w, double period_s)

@@ -1,6 +1,9 @@
 /* CSV log writer (log.h): own buffer and the shortest round-trip number
  * formatter, since formatting, not the plant, is the cost of a logged run;
- * write(2) of whole lines, so that a failed write leaves whole lines only. */
+ * write(2) of whole lines, so that a failed write leaves whole lines only.
+ * A floating-point cell always has a decimal point ("0.0", not "0";
+ * popc_format_double_point) so that CSV sniffers type its column as floating
+ * point even where the cells they sample are all integral (docs/READING.md). */
 #include <errno.h>
 #include <fcntl.h>
 #include <inttypes.h>
@@ -166,7 +169,7 @@ int popc_log_write_header(popc_log_writer *w, const char *source, const popc_sce
 
 static inline char *put_num(char *p, double v)
 {
-	p += popc_format_double(v, p);
+	p += popc_format_double_point(v, p);
 	*p++ = ',';
 	return p;
 }

@@ -47,6 +47,17 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 	popc_port_energy port;
 	popc_port_energy_init(&port);
 	sum->has_port_energy = has_true_x;
+	/* run.delay_ticks = d: the command of tick k reaches the axis with the
+	 * exchange of tick k + d (sent after tick k + d's sample), so it acts
+	 * from t = (k + 1 + d) T, d periods later than without delay; the first
+	 * d exchanges send 0 N (nothing computed yet). A ring of d commands in
+	 * the loop, so every axis kind sees the same delayed command stream;
+	 * d = 0 sends f_c(k) itself, today's loop bit for bit. */
+	const int delay = s->delay_ticks;
+	double delayed_N[POPC_SCENE_MAX_DELAY_TICKS];
+	int delay_next = 0;
+	for (int i = 0; i < delay; i++)
+		delayed_N[i] = 0.0;
 	long long k = 0;
 	for (; !st && k < n_ticks; k++) {
 		if (opt && opt->stop_flag && *opt->stop_flag) {
@@ -59,11 +70,20 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 		row.tick.t_s = (double)k * T;
 		popc_controller_step(&ctl, smp.count, popc_encoder_position(smp.count, s->enc_resolution_m),
 				     &row.tick);
+		/* the command that acts over this period: f_c(k), or f_c(k - d) */
+		double command_N = row.tick.f_c_N;
+		if (delay > 0) {
+			command_N = delayed_N[delay_next];
+			delayed_N[delay_next] = row.tick.f_c_N;
+			delay_next = delay_next + 1 == delay ? 0 : delay_next + 1;
+		}
 		row.x_true_m = smp.x_true_m;
 		row.E_port_J = 0.0;
 		if (has_true_x) {
+			/* the port's energy is that of the force the plant really
+			 * receives over the period: the delayed command */
 			row.E_port_J = popc_port_energy_update(&port, smp.x_true_m);
-			popc_port_energy_commit(&port, row.tick.f_c_N);
+			popc_port_energy_commit(&port, command_N);
 			/* W(k) - E_port(k): the observer's error at tick k */
 			double e = row.tick.W_J - row.E_port_J;
 			sum->port_energy_J = row.E_port_J;
@@ -81,7 +101,7 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 			break;
 		}
 		sum->ticks = k + 1;
-		if (k + 1 < n_ticks && (st = axis->ops->exchange(axis, row.tick.f_c_N, &smp, err)) != 0) {
+		if (k + 1 < n_ticks && (st = axis->ops->exchange(axis, command_N, &smp, err)) != 0) {
 			why = st == POPC_ERR_NUMERIC ? "integrator unstable"
 			      : st == POPC_ERR_DIVERGED ? "closed loop diverged"
 			      : st == POPC_ERR_SAFETY ? "safety stop"
@@ -181,7 +201,10 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 	FIELD(PO_ERROR_END, po_error_end, "J", PORT, sum->po_error_end_J,                           \
 	      "observer error W - E_port at the last tick")                                         \
 	FIELD(PO_ERROR_MAX, po_error_max, "J", PORT, sum->po_error_max_J,                           \
-	      "max |W - E_port| over the run")
+	      "max |W - E_port| over the run")                                                      \
+	FIELD(RENDERED_STIFFNESS, rendered_stiffness, "N/m", REAL,                                  \
+	      popc_metrics_rendered_stiffness(m),                                                   \
+	      "least squares f_c / penetration over the ticks in contact")
 
 enum summary_field_id {
 #define FIELD_ID(ID, name, unit, format, value, meaning) SUMMARY_##ID,
@@ -284,4 +307,12 @@ void popc_run_summary_csv_row(const popc_run_summary *sum, const popc_scene *s, 
 		}
 	}
 	fputc('\n', f);
+}
+
+popc_json_kind popc_run_summary_json_kind(const char *name)
+{
+	for (int i = 0; i < SUMMARY_N_FIELDS; i++)
+		if (strcmp(summary_fields[i].name, name) == 0)
+			return summary_fields[i].format == SUMMARY_TEXT ? POPC_JSON_TEXT : POPC_JSON_NUMBER;
+	return POPC_JSON_AUTO;
 }

@@ -44,6 +44,13 @@ void popc_controller_config_from_scene(popc_controller_config *c, const popc_sce
 	c->period_s = popc_scene_period_s(s);
 	c->foaw_window = s->foaw_window;
 	c->foaw_noise_m = s->foaw_noise_m > 0 ? s->foaw_noise_m : s->enc_resolution_m;
+	c->reversal_count = s->reversal_count;
+	c->reversal_window_ticks = s->reversal_window;
+	/* energy-bounding: the damping of the one rigid body the plant is */
+	c->damping_Nspm = s->op_damping_Nspm + s->dev_damping_Nspm;
+	c->po_window_ticks = s->po_window;
+	c->po_velocity_floor_mps = s->po_velocity_floor_mps;
+	c->po_damping_max_Nspm = s->po_damping_max_Nspm;
 	popc_environment_from_scene(&c->env, s);
 }
 

@@ -41,16 +41,18 @@ static const char *const axis_names[] = {"sim", "modbus", NULL};
 static const scene_key scene_keys[] = {
 	NUM("run", "duration", duration_s, "5", 0, 1e7, 1, "s", "simulated time"),
 	NUM("run", "rate", rate_Hz, "1000", 1, 1e6, 0, "Hz", "control rate 1/T"),
+	{"run", "delay_ticks", KEY_INT, OFF(delay_ticks), 0, POPC_SCENE_MAX_DELAY_TICKS, 0, "periods", NULL,
+	 "loop delay: the command of tick k takes effect at tick k + 1 + delay_ticks", "0"},
 
 	NUM("operator", "mass", op_mass_kg, "0.1", 0, 1e3, 0, "kg", "hand mass M_HO"),
 	NUM("operator", "damping", op_damping_Nspm, "0.5", 0, 1e6, 0, "N s/m", "hand damping B_HO"),
 	NUM("operator", "stiffness", op_stiffness_Npm, "50", 0, 1e9, 0, "N/m", "hand stiffness K_HO"),
 	{"operator", "intent", KEY_ENUM, OFF(intent), 0, 0, 0, "", popc_intent_kind_names,
 	 "what the operator wants: x_d(t) or a force", "ramp"},
-	NUM("operator", "x0", op_x0_m, "-0.01", -1e3, 1e3, 0, "m", "rest position of the hand (start of x_d)"),
-	NUM("operator", "t0", op_t0_s, "0.5", 0, 1e7, 0, "s", "start of the ramp, force or sine"),
-	NUM("operator", "speed", op_speed_mps, "0.05", 0, 1e3, 1, "m/s", "ramp speed"),
-	NUM("operator", "x_end", op_x_end_m, "0.03", -1e3, 1e3, 0, "m", "ramp end position"),
+	NUM("operator", "x0", op_x0_m, "-0.0065", -1e3, 1e3, 0, "m", "rest position of the hand (start of x_d)"),
+	NUM("operator", "t0", op_t0_s, "0.1", 0, 1e7, 0, "s", "start of the ramp, force or sine"),
+	NUM("operator", "speed", op_speed_mps, "0.045", 0, 1e3, 1, "m/s", "ramp speed"),
+	NUM("operator", "x_end", op_x_end_m, "0.02", -1e3, 1e3, 0, "m", "ramp end position"),
 	NUM("operator", "force", op_force_N, "1", -1e6, 1e6, 0, "N", "force intent: held force"),
 	NUM("operator", "force_rate", op_force_rate_Nps, "10", 0, 1e9, 1, "N/s", "force intent: rise rate"),
 	NUM("operator", "amplitude", op_amplitude_m, "0.005", 0, 1e3, 0, "m", "sine amplitude"),
@@ -82,6 +84,16 @@ static const scene_key scene_keys[] = {
 	 "samples", NULL, "filtered-velocity: longest FOAW window", "16"},
 	NUM("controller", "foaw_noise", foaw_noise_m, "0", 0, 1, 0, "m",
 	    "filtered-velocity: FOAW noise band d (0: the encoder resolution)"),
+	{"controller", "reversal_count", KEY_INT, OFF(reversal_count), 1, POPC_REVERSAL_MAX_COUNT, 0,
+	 "", NULL, "pc-off-reversals: reversals of the count direction that turn the PC off ...", "4"},
+	{"controller", "reversal_window", KEY_INT, OFF(reversal_window), 1, 1e7, 0, "ticks", NULL,
+	 "pc-off-reversals: ... when they fall within this many ticks", "100"},
+	{"controller", "po_window", KEY_INT, OFF(po_window), 1, POPC_PO_MAX_WINDOW, 0, "ticks", NULL,
+	 "windowed-po: the PO sums W - E_ref over the last po_window ticks", "25"},
+	NUM("controller", "po_velocity_floor", po_velocity_floor_mps, "0.01", 0, 1e3, 0, "m/s",
+	    "windowed-po: no PC below this measured speed |dx| / T"),
+	NUM("controller", "po_damping_max", po_damping_max_Nspm, "50", 0, 1e9, 0, "N s/m",
+	    "windowed-po: bound on the PC's damping |f_pc| / |v|"),
 
 	{"integrator", "method", KEY_ENUM, OFF(integrator), 0, 0, 0, "", popc_integrator_names,
 	 "plant integration", "exact"},
@@ -93,7 +105,7 @@ static const scene_key scene_keys[] = {
 	{"axis", "map", KEY_STRING, OFF(axis_map), 0, 0, 0, "path", NULL,
 	 "modbus: register map file (relative as operator.table)", ""},
 	{"axis", "connect", KEY_STRING, OFF(axis_connect), 0, 0, 0, "uri", NULL,
-	 "modbus: tcp:HOST:PORT or rtu:DEVICE[:BAUD[:8N1]]", ""},
+	 "modbus: " POPC_URI_NOTATION, ""},
 };
 
 #define N_KEYS (sizeof scene_keys / sizeof scene_keys[0])
@@ -458,7 +470,7 @@ static int resolve_relative(char *field, const char *scene_path, const char *key
 	if (!field[0] || field[0] == '/')
 		return 0;
 	/* axis.map: a bare name that is not a file where it points ("generic",
-	 * "cia402.ini") is an installed drive map (data_path.h). Found nowhere,
+	 * "cia402-lohi.ini") is an installed drive map (data_path.h). Found nowhere,
 	 * it stays relative as before: the map's reader then names the path, and
 	 * only when an axis.kind = modbus run reads it. */
 	if (is_map) {

@@ -27,12 +27,14 @@ static void refresh(servo_drive *d)
 {
 	const popc_register_map *m = &d->map;
 	double v;
+	/* a reversed map: the drive counts the other way (popc negates back) */
+	double sign = m->pos.reversed ? -1.0 : 1.0;
 	if (d->passthrough && m->pos.type != POPC_REG_FLOAT32 && m->pos.type != POPC_REG_FLOAT64)
-		v = (double)d->smp.count; /* exactly the simulated encoder's count */
+		v = sign * (double)d->smp.count; /* exactly the simulated encoder's count */
 	else if (m->pos.type == POPC_REG_FLOAT32 || m->pos.type == POPC_REG_FLOAT64)
-		v = d->smp.x_true_m * m->pos.counts_per_m;
+		v = sign * d->smp.x_true_m * m->pos.counts_per_m;
 	else
-		v = floor(d->smp.x_true_m * m->pos.counts_per_m); /* the drive's own encoder */
+		v = floor(sign * d->smp.x_true_m * m->pos.counts_per_m); /* the drive's own encoder */
 	popc_reg_encode(v, m->pos.type, m->pos.order, table_of(d, m->pos.table) + m->pos.reg);
 	uint16_t status = 0;
 	if (d->enabled && !d->fault && !d->never_ready)
@@ -148,7 +150,8 @@ static int register_write(servo_drive *d, int addr, int n, const uint8_t *p, int
 	/* real time: the periods before this write ran with the old command */
 	drive_tick(d, now_ns);
 	double units = popc_reg_decode(d->mb->tab_registers + m->cmd.reg, m->cmd.type, m->cmd.order);
-	d->force_N = units * m->cmd.newton_per_unit;
+	/* a reversed map: the register holds minus the force (exact negation) */
+	d->force_N = (m->cmd.reversed ? -units : units) * m->cmd.newton_per_unit;
 	d->last_cmd_ns = now_ns;
 	d->commands++;
 	char text[64], num[POPC_DOUBLE_TEXT_MAX + 1];

@@ -17,6 +17,10 @@
  *   command write advances (a retry advances the plant again). Real time:
  *   the plant follows the wall clock from the first enable, one period at a
  *   time with the command then in force (ZOH); the sequence is not used.
+ * - Direction: a map's position.direction and command.direction = reversed
+ *   hold minus the position and minus the force in the registers, as a drive
+ *   whose motor turns the other way, so that popc, which negates them back,
+ *   sees the same plant bit for bit.
  * - Watchdog: enabled and no command for watchdog_ms -> fault bit, zero force.
  *   A fault latches until the disable word is written (except a fault set
  *   with --start-faulted, which stays until the program ends). */

@@ -22,6 +22,8 @@
 
 #include <modbus.h>
 
+#include "popc_config.h"
+
 #include "drive.h"
 #include "frame.h"
 #include "popc/axes/modbus_axis.h"
@@ -29,6 +31,7 @@
 #include "popc/util/clock.h"
 #include "popc/util/parse.h"
 #include "popc/util/stdfds.h"
+#include "popc/util/usage_hint.h"
 
 static volatile sig_atomic_t stop_requested = 0;
 
@@ -43,8 +46,10 @@ static void usage(FILE *f)
 	fputs("usage: popc-servo-sim --map MAPFILE --listen URI --scene SCENE [options]\n"
 	      "\n"
 	      "A Modbus server that behaves like a servo drive described by MAPFILE, wrapped\n"
-	      "around the simulated plant of SCENE. URI: tcp:HOST:PORT (PORT 0: any free\n"
-	      "port) or rtu:DEVICE[:BAUD[:8N1]]. Prints 'popc-servo-sim: listening on URI'\n"
+	      "around the simulated plant of SCENE.\n"
+	      "URI: " POPC_URI_NOTATION "\n"
+	      "(" POPC_URI_DEFAULTS "; FORMAT: data bits, parity N/E/O,\n"
+	      "stop bits; PORT 0: any free port). Prints 'popc-servo-sim: listening on URI'\n"
 	      "on standard output when ready; stops cleanly on SIGTERM or SIGINT.\n"
 	      "\n"
 	      "  --lockstep            advance the plant one control period per force command\n"
@@ -58,8 +63,10 @@ static void usage(FILE *f)
 	      "  --notify-at AT        print 'popc-servo-sim: request N' on stdout at request AT\n"
 	      "  --pace-baud           RTU: hold each reply for the wire time of request and\n"
 	      "                        reply at the URI's baud plus two 3.5-character gaps\n"
-	      "                        (a pseudo-terminal does not pace bytes)\n"
-	      "fault injection (AT: N, request N from 1; or cC[+K], the request that writes\n"
+	      "                        (a pseudo-terminal does not pace bytes)\n",
+	      f);
+	/* two strings: one would pass the 4095 characters C99 promises */
+	fputs("fault injection (AT: N, request N from 1; or cC[+K], the request that writes\n"
 	      "command C, from 1 (the start's zero force is command 1; a retry that repeats\n"
 	      "the sequence value is the same command), or the K-th request after it;\n"
 	      "COUNT: how many requests from AT on, default 1; N, C, K and COUNT up to\n"
@@ -86,10 +93,15 @@ static void usage(FILE *f)
 	      "  --map-keys            list every register map key with its default and\n"
 	      "                        allowed values, and exit (docs/MODBUS.md)\n"
 	      "  -h, --help            this help\n"
+	      "  --version             print popc-servo-sim's version and exit\n"
 	      "\n"
 	      "On exit it prints on standard error how many requests it served and how many\n"
 	      "received frames were malformed (bad CRC, another slave, a bad MBAP header, an\n"
-	      "unknown function): a client must never send one.\n"
+	      "unknown function): a client must never send one; over RTU also the shortest\n"
+	      "silence it measured before a request (a map's rtu_frame_gap_ms kept).\n"
+	      "A map's position.direction and command.direction = reversed are honoured\n"
+	      "(the registers hold minus the position and minus the force); its RTU line\n"
+	      "keys rs485, rts and rts_delay_us are not used (the drive's side of the line).\n"
 	      "MAPFILE and SCENE may be names of installed files: a name without a '/' that\n"
 	      "is not in the working directory is looked up in the data directories'\n"
 	      "drives/ and scenes/, as NAME then NAME.ini (POPC_DATA_PATH; popc(1)).\n"
@@ -228,6 +240,12 @@ typedef struct server {
 	trigger close_after, exit_after, fault_at, notify_at;
 	int pace_baud;
 	int exiting;
+	/* RTU: the silence before each request, from the end of the last frame
+	 * on the line (a request received or a reply sent) to the request's
+	 * first byte: what a drive that needs a gap between frames sees */
+	int64_t line_busy_ns;      /* 0: no frame yet */
+	int64_t silence_min_ns;    /* -1: no request after a frame yet */
+	long silences;
 } server;
 
 /* Waits until fd is readable, a timeout (ms, -1: none) passes or a
@@ -304,6 +322,7 @@ static void send_raw(server *sv, const uint8_t *buf, int n)
 		}
 		off += (int)w;
 	}
+	sv->line_busy_ns = popc_now_ns();
 }
 
 /* The reply faults that alter or hold the built frame (the others act on
@@ -400,6 +419,7 @@ static int handle(server *sv, const uint8_t *q, int len, int64_t t_rx)
 	}
 	if (in_range(&sv->exception, n)) {
 		modbus_reply_exception(sv->ctx, q, (unsigned)sv->exception.arg);
+		sv->line_busy_ns = popc_now_ns();
 		return 0;
 	}
 	drive_tick(&sv->drive, t_rx);
@@ -408,10 +428,12 @@ static int handle(server *sv, const uint8_t *q, int len, int64_t t_rx)
 		return 0;
 	if (in_range(&sv->delay, n))
 		hold_late_reply(sv, n, t_rx);
-	if (reply_altered(sv, n))
+	if (reply_altered(sv, n)) {
 		send_altered_reply(sv, n, q, len, t_rx);
-	else
+	} else {
 		modbus_reply(sv->ctx, q, len, sv->drive.mb);
+		sv->line_busy_ns = popc_now_ns();
+	}
 	if (sv->exit_after.at > 0 && n >= sv->exit_after.at) {
 		sv->exiting = 1;
 		return 1;
@@ -436,7 +458,8 @@ static void serve_link(server *sv)
 	int tick_ms = sv->drive.watchdog_ms > 0 ? 5 : 100;
 	while (!stop_requested && !sv->exiting) {
 		int r = wait_readable(sv, fd, tick_ms);
-		drive_tick(&sv->drive, popc_now_ns());
+		int64_t t_first = popc_now_ns(); /* the request's first byte is here (r == 1) */
+		drive_tick(&sv->drive, t_first);
 		if (r < 0)
 			return;
 		if (r == 0)
@@ -444,6 +467,13 @@ static void serve_link(server *sv)
 		errno = 0;
 		int len = modbus_receive(sv->ctx, q);
 		int64_t t_rx = popc_now_ns();
+		if (sv->uri.rtu && sv->line_busy_ns > 0) {
+			int64_t silence = t_first - sv->line_busy_ns;
+			if (sv->silence_min_ns < 0 || silence < sv->silence_min_ns)
+				sv->silence_min_ns = silence;
+			sv->silences++;
+		}
+		sv->line_busy_ns = t_rx;
 		if (len < 0) {
 			if (!sv->uri.rtu) {
 				/* the client left (ECONNRESET: libmodbus' word for an
@@ -566,6 +596,7 @@ int main(int argc, char **argv)
 		{"wrong-protocol", required_argument, NULL, OPT_WRONG_PROTOCOL},
 		{"wrong-length", required_argument, NULL, OPT_WRONG_LENGTH},
 		{"help", no_argument, NULL, 'h'},
+		{"version", no_argument, NULL, 'V'},
 		{NULL, 0, NULL, 0},
 	};
 	static server sv;
@@ -573,6 +604,8 @@ int main(int argc, char **argv)
 	const char *sets[64];
 	int n_sets = 0, lockstep = 0, start_faulted = 0, never_ready = 0, c;
 	long watchdog = -1;
+	static char prog[] = "popc-servo-sim";
+	argv[0] = prog; /* getopt's messages name argv[0], not the path it was run by */
 	while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
 		int bad = 0;
 		switch (c) {
@@ -613,7 +646,8 @@ int main(int argc, char **argv)
 			break;
 		case OPT_WRONG_LENGTH: bad = parse_range(optarg, 0, &sv.wrong_length); break;
 		case 'h': usage(stdout); return 0;
-		default: usage(stderr); return 2;
+		case 'V': printf("popc-servo-sim %s\n", POPC_VERSION); return 0;
+		default: popc_option_hint("popc-servo-sim", opts, argc, argv); return 2;
 		}
 		if (bad) {
 			fprintf(stderr, "popc-servo-sim: bad value '%s' for --%s\n", optarg,
@@ -624,7 +658,7 @@ int main(int argc, char **argv)
 	if (optind != argc || !map_path || !listen || !scene_path) {
 		fprintf(stderr, "popc-servo-sim: %s\n",
 			optind != argc ? "unexpected argument" : "--map, --listen and --scene are required");
-		usage(stderr);
+		popc_help_hint("popc-servo-sim", "options");
 		return 2;
 	}
 	popc_error err;
@@ -698,16 +732,20 @@ int main(int argc, char **argv)
 	sigdelset(&sv.run_mask, SIGTERM);
 	sigdelset(&sv.run_mask, SIGINT);
 
+	sv.silence_min_ns = -1;
 	int rc = run_server(&sv);
-	char repeats[96] = "";
+	char repeats[96] = "", silence[128] = "";
+	if (sv.uri.rtu && sv.silences > 0)
+		snprintf(silence, sizeof silence, "; shortest silence before a request %.3f ms (%ld requests)",
+			 1e-6 * (double)sv.silence_min_ns, sv.silences);
 	if (map.cmd.seq_reg >= 0)
 		snprintf(repeats, sizeof repeats, " (%lld repeated the sequence value: retries)",
 			 sv.drive.seq_repeats);
 	fprintf(stderr,
 		"popc-servo-sim: stopped after %ld requests (%ld malformed), %lld commands%s, %lld "
-		"periods%s%s\n",
+		"periods%s%s%s\n",
 		sv.requests, sv.malformed, sv.drive.commands, repeats, sv.drive.k, sv.drive.fault ? "; fault: " : "",
-		sv.drive.fault ? sv.drive.fault_why : "");
+		sv.drive.fault ? sv.drive.fault_why : "", silence);
 	if (record) {
 		drive_write_record(&sv.drive, record);
 		if (fclose(record) != 0) {

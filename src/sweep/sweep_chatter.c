@@ -12,7 +12,9 @@ int popc_sweep_chatter_init(popc_chatter *det, const popc_scene *s,
 {
 	popc_chatter_config cc;
 	popc_chatter_config_defaults(&cc);
+	/* the thresholds are relative to the scene run (docs/ANALYSIS.md) */
 	cc.resolution_m = s->enc_resolution_m;
+	cc.pc_bound_N = s->pc_bound_N;
 	return popc_chatter_init(det, &cc, popc_scene_period_s(s), &ccfg->env, err);
 }
 

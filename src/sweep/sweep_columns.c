@@ -5,6 +5,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "popc/run/run.h"
+
 #define RUN_METRIC(name)                                                                           \
 	{ name, POPC_SWEEP_CELL_RUN_SUMMARY, POPC_SWEEP_FORMAT_TEXT, POPC_SWEEP_EMPTY_WITHOUT_SUMMARY }
 
@@ -31,6 +33,7 @@ const popc_sweep_column popc_sweep_columns[] = {
 	RUN_METRIC("port_energy_end"),
 	RUN_METRIC("po_error_end"),
 	RUN_METRIC("po_error_max"),
+	RUN_METRIC("rendered_stiffness"),
 	{"chatter_s", POPC_SWEEP_CELL_CHATTER_S, POPC_SWEEP_FORMAT_DOUBLE,
 	 POPC_SWEEP_EMPTY_CHATTER_UNCHECKED},
 	{"chatter_intervals", POPC_SWEEP_CELL_CHATTER_INTERVALS, POPC_SWEEP_FORMAT_INT,
@@ -83,4 +86,22 @@ int popc_sweep_column_index(int n_axes, popc_sweep_cell_source source)
 		cell += popc_sweep_columns[c].source == POPC_SWEEP_CELL_AXES ? n_axes : 1;
 	}
 	return -1;
+}
+
+void popc_sweep_columns_json_kinds(int n_axes, popc_json_kind *kinds)
+{
+	int cell = 0;
+	for (int c = 0; c < popc_sweep_n_columns; c++) {
+		const popc_sweep_column *col = &popc_sweep_columns[c];
+		switch (col->source) {
+		case POPC_SWEEP_CELL_AXES:
+			for (int a = 0; a < n_axes; a++)
+				kinds[cell++] = POPC_JSON_AUTO;
+			continue;
+		case POPC_SWEEP_CELL_RUN_SUMMARY: kinds[cell] = popc_run_summary_json_kind(col->name); break;
+		default:
+			kinds[cell] = col->format == POPC_SWEEP_FORMAT_TEXT ? POPC_JSON_TEXT : POPC_JSON_NUMBER;
+		}
+		cell++;
+	}
 }

@@ -16,6 +16,7 @@
 #include "popc/sweep/sweep_files.h"
 #include "popc/sweep/sweep_row.h"
 #include "popc/util/atomic_file.h"
+#include "popc/util/json.h"
 
 void popc_sweep_results_free(popc_sweep_results *r)
 {
@@ -284,10 +285,34 @@ int popc_sweep_results_write(const popc_sweep_results *r, const popc_sweep_plan 
 			     popc_error *err)
 {
 	memset(t, 0, sizeof *t);
-	popc_atomic_file out;
+	/* the same rows as JSON Lines beside it: summary.csv -> summary.jsonl */
+	char json_path[POPC_PATH_MAX + 8];
+	size_t pl = strlen(out_path);
+	if (pl < 4 || strcmp(out_path + pl - 4, ".csv") != 0 || pl - 4 + 7 > sizeof json_path)
+		return popc_error_set(err, POPC_ERR_INVALID, "%s: a summary's name ends in .csv", out_path);
+	snprintf(json_path, sizeof json_path, "%.*s.jsonl", (int)(pl - 4), out_path);
+	int n_cells = popc_sweep_columns_count(p->n_axes);
+	char *names_line = strdup(p->columns);
+	const char **names = malloc((size_t)n_cells * sizeof *names);
+	popc_json_kind *kinds = malloc((size_t)n_cells * sizeof *kinds);
+	if (!names_line || !names || !kinds) {
+		free(names_line);
+		free(names);
+		free(kinds);
+		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+	}
+	int n_names = popc_json_csv_names(names_line, names, n_cells);
+	popc_sweep_columns_json_kinds(p->n_axes, kinds);
+	popc_atomic_file out, json;
 	int st = popc_atomic_file_open(&out, out_path, err);
-	if (st)
+	if (!st && (st = popc_atomic_file_open(&json, json_path, err)) != 0)
+		popc_atomic_file_abort(&out);
+	if (st) {
+		free(names_line);
+		free(names);
+		free(kinds);
 		return st;
+	}
 	FILE *f = out.f;
 	fputs(p->columns, f);
 	char reason[640];
@@ -303,6 +328,7 @@ int popc_sweep_results_write(const popc_sweep_results *r, const popc_sweep_plan 
 			continue;
 		}
 		fwrite(e->row, 1, (size_t)e->len, f);
+		popc_json_csv_object(json.f, n_names, names, kinds, e->row, (size_t)e->len);
 		if (e->exit_status == 0) {
 			t->ok++;
 			continue;
@@ -314,5 +340,13 @@ int popc_sweep_results_write(const popc_sweep_results *r, const popc_sweep_plan 
 			visit(user, i, e->exit_status, reason);
 		}
 	}
-	return popc_atomic_file_commit(&out, err);
+	free(names_line);
+	free(names);
+	free(kinds);
+	st = popc_atomic_file_commit(&out, err);
+	if (st) {
+		popc_atomic_file_abort(&json);
+		return st;
+	}
+	return popc_atomic_file_commit(&json, err);
 }

@@ -927,3 +927,17 @@ size_t popc_format_double(double v, char *buf)
 	memcpy(buf, "0", 2);
 	return 1;
 }
+
+size_t popc_format_double_point(double v, char *buf)
+{
+	size_t n = popc_format_double(v, buf);
+	size_t e = 0; /* where ".0" goes: before the exponent, else at the end */
+	while (e < n && buf[e] != '.' && buf[e] != 'e' && buf[e] != 'n' && buf[e] != 'i')
+		e++;
+	if (e < n && buf[e] != 'e')
+		return n; /* a point already, or nan / inf */
+	memmove(buf + e + 2, buf + e, n - e + 1); /* the exponent and the NUL */
+	buf[e] = '.';
+	buf[e + 1] = '0';
+	return n + 2;
+}

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "popc/util/error.h"
+#include "popc/util/usage_hint.h"
 
 static void usage(const popc_program *p, FILE *f)
 {
@@ -49,7 +50,17 @@ int popc_verb_dispatch(const popc_program *p, int argc, char **argv)
 		argv[1] = prog;
 		return p->verbs[i].run(argc - 1, argv + 1);
 	}
+	/* the error and one hint line, not the usage: it would scroll the error away */
 	fprintf(stderr, "%s: unknown verb '%s'\n", p->name, verb);
-	usage(p, stderr);
+	const char *names[64];
+	size_t n = 0;
+	for (size_t i = 0; i < p->n_verbs && n < 64; i++)
+		names[n++] = p->verbs[i].name;
+	const char *near = verb[0] == '-' ? NULL : popc_nearest_name(verb, names, n);
+	if (near)
+		fprintf(stderr, "%s: did you mean '%s'? ('%s --help' lists the verbs)\n", p->name,
+			near, p->name);
+	else
+		fprintf(stderr, "%s: '%s --help' lists the verbs\n", p->name, p->name);
 	return POPC_EXIT_USAGE;
 }

@@ -155,8 +155,8 @@ expect_rc 0 "$A" compare --threshold lc_window=0.2 "$W/good.csv" && [ ! -s "$W/e
 # factor or --late-from was taken by strtod; refused with exit 2 naming the option
 expect_rc 2 "$A" chatter --threshold window=0x1p1 "$W/good.csv" && grep -q -- "--threshold: threshold window = '0x1p1'" "$W/err" &&
 	ok "--threshold window=0x1p1 refused" || fail "--threshold hex float: $(cat "$W/err")"
-expect_rc 2 "$A" compare --threshold pc_rms=inf "$W/good.csv" && grep -q -- "--threshold" "$W/err" &&
-	ok "--threshold pc_rms=inf refused" || fail "--threshold inf: $(cat "$W/err")"
+expect_rc 2 "$A" compare --threshold pc_rms_share=inf "$W/good.csv" && grep -q -- "--threshold" "$W/err" &&
+	ok "--threshold pc_rms_share=inf refused" || fail "--threshold inf: $(cat "$W/err")"
 expect_rc 2 "$A" energy --scale t=0x1p0 "$W/good.csv" && grep -q -- "--scale t=0x1p0" "$W/err" &&
 	ok "--scale t=0x1p0 refused" || fail "--scale hex float: $(cat "$W/err")"
 expect_rc 2 "$A" compare --late-from 0x1p-1 "$W/good.csv" && grep -q -- "--late-from '0x1p-1'" "$W/err" &&

@@ -161,19 +161,23 @@ static void sustained_oscillation_is_a_limit_cycle(void **state)
 	assert_int_equal(r.n_intervals, 0);
 }
 
-static void decaying_or_small_oscillation_is_not(void **state)
+static void decaying_tiny_or_fast_oscillation_is_not(void **state)
 {
 	(void)state;
 	/* decays with tau = 1 s: still 1.5 mm e^-3 ~ 75 um at 3 s, but fading */
 	popc_chatter_result r = sine(1.5e-3 * exp(3.0), 9.0, 1.0, 5.0);
 	assert_true(r.lc_sustain < 0.5);
 	assert_int_equal(r.limit_cycle, 0);
-	/* sustained but 20 counts: below the 50-count amplitude threshold */
+	/* sustained, 3 counts: below the 4-count amplitude threshold (20 counts,
+	 * below the 50 of before, is a limit cycle now: test_chatter_synthetic.sh) */
+	r = sine(3 * DELTA_M, 9.0, 0.0, 5.0);
+	assert_int_equal(r.limit_cycle, 0);
 	r = sine(20 * DELTA_M, 9.0, 0.0, 5.0);
 	assert_true(r.lc_sustain > 0.8);
-	assert_int_equal(r.limit_cycle, 0);
-	/* sustained, large, but 100 Hz: above lc_freq_max */
-	r = sine(1.5e-3, 100.0, 0.0, 5.0);
+	assert_int_equal(r.limit_cycle, 1);
+	/* sustained, large, but 125 Hz: 8 samples a cycle, above lc_freq_share
+	 * 0.1 of 1 kHz */
+	r = sine(1.5e-3, 125.0, 0.0, 5.0);
 	assert_int_equal(r.limit_cycle, 0);
 	/* too short a log to judge (0.5 s of a 2 s window): not checked, so its
 	 * limit_cycle = 0 is no "no limit cycle" */
@@ -368,13 +372,15 @@ static void config_set_and_init_errors(void **state)
 	popc_chatter_config cfg;
 	popc_chatter_config_defaults(&cfg);
 	popc_error err;
-	assert_int_equal(popc_chatter_config_set(&cfg, "pc_rms", "1.5", &err), 0);
-	assert_true(cfg.pc_rms_min_N == 1.5);
+	assert_int_equal(popc_chatter_config_set(&cfg, "pc_rms_share", "0.3", &err), 0);
+	assert_true(cfg.pc_rms_share == 0.3);
 	assert_int_equal(popc_chatter_config_set(&cfg, "lc_amplitude", "20", &err), 0);
 	assert_true(cfg.lc_amplitude_min_counts == 20.0);
 	static const char *const bad[][2] = {
-		{"nope", "1"}, {"pc_rms", "-1"}, {"pc_rms", "1x"}, {"window", "0"},
-		{"contact", "1.5"}, {"lc_freq_max", "nan"}, {"pc_rms", ""},
+		{"nope", "1"}, {"pc_rms_share", "-1"}, {"pc_rms_share", "1x"}, {"window", "0"},
+		{"contact", "1.5"}, {"lc_freq_share", "nan"}, {"pc_rms_share", ""},
+		/* the absolute names of before: refused, naming the relative one */
+		{"pc_rms", "0.5"}, {"lc_freq_max", "50"}, {"resolution", "1e-5"},
 	};
 	for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++)
 		assert_int_equal(popc_chatter_config_set(&cfg, bad[i][0], bad[i][1], &err),
@@ -382,7 +388,8 @@ static void config_set_and_init_errors(void **state)
 	popc_chatter d;
 	popc_environment env = wall();
 	assert_int_equal(popc_chatter_init(&d, &cfg, 0.0, &env, &err), POPC_ERR_INVALID);
-	cfg.lc_freq_min_Hz = 60.0;
+	/* the scene's PC bound: finite and not negative */
+	cfg.pc_bound_N = -1.0;
 	assert_int_equal(popc_chatter_init(&d, &cfg, T_S, &env, &err), POPC_ERR_INVALID);
 }
 
@@ -459,7 +466,7 @@ int main(void)
 		cmocka_unit_test(small_pc_force_not_flagged),
 		cmocka_unit_test(intervals_are_bounded),
 		cmocka_unit_test(sustained_oscillation_is_a_limit_cycle),
-		cmocka_unit_test(decaying_or_small_oscillation_is_not),
+		cmocka_unit_test(decaying_tiny_or_fast_oscillation_is_not),
 		cmocka_unit_test(short_log_is_not_checked),
 		cmocka_unit_test(short_log_limit_cycle_not_checked),
 		cmocka_unit_test(limit_cycle_wherever_the_log_ends),

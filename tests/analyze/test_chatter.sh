@@ -141,9 +141,13 @@ if expect_rc 0 "$A" report --no-draw -o "$W/rep-short" "$W/half.csv" "$W/second.
 		ok "report: limit cycle not checked, n/a" || fail "report half: $(cat "$W/err"; grep half "$W/rep-short/index.html")"
 fi
 
-# Thresholds move the decision: a 10 N RMS threshold flags no chatter.
-expect_rc 0 "$A" chatter -q --threshold pc_rms=10 "$W/ref-energy.csv" && ok "--threshold pc_rms=10"
+# Thresholds move the decision: an RMS threshold of twice the bound (10 N)
+# flags no chatter; the absolute name of before is refused naming the new one.
+expect_rc 0 "$A" chatter -q --threshold pc_rms_share=2 "$W/ref-energy.csv" && ok "--threshold pc_rms_share=2"
+expect_rc 2 "$A" chatter --threshold pc_rms=10 "$W/ref-energy.csv" &&
+	grep -q "threshold 'pc_rms' is relative to the scene now: use pc_rms_share" "$W/err" &&
+	ok "--threshold pc_rms: refused, naming pc_rms_share" || fail "pc_rms: $(cat "$W/err")"
 expect_rc 2 "$A" chatter --threshold bogus=1 "$W/ref-energy.csv" && ok "unknown threshold: exit 2"
-expect_rc 2 "$A" chatter --threshold pc_rms=-1 "$W/ref-energy.csv" && ok "negative threshold: exit 2"
+expect_rc 2 "$A" chatter --threshold pc_rms_share=-1 "$W/ref-energy.csv" && ok "negative threshold: exit 2"
 expect_rc 0 "$A" chatter --help && ok "--help"
 finish

@@ -14,19 +14,20 @@ cp "$W/out" "$W/compare.csv"
 # column by name
 col() { awk -F, -v lg="$1" -v name="$2" 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
 	$1 == lg { print $c[name] }' "$W/compare.csv"; }
-# late PC RMS measured: ref-energy 2.40 N, improved 0.024 N, none 0 (DESIGN: 2.4, 0.02, 0)
+# late PC RMS measured (the calibrated intent, docs/TIMELINE.md): ref-energy 3.11 N,
+# improved 0.031 N, none 0 (before the calibration: 2.40, 0.024, 0)
 awk -v a="$(col ref-energy pc_rms_late)" -v b="$(col improved pc_rms_late)" -v c="$(col none pc_rms)" \
-	'BEGIN { exit !(a > 2.0 && a < 2.8 && b > 0 && b < 0.05 && c == 0) }' &&
+	'BEGIN { exit !(a > 2.0 && a < 4.0 && b > 0 && b < 0.07 && c == 0) }' &&
 	ok "late PC RMS: ref-energy $(col ref-energy pc_rms_late), improved $(col improved pc_rms_late)" ||
 	fail "late PC RMS out of range"
-# velocity sign changes: ref-energy about 136 /s, improved 23 /s (about 6x fewer)
+# velocity sign changes: ref-energy about 188 /s, improved 30 /s (about 6x fewer)
 awk -v a="$(col ref-energy vsign_rate)" -v b="$(col improved vsign_rate)" \
 	'BEGIN { exit !(a > 100 && b < 40 && a / b > 4) }' && ok "vsign_rate ref-energy vs improved" ||
 	fail "vsign_rate"
 [ "$(col none limit_cycle)" = 1 ] && [ "$(col improved limit_cycle)" = 0 ] && ok "limit_cycle column" ||
 	fail "limit_cycle column"
-awk -v w="$(col none w_minus_eref_end)" 'BEGIN { exit !(w < -8e-3 && w > -11e-3) }' &&
-	ok "none: W - E_ref ends near -9.5e-3 J" || fail "none w_minus_eref_end $(col none w_minus_eref_end)"
+awk -v w="$(col none w_minus_eref_end)" 'BEGIN { exit !(w < -4e-3 && w > -8e-3) }' &&
+	ok "none: W - E_ref ends near -5.6e-3 J" || fail "none w_minus_eref_end $(col none w_minus_eref_end)"
 
 # The true port energy columns are the run summary's fields, bit for bit, from
 # the log's E_port (and W); a log without E_port (cut to popc's columns minus

@@ -103,8 +103,8 @@ expect_rc 0 "$A" compare --format csv "$W/run 1, \"fast\".csv" &&
 	[ "$(tail -n 1 "$W/out" | sed 's/^"run 1, ""fast""",//')" = "$(cat "$W/want")" ] &&
 	ok "compare CSV: a name with ',' and '\"' quoted" || fail "CSV name quoting: $(cat "$W/out")"
 # (thresholds 0: every window flagged, so there is a row to print)
-expect_rc 1 "$A" chatter --format csv --threshold pc_rms=0 --threshold pc_flip_rate=0 \
-	--threshold vsign_rate=0 --threshold contact=0 "$W/run 1, \"fast\".csv" &&
+expect_rc 1 "$A" chatter --format csv --threshold pc_rms_share=0 --threshold pc_flip_share=0 \
+	--threshold vsign_share=0 --threshold contact=0 "$W/run 1, \"fast\".csv" &&
 	grep -q '^"run 1, ""fast""",chatter,' "$W/out" && ok "chatter CSV: name quoted" ||
 	fail "chatter CSV name: $(cat "$W/out")"
 cp "$W/plain.csv" "$W/a|b.csv"
@@ -123,7 +123,7 @@ expect_rc 0 "$A" energy -o "$W/eu.energy" --decimal , "$W/eu.csv" &&
 	grep -v '^#' "$W/eu.energy" >"$W/eu.rows" && grep -v '^#' "$W/plain.energy" >"$W/plain.rows" &&
 	[ "$(wc -l <"$W/eu.rows")" -eq 1002 ] && cmp -s "$W/eu.rows" "$W/plain.rows" &&
 	ok "--decimal ,: every energy -o row bitwise equal" || fail "decimal comma energy rows differ"
-expect_rc 2 "$A" compare "$W/eu.csv" && grep -q "eu.csv:2: column 2 (x): not a finite number '-0,01'" "$W/err" &&
+expect_rc 2 "$A" compare "$W/eu.csv" && grep -q "eu.csv:2: column 1 (t): not a finite number '0,0'" "$W/err" &&
 	ok "a decimal-comma log without --decimal: refused, not misread" || fail "eu without --decimal: $(cat "$W/err")"
 sed '9s/^\([^;]*\);\([^;]*\),/\1;\2./' "$W/eu.csv" >"$W/eu-mixed.csv"
 expect_rc 2 "$A" compare --decimal , "$W/eu-mixed.csv" &&

@@ -7,7 +7,7 @@ run_scene paper.ini "$W/ref-energy.csv"
 # controller is a function of the position trace).
 mkdir "$W/r"
 expect_rc 0 "$A" replay "$W/ref-energy.csv" --variant all -o "$W/r" &&
-	[ "$(wc -l <"$W/out")" -eq 7 ] && ok "7 variants written" || fail "replay all: $(cat "$W/out")"
+	[ "$(wc -l <"$W/out")" -eq 10 ] && ok "10 variants written" || fail "replay all: $(cat "$W/out")"
 grep -v '^#' "$W/ref-energy.csv" >"$W/a"
 grep -v '^#' "$W/r/ref-energy.ref-energy.csv" >"$W/b"
 if [ "$(wc -l <"$W/a")" -eq 5002 ] && cmp -s "$W/a" "$W/b"; then

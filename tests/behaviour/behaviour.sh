@@ -44,7 +44,7 @@ case_run() { # name, popc run arguments...
 	return 0
 }
 
-variants="none po-pc ref-energy filtered-velocity ignore hold improved"
+variants="none po-pc ref-energy filtered-velocity ignore hold improved pc-off-reversals energy-bounding windowed-po"
 for scene in "$SRC"/data/scenes/*.ini; do
 	s=$(basename "$scene" .ini)
 	for v in $variants; do
@@ -61,6 +61,9 @@ case_run paper.sine "$P" --variant improved --set operator.intent=sine --set ope
 case_run paper.force "$P" --variant hold --set operator.intent=force --set operator.force=2
 case_run paper.spring "$P" --variant po-pc --set environment.kind=spring --set environment.damping=0.2
 case_run paper.rate "$P" --variant ignore --set run.rate=2500 --set encoder.resolution=2e-6
+case_run paper.delay1 "$P" --variant none --set run.delay_ticks=1 --set environment.stiffness=300
+case_run paper.delay2 "$P" --variant improved --set run.delay_ticks=2
+case_run paper.stiff.energy-bounding "$P" --variant energy-bounding --set environment.stiffness=1e6
 
 # the analyser on the paper scene's logs
 logs=()
@@ -81,7 +84,7 @@ sed "s|$T/||g" "$T/energy.txt" >"$T/energy.txt.rel"
 digest energy.text "$T/energy.txt.rel"
 
 # a small sweep
-"$POPC" sweep "$P" --vary controller.variant=none,ref-energy,improved \
+"$POPC" sweep "$P" --vary controller.variant=none,ref-energy,improved,pc-off-reversals,energy-bounding,windowed-po \
 	--vary environment.stiffness=500,2000 --set run.duration=2 -o "$T/sweep" -j 2 -q --no-log 2>/dev/null
 echo "sweep exit $?" >>"$out"
 sed 's/,[^,]*$//' "$T/sweep/summary.csv" >"$T/sweep.nowall"

@@ -54,7 +54,7 @@ n_got=$(wc -w <<<"$got")
 check "  every option of the help ($n_help), no more ($n_got)" test "$n_got" -eq "$n_help"
 offers "--variant: the variant names" _popc popc "run paper --variant i" "ignore improved"
 complete_line _popc popc "run paper --variant "
-check "  all seven" test "$(wc -w <<<"$got")" -eq 7
+check "  all ten" test "$(wc -w <<<"$got")" -eq 10
 offers "installed scene names" _popc popc "run fig1" "fig10 fig14 fig16"
 printf '[run]\n' > fig1-local.ini
 offers "  and files" _popc popc "run fig1" "fig1-local.ini fig10 fig14 fig16"
@@ -74,11 +74,11 @@ offers "scene actions" _popc popc "scene " "keys list show"
 offers "scene list --maps" _popc popc "scene list --m" "--maps"
 offers "bench kinds" _popc popc "bench " "integrators log loop"
 offers "popc-analyze verbs" _popc_analyze popc-analyze "" "--help chatter compare energy replay report"
-offers "  replay --variant: names and all" _popc_analyze popc-analyze "replay x.csv --variant " "all filtered-velocity hold ignore improved none po-pc ref-energy"
+offers "  replay --variant: names and all" _popc_analyze popc-analyze "replay x.csv --variant " "all energy-bounding filtered-velocity hold ignore improved none pc-off-reversals po-pc ref-energy windowed-po"
 includes "  a verb's options, from its --help" _popc_analyze popc-analyze "energy --" --observer --check --output --column --set
 offers "  --format" _popc_analyze popc-analyze "compare x.csv --format m" "markdown"
 if [ -e "$T/bin/popc-servo-sim" ]; then
-  offers "popc-servo-sim --map" _popc_servo_sim popc-servo-sim "--map c" "cia402"
+  offers "popc-servo-sim --map" _popc_servo_sim popc-servo-sim "--map c" "cia402-lohi"
   offers "  --scene" _popc_servo_sim popc-servo-sim "--map generic --scene no" "no-pc"
   includes "  options, from its --help" _popc_servo_sim popc-servo-sim "--" --map --listen --scene --lockstep --map-keys
 fi

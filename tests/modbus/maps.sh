@@ -68,6 +68,19 @@ awk '$1 == "command" { n++; v = $2 + 0; if (!(v >= -1 && v <= 1) || $2 ~ /inf|na
 awk '$1 == "command" && $2 + 0 <= -0.999 { c = 1 } END { exit !c }' "$WORK/rec-npu-small.txt" ||
 	fail "npu-small: the clamp never acted: $(tr '\n' '|' <"$WORK/rec-npu-small.txt")"
 
+# the maps renamed by layout (issue 13): the old name is refused (exit 2)
+# with the new one named, by path and by installed name; nothing connects
+for old in "hilo-percent-torque:hilo-int32" "cia402:cia402-lohi"; do
+	for m in "$DRIVES/${old%%:*}.ini" "${old%%:*}"; do
+		rc=0
+		(cd "$WORK" && "$POPC" run "$SCENE" -q --axis modbus --map "$m" --connect tcp:127.0.0.1:1 \
+			2>"$WORK/renamed.err") || rc=$?
+		expect_rc "renamed $m" $rc 2
+		grep -q "cannot open the register map: .*the shipped map ${old%%:*}.ini was renamed to ${old#*:}.ini" \
+			"$WORK/renamed.err" || fail "renamed $m: $(cat "$WORK/renamed.err")"
+	done
+done
+
 # a map with an error: exit 2, the message names file:line and key
 sed 's/^type = int32/type = int24/' "$DRIVES/generic.ini" >"$WORK/bad.ini"
 rc=0

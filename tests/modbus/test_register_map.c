@@ -140,6 +140,13 @@ static void test_good_map(void **state)
 	assert_int_equal(m.timeout_ms, 20); /* defaults */
 	assert_int_equal(m.max_failures, 3);
 	assert_true(m.pos.soft_min_m == -0.05 && m.pos.soft_max_m == 0.05);
+	/* the line keys and directions by default: nothing asked */
+	assert_int_equal(m.rtu_frame_gap_ms, 0);
+	assert_int_equal(m.rs485, 0);
+	assert_int_equal(m.rts, 0);
+	assert_int_equal(m.rts_delay_us, -1);
+	assert_int_equal(m.pos.reversed, 0);
+	assert_int_equal(m.cmd.reversed, 0);
 	unlink(path);
 }
 
@@ -271,6 +278,36 @@ static const bad_case bad_cases[] = {
 	 "type = float64\nword_order = lo-hi\nnewton_per_unit = 2",
 	 ":17: command.newton_per_unit = 2 (line 17), command.type = float64 (line 15): the float64 "
 	 "command register's value 1.79769e+308 reads as inf N"},
+	/* the RTU line keys (issue 13): their ranges, and RTS delay only with RTS */
+	{"fc23 = yes", "fc23 = yes\nrtu_frame_gap_ms = 1001",
+	 ":4: drive.rtu_frame_gap_ms = 1001: expected an integer in [0, 1000]"},
+	{"fc23 = yes", "fc23 = yes\nrtu_frame_gap_ms = -1",
+	 ":4: drive.rtu_frame_gap_ms = -1: expected an integer in [0, 1000]"},
+	{"fc23 = yes", "fc23 = yes\nrtu_frame_gap_ms = 2.5",
+	 ":4: drive.rtu_frame_gap_ms = 2.5: expected an integer in [0, 1000]"},
+	{"fc23 = yes", "fc23 = yes\nrs485 = 1", ":4: drive.rs485 = 1: expected one of: no yes"},
+	{"fc23 = yes", "fc23 = yes\nrts = high", ":4: drive.rts = high: expected one of: none up down"},
+	{"fc23 = yes", "fc23 = yes\nrts = up\nrts_delay_us = 100001",
+	 ":5: drive.rts_delay_us = 100001: expected an integer in [0, 100000]"},
+	{"fc23 = yes", "fc23 = yes\nrts_delay_us = 500",
+	 ":4: drive.rts_delay_us = 500: only used with drive.rts = up or down"},
+	{"fc23 = yes", "fc23 = yes\nrts = none\nrts_delay_us = 0",
+	 ":5: drive.rts_delay_us = 0: only used with drive.rts = up or down"},
+	/* directions */
+	{"soft_max_m = 0.05", "soft_max_m = 0.05\ndirection = backwards",
+	 ":13: position.direction = backwards: expected one of: normal reversed"},
+	{"limit_N = 20", "limit_N = 20\ndirection = -1",
+	 ":20: command.direction = -1: expected one of: normal reversed"},
+	/* reversed, popc's soft limits are the drive's [-max, -min]: a uint32
+	 * position register cannot hold the drive's side of [0.001, 0.05] */
+	{"type = int32\nword_order = lo-hi\ncounts_per_rev = 10000\nlead_m = 0.01\ngear = 2\n"
+	 "soft_min_m = -0.05\nsoft_max_m = 0.05",
+	 "type = uint32\nword_order = lo-hi\ncounts_per_rev = 10000\nlead_m = 0.01\ngear = 2\n"
+	 "soft_min_m = 0.001\nsoft_max_m = 0.05\ndirection = reversed",
+	 ":13: position.counts_per_rev = 10000 (line 8) x position.gear = 2 (line 10) / "
+	 "position.lead_m = 0.01 (line 9), position.soft_max_m = 0.05 (line 12), position.type = "
+	 "uint32 (line 6), position.direction = reversed (line 13): the soft limit is -100000 register "
+	 "units, not above the uint32 position register's smallest value 0"},
 };
 
 static char *replace(const char *text, const char *from, const char *to)
@@ -323,6 +360,75 @@ static void test_bad_maps(void **state)
 		if (!strstr(err.msg, c->want) || !strstr(err.msg, path))
 			fail_msg("case %zu: message '%s' lacks '%s' or the file name", i, err.msg, c->want);
 	}
+}
+
+/* The RTU line keys and the directions as given, at the ends of their ranges. */
+static void test_line_and_direction_keys(void **state)
+{
+	(void)state;
+	static const struct {
+		const char *keys;
+		int gap, rs485, rts, delay, pos_rev, cmd_rev;
+	} cases[] = {
+		{"rtu_frame_gap_ms = 10\nrs485 = yes\nrts = down\nrts_delay_us = 0", 10, 1, 2, 0, 0, 0},
+		{"rtu_frame_gap_ms = 1000\nrts = up\nrts_delay_us = 100000", 1000, 0, 1, 100000, 0, 0},
+		{"rtu_frame_gap_ms = 0\nrs485 = no\nrts = none", 0, 0, 0, -1, 0, 0},
+	};
+	static const char *const dirs[] = {"", "[position]\ndirection = reversed\n",
+					   "[command]\ndirection = reversed\n"};
+	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+		for (int d = 0; d < 3; d++) {
+			char extra[256];
+			snprintf(extra, sizeof extra, "fc23 = yes\n%s", cases[i].keys);
+			char *text = replace(good_map, "fc23 = yes", extra);
+			/* a second [position] or [command] section adds to the first */
+			size_t n = strlen(text) + strlen(dirs[d]) + 1;
+			char *full = malloc(n);
+			assert_non_null(full);
+			snprintf(full, n, "%s%s", text, dirs[d]);
+			free(text);
+			const char *path = write_map(full);
+			free(full);
+			popc_register_map m;
+			popc_error err;
+			int st = popc_register_map_load(&m, path, &err);
+			unlink(path);
+			if (st)
+				fail_msg("case %zu/%d: %s", i, d, err.msg);
+			assert_int_equal(m.rtu_frame_gap_ms, cases[i].gap);
+			assert_int_equal(m.rs485, cases[i].rs485);
+			assert_int_equal(m.rts, cases[i].rts);
+			assert_int_equal(m.rts_delay_us, cases[i].delay);
+			assert_int_equal(m.pos.reversed, d == 1);
+			assert_int_equal(m.cmd.reversed, d == 2);
+		}
+	}
+}
+
+/* A renamed shipped map (issue 13) is not there; the message names the new
+ * one. A file of that name that is there is loaded as it is. */
+static void test_renamed_maps(void **state)
+{
+	(void)state;
+	static const struct {
+		const char *path, *want;
+	} cases[] = {
+		{"/nonexistent/hilo-percent-torque.ini", "renamed to hilo-int32.ini"},
+		{"hilo-percent-torque", "renamed to hilo-int32.ini"},
+		{"/nonexistent/cia402.ini", "renamed to cia402-lohi.ini"},
+	};
+	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+		popc_register_map m;
+		popc_error err;
+		int st = popc_register_map_load(&m, cases[i].path, &err);
+		if (st != POPC_ERR_INVALID || !strstr(err.msg, cases[i].want) ||
+		    !strstr(err.msg, "cannot open the register map"))
+			fail_msg("%s: status %d, '%s'", cases[i].path, st, err.msg);
+	}
+	popc_register_map m;
+	popc_error err;
+	assert_int_equal(popc_register_map_load(&m, "/nonexistent/generic.ini", &err), POPC_ERR_INVALID);
+	assert_null(strstr(err.msg, "renamed"));
 }
 
 /* A command on the wire is finite and within limit_N, for every command
@@ -467,8 +573,8 @@ static void test_unreadable_maps(void **state)
 static void test_shipped_maps(void **state)
 {
 	(void)state;
-	static const char *const names[] = {"generic.ini", "popc-exact.ini", "hilo-percent-torque.ini",
-					    "lohi-int32.ini", "cia402.ini"};
+	static const char *const names[] = {"generic.ini", "popc-exact.ini", "hilo-int32.ini",
+					    "hilo-int16-command.ini", "lohi-int32.ini", "cia402-lohi.ini"};
 	const char *root = getenv("POPC_SOURCE_ROOT");
 	if (!root)
 		skip();
@@ -554,7 +660,7 @@ static void test_key_table(void **state)
 		    (v < k->lo || v > k->hi || (k->lo_open && v == k->lo)))
 			fail_msg("%s.%s: default %s outside its range", k->section, k->key, k->default_text);
 	}
-	assert_int_equal(n, 36);
+	assert_int_equal(n, 42);
 	assert_null(popc_register_map_key(n));
 }
 
@@ -628,7 +734,7 @@ static void test_key_listing(void **state)
 	for (const char *p = text; *p; p = strchr(p, '\n') + 1)
 		if (p[0] == ' ' && p[1] == ' ' && p[2] != ' ')
 			entries++;
-	assert_int_equal(entries, 36);
+	assert_int_equal(entries, 42);
 	free(text);
 
 	const char *root = getenv("POPC_SOURCE_ROOT");
@@ -742,6 +848,8 @@ int main(void)
 		cmocka_unit_test(test_saturation_and_rounding),
 		cmocka_unit_test(test_float64_exact),
 		cmocka_unit_test(test_good_map),
+		cmocka_unit_test(test_line_and_direction_keys),
+		cmocka_unit_test(test_renamed_maps),
 		cmocka_unit_test(test_leading_zeros),
 		cmocka_unit_test(test_bad_maps),
 		cmocka_unit_test(test_command_on_the_wire),

@@ -464,7 +464,8 @@ static void test_starts_at_rest_with_device_spring(void **state)
 		popc_scene s;
 		popc_scene_defaults(&s);
 		s.dev_stiffness_Npm = 200.0;
-		s.duration_s = 0.45; /* before the ramp starts (t0 = 0.5 s) */
+		s.op_t0_s = 0.5; /* the ramp starts after the run (the paper scene's t0 is 0.1 s) */
+		s.duration_s = 0.45;
 		s.integrator = methods[m];
 		s.substeps = 1;
 		outcome o;
@@ -483,6 +484,7 @@ static void test_starts_at_rest_with_device_spring(void **state)
 	s.op_force_N = 1.0;
 	s.op_force_rate_Nps = 10.0;
 	s.dev_stiffness_Npm = 150.0;
+	s.op_t0_s = 0.5; /* the force starts after the run */
 	s.duration_s = 0.45;
 	outcome o;
 	run_scene(&s, &o);
@@ -492,6 +494,7 @@ static void test_starts_at_rest_with_device_spring(void **state)
 	/* no device spring: at x_d(0) until the ramp starts, to rounding (a run
 	 * needs at least one tick since scenes refuse run.duration = 0) */
 	popc_scene_defaults(&s);
+	s.op_t0_s = 0.5;
 	s.duration_s = 0.45;
 	run_scene(&s, &o);
 	assert_int_equal(o.status, 0);
@@ -863,7 +866,7 @@ static void test_light_plant_reference(void **state)
 }
 
 /* The scenes of the issue through popc run: the hand rests where it must
- * (x_d(0) = -0.01 m, count -1000), to rounding, before the ramp starts. */
+ * (x_d(0) = operator.x0), to rounding, before the ramp starts. */
 static void test_light_plant_rests(void **state)
 {
 	(void)state;
@@ -875,7 +878,8 @@ static void test_light_plant_rests(void **state)
 		popc_scene_defaults(&s);
 		s.op_mass_kg = s.dev_mass_kg = cases[i].each_mass_kg;
 		s.op_damping_Nspm = cases[i].op_damping_Nspm;
-		s.duration_s = 0.4; /* before the ramp (t0 = 0.5 s) */
+		s.op_t0_s = 0.5;
+		s.duration_s = 0.4; /* before the ramp */
 		outcome o;
 		run_scene(&s, &o);
 		if (o.status)

@@ -155,7 +155,10 @@ static void test_bound_and_guards(void **state)
 		const long long counts[] = {0, 1, 2, 1, 2, 3, 3, 2, 1, 1, 0, -1, 0, 1, 5000, 4999};
 		for (size_t k = 0; k < sizeof counts / sizeof counts[0]; k++) {
 			t = step(&c, counts[k]);
-			assert_true(fabs(t.f_pc_N) <= 0.004);
+			/* energy-bounding's f_pc is the energy bound's correction of f_e,
+			 * which pc_bound does not clamp (controller.c) */
+			if (v != POPC_VARIANT_ENERGY_BOUNDING)
+				assert_true(fabs(t.f_pc_N) <= 0.004);
 			assert_true(isfinite(t.f_c_N));
 			if (t.flags & POPC_FLAG_CLAMP)
 				assert_true(fabs(t.f_pc_N) == 0.004);

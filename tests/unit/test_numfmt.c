@@ -607,6 +607,58 @@ static void test_shortest_subnormals_and_binades(void **state)
 		}
 }
 
+/* popc_format_double_point: the table of layouts, and on random bits the
+ * shortest form's digits with one '.', reading back to the same double. */
+static void test_format_point(void **state)
+{
+	(void)state;
+	static const struct {
+		double v;
+		const char *text;
+	} table[] = {
+		{0.0, "0.0"},	    {-0.0, "-0.0"},	   {5.0, "5.0"},	{-1000.0, "-1000.0"},
+		{0.5, "0.5"},	    {-1.5, "-1.5"},	   {1e-5, "1.0e-05"},	{1e17, "1.0e+17"},
+		{1.5e17, "1.5e+17"}, {5e-324, "5.0e-324"}, {1e-4, "0.0001"},	{123456.0, "123456.0"},
+		{-2.2250738585072014e-308, "-2.2250738585072014e-308"},
+		{9007199254740993.0, "9007199254740992.0"},
+	};
+	for (size_t i = 0; i < sizeof table / sizeof table[0]; i++) {
+		char buf[POPC_DOUBLE_TEXT_MAX + 1];
+		size_t n = popc_format_double_point(table[i].v, buf);
+		if (n != strlen(buf) || strcmp(buf, table[i].text) != 0) {
+			print_error("format_point(%.17g) = \"%s\" (%zu), want \"%s\"\n", table[i].v, buf,
+				    n, table[i].text);
+			fail();
+		}
+	}
+	char buf[POPC_DOUBLE_TEXT_MAX + 1];
+	popc_format_double_point(NAN, buf);
+	assert_string_equal(buf, "nan");
+	popc_format_double_point(-INFINITY, buf);
+	assert_string_equal(buf, "-inf");
+
+	rng_seed(UINT64_C(0x243f6a8885a308d3));
+	long n = iterations() / 8;
+	for (long i = 0; i < n; i++) {
+		uint64_t b = rng();
+		if ((i & 1) == 0) /* half of them integers below 2^53, as counts of a step */
+			b = bits_of((double)(int64_t)(b >> (11 + (rng() & 31))) * ((i & 2) ? 1 : -1));
+		double v = double_of(b);
+		if (!isfinite(v))
+			continue;
+		char shortest[POPC_DOUBLE_TEXT_MAX + 1], point[POPC_DOUBLE_TEXT_MAX + 3];
+		size_t ns = popc_format_double(v, shortest);
+		size_t np = popc_format_double_point(v, point);
+		const char *dot = strchr(point, '.');
+		if (np > POPC_DOUBLE_TEXT_MAX || !dot || strchr(dot + 1, '.') ||
+		    np != ns + (strchr(shortest, '.') ? 0u : 2u)) {
+			print_error("format_point(%s) = \"%s\"\n", shortest, point);
+			fail();
+		}
+		expect_same_bits(parse_all(point), v, point);
+	}
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -620,6 +672,7 @@ int main(void)
 		cmocka_unit_test(test_parse_midpoints),
 		cmocka_unit_test(test_shortest),
 		cmocka_unit_test(test_shortest_subnormals_and_binades),
+		cmocka_unit_test(test_format_point),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

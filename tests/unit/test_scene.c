@@ -124,6 +124,13 @@ static void test_bad_scenes(void **state)
 		{"[run]\nthis line has no equals sign\n", {":2:", "malformed line", NULL}},
 		{"duration = 5\n", {":1:", "unknown section []", NULL}},
 		{"[encoder]\nresolution = 0\n", {":2:", "encoder.resolution", "(0, 1] m"}},
+		{"[run]\ndelay_ticks = 1001\n", {":2:", "run.delay_ticks", "[0, 1000] periods"}},
+		{"[run]\ndelay_ticks = -1\n", {":2:", "run.delay_ticks", "[0, 1000]"}},
+		{"[controller]\nreversal_count = 0\n", {":2:", "controller.reversal_count", "[1, 64]"}},
+		{"[controller]\nreversal_window = 0\n", {":2:", "controller.reversal_window", "[1, 1e+07] ticks"}},
+		{"[controller]\npo_window = 4097\n", {":2:", "controller.po_window", "[1, 4096] ticks"}},
+		{"[controller]\npo_velocity_floor = -1\n", {":2:", "controller.po_velocity_floor", "[0, 1000] m/s"}},
+		{"[controller]\npo_damping_max = -1\n", {":2:", "controller.po_damping_max", "[0, 1e+09] N s/m"}},
 	};
 	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
 		const char *path = write_scene("bad.ini", cases[i].text);
@@ -302,7 +309,7 @@ static void test_cross_key_validation(void **state)
 	(void)state;
 	const char *sets[][2] = {
 		{"operator.mass=0", "device.mass=0"},
-		{"operator.x_end=-0.01", NULL},
+		{"operator.x_end=-0.0065", NULL}, /* ends where it starts (x0) */
 		{"operator.intent=table", NULL},
 		{"operator.intent=sine", "operator.frequency=300"},
 	};

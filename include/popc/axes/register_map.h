@@ -2,13 +2,14 @@
  * drive layout, data/drives/). DESIGN section 6: drives differ in word order,
  * units and enable/fault words, so the layout is data, never code.
  *
- *   [drive]    name, slave, fc23, timeout_ms, max_failures, enable_timeout_ms, watchdog_ms
+ *   [drive]    name, slave, fc23, timeout_ms, max_failures, enable_timeout_ms, watchdog_ms,
+ *              rtu_frame_gap_ms, rs485, rts, rts_delay_us (RTU line)
  *   [position] register, table, type, word_order, counts_per_m | counts_per_rev + lead_m
  *              (+ gear), soft_min_m, soft_max_m (required: the soft limits are
- *              part of the always-on safety supervisor)
+ *              part of the always-on safety supervisor), direction
  *   [command]  register, type, word_order, newton_per_unit | percent_of_rated_per_unit
  *              + rated_torque_Nm + lead_m (+ gear), limit_N, sequence_register
- *              (optional: a command sequence counter next to the command)
+ *              (optional: a command sequence counter next to the command), direction
  *   [enable]   register, table (holding | coil), on (up to 4 values, written in
  *              order), off
  *   [status]   register, table, ready_mask, fault_mask
@@ -68,6 +69,14 @@ typedef struct popc_register_map {
 	int max_failures;          /* failed transactions in a row before communication is lost */
 	int enable_timeout_ms;     /* how long start() waits for the ready bits */
 	int watchdog_ms;           /* the drive's command watchdog (popc-servo-sim), 0: off */
+	/* RTU only (ignored over TCP): silence kept before each request on top of
+	 * libmodbus' 3.5 characters, ms; RS-485 mode (TIOCSRS485); RTS control
+	 * (0 none, 1 up, 2 down: libmodbus' MODBUS_RTU_RTS_*) and its delay, us
+	 * (-1: libmodbus' default) */
+	int rtu_frame_gap_ms;
+	int rs485;
+	int rts;
+	int rts_delay_us;
 
 	struct {
 		int reg;
@@ -75,7 +84,8 @@ typedef struct popc_register_map {
 		popc_reg_type type;
 		popc_word_order order;
 		double counts_per_m;   /* position value units per metre */
-		double soft_min_m, soft_max_m; /* required, finite, min < max */
+		double soft_min_m, soft_max_m; /* required, finite, min < max; popc's frame */
+		int reversed;          /* 1: popc's position = -(register value / counts_per_m) */
 	} pos;
 	struct {
 		int reg;
@@ -83,6 +93,7 @@ typedef struct popc_register_map {
 		popc_word_order order;
 		double newton_per_unit;
 		double limit_N;        /* force clamp, always applied */
+		int reversed;          /* 1: the register holds -(force on the device) / newton_per_unit */
 		/* The command sequence register (a heartbeat / sign-of-life counter),
 		 * -1: none. A uint16 holding register right before or right after
 		 * the command, so that every command write carries it in the same

@@ -10,7 +10,7 @@
  *
  * Limit cycle (seed Fig. 10, and the sampled spring without PC, Fig. 6): over
  * the last seconds of the log the position keeps oscillating with an amplitude
- * far above the encoder resolution, at a low frequency, in contact, and does
+ * of several encoder counts, at most a tenth of the control rate, in contact, and does
  * not decay: turning points in the window's first and last quarter (an
  * oscillation that began inside the window, such as an approach from rest and
  * its bounces, is not yet one), the amplitude ratio between them scaled to
@@ -20,6 +20,7 @@
  *   popc_chatter_config cfg;
  *   popc_chatter_config_defaults(&cfg);
  *   cfg.resolution_m = scene.enc_resolution_m;
+ *   cfg.pc_bound_N = scene.pc_bound_N;
  *   popc_chatter det;
  *   popc_chatter_init(&det, &cfg, period_s, &env, &err);
  *   for each tick: popc_chatter_add(&det, &tick);
@@ -38,22 +39,41 @@
 #define POPC_CHATTER_SUBBLOCKS 10     /* the chatter window slides by 1/10 of its length */
 #define POPC_CHATTER_LC_SEGMENTS 8    /* the limit-cycle window is kept as 8 segments */
 
+/* The thresholds are relative to the scene (docs/ANALYSIS.md, "Thresholds
+ * relative to the scene"): a share of the PC bound, a share of the control
+ * rate, encoder counts. The scene's values (pc_bound_N, resolution_m, the
+ * period given to popc_chatter_init) turn them into the absolute
+ * popc_chatter_thresholds the detector compares with. */
 typedef struct popc_chatter_config {
 	/* chatter: all three in one window */
 	double window_s;               /* sliding window length (s) */
-	double pc_rms_min_N;           /* PC force RMS in the window at least this */
-	double pc_flip_rate_min_Hz;    /* PC force sign flips per second at least this */
-	double vsign_rate_min_Hz;      /* velocity sign changes per second of contact */
+	double pc_rms_share;           /* PC force RMS >= this share of pc_bound_N */
+	double pc_flip_share;          /* PC force sign flips per control tick */
+	double vsign_share;            /* velocity sign changes per control tick in contact */
 	double contact_min;            /* share of the window's ticks in contact */
 	/* limit cycle: over the last lc_window_s of the log */
 	double lc_window_s;
 	double lc_amplitude_min_counts;  /* mean half swing, in encoder counts */
 	double lc_hysteresis_counts;     /* a turning point needs this much return */
-	double lc_freq_min_Hz, lc_freq_max_Hz;
+	double lc_cycles_min;            /* full cycles in lc_window_s at least this */
+	double lc_freq_max_share;        /* frequency at most this share of the control rate */
 	double lc_contact_min;           /* share of ticks in contact */
 	double lc_sustain_min;           /* lc_sustain at least this (below) */
-	double resolution_m;             /* encoder resolution delta (m) */
+	/* the scene (not thresholds): from the log header or --set */
+	double resolution_m;             /* encoder.resolution delta (m) */
+	double pc_bound_N;               /* controller.pc_bound (N) */
 } popc_chatter_config;
+
+/* The absolute thresholds a configuration gives for one scene. */
+typedef struct popc_chatter_thresholds {
+	double pc_rms_min_N;           /* pc_rms_share * pc_bound_N */
+	double pc_flip_rate_min_Hz;    /* pc_flip_share / T */
+	double vsign_rate_min_Hz;      /* vsign_share / T */
+	double lc_amplitude_min_m;     /* lc_amplitude_min_counts * resolution_m */
+	double lc_hysteresis_m;        /* lc_hysteresis_counts * resolution_m */
+	double lc_freq_min_Hz;         /* lc_cycles_min / lc_window_s */
+	double lc_freq_max_Hz;         /* lc_freq_max_share / T */
+} popc_chatter_thresholds;
 
 typedef struct popc_chatter_interval {
 	double start_s, end_s;
@@ -70,6 +90,7 @@ typedef struct popc_chatter_result {
 	int n_intervals;               /* every interval found */
 	int n_stored;                  /* min(n_intervals, POPC_CHATTER_MAX_INTERVALS) */
 	popc_chatter_interval intervals[POPC_CHATTER_MAX_INTERVALS];
+	popc_chatter_thresholds thr;   /* what the metrics were compared with */
 	int limit_cycle;               /* 0 or 1; 0 means nothing unless checked */
 	/* the limit cycle is judged on at least half its window (lc_min_ticks =
 	 * 4 of the 8 segments: 1000 ticks for 2 s at 1 kHz); lc_ticks is what the
@@ -111,6 +132,7 @@ typedef struct popc_chatter_segment {
 
 typedef struct popc_chatter {
 	popc_chatter_config cfg;
+	popc_chatter_thresholds thr;
 	popc_environment env;
 	double period_s;
 	long long sub_ticks, seg_ticks;  /* ticks per chatter sub-block, per lc segment */
@@ -129,16 +151,21 @@ typedef struct popc_chatter {
 	popc_chatter_result res;
 } popc_chatter;
 
-/* The documented defaults (docs/ANALYSIS.md), encoder resolution 1e-5 m. */
+/* The documented defaults (docs/ANALYSIS.md) with the paper scene's encoder
+ * resolution (1e-5 m) and PC bound (5 N); set resolution_m and pc_bound_N
+ * from the scene analysed. */
 void popc_chatter_config_defaults(popc_chatter_config *cfg);
 
-/* Sets a threshold by name ("window", "pc_rms", "pc_flip_rate", "vsign_rate",
- * "contact", "lc_window", "lc_amplitude", "lc_hysteresis", "lc_freq_min",
- * "lc_freq_max", "lc_contact", "lc_sustain") from text. */
+/* Sets a threshold by name ("window", "pc_rms_share", "pc_flip_share",
+ * "vsign_share", "contact", "lc_window", "lc_amplitude", "lc_hysteresis",
+ * "lc_cycles", "lc_freq_share", "lc_contact", "lc_sustain") from text. The
+ * absolute names of before (pc_rms, pc_flip_rate, vsign_rate, lc_freq_min,
+ * lc_freq_max, resolution) are refused with the relative name to use. */
 int popc_chatter_config_set(popc_chatter_config *cfg, const char *name, const char *value,
 			    popc_error *err);
 
-/* Checks the configuration and the period (s); env says what "in contact" is. */
+/* Checks the configuration and the period (s), resolves the thresholds;
+ * env says what "in contact" is. */
 int popc_chatter_init(popc_chatter *d, const popc_chatter_config *cfg, double period_s,
 		      const popc_environment *env, popc_error *err);
 

@@ -20,6 +20,9 @@ typedef enum popc_variant {
 	POPC_VARIANT_IGNORE,
 	POPC_VARIANT_HOLD,
 	POPC_VARIANT_IMPROVED,
+	POPC_VARIANT_PC_OFF_REVERSALS, /* ref-energy, PC off after repeated reversals (seed Sec. VI) */
+	POPC_VARIANT_ENERGY_BOUNDING,  /* Kim and Ryu 2004: ZOH energy <= physical damping's */
+	POPC_VARIANT_WINDOWED_PO,      /* PO over the last N samples, velocity floor, damping bound */
 	POPC_VARIANT_COUNT
 } popc_variant;
 
@@ -45,7 +48,14 @@ enum popc_flag {
 	POPC_FLAG_CLAMP = 8,     /* f_pc clamped to +-pc_bound */
 	POPC_FLAG_GUARD = 16,    /* a non-finite PC force was replaced by 0 */
 	POPC_FLAG_LIMIT = 32,    /* f_c clamped to the axis' force limit: f_c != f_e + f_pc */
+	POPC_FLAG_PC_OFF = 64,   /* pc-off-reversals: PC turned off by the reversal rule */
+	POPC_FLAG_BOUND = 128,   /* energy-bounding / windowed-po: the energy or damping bound cut f_pc */
 };
+
+/* Longest reversal count (pc-off-reversals) and PO window (windowed-po): the
+ * controller keeps them in fixed arrays, so a tick never allocates. */
+#define POPC_REVERSAL_MAX_COUNT 64
+#define POPC_PO_MAX_WINDOW 4096
 
 /* One control tick as logged. */
 typedef struct popc_tick {
@@ -107,6 +117,15 @@ typedef struct popc_controller_config {
 	double period_s;
 	int foaw_window;
 	double foaw_noise_m;
+	/* pc-off-reversals: the PC is off at tick k when at least reversal_count
+	 * count-direction reversals fall in the ticks (k - reversal_window, k] */
+	int reversal_count, reversal_window_ticks;
+	/* energy-bounding: the physical damping b (operator + device) that
+	 * dissipates at least b dx^2 / T per period */
+	double damping_Nspm;
+	/* windowed-po: window length, velocity floor, damping bound */
+	int po_window_ticks;
+	double po_velocity_floor_mps, po_damping_max_Nspm;
 	popc_environment env;
 } popc_controller_config;
 
@@ -116,6 +135,15 @@ typedef struct popc_controller {
 	popc_foaw foaw;
 	double f_pc_prev_N;
 	int started;
+	long long tick;              /* ticks stepped before this one */
+	/* pc-off-reversals: ticks of the last reversal_count reversals (a ring) */
+	long long reversal_tick[POPC_REVERSAL_MAX_COUNT];
+	int n_reversals, reversal_next, last_dir;
+	/* windowed-po: per-tick increments of W - E_ref (a ring) and their
+	 * compensated sum over the window */
+	double po_inc_J[POPC_PO_MAX_WINDOW];
+	int po_n, po_next;
+	double po_sum_J, po_comp_J;
 } popc_controller;
 
 void popc_controller_init(popc_controller *c, const popc_controller_config *cfg);

@@ -26,6 +26,9 @@ typedef struct popc_metrics {
 	double pc_energy_J;         /* sum f_pc(k-1) (x(k) - x(k-1)): energy the PC dissipated */
 	double w_minus_eref_min_J, w_minus_eref_end_J;
 	double t_end_s;
+	/* rendered stiffness: least squares of f_c = K_r p through the origin
+	 * over the ticks in contact, p = x - environment.position */
+	double fc_pen_sum_Nm, pen_sq_sum_m2;
 	/* running state */
 	int started;
 	double x_prev_m, f_pc_prev_N;
@@ -39,6 +42,10 @@ void popc_metrics_add(popc_metrics *m, const popc_tick *t);
 
 double popc_metrics_pc_rms(const popc_metrics_window *w);
 double popc_metrics_active_fraction(const popc_metrics_window *w);
+/* The stiffness the device received: sum f_c p / sum p^2 over the ticks in
+ * contact (N/m; 0 without penetration). Equals environment.stiffness for
+ * variant none on a wall without damping. */
+double popc_metrics_rendered_stiffness(const popc_metrics *m);
 /* Velocity sign changes per second of contact. */
 double popc_metrics_vsign_rate(const popc_metrics_window *w, double period_s);
 

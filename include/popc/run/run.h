@@ -9,6 +9,7 @@
 #include "popc/log/log.h"
 #include "popc/core/metrics.h"
 #include "popc/scene/scene.h"
+#include "popc/util/json.h"
 
 typedef struct popc_run_summary {
 	double sim_time_s, wall_time_s;
@@ -44,5 +45,9 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 void popc_run_summary_print(const popc_run_summary *sum, const popc_scene *s, FILE *f);
 void popc_run_summary_csv_header(FILE *f);
 void popc_run_summary_csv_row(const popc_run_summary *sum, const popc_scene *s, FILE *f);
+/* The JSON kind of the summary column NAME (RUN_SUMMARY_FIELDS): a string for
+ * a TEXT field, a number for INT and REAL; POPC_JSON_AUTO for a name that is
+ * not a field (a real axis' columns appended after the run's). */
+popc_json_kind popc_run_summary_json_kind(const char *name);
 
 #endif

@@ -15,13 +15,22 @@
 #include "popc/core/plant.h"
 #include "popc/util/error.h"
 
+/* The connection URI notation of axis.connect (popc_modbus_uri), spelt the
+ * same in every program's help and message: popc run --connect,
+ * popc-servo-sim --listen, the scene key, the parser's errors. */
+#define POPC_URI_NOTATION "tcp:HOST[:PORT] or rtu:DEVICE[:BAUD[:FORMAT]]"
+#define POPC_URI_DEFAULTS "PORT 502, BAUD 19200, FORMAT 8E1 if left out"
+
 #define POPC_PATH_MAX 1024
 #define POPC_NAME_MAX 64
+/* run.delay_ticks' upper end: the run keeps that many commands in a ring */
+#define POPC_SCENE_MAX_DELAY_TICKS 1000
 
 typedef struct popc_scene {
 	/* [run] */
 	double duration_s;
 	double rate_Hz;
+	int delay_ticks;        /* whole periods between a sample and its command taking effect */
 	/* [operator]: hand M_HO, B_HO, K_HO pulling the device towards x_d(t) */
 	double op_mass_kg, op_damping_Nspm, op_stiffness_Npm;
 	popc_intent_kind intent;
@@ -43,6 +52,10 @@ typedef struct popc_scene {
 	popc_ignore_mode ignore_mode;
 	int foaw_window;        /* FOAW: longest window, samples */
 	double foaw_noise_m;    /* FOAW: noise band d; 0 means the encoder resolution */
+	int reversal_count;     /* pc-off-reversals: N reversals ... */
+	int reversal_window;    /* ... within M ticks turn the PC off */
+	int po_window;          /* windowed-po: ticks the PO sums over */
+	double po_velocity_floor_mps, po_damping_max_Nspm; /* windowed-po */
 	/* [integrator] */
 	popc_integrator integrator;
 	int substeps;

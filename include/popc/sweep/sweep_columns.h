@@ -14,6 +14,7 @@
 #define POPC_SWEEP_COLUMNS_H
 
 #include "popc/sweep/sweep_plan.h"
+#include "popc/util/json.h"
 
 /* The longest summary line (a row or the header), '\n' included. */
 #define POPC_SWEEP_ROW_MAX 8192
@@ -74,6 +75,12 @@ char *popc_sweep_columns_header(const popc_sweep_axis *axes, int n_axes);
 
 /* The number of cells of a summary line of a sweep over n_axes axes. */
 int popc_sweep_columns_count(int n_axes);
+
+/* The JSON kind of each cell of a line of a sweep over n_axes axes
+ * (popc_sweep_columns_count of them), for summary.jsonl: the run id a string,
+ * an axis value a number where it reads as one, a run summary column as the
+ * run summary types it (popc_run_summary_json_kind), the others by format. */
+void popc_sweep_columns_json_kinds(int n_axes, popc_json_kind *kinds);
 
 /* The cell index of the (first) column of this source in a line of a sweep
  * over n_axes axes; -1 when the table has none. */

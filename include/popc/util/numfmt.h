@@ -23,6 +23,17 @@
  * as "inf" / "-inf" (popc never logs them, but the writer must not crash). */
 size_t popc_format_double(double v, char *buf);
 
+/* popc_format_double's text with a decimal point always: ".0" is inserted
+ * where the shortest form has none, at the end of an integer ("0.0", "-0.0",
+ * "5.0", "-1000.0") or before the exponent ("1.0e+17", "5.0e-324"). It reads
+ * back to the same double (the digits are the same) and every CSV type
+ * sniffer (DuckDB's, pandas', R's, spreadsheets') types a column of such
+ * cells as floating point even where its sampled cells are all integral,
+ * which "0" and "5" are not. At most POPC_DOUBLE_TEXT_MAX characters too
+ * (the longest shortest form, "-2.2250738585072014e-308", has 24).
+ * NaN and infinities as popc_format_double writes them. */
+size_t popc_format_double_point(double v, char *buf);
+
 /* Parses a decimal floating-point number at [s, end). Accepts an optional sign,
  * digits with an optional '.', and an optional exponent (e or E); no leading
  * spaces, no hex, no "nan"/"inf". On success stores the correctly rounded

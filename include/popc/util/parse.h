@@ -76,9 +76,11 @@ static inline popc_parse_status popc_parse_double_exact(const char *s, const cha
 	if (bits - 1 >= (UINT64_C(0x7ff0000000000000) << 1) - 1) {
 		if (bits != 0)
 			return POPC_PARSE_OVERFLOW; /* infinity: popc_parse_double makes no NaN */
-		/* zero: a text of at most 2 characters ("0", "-0") has no other
-		 * digit, so the log's many zero cells skip the scan */
-		if (end - s > 2 && popc_parse_zero_underflows(s, end))
+		/* zero: a text of at most 4 characters ("0.0", "-0.0", as the log
+		 * writes them) has no other digit (an underflow needs an exponent
+		 * below -323: 6 characters at least), so the log's many zero cells
+		 * skip the scan */
+		if (end - s > 4 && popc_parse_zero_underflows(s, end))
 			return POPC_PARSE_UNDERFLOW;
 	}
 	return POPC_PARSE_OK;

@@ -27,8 +27,9 @@ typedef struct popc_program {
 /* Runs the verb argv[1] with argv[1..] (argv[1] replaced by "<name> <verb>",
  * so that getopt's messages name the program and the verb). "--help", "-h"
  * and "help" print the usage to stdout (exit 0), "--version" the version;
- * no verb or an unknown one prints "<name>: unknown verb 'X'" and the usage
- * to stderr and returns 2 (POPC_EXIT_USAGE). */
+ * no verb prints the usage to stderr; an unknown one prints "<name>: unknown
+ * verb 'X'" and one hint line (the nearest verb if one is close,
+ * usage_hint.h); both return 2 (POPC_EXIT_USAGE). */
 int popc_verb_dispatch(const popc_program *p, int argc, char **argv);
 
 #endif

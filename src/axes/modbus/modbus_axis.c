@@ -10,6 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/ioctl.h>
 #include <sys/mman.h>
 #include <sys/select.h>
 #include <sys/socket.h>
@@ -52,6 +53,7 @@ typedef struct mb_axis {
 	uint16_t seq;              /* the sequence value of the next new command */
 	uint16_t seq_written;      /* the sequence value of the last command encoded */
 	uint16_t tid;              /* TCP: the transaction id of the last request sent */
+	int64_t line_busy_ns;      /* RTU: when the line was last seen busy (a frame sent or received) */
 	char op_why[POPC_ERROR_MSG_MAX]; /* why the last attempt failed */
 
 	/* pacing */
@@ -69,6 +71,8 @@ typedef struct mb_axis {
 	/* statistics */
 	popc_histogram dt_hist, rtt_hist;
 	long long exchanges, overruns, skipped_periods, failures, reconnects, clamps;
+	long long gap_requests, gap_waits; /* RTU frame gap: requests sent after one, waits it took */
+	int64_t gap_min_ns;        /* the shortest silence measured before a request, -1: none */
 	int rt_fifo, rt_locked;
 	char rt_note[256];
 } mb_axis;
@@ -97,6 +101,43 @@ static void set_timeouts(mb_axis *a)
 	modbus_set_byte_timeout(a->ctx, ms / 1000, (ms % 1000) * 1000);
 }
 
+/* The RTU line's mode, after the port is open (the ioctls need it): RS-485
+ * (libmodbus' modbus_rtu_set_serial_mode, TIOCSRS485) and RTS control
+ * (modbus_rtu_set_rts, which sets the line with TIOCMSET and ignores a
+ * failure; so popc first asks TIOCMGET whether the port has modem lines at
+ * all). A pseudo-terminal has neither: both fail with ENOTTY. A port that
+ * cannot do what the map asks is refused (exit 2) before any frame is sent:
+ * an RS-485 transceiver never enabled would put nothing on the bus. */
+static int serial_line_setup(mb_axis *a, popc_error *err)
+{
+	const popc_register_map *m = &a->map;
+	if (m->rs485 && modbus_rtu_set_serial_mode(a->ctx, MODBUS_RTU_RS485) != 0)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: drive.rs485 = yes: %s cannot be put in RS-485 mode (TIOCSRS485: "
+				      "%s%s); set rs485 = no for an RS-232 port or a USB adapter that "
+				      "switches its transmitter itself",
+				      m->path, a->uri.device, modbus_strerror(errno),
+				      errno == ENOTTY ? ": not a serial port with RS-485 support, e.g. a "
+							"pseudo-terminal" : "");
+	if (m->rts) {
+		int lines;
+		if (ioctl(modbus_get_socket(a->ctx), TIOCMGET, &lines) != 0)
+			return popc_error_set(err, POPC_ERR_INVALID,
+					      "%s: drive.rts = %s: the RTS line of %s cannot be set (TIOCMGET: "
+					      "%s%s); set rts = none",
+					      m->path, m->rts == 1 ? "up" : "down", a->uri.device, strerror(errno),
+					      errno == ENOTTY || errno == EINVAL
+						      ? ": a port without modem lines, e.g. a pseudo-terminal"
+						      : "");
+		int mode = m->rts == 1 ? MODBUS_RTU_RTS_UP : MODBUS_RTU_RTS_DOWN;
+		if (modbus_rtu_set_rts(a->ctx, mode) != 0 ||
+		    (m->rts_delay_us >= 0 && modbus_rtu_set_rts_delay(a->ctx, m->rts_delay_us) != 0))
+			return popc_error_set(err, POPC_ERR_INVALID, "%s: drive.rts: %s: %s", m->path,
+					      a->uri.device, modbus_strerror(errno));
+	}
+	return 0;
+}
+
 static int link_open(mb_axis *a, popc_error *err)
 {
 	if (!a->ctx) {
@@ -118,8 +159,16 @@ static int link_open(mb_axis *a, popc_error *err)
 	if (modbus_connect(a->ctx) != 0)
 		return popc_error_set(err, POPC_ERR_COMM, "%s: cannot connect: %s", a->uri_text,
 				      modbus_strerror(errno));
-	/* modbus_rtu_set_serial_mode is not called: RS-232 is the default, and it
-	 * fails with ENOTTY on the pseudo-terminals the tests use */
+	if (a->uri.rtu) {
+		int st = serial_line_setup(a, err);
+		if (st) {
+			modbus_close(a->ctx);
+			return st;
+		}
+		/* what was on the line before is unknown: the first request keeps
+		 * the gap too, counted from the port's opening */
+		a->line_busy_ns = popc_now_ns();
+	}
 	a->connected = 1;
 	return 0;
 }
@@ -151,6 +200,7 @@ static void rtu_drain(mb_axis *a)
 		if (r < 0 && errno != EINTR)
 			return;
 		modbus_flush(a->ctx);
+		a->line_busy_ns = popc_now_ns();
 	}
 }
 
@@ -405,18 +455,50 @@ static int check_reply(mb_axis *a, const mb_op *op, const uint8_t *req, const ui
 	}
 }
 
+/* RTU: keeps the map's rtu_frame_gap_ms of silence between the last frame
+ * on the line (a reply received, a request sent, a drain) and the next
+ * request (the first one: from the port's opening), on top of the 3.5
+ * characters libmodbus keeps. Measured on the
+ * monotonic clock from the moment popc last saw the line busy, which is at
+ * or after the frame's end: the silence on the wire is at least the gap. */
+static void keep_frame_gap(mb_axis *a)
+{
+	int64_t gap_ns = (int64_t)a->map.rtu_frame_gap_ms * 1000000;
+	if (!a->uri.rtu || gap_ns <= 0)
+		return;
+	int64_t until = a->line_busy_ns + gap_ns, now = popc_now_ns();
+	if (now < until) {
+		a->gap_waits++;
+		struct timespec ts = {(time_t)(until / 1000000000), (long)(until % 1000000000)};
+		/* kept after a signal too (at most 1 s): a drive may ignore a frame
+		 * that comes early, and the safe stop's zero force must arrive */
+		while (clock_nanosleep(POPC_CLOCK_ID, TIMER_ABSTIME, &ts, NULL) == EINTR)
+			;
+		now = popc_now_ns();
+	}
+	int64_t silence = now - a->line_busy_ns;
+	if (a->gap_min_ns < 0 || silence < a->gap_min_ns)
+		a->gap_min_ns = silence;
+	a->gap_requests++;
+}
+
 /* One attempt: flush whatever the line or the stream holds (a late or a
  * duplicated reply to an earlier request), send, receive, check. */
 static int do_op(mb_axis *a, const mb_op *op)
 {
 	uint8_t req[MODBUS_MAX_PDU_LENGTH], rsp[MODBUS_MAX_ADU_LENGTH];
 	int n = build_pdu(a, op, req);
-	modbus_flush(a->ctx);
-	if (send_request(a, req, n) != 0)
+	keep_frame_gap(a);
+	modbus_flush(a->ctx); /* after the gap: a stray reply that came during it goes too */
+	int sent = send_request(a, req, n);
+	a->line_busy_ns = popc_now_ns();
+	if (sent != 0)
 		return -1;
 	int len = modbus_receive_confirmation(a->ctx, rsp);
+	int e = errno;
+	a->line_busy_ns = popc_now_ns(); /* the reply's end, or the timeout's */
 	if (len < 0)
-		return attempt_failed(a, errno, NULL);
+		return attempt_failed(a, e, NULL);
 	return check_reply(a, op, req, rsp, len);
 }
 
@@ -506,6 +588,8 @@ static int decode_sample(mb_axis *a, const uint16_t *blk, uint16_t status, popc_
 	if (st)
 		return st;
 	double raw = popc_reg_decode(blk + (m->pos.reg - a->blk_reg), m->pos.type, m->pos.order);
+	if (m->pos.reversed)
+		raw = -raw; /* exact: an int32's -2^31 becomes 2^31, still exact in a double */
 	long long count;
 	if (a->passthrough && m->pos.type != POPC_REG_FLOAT32 && m->pos.type != POPC_REG_FLOAT64) {
 		count = (long long)raw;
@@ -567,7 +651,11 @@ static void encode_command(mb_axis *a, double f_N, uint16_t *words)
 		a->clamps++;
 	}
 	a->last_cmd_N = f;
-	popc_reg_encode(f / m->cmd.newton_per_unit, m->cmd.type, m->cmd.order, words + a->cmd_off);
+	/* reversed: an exact negation, which popc-servo-sim undoes bit for bit
+	 * (the clamp is symmetric, so it holds either way) */
+	double units = f / m->cmd.newton_per_unit;
+	popc_reg_encode(m->cmd.reversed ? -units : units, m->cmd.type, m->cmd.order,
+			words + a->cmd_off);
 }
 
 /* Sleeps until the next deadline on the absolute grid. A deadline already
@@ -814,6 +902,16 @@ static void mb_report(popc_axis *ax, FILE *human, char *csv_names, char *csv_val
 			       "at %g N; real-time: %s\n",
 			a->failures, a->reconnects, a->clamps, a->map.cmd.limit_N,
 			a->rt_note[0] ? a->rt_note : "not started");
+		if (a->uri.rtu && a->map.rtu_frame_gap_ms > 0)
+			fprintf(human,
+				"  rtu frame gap: %d ms kept before %lld requests (%lld waited for it); "
+				"shortest silence before a request %.6g ms\n",
+				a->map.rtu_frame_gap_ms, a->gap_requests, a->gap_waits,
+				a->gap_min_ns < 0 ? 0.0 : 1e-6 * (double)a->gap_min_ns);
+		if (a->map.pos.reversed || a->map.cmd.reversed)
+			fprintf(human, "  direction: position %s, command %s\n",
+				a->map.pos.reversed ? "reversed" : "normal",
+				a->map.cmd.reversed ? "reversed" : "normal");
 	}
 	if (csv_names && csv_values && cap) {
 		double v[10] = {popc_histogram_quantile_s(d, 0.5), popc_histogram_quantile_s(d, 0.99),
@@ -944,6 +1042,13 @@ int popc_modbus_axis_create(popc_axis **out, const popc_scene *s, const popc_mod
 	a->cmd_n = popc_register_map_command_block(m, &a->cmd_first);
 	a->cmd_off = m->cmd.reg - a->cmd_first;
 	a->seq_off = m->cmd.seq_reg < 0 ? -1 : m->cmd.seq_reg - a->cmd_first;
+	a->gap_min_ns = -1;
+	if (!a->uri.rtu && a->opt.notes &&
+	    (m->rtu_frame_gap_ms > 0 || m->rs485 || m->rts || m->rts_delay_us >= 0))
+		fprintf(a->opt.notes,
+			"popc: modbus: %s: the map's RTU line keys (rtu_frame_gap_ms, rs485, rts, "
+			"rts_delay_us) are ignored over TCP\n",
+			m->path);
 	popc_histogram_init(&a->dt_hist);
 	popc_histogram_init(&a->rtt_hist);
 	ax->ops = &modbus_ops;

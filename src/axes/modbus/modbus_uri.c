@@ -10,7 +10,7 @@
 static int uri_bad(popc_error *err, const char *text, const char *what)
 {
 	return popc_error_set(err, POPC_ERR_INVALID,
-			      "connect URI '%s': %s (expected tcp:HOST:PORT or rtu:DEVICE[:BAUD[:8N1]])",
+			      "connect URI '%s': %s (expected " POPC_URI_NOTATION ")",
 			      text, what);
 }
 

@@ -39,6 +39,9 @@ static const char *const read_tables[] = {"holding", "input", NULL};
 static const char *const enable_tables[] = {"holding", "input", "coil", NULL};
 static const char *const command_tables[] = {"holding", NULL};
 static const char *const orders[] = {"hi-lo", "lo-hi", NULL};
+static const char *const directions[] = {"normal", "reversed", NULL};
+/* the index is libmodbus' MODBUS_RTU_RTS_NONE, _UP, _DOWN (modbus_axis.c maps it) */
+static const char *const rts_modes[] = {"none", "up", "down", NULL};
 
 /* Where a key's value goes in popc_register_map. */
 typedef enum key_store {
@@ -605,12 +608,16 @@ static int soft_limits_in_register(load_ctx *c, const popc_register_map *m)
 {
 	double lo, hi, cpm = m->pos.counts_per_m;
 	type_range(m->pos.type, &lo, &hi);
-	double min_units = m->pos.soft_min_m * cpm, max_units = m->pos.soft_max_m * cpm;
+	/* reversed: popc's limits [min, max] are [-max, -min] in the drive's frame */
+	double sign = m->pos.reversed ? -1.0 : 1.0;
+	double min_units = sign * (m->pos.reversed ? m->pos.soft_max_m : m->pos.soft_min_m) * cpm;
+	double max_units = sign * (m->pos.reversed ? m->pos.soft_min_m : m->pos.soft_max_m) * cpm;
 	int low = !(min_units > lo);
 	if (!low && max_units < hi)
 		return 0;
 	scale_keys s = position_scale_keys(c);
-	const int extra[] = {low ? K_POS_MIN : K_POS_MAX, K_POS_TYPE};
+	int limit_key = low != m->pos.reversed ? K_POS_MIN : K_POS_MAX; /* popc's key behind it */
+	const int extra[] = {limit_key, K_POS_TYPE, K_POS_DIR};
 	char what[300];
 	snprintf(what, sizeof what,
 		 "the soft limit is %.17g register units, not %s the %s position register's %s "
@@ -618,7 +625,7 @@ static int soft_limits_in_register(load_ctx *c, const popc_register_map *m)
 		 "never trip",
 		 low ? min_units : max_units, low ? "above" : "below", popc_reg_type_name(m->pos.type),
 		 low ? "smallest" : "largest", low ? lo : hi);
-	return bad_scale(c, &s, extra, 2, what);
+	return bad_scale(c, &s, extra, m->pos.reversed ? 3 : 2, what);
 }
 
 /* newton_per_unit: finite and above 0 (a percent-of-rated product can
@@ -777,6 +784,18 @@ static int sequence_register(load_ctx *c, popc_register_map *m)
 	return 0;
 }
 
+/* The RTU line keys: an RTS delay means nothing without RTS control. */
+static int serial_line(load_ctx *c, popc_register_map *m)
+{
+	m->rts_delay_us = -1;
+	if (!c->at[K_DRIVE_RTS_DELAY])
+		return 0;
+	if (m->rts == 0)
+		return bad(c, K_DRIVE_RTS_DELAY, "only used with drive.rts = up or down");
+	m->rts_delay_us = (int)c->num[K_DRIVE_RTS_DELAY];
+	return 0;
+}
+
 /* The keys one by one (the table), then the rules between them, each
  * reported with the line of the key it blames. */
 static int validate(load_ctx *c, popc_register_map *m)
@@ -785,13 +804,46 @@ static int validate(load_ctx *c, popc_register_map *m)
 	if (st)
 		return st;
 	store_keys(c, m);
-	if ((st = link_silence(c, m)) || (st = position_scale(c, m)) ||
+	if ((st = link_silence(c, m)) || (st = serial_line(c, m)) || (st = position_scale(c, m)) ||
 	    (st = position_scale_usable(c, m)) || (st = soft_limits(c, m)) ||
 	    (st = soft_limits_in_register(c, m)) || (st = command_scale(c, m)) ||
 	    (st = command_scale_usable(c, m)) || (st = command_limit(c, m)) ||
 	    (st = enable_words(c, m)) || (st = status_masks(c, m)) || (st = register_layout(c, m)))
 		return st;
 	return sequence_register(c, m);
+}
+
+/* Shipped maps renamed by layout (issue 13): their vendor notes did not
+ * hold. A path that names one and is not there gets the new name, not a
+ * silent alias: the layout changed with the name. */
+static const struct {
+	const char *old_name, *new_name, *why;
+} renamed_maps[] = {
+	{"hilo-percent-torque", "hilo-int32",
+	 "the AKD takes every value as two registers, high word first, and its current command "
+	 "in Arms; for an int16 command next to an int32 position see hilo-int16-command"},
+	{"cia402", "cia402-lohi",
+	 "drives with a Modbus port put their CiA 402 objects at their own Modbus addresses, not "
+	 "at the object index"},
+};
+
+/* "; renamed: ..." for a path whose file name is a renamed map's, else "" */
+static const char *renamed_hint(const char *path, char *buf, size_t cap)
+{
+	const char *base = strrchr(path, '/');
+	base = base ? base + 1 : path;
+	for (size_t i = 0; i < sizeof renamed_maps / sizeof renamed_maps[0]; i++) {
+		size_t n = strlen(renamed_maps[i].old_name);
+		if (strncmp(base, renamed_maps[i].old_name, n) == 0 &&
+		    (base[n] == '\0' || strcmp(base + n, ".ini") == 0)) {
+			snprintf(buf, cap,
+				 "; the shipped map %s.ini was renamed to %s.ini (%s; docs/MODBUS.md, "
+				 "\"Shipped maps\")",
+				 renamed_maps[i].old_name, renamed_maps[i].new_name, renamed_maps[i].why);
+			return buf;
+		}
+	}
+	return "";
 }
 
 int popc_register_map_load(popc_register_map *m, const char *path, popc_error *err)
@@ -806,8 +858,11 @@ int popc_register_map_load(popc_register_map *m, const char *path, popc_error *e
 	c->f = fopen(path, "r");
 	/* a map that cannot be read is bad input (exit 2), as for a scene */
 	if (!c->f) {
-		int st = popc_error_set(err, POPC_ERR_INVALID, "%s: cannot open the register map: %s", path,
-					strerror(errno));
+		int e = errno;
+		char hint[512];
+		int st = popc_error_set(err, POPC_ERR_INVALID, "%s: cannot open the register map: %s%s",
+					path, strerror(e),
+					e == ENOENT ? renamed_hint(path, hint, sizeof hint) : "");
 		free(c);
 		return st;
 	}

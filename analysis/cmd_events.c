@@ -1,0 +1,179 @@
+/* popc-analyze events: the paper's timeline events in each log (settling of
+ * the velocity, the events of seed Figs. 5 and 8; ana_find_events). */
+#include <getopt.h>
+#include <math.h>
+#include <string.h>
+
+#include "analyze.h"
+#include "popc/util/parse.h"
+
+static void usage(FILE *f)
+{
+	fputs("usage: popc-analyze events [options] LOG...\n"
+	      "\n"
+	      "Finds the paper's timeline events in each log (definitions: docs/ANALYSIS.md,\n"
+	      "\"Events\"; dcount(k) = count(k) - count(k-1), the PC is active when f_pc != 0):\n"
+	      "  settle  from this time |dcount| <= 1 every tick for at least --settle-hold\n"
+	      "          (or to the end); seed Fig. 4: the velocity chatters between one\n"
+	      "          count per period after 2.5 s. settle_end: the first tick after it\n"
+	      "          with |dcount| > 1; settle_final: from here to the end |dcount| <= 1\n"
+	      "  fig5    first t(k) from settle on with the PC active, dcount(k) = +-1,\n"
+	      "          dcount(k+1) the reverse, and W - E_ref lower at k+1 (seed Fig. 5:\n"
+	      "          3.173 s); fig5_first: the first anywhere\n"
+	      "  fig8    first t(k) from settle on where the PC turns on and dcount(k+1) = 0,\n"
+	      "          so W - E_ref does not move at k+1 (seed Fig. 8: 2.957 s);\n"
+	      "          fig8_first: the first anywhere\n"
+	      "\n"
+	      "  --format text|csv        text (default), or CSV with the header\n"
+	      "                           log,settle_s,settle_end_s,settle_final_s,fig5_s,\n"
+	      "                           fig5_dw_J,fig8_s,fig5_first_s,fig8_first_s,\n"
+	      "                           n_fast,n_fig5,n_fig8,\n"
+	      "                           x_settled_min_m,x_settled_max_m,ticks\n"
+	      "                           (an empty cell: no such event, or not checkable)\n"
+	      "  --settle-hold S          least length of the settled stretch, s (default 0.5)\n" ANA_INPUT_HELP
+	      "  -h, --help               this help\n"
+	      "\n"
+	      "Exit status: 0, or 2 for bad usage or input (a log without a PC force or W\n"
+	      "cannot show the Fig. 5 or 8 event: a note on stderr, and its cells are empty).\n",
+	      f);
+}
+
+enum { OPT_FORMAT = 256, OPT_SETTLE_HOLD };
+
+static void put_cell(double v)
+{
+	putchar(',');
+	if (isfinite(v))
+		ana_put_double(stdout, v);
+}
+
+static void print_csv(const char *name, const ana_events *e)
+{
+	ana_put_csv_text(stdout, name);
+	put_cell(e->settle_s);
+	put_cell(e->settle_end_s);
+	put_cell(e->settle_final_s);
+	put_cell(e->fig5_s);
+	put_cell(e->fig5_dw_J);
+	put_cell(e->fig8_s);
+	put_cell(e->fig5_first_s);
+	put_cell(e->fig8_first_s);
+	printf(",%lld,%lld,%lld", e->n_fast, e->n_fig5, e->n_fig8);
+	put_cell(e->x_min_settled_m);
+	put_cell(e->x_max_settled_m);
+	printf(",%lld\n", e->ticks);
+}
+
+static void print_text(const char *name, const ana_events *e)
+{
+	printf("%s:\n", name);
+	if (isnan(e->settle_s)) {
+		printf("  settle: never (the last tick moves more than one count)\n");
+	} else {
+		printf("  settle: %.3f s (|dcount| <= 1 ", e->settle_s);
+		if (isnan(e->settle_end_s))
+			printf("to the end");
+		else
+			printf("until %.3f s", e->settle_end_s);
+		printf("; position %.6g to %.6g m)\n", e->x_min_settled_m, e->x_max_settled_m);
+	}
+	if (isnan(e->settle_final_s))
+		printf("  settle_final: never (the last tick moves more than one count); %lld "
+		       "ticks move more than one count\n", e->n_fast);
+	else
+		printf("  settle_final: %.3f s (|dcount| <= 1 to the end); %lld ticks move more "
+		       "than one count\n", e->settle_final_s, e->n_fast);
+	if (!e->pc_known || !e->w_known)
+		printf("  fig5: not checkable (no PC force or no W)\n");
+	else if (isnan(e->fig5_s))
+		printf("  fig5: none after settle (%lld in all)\n", e->n_fig5);
+	else
+		printf("  fig5: %.3f s (W - E_ref changes %.3g J at the reversal; first at %.3f s; "
+		       "%lld in all)\n", e->fig5_s, e->fig5_dw_J, e->fig5_first_s, e->n_fig5);
+	if (!e->pc_known)
+		printf("  fig8: not checkable (no PC force)\n");
+	else if (isnan(e->fig8_s))
+		printf("  fig8: none after settle (%lld in all)\n", e->n_fig8);
+	else
+		printf("  fig8: %.3f s (first at %.3f s; %lld in all)\n", e->fig8_s, e->fig8_first_s,
+		       e->n_fig8);
+}
+
+int ana_cmd_events(int argc, char **argv)
+{
+	static const struct option opts[] = {
+		{"format", required_argument, NULL, OPT_FORMAT},
+		{"settle-hold", required_argument, NULL, OPT_SETTLE_HOLD},
+		{"help", no_argument, NULL, 'h'},
+		ANA_INPUT_LONG_OPTIONS,
+		{NULL, 0, NULL, 0},
+	};
+	ana_input_options in;
+	memset(&in, 0, sizeof in);
+	in.verb = "events";
+	ana_format fmt = ANA_TEXT;
+	double hold_s = ANA_SETTLE_HOLD_S;
+	int c, rc = 0;
+	optind = 1;
+	while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
+		switch (c) {
+		case OPT_FORMAT:
+			if (ana_format_from_name(optarg, &fmt) != 0 || fmt == ANA_MARKDOWN) {
+				fprintf(stderr, "popc-analyze events: --format '%s': text or csv\n", optarg);
+				rc = 2;
+				goto out;
+			}
+			break;
+		case OPT_SETTLE_HOLD:
+			if (popc_parse_double_text(optarg, &hold_s) != POPC_PARSE_OK || !(hold_s >= 0.0) ||
+			    !isfinite(hold_s)) {
+				fprintf(stderr, "popc-analyze events: --settle-hold '%s': a time in "
+						"[0, inf) s\n", optarg);
+				rc = 2;
+				goto out;
+			}
+			break;
+		case 'h': usage(stdout); goto out;
+		ANA_INPUT_OPTION_CASES:
+			if ((rc = ana_input_option(&in, c, optarg, "events")) != 0)
+				goto out;
+			break;
+		default: usage(stderr); rc = 2; goto out;
+		}
+	}
+	if (optind >= argc) {
+		fprintf(stderr, "popc-analyze events: missing LOG\n");
+		usage(stderr);
+		rc = 2;
+		goto out;
+	}
+	if (fmt == ANA_CSV)
+		puts("log,settle_s,settle_end_s,settle_final_s,fig5_s,fig5_dw_J,fig8_s,fig5_first_s,"
+		     "fig8_first_s,n_fast,n_fig5,n_fig8,x_settled_min_m,x_settled_max_m,ticks");
+	for (int i = optind; i < argc; i++) {
+		ana_events e;
+		popc_error err;
+		int st = ana_find_events(argv[i], &in, hold_s, &e, &err);
+		if (st) {
+			ana_fail("events", st, &err);
+			rc = 2;
+			continue;
+		}
+		char name[256];
+		ana_log_name(argv[i], name, sizeof name);
+		if (!e.pc_known || !e.w_known) {
+			fprintf(stderr,
+				"popc-analyze events: %s: %s, so the %s not checked\n", argv[i],
+				!e.pc_known ? "no PC force (f_pc or f_c)" : "no W",
+				!e.pc_known ? "Fig. 5 and Fig. 8 events are" : "Fig. 5 event is");
+			rc = 2;
+		}
+		if (fmt == ANA_CSV)
+			print_csv(name, &e);
+		else
+			print_text(name, &e);
+	}
+out:
+	ana_input_free(&in);
+	return rc;
+}

@@ -1,0 +1,63 @@
+/* A small JSON writer (RFC 8259) for the machine-readable summaries: one
+ * object per line (JSON Lines), numbers in their shortest round-trip form.
+ *
+ * Strings are escaped as RFC 8259 section 7 requires: '"' and '\' with a
+ * backslash, the control characters U+0000 to U+001F as \b \f \n \r \t or
+ * \u00XX; valid UTF-8 passes unchanged, and a byte that is not part of a
+ * valid UTF-8 sequence becomes U+FFFD (\ufffd), so the output is always
+ * valid UTF-8 and valid JSON. A number that is not finite is written null:
+ * JSON has no NaN or infinity. */
+#ifndef POPC_UTIL_JSON_H
+#define POPC_UTIL_JSON_H
+
+#include <stddef.h>
+#include <stdio.h>
+
+/* Nesting depth the writer tracks (objects and arrays). */
+#define POPC_JSON_DEPTH_MAX 8
+
+typedef struct popc_json {
+	FILE *f;
+	int depth;
+	unsigned char has_item[POPC_JSON_DEPTH_MAX + 1]; /* a comma before the next */
+	int after_key;                                   /* a value completes a member */
+} popc_json;
+
+void popc_json_init(popc_json *j, FILE *f);
+void popc_json_begin_object(popc_json *j);
+void popc_json_end_object(popc_json *j);
+void popc_json_begin_array(popc_json *j);
+void popc_json_end_array(popc_json *j);
+/* A member's name; the next call writes its value. */
+void popc_json_key(popc_json *j, const char *name);
+void popc_json_string(popc_json *j, const char *s, size_t n);
+void popc_json_cstring(popc_json *j, const char *s);
+void popc_json_number(popc_json *j, double v); /* null when not finite */
+void popc_json_integer(popc_json *j, long long v);
+void popc_json_null(popc_json *j);
+
+/* How a CSV cell becomes a JSON value (popc_json_csv_object). An empty cell
+ * is null whatever the kind: a value not measured, as in the CSV. */
+typedef enum popc_json_kind {
+	POPC_JSON_TEXT,   /* a string, always */
+	POPC_JSON_NUMBER, /* a number: the cell's text when it is a JSON number
+			   * already (popc's shortest form is), else the double
+			   * it reads as, shortest; null when it reads as none or
+			   * not finite */
+	POPC_JSON_AUTO,   /* a number where the whole cell reads as a finite
+			   * number (as NUMBER), else a string: a --vary value */
+} popc_json_kind;
+
+/* Writes one CSV line (row, len bytes, without or with its '\n'; cells
+ * separated by ',', RFC 4180 quotes allowed) as one object on one line:
+ * {"names[0]": cell 0, ...}\n. A row with fewer cells than names gives null
+ * for the missing ones; cells beyond n are ignored. */
+void popc_json_csv_object(FILE *f, int n, const char *const *names, const popc_json_kind *kinds,
+			  const char *row, size_t len);
+
+/* Splits a CSV header line like popc_json_csv_object's rows: up to cap
+ * names, each NUL-terminated in place of its separator (line is changed).
+ * Returns the number of names. */
+int popc_json_csv_names(char *line, const char **names, int cap);
+
+#endif

@@ -1,0 +1,406 @@
+/* popc sweep stats DIR --by KEY,...: the distribution of a sweep's metrics
+ * per group of runs (median, quartiles, range), read from DIR/summary.csv.
+ * A sweep over sub-count start offsets (operator.x0 + i delta / N) grouped by
+ * the variant and the duration turns single runs into the distributions the
+ * science claims rest on (docs/SWEEPS.md, "Statistics"). The metric names are
+ * checked against the sweep's own column table (popc_sweep_columns[]). */
+#include <errno.h>
+#include <getopt.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+#include "popc/sweep/sweep_columns.h"
+#include "popc/util/numfmt.h"
+
+#define STATS_MAX_BY 8
+#define STATS_MAX_METRICS 32
+#define STATS_DEFAULT_METRICS "pc_rms_late,w_minus_eref_end,vsign_rate_late,chatter_s,limit_cycle"
+
+static void usage(FILE *f)
+{
+	fputs("usage: popc sweep stats DIR --by KEY[,KEY...] [--metrics NAME[,NAME...]]\n"
+	      "                        [--format text|csv|markdown]\n"
+	      "\n"
+	      "Reads DIR/summary.csv and prints, for each group of runs that share the\n"
+	      "values of the --by keys (varied keys, as the summary's columns name them,\n"
+	      "e.g. controller.variant,run.duration), the distribution of each metric over\n"
+	      "the group's runs: n, median, min, max and the quartiles q1, q3 (linear\n"
+	      "interpolation between order statistics: q(p) at rank (n - 1) p). Runs that\n"
+	      "failed (exit_status != 0) are left out and counted; an empty cell (chatter\n"
+	      "not checked) is left out of its metric's n.\n"
+	      "\n"
+	      "  --by KEY,...             the grouping columns (required)\n"
+	      "  --metrics NAME,...       metric columns (default " STATS_DEFAULT_METRICS ";\n"
+	      "                           any numeric column of summary.csv: pc_rms, pc_max,\n"
+	      "                           pc_active, pc_energy, w_minus_eref_min, vsign_rate,\n"
+	      "                           chatter_intervals, ...)\n"
+	      "  --format text|csv|markdown  text (default) and markdown: one row per group,\n"
+	      "                           each cell 'median [min, max]'; csv: one row per group\n"
+	      "                           and metric: KEYS...,metric,n,median,min,q1,q3,max\n"
+	      "  -h, --help               this help\n"
+	      "\n"
+	      "Exit status: 0, 2 bad usage or a summary without the columns asked for.\n",
+	      f);
+}
+
+/* Splits a CSV line in place into cells (RFC 4180 quotes: a quoted cell may
+ * hold ',' and doubled quotes). Returns the cell count, or -1 past max. */
+static int split_csv(char *line, char **cells, int max)
+{
+	int n = 0;
+	char *p = line;
+	line[strcspn(line, "\r\n")] = '\0';
+	for (;;) {
+		if (n == max)
+			return -1;
+		if (*p == '"') {
+			char *w = ++p;
+			cells[n++] = w;
+			while (*p) {
+				if (*p == '"' && p[1] == '"') {
+					*w++ = '"';
+					p += 2;
+				} else if (*p == '"') {
+					p++;
+					break;
+				} else {
+					*w++ = *p++;
+				}
+			}
+			char *rest = p;
+			*w = '\0';
+			p = rest + strcspn(rest, ",");
+		} else {
+			cells[n++] = p;
+			p += strcspn(p, ",");
+		}
+		if (*p != ',') {
+			*p = '\0';
+			return n;
+		}
+		*p++ = '\0';
+	}
+}
+
+/* A metric must be one of the table's numeric columns: a run metric, the
+ * chatter columns; not the id, the exit status or the wall time (no science). */
+static int metric_known(const char *name)
+{
+	for (int c = 0; c < popc_sweep_n_columns; c++) {
+		const popc_sweep_column *col = &popc_sweep_columns[c];
+		if (!col->name || strcmp(col->name, name) != 0)
+			continue;
+		return col->source != POPC_SWEEP_CELL_RUN_ID &&
+		       col->source != POPC_SWEEP_CELL_EXIT_STATUS &&
+		       col->source != POPC_SWEEP_CELL_WALL_TIME_S;
+	}
+	return 0;
+}
+
+typedef struct group {
+	char *key;               /* the --by cells joined by '\x1f' */
+	int n_runs;
+	double *v[STATS_MAX_METRICS];
+	int n[STATS_MAX_METRICS], cap[STATS_MAX_METRICS];
+} group;
+
+static int cmp_double(const void *a, const void *b)
+{
+	double x = *(const double *)a, y = *(const double *)b;
+	return (x > y) - (x < y);
+}
+
+/* q(p) of sorted x[0..n-1]: rank h = (n - 1) p, interpolated linearly. */
+static double quantile(const double *x, int n, double p)
+{
+	double h = (n - 1) * p;
+	int lo = (int)floor(h);
+	if (lo >= n - 1)
+		return x[n - 1];
+	return x[lo] + (h - lo) * (x[lo + 1] - x[lo]);
+}
+
+static int split_list(char *text, char **out, int max, const char *opt)
+{
+	int n = 0;
+	for (char *tok = strtok(text, ","); tok; tok = strtok(NULL, ",")) {
+		if (n == max) {
+			fprintf(stderr, "popc sweep stats: %s: at most %d names\n", opt, max);
+			return -1;
+		}
+		out[n++] = tok;
+	}
+	if (n == 0) {
+		fprintf(stderr, "popc sweep stats: %s: give at least one name\n", opt);
+		return -1;
+	}
+	return n;
+}
+
+static void put_number(double v, int shortest)
+{
+	if (shortest) {
+		char b[POPC_DOUBLE_TEXT_MAX + 1];
+		popc_format_double(v, b);
+		fputs(b, stdout);
+	} else {
+		printf("%.3g", v);
+	}
+}
+
+int popc_cmd_sweep_stats(int argc, char **argv)
+{
+	static const struct option opts[] = {
+		{"by", required_argument, NULL, 'b'},
+		{"metrics", required_argument, NULL, 'm'},
+		{"format", required_argument, NULL, 'f'},
+		{"help", no_argument, NULL, 'h'},
+		{NULL, 0, NULL, 0},
+	};
+	char *by_text = NULL, *metrics_text = NULL;
+	char default_metrics[] = STATS_DEFAULT_METRICS;
+	int format = 0; /* 0 text, 1 csv, 2 markdown */
+	int c;
+	optind = 1;
+	while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
+		switch (c) {
+		case 'b': by_text = optarg; break;
+		case 'm': metrics_text = optarg; break;
+		case 'f':
+			if (strcmp(optarg, "text") == 0)
+				format = 0;
+			else if (strcmp(optarg, "csv") == 0)
+				format = 1;
+			else if (strcmp(optarg, "markdown") == 0 || strcmp(optarg, "md") == 0)
+				format = 2;
+			else {
+				fprintf(stderr, "popc sweep stats: --format '%s': text, csv or markdown\n",
+					optarg);
+				return 2;
+			}
+			break;
+		case 'h': usage(stdout); return 0;
+		default: usage(stderr); return 2;
+		}
+	}
+	if (optind + 1 != argc || !by_text) {
+		fprintf(stderr, "popc sweep stats: %s\n",
+			optind >= argc ? "missing DIR" : optind + 1 != argc ? "more than one DIR"
+									 : "missing --by KEY[,KEY...]");
+		usage(stderr);
+		return 2;
+	}
+	const char *dir = argv[optind];
+	char *by[STATS_MAX_BY], *metric[STATS_MAX_METRICS];
+	int n_by = split_list(by_text, by, STATS_MAX_BY, "--by");
+	int n_m = split_list(metrics_text ? metrics_text : default_metrics, metric, STATS_MAX_METRICS,
+			     "--metrics");
+	if (n_by < 0 || n_m < 0)
+		return 2;
+	for (int m = 0; m < n_m; m++)
+		if (!metric_known(metric[m])) {
+			fprintf(stderr, "popc sweep stats: --metrics: '%s' is not a metric column of a "
+					"sweep summary (see --help)\n", metric[m]);
+			return 2;
+		}
+
+	char path[4096];
+	snprintf(path, sizeof path, "%s/summary.csv", dir);
+	FILE *f = fopen(path, "r");
+	if (!f) {
+		fprintf(stderr, "popc sweep stats: %s: %s\n", path, strerror(errno));
+		return 2;
+	}
+	char *line = NULL;
+	size_t cap = 0;
+	enum { MAX_CELLS = 256 };
+	char *cells[MAX_CELLS];
+	int rc = 2, n_header, by_col[STATS_MAX_BY], m_col[STATS_MAX_METRICS], status_col = -1;
+	group *groups = NULL;
+	int n_groups = 0, n_failed = 0;
+	long long lineno = 1;
+	if (getline(&line, &cap, f) < 0 || (n_header = split_csv(line, cells, MAX_CELLS)) < 1) {
+		fprintf(stderr, "popc sweep stats: %s: no header line\n", path);
+		goto out;
+	}
+	for (int i = 0; i < n_by; i++)
+		by_col[i] = -1;
+	for (int i = 0; i < n_m; i++)
+		m_col[i] = -1;
+	for (int j = 0; j < n_header; j++) {
+		if (strcmp(cells[j], "exit_status") == 0)
+			status_col = j;
+		for (int i = 0; i < n_by; i++)
+			if (strcmp(cells[j], by[i]) == 0)
+				by_col[i] = j;
+		for (int i = 0; i < n_m; i++)
+			if (strcmp(cells[j], metric[i]) == 0)
+				m_col[i] = j;
+	}
+	for (int i = 0; i < n_by; i++)
+		if (by_col[i] < 0) {
+			fprintf(stderr, "popc sweep stats: --by %s: %s has no such column (the varied "
+					"keys are its columns between 'run' and 'exit_status')\n", by[i], path);
+			goto out;
+		}
+	for (int i = 0; i < n_m; i++)
+		if (m_col[i] < 0) {
+			fprintf(stderr, "popc sweep stats: --metrics %s: %s has no such column\n",
+				metric[i], path);
+			goto out;
+		}
+	if (status_col < 0) {
+		fprintf(stderr, "popc sweep stats: %s: no exit_status column: not a sweep summary\n",
+			path);
+		goto out;
+	}
+	while (getline(&line, &cap, f) >= 0) {
+		lineno++;
+		int n = split_csv(line, cells, MAX_CELLS);
+		if (n == 1 && cells[0][0] == '\0')
+			continue;
+		if (n != n_header) {
+			fprintf(stderr, "popc sweep stats: %s:%lld: %d cells, the header has %d\n", path,
+				lineno, n, n_header);
+			goto out;
+		}
+		if (strcmp(cells[status_col], "0") != 0) {
+			n_failed++;
+			continue;
+		}
+		char key[1024];
+		size_t len = 0;
+		for (int i = 0; i < n_by; i++)
+			len += (size_t)snprintf(key + len, len < sizeof key ? sizeof key - len : 0,
+						"%s%s", i ? "\x1f" : "", cells[by_col[i]]);
+		int g = 0;
+		while (g < n_groups && strcmp(groups[g].key, key) != 0)
+			g++;
+		if (g == n_groups) {
+			group *ng = realloc(groups, (size_t)(n_groups + 1) * sizeof *groups);
+			if (!ng)
+				goto oom;
+			groups = ng;
+			memset(&groups[g], 0, sizeof groups[g]);
+			if (!(groups[g].key = strdup(key)))
+				goto oom;
+			n_groups++;
+		}
+		group *gr = &groups[g];
+		gr->n_runs++;
+		for (int i = 0; i < n_m; i++) {
+			const char *cell = cells[m_col[i]];
+			if (!cell[0])
+				continue; /* not checked: no value, not a zero */
+			double v;
+			if (popc_parse_double_text(cell, &v) != POPC_PARSE_OK || !isfinite(v)) {
+				fprintf(stderr, "popc sweep stats: %s:%lld: column %s: not a finite number "
+						"'%s'\n", path, lineno, metric[i], cell);
+				goto out;
+			}
+			if (gr->n[i] == gr->cap[i]) {
+				int nc = gr->cap[i] ? 2 * gr->cap[i] : 16;
+				double *nv = realloc(gr->v[i], (size_t)nc * sizeof *nv);
+				if (!nv)
+					goto oom;
+				gr->v[i] = nv;
+				gr->cap[i] = nc;
+			}
+			gr->v[i][gr->n[i]++] = v;
+		}
+	}
+
+	/* header */
+	if (format == 1) {
+		for (int i = 0; i < n_by; i++)
+			printf("%s,", by[i]);
+		puts("metric,n,median,min,q1,q3,max");
+	} else {
+		const char *sep = format == 2 ? " | " : "  ";
+		printf("%s", format == 2 ? "| " : "");
+		for (int i = 0; i < n_by; i++)
+			printf("%s%s", by[i], sep);
+		printf("runs");
+		for (int i = 0; i < n_m; i++)
+			printf("%s%s", sep, metric[i]);
+		puts(format == 2 ? " |" : "");
+		if (format == 2) {
+			printf("|");
+			for (int i = 0; i < n_by + 1 + n_m; i++)
+				printf("---|");
+			putchar('\n');
+		}
+	}
+	for (int g = 0; g < n_groups; g++) {
+		group *gr = &groups[g];
+		char *kv[STATS_MAX_BY];
+		char *save = gr->key;
+		for (int i = 0; i < n_by; i++) {
+			kv[i] = save;
+			save += strcspn(save, "\x1f");
+			if (*save)
+				*save++ = '\0';
+		}
+		if (format == 2)
+			printf("| ");
+		for (int i = 0; i < n_by; i++)
+			printf("%s%s", kv[i], format == 1 ? "," : format == 2 ? " | " : "  ");
+		if (format != 1)
+			printf("%d", gr->n_runs);
+		for (int i = 0; i < n_m; i++) {
+			int n = gr->n[i];
+			if (n)
+				qsort(gr->v[i], (size_t)n, sizeof(double), cmp_double);
+			if (format == 1) {
+				if (i)
+					for (int j = 0; j < n_by; j++)
+						printf("%s,", kv[j]);
+				printf("%s,%d", metric[i], n);
+				const double p[] = {0.5, 0.0, 0.25, 0.75, 1.0};
+				for (int j = 0; j < 5; j++) {
+					putchar(',');
+					if (n)
+						put_number(quantile(gr->v[i], n, p[j]), 1);
+				}
+				putchar('\n');
+				continue;
+			}
+			printf("%s", format == 2 ? " | " : "  ");
+			if (!n) {
+				printf("n/a");
+				continue;
+			}
+			put_number(quantile(gr->v[i], n, 0.5), 0);
+			printf(" [");
+			put_number(gr->v[i][0], 0);
+			printf(", ");
+			put_number(gr->v[i][n - 1], 0);
+			printf("]");
+			if (n < gr->n_runs)
+				printf(" (n=%d)", n);
+		}
+		if (format != 1)
+			puts(format == 2 ? " |" : "");
+	}
+	if (n_failed)
+		fprintf(stderr, "popc sweep stats: note: %d failed run%s left out\n", n_failed,
+			n_failed == 1 ? "" : "s");
+	rc = 0;
+	goto out;
+oom:
+	fprintf(stderr, "popc sweep stats: out of memory\n");
+	rc = 1;
+out:
+	for (int g = 0; g < n_groups; g++) {
+		free(groups[g].key);
+		for (int i = 0; i < n_m; i++)
+			free(groups[g].v[i]);
+	}
+	free(groups);
+	free(line);
+	fclose(f);
+	return rc;
+}

@@ -1,0 +1,289 @@
+/* The JSON writer (json.h). */
+#include "popc/util/json.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "popc/util/numfmt.h"
+
+void popc_json_init(popc_json *j, FILE *f)
+{
+	memset(j, 0, sizeof *j);
+	j->f = f;
+}
+
+/* The comma before a value (not after a key: the key had it). */
+static void before_value(popc_json *j)
+{
+	if (j->after_key) {
+		j->after_key = 0;
+		return;
+	}
+	if (j->has_item[j->depth])
+		fputc(',', j->f);
+	j->has_item[j->depth] = 1;
+}
+
+static void open_nest(popc_json *j, char c)
+{
+	before_value(j);
+	fputc(c, j->f);
+	if (j->depth < POPC_JSON_DEPTH_MAX)
+		j->depth++;
+	j->has_item[j->depth] = 0;
+}
+
+static void close_nest(popc_json *j, char c)
+{
+	fputc(c, j->f);
+	if (j->depth > 0)
+		j->depth--;
+}
+
+void popc_json_begin_object(popc_json *j) { open_nest(j, '{'); }
+void popc_json_end_object(popc_json *j) { close_nest(j, '}'); }
+void popc_json_begin_array(popc_json *j) { open_nest(j, '['); }
+void popc_json_end_array(popc_json *j) { close_nest(j, ']'); }
+
+/* The length of the valid UTF-8 sequence at s (at most n bytes), 0 if none
+ * starts there (RFC 3629: no overlong forms, no surrogates, at most U+10FFFF). */
+static size_t utf8_length(const unsigned char *s, size_t n)
+{
+	unsigned c = s[0];
+	size_t len;
+	unsigned lo = 0x80, hi = 0xbf; /* the second byte's range */
+	if (c >= 0xc2 && c <= 0xdf)
+		len = 2;
+	else if (c >= 0xe0 && c <= 0xef) {
+		len = 3;
+		if (c == 0xe0)
+			lo = 0xa0; /* overlong */
+		if (c == 0xed)
+			hi = 0x9f; /* surrogates */
+	} else if (c >= 0xf0 && c <= 0xf4) {
+		len = 4;
+		if (c == 0xf0)
+			lo = 0x90; /* overlong */
+		if (c == 0xf4)
+			hi = 0x8f; /* above U+10FFFF */
+	} else
+		return 0;
+	if (n < len || s[1] < lo || s[1] > hi)
+		return 0;
+	for (size_t k = 2; k < len; k++)
+		if (s[k] < 0x80 || s[k] > 0xbf)
+			return 0;
+	return len;
+}
+
+static void put_string(FILE *f, const char *text, size_t n)
+{
+	const unsigned char *s = (const unsigned char *)text;
+	fputc('"', f);
+	for (size_t i = 0; i < n;) {
+		unsigned c = s[i];
+		if (c == '"' || c == '\\') {
+			fputc('\\', f);
+			fputc((int)c, f);
+		} else if (c < 0x20) {
+			static const char short_form[] = "btn\0fr"; /* \b \t \n, \f \r; 0x0b none */
+			if (c >= 0x08 && c <= 0x0d && short_form[c - 0x08])
+				fprintf(f, "\\%c", short_form[c - 0x08]);
+			else
+				fprintf(f, "\\u%04x", c);
+		} else if (c < 0x80) {
+			fputc((int)c, f);
+		} else {
+			size_t len = utf8_length(s + i, n - i);
+			if (len == 0) {
+				fputs("\\ufffd", f); /* not UTF-8: the replacement character */
+				i++;
+				continue;
+			}
+			fwrite(s + i, 1, len, f);
+			i += len;
+			continue;
+		}
+		i++;
+	}
+	fputc('"', f);
+}
+
+void popc_json_key(popc_json *j, const char *name)
+{
+	before_value(j);
+	put_string(j->f, name, strlen(name));
+	fputc(':', j->f);
+	j->after_key = 1;
+}
+
+void popc_json_string(popc_json *j, const char *s, size_t n)
+{
+	before_value(j);
+	put_string(j->f, s, n);
+}
+
+void popc_json_cstring(popc_json *j, const char *s) { popc_json_string(j, s, strlen(s)); }
+
+void popc_json_number(popc_json *j, double v)
+{
+	before_value(j);
+	if (!isfinite(v)) {
+		fputs("null", j->f);
+		return;
+	}
+	/* popc_format_double's forms are JSON numbers: "-0", "0.001", "1e-05",
+	 * "1.5e+17" (RFC 8259 section 6: an exponent may have a sign and
+	 * leading zeros) */
+	char b[POPC_DOUBLE_TEXT_MAX + 1];
+	popc_format_double(v, b);
+	fputs(b, j->f);
+}
+
+void popc_json_integer(popc_json *j, long long v)
+{
+	before_value(j);
+	fprintf(j->f, "%lld", v);
+}
+
+void popc_json_null(popc_json *j)
+{
+	before_value(j);
+	fputs("null", j->f);
+}
+
+/* Does [s, s + n) follow RFC 8259's number grammar:
+ * -? (0 | [1-9][0-9]*) (. [0-9]+)? ([eE] [+-]? [0-9]+)? */
+static int is_json_number(const char *s, size_t n)
+{
+	size_t i = 0;
+#define DIGIT(k) ((k) < n && s[k] >= '0' && s[k] <= '9')
+	if (i < n && s[i] == '-')
+		i++;
+	if (!DIGIT(i))
+		return 0;
+	if (s[i++] != '0')
+		while (DIGIT(i))
+			i++;
+	if (i < n && s[i] == '.') {
+		if (!DIGIT(++i))
+			return 0;
+		while (DIGIT(i))
+			i++;
+	}
+	if (i < n && (s[i] == 'e' || s[i] == 'E')) {
+		i++;
+		if (i < n && (s[i] == '+' || s[i] == '-'))
+			i++;
+		if (!DIGIT(i))
+			return 0;
+		while (DIGIT(i))
+			i++;
+	}
+#undef DIGIT
+	return i == n;
+}
+
+/* One cell as its kind says (json.h). */
+static void put_cell(popc_json *j, popc_json_kind kind, const char *s, size_t n)
+{
+	if (n == 0) {
+		popc_json_null(j);
+		return;
+	}
+	if (kind == POPC_JSON_TEXT) {
+		popc_json_string(j, s, n);
+		return;
+	}
+	double v;
+	int reads = popc_parse_double(s, s + n, &v) == n && isfinite(v);
+	if (reads && is_json_number(s, n)) {
+		before_value(j);
+		fwrite(s, 1, n, j->f); /* the text itself: the same double, bit for bit */
+	} else if (reads) {
+		popc_json_number(j, v);
+	} else if (kind == POPC_JSON_AUTO) {
+		popc_json_string(j, s, n);
+	} else {
+		popc_json_null(j);
+	}
+}
+
+/* The next cell of a CSV line at *p: its text unquoted into buf when quoted
+ * (RFC 4180), else in place; *p moves past its ',', and *more says whether
+ * there was one (another cell follows). */
+static const char *next_cell(const char **p, const char *end, char *buf, size_t cap, size_t *len,
+			     int *more)
+{
+	const char *s = *p;
+	if (s < end && *s == '"') {
+		size_t k = 0;
+		for (s++; s < end; s++) {
+			if (*s == '"') {
+				if (s + 1 < end && s[1] == '"')
+					s++; /* "" is one quote */
+				else {
+					s++;
+					break;
+				}
+			}
+			if (k < cap)
+				buf[k++] = *s;
+		}
+		while (s < end && *s != ',')
+			s++;
+		*more = s < end;
+		*p = s < end ? s + 1 : end;
+		*len = k;
+		return buf;
+	}
+	const char *e = memchr(s, ',', (size_t)(end - s));
+	if (!e)
+		e = end;
+	*more = e < end;
+	*p = e < end ? e + 1 : end;
+	*len = (size_t)(e - s);
+	return s;
+}
+
+void popc_json_csv_object(FILE *f, int n, const char *const *names, const popc_json_kind *kinds,
+			  const char *row, size_t len)
+{
+	const char *end = row + len;
+	while (end > row && (end[-1] == '\n' || end[-1] == '\r'))
+		end--;
+	popc_json j;
+	popc_json_init(&j, f);
+	popc_json_begin_object(&j);
+	const char *p = row;
+	int more = 1; /* a line holds one cell at least, even an empty one */
+	char buf[4096];
+	for (int c = 0; c < n; c++) {
+		popc_json_key(&j, names[c]);
+		if (!more) {
+			popc_json_null(&j);
+			continue;
+		}
+		size_t cl;
+		const char *cell = next_cell(&p, end, buf, sizeof buf, &cl, &more);
+		put_cell(&j, kinds[c], cell, cl);
+	}
+	popc_json_end_object(&j);
+	fputc('\n', f);
+}
+
+int popc_json_csv_names(char *line, const char **names, int cap)
+{
+	size_t len = strcspn(line, "\r\n");
+	line[len] = '\0';
+	int n = 0;
+	for (char *p = line; n < cap;) {
+		names[n++] = p;
+		char *comma = strchr(p, ',');
+		if (!comma)
+			break;
+		*comma = '\0';
+		p = comma + 1;
+	}
+	return n;
+}
