@@ -230,6 +230,7 @@ static int integrator_failed(const sim_axis *s, const char *what, popc_error *er
 			      verdict, alt);
 }
 
+POPC_FLOOR_CLONES
 static int sim_sample(popc_axis *a, popc_axis_sample *out, popc_error *err)
 {
 	sim_axis *s = a->priv;

@@ -59,6 +59,7 @@ check "  says so before measuring" bash -c "grep -q 'cannot create directory $T/
 
 expect_exit 0 "bench loop, CSV" "$POPC" bench loop --format csv --min-time 0 --repeat 1
 check "  loop rows" grep -q "^loop_ns_per_tick," "$T/out"
+check "  the loop against the chain, a number" grep -Eq "^loop_over_chain,[0-9.e+-]+,,$" "$T/out"
 check "  exact's ticks per second" grep -q "^exact_ticks_per_s," "$T/out"
 # the tick's dependency chain (src/cli/bench_floor.c) is timed only when its
 # commands equal the real loop's bit for bit: for each variant it covers, on
