@@ -14,6 +14,7 @@
 #include <sys/stat.h>
 
 #include "popc/util/parse.h"
+#include "popc/util/usage_hint.h"
 #include "report.h"
 
 #define MAX_LOGS 256
@@ -433,13 +434,13 @@ int ana_cmd_report(int argc, char **argv)
 			if ((rc = ana_input_option(&in, c, optarg, "report")) != 0)
 				goto out;
 			break;
-		default: usage(stderr); rc = 2; goto out;
+		default: popc_option_hint(argv[0], opts, argc, argv); rc = 2; goto out;
 		}
 	}
 	if (!dir || optind >= argc || argc - optind > MAX_LOGS) {
 		fprintf(stderr, "popc-analyze report: %s\n",
 			!dir ? "missing -o DIR" : optind >= argc ? "missing LOG" : "at most 256 logs");
-		usage(stderr);
+		popc_help_hint(argv[0], "options");
 		rc = 2;
 		goto out;
 	}

@@ -51,6 +51,7 @@ done <<'LIST'
 --format|analyze|compare --fromat csv x.csv
 --observer|analyze|energy --obsever eq3 x.csv
 --variant|analyze|replay --varaint none x.csv
+--figure|analyze|report --figre 3 -o x x.csv
 LIST
 expect_exit 2 "an unknown short option" "$POPC" run -Z x.ini
 check "  error and the help pointer" two_lines
