@@ -52,5 +52,6 @@ int popc_cmd_run(int argc, char **argv);
 int popc_cmd_scene(int argc, char **argv);
 int popc_cmd_bench(int argc, char **argv);
 int popc_cmd_sweep(int argc, char **argv);
+int popc_cmd_map(int argc, char **argv);
 
 #endif

@@ -29,6 +29,7 @@ const popc_sweep_column popc_sweep_columns[] = {
 	/* the true port energy: empty for an axis without a true position, as
 	 * in the run summary */
 	RUN_METRIC("port_energy_end"),
+	RUN_METRIC("port_energy_min"),
 	RUN_METRIC("po_error_end"),
 	RUN_METRIC("po_error_max"),
 	{"chatter_s", POPC_SWEEP_CELL_CHATTER_S, POPC_SWEEP_FORMAT_DOUBLE,
