@@ -273,7 +273,22 @@ void popc_map_search_line(const unsigned char *v, long n_k, long check_steps,
 		need(out, hi);
 	if (out->n_need)
 		return;
-	out->runs += (lo != 0) + (hi != last);
+	/* the checks count when they are new points (not an end or a
+	 * bisection point already run) */
+	for (long e = lo; ; e = hi) {
+		int seen = e == 0 || e == last;
+		for (long x = 0, y = last; !seen && y - x > 1;) {
+			long m = x + (y - x) / 2;
+			seen = m == e;
+			if (v[m] == POPC_MAP_OK)
+				x = m;
+			else
+				y = m;
+		}
+		out->runs += !seen;
+		if (e == hi || hi == lo)
+			break;
+	}
 	for (long e = lo; ; e = hi) {
 		if (v[e] == POPC_MAP_UNDECIDED) {
 			out->outcome = POPC_MAP_UNDECIDED_RUN;
