@@ -123,7 +123,9 @@ int popc_map_figure_plot(const char *dir, popc_error *err)
 	if (pid < 0)
 		return popc_error_set(err, POPC_ERR_IO, "cannot start gnuplot");
 	if (pid == 0) {
-		if (chdir(dir) != 0)
+		/* gnuplot's warnings (a curve without points: a variant with no
+		 * bracket) go to DIR/map.gp.log, not the map's stderr */
+		if (chdir(dir) != 0 || !freopen("map.gp.log", "w", stderr))
 			_exit(127);
 		execlp("gnuplot", "gnuplot", "map.gp", (char *)NULL);
 		_exit(127);
@@ -131,8 +133,8 @@ int popc_map_figure_plot(const char *dir, popc_error *err)
 	int ws;
 	if (waitpid(pid, &ws, 0) < 0 || !WIFEXITED(ws) || WEXITSTATUS(ws) != 0)
 		return popc_error_set(err, POPC_ERR_IO,
-				      "gnuplot %s/map.gp failed (status %d); boundary.csv and map.gp "
-				      "are written",
+				      "gnuplot %s/map.gp failed (status %d, see map.gp.log); "
+				      "boundary.csv and map.gp are written",
 				      dir, WIFEXITED(ws) ? WEXITSTATUS(ws) : -1);
 	return 0;
 }
