@@ -496,7 +496,10 @@ static int map_main(const map_args *a)
 	}
 	if ((st = write_boundary(&m, &plan, a->dir, &err)) != 0)
 		goto out;
-	if ((st = popc_map_figure_write(&plan, a->dir, &err)) != 0)
+	const char *crit_names[POPC_MAP_N_CRITERIA];
+	for (int c = 0; c < m.n_crit; c++)
+		crit_names[c] = popc_map_criterion_name(m.crit[c]);
+	if ((st = popc_map_figure_write(&plan, a->dir, crit_names, m.n_crit, &err)) != 0)
 		goto out;
 	if (popc_map_figure_plot(a->dir, &err) != 0)
 		fprintf(stderr, "popc map: note: %s\n", err.msg);

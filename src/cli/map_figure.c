@@ -32,7 +32,8 @@ static const char *unit_of(const char *section, const char *key)
 	return "";
 }
 
-int popc_map_figure_write(const popc_sweep_plan *p, const char *dir, popc_error *err)
+int popc_map_figure_write(const popc_sweep_plan *p, const char *dir, const char *const *criteria,
+			  int n_criteria, popc_error *err)
 {
 	char *buf = NULL;
 	size_t n = 0;
@@ -63,7 +64,7 @@ int popc_map_figure_write(const popc_sweep_plan *p, const char *dir, popc_error 
 	}
 	fprintf(f, "# popc map's figure: K against %s per variant (boundary.csv)\n",
 		has_x ? p->axes[1].key : "the variant");
-	fputs("set datafile separator ','\nset key outside right top\nset logscale y\nset grid\n", f);
+	fputs("set datafile separator ','\nset key below maxcols 4\nset logscale y\nset grid\n", f);
 	fputs("set format y '10^{%T}'\n", f);
 	if (log_x)
 		fputs("set logscale x\n", f);
@@ -73,34 +74,29 @@ int popc_map_figure_write(const popc_sweep_plan *p, const char *dir, popc_error 
 	else
 		fputs("set xlabel 'variant (index)'\n", f);
 	fputs("set ylabel 'largest acceptable environment.stiffness K (N/m)'\n", f);
-	fputs("set title 'Stability map: bracket [K_{ok}, K_{bad}] by bisection in log K'\n", f);
+	fputs("set title 'Stability map: the largest acceptable K per line, bar = bracket [K_{ok}, K_{bad}]'\n", f);
 	fputs("set terminal pngcairo size 1100,700 enhanced font ',10'\nset output 'map.png'\n", f);
 	fputs("plot \\\n", f);
 	const char *first_variant = p->axes[0].values[0];
-	int style = 1;
+	/* one curve per variant (colour) and criterion (dash) */
 	for (int v = 0; v < p->axes[0].n_values; v++) {
 		const char *name = p->axes[0].values[v];
-		const char *x = has_x ? "column(2)" : "0";
 		char xv[64];
-		if (!has_x) {
-			snprintf(xv, sizeof xv, "%d", v);
-			x = xv;
-		}
-		fprintf(f,
-			"  'boundary.csv' every ::1 using (strcol(1) eq '%s' && strcol(%d) eq 'bracket' ? %s : NaN)"
-			":%d:%d:%d with yerrorlines lt %d title sprintf('%s (%%s)', '%s')"
-			" , \\\n",
-			name, c_out, x, c_ok, c_ok, c_bad, style, name, "bracket");
-		style++;
+		snprintf(xv, sizeof xv, "%d", v);
+		const char *x = has_x ? "column(2)" : xv;
+		for (int c = 0; c < n_criteria; c++)
+			fprintf(f,
+				"  'boundary.csv' every ::1 using (strcol(1) eq '%s' && strcol(%d) eq '%s' && "
+				"strcol(%d) eq 'bracket' ? %s : NaN):%d:%d:%d with yerrorlines lc %d dt %d "
+				"title '%s (%s)', \\\n",
+				name, c_crit, criteria[c], c_out, x, c_ok, c_ok, c_bad, v + 1, c + 1, name,
+				criteria[c]);
 	}
-	/* criterion names are in the rows; one curve per variant covers every
-	 * criterion of the map (their points share the x values: a map asked
-	 * for several criteria draws each as its own points, see docs/MAPS.md) */
-	(void)c_crit;
 	fprintf(f,
-		"  'boundary.csv' every ::1 using (strcol(1) eq '%s' && column(%d) > 0 ? %s : NaN):%d "
-		"with lines lw 2 lc rgb 'black' dt 2 title 'Colgate-Schenkel: b > K T/2 + |B|'\n",
-		first_variant, c_cs, has_x ? "column(2)" : "0", c_cs);
+		"  'boundary.csv' every ::1 using (strcol(1) eq '%s' && strcol(%d) eq '%s' && column(%d) > 0 "
+		"? %s : NaN):%d with lines lw 2 lc rgb 'black' dt 3 "
+		"title 'Colgate-Schenkel: b > K T/2 + |B|'\n",
+		first_variant, c_crit, criteria[0], c_cs, has_x ? "column(2)" : "0", c_cs);
 	fputs("set terminal pdfcairo size 11in,7in enhanced font ',10'\nset output 'map.pdf'\nreplot\n",
 	      f);
 	fputs("unset output\n", f);
