@@ -487,6 +487,11 @@ static int map_main(const map_args *a)
 		popc_sweep_plan_free(&plan);
 		return POPC_EXIT_INTERRUPTED;
 	}
+	if (m.n_needed > 0 && trouble) {
+		fprintf(stderr, "popc map: a run's row could not be recorded (above); run the same "
+				"command again to resume\n");
+		goto out;
+	}
 	if (m.n_needed > 0) {
 		fprintf(stderr,
 			"popc map: %lld runs of other shards pending; run every shard again until "
