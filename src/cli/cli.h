@@ -53,5 +53,6 @@ int popc_cmd_scene(int argc, char **argv);
 int popc_cmd_bench(int argc, char **argv);
 int popc_cmd_sweep(int argc, char **argv);
 int popc_cmd_sweep_stats(int argc, char **argv); /* popc sweep stats (sweep_stats.c) */
+int popc_cmd_map(int argc, char **argv);
 
 #endif

@@ -16,6 +16,7 @@ int main(int argc, char **argv)
 		{"bench", popc_cmd_bench, "integrators|loop|log",
 		 "speed against error (docs/BENCHMARKS.md)"},
 		{"sweep", popc_cmd_sweep, "SCENE", "run a parameter sweep in parallel (Slurm, GNU parallel)"},
+		{"map", popc_cmd_map, "SCENE", "stability map: the largest acceptable wall stiffness (Z-width)"},
 	};
 	/* --version names the build too (sweep plans record it: docs/SWEEPS.md) */
 	static char version[256];

@@ -87,6 +87,9 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 			/* W(k) - E_port(k): the observer's error at tick k */
 			double e = row.tick.W_J - row.E_port_J;
 			sum->port_energy_J = row.E_port_J;
+			/* E_port(0) = 0, so the minimum starts at 0 (memset) */
+			if (row.E_port_J < sum->port_energy_min_J)
+				sum->port_energy_min_J = row.E_port_J;
 			sum->po_error_end_J = e;
 			if (fabs(e) > sum->po_error_max_J)
 				sum->po_error_max_J = fabs(e);
@@ -198,6 +201,8 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 	      "velocity sign changes in contact per second, second half")                           \
 	FIELD(PORT_ENERGY_END, port_energy_end, "J", PORT, sum->port_energy_J,                      \
 	      "true energy into the VE port at the last tick (E_port)")                             \
+	FIELD(PORT_ENERGY_MIN, port_energy_min, "J", PORT, sum->port_energy_min_J,                  \
+	      "minimum of E_port over the run (< 0: the port gave out energy)")                     \
 	FIELD(PO_ERROR_END, po_error_end, "J", PORT, sum->po_error_end_J,                           \
 	      "observer error W - E_port at the last tick")                                         \
 	FIELD(PO_ERROR_MAX, po_error_max, "J", PORT, sum->po_error_max_J,                           \

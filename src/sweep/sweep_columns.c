@@ -31,6 +31,7 @@ const popc_sweep_column popc_sweep_columns[] = {
 	/* the true port energy: empty for an axis without a true position, as
 	 * in the run summary */
 	RUN_METRIC("port_energy_end"),
+	RUN_METRIC("port_energy_min"),
 	RUN_METRIC("po_error_end"),
 	RUN_METRIC("po_error_max"),
 	RUN_METRIC("rendered_stiffness"),

@@ -20,9 +20,11 @@ typedef struct popc_run_summary {
 	popc_metrics metrics;
 	/* the true port energy (port_energy.h), for an axis with a true
 	 * position (has_port_energy; all 0 otherwise): E_port at the last tick,
-	 * the observer's error W - E_port there, and its largest magnitude */
+	 * the observer's error W - E_port there, and its largest magnitude;
+	 * the smallest E_port of the run */
 	int has_port_energy;
 	double port_energy_J, po_error_end_J, po_error_max_J;
+	double port_energy_min_J;     /* min over the run of E_port (0 at t = 0) */
 	int status;                   /* 0 or the popc_status that stopped the run */
 	char stop_reason[POPC_ERROR_MSG_MAX + 64];
 } popc_run_summary;

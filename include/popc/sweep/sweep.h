@@ -25,5 +25,6 @@
 #include "popc/sweep/sweep_dir.h"
 #include "popc/sweep/sweep_results.h"
 #include "popc/sweep/sweep_run.h"
+#include "popc/sweep/sweep_map.h"
 
 #endif

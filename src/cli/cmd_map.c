@@ -1,0 +1,612 @@
+/* popc map SCENE --variant V... [--vary KEY=LIST...] -o DIR [options]
+ *
+ * A stability map (docs/MAPS.md): for every variant and every value of the
+ * other axes, the largest wall stiffness K whose run is acceptable, by
+ * bisection in log K (popc/sweep/sweep_map.h). The map is a sweep whose last
+ * axis is a log grid of K (sweep_plan.h); it runs only the points the search
+ * asks for, step by step: each step's runs are one batch for the sweep's
+ * worker pool (-j), its shards and its resumption. The figure is written by
+ * map_figure.c. */
+#define _XOPEN_SOURCE 700 /* realpath */
+#include <getopt.h>
+#include <limits.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "cli.h"
+#include "map_figure.h"
+#include "popc/sweep/sweep_dir.h"
+#include "popc/sweep/sweep_map.h"
+#include "popc/sweep/sweep_plan.h"
+#include "popc/sweep/sweep_results.h"
+#include "popc/util/atomic_file.h"
+#include "popc/util/numfmt.h"
+#include "popc/util/parse.h"
+#include "sweep_pool.h"
+#include "sweep_progress.h"
+
+static void usage(FILE *f)
+{
+	fputs("usage: popc map SCENE --variant V[,V...] [--vary section.key=LIST ...] -o DIR [options]\n"
+	      "\n"
+	      "For every variant and every value of the --vary axes (a line), finds the\n"
+	      "largest wall stiffness environment.stiffness at which the run is acceptable,\n"
+	      "by bisection in log K on a grid whose neighbours differ by at most --tol,\n"
+	      "then re-runs K/2 below and 2K above the bracket to check there is one edge.\n"
+	      "Writes DIR/boundary.csv (one row per line and criterion), DIR/map.gp and\n"
+	      "DIR/map.png, DIR/map.pdf (gnuplot), and a table on stdout. Every run's row is\n"
+	      "kept as in popc sweep (DIR/rows/); running the same map again resumes it.\n"
+	      "\n"
+	      "  --variant V[,V...]       controller variants (repeatable)\n"
+	      "  --vary section.key=LIST  another axis of the map (repeatable), e.g.\n"
+	      "                           --vary environment.damping=0:0.75:16\n"
+	      "  --set section.key=value  a fixed override of the scene (repeatable)\n"
+	      "  --stiffness LO:HI        the K range, N/m (default 1e2:1e6)\n"
+	      "  --tol R                  relative width of the bracket (default 0.02)\n"
+	      "  --criterion C[,C...]     diverged, limit-cycle, chatter, passive (default\n"
+	      "                           passive); one boundary per criterion\n"
+	      "  --port-tol J             passive: E_port never below -J (default 1e-6 J)\n"
+	      "  -o, --output DIR         the map directory (created if needed)\n"
+	      "  -j, --jobs N             parallel runs (default: SLURM_CPUS_PER_TASK, else\n"
+	      "                           every online core)\n"
+	      "  --shard I/N              make only shard I of N's runs (as popc sweep; the\n"
+	      "                           shards share DIR). Runs until nothing of its shard\n"
+	      "                           is pending, then exits; run every shard again until\n"
+	      "                           DIR/boundary.csv exists (docs/MAPS.md)\n"
+	      "  --keep-log               keep every run's log.csv (default: rows only)\n"
+	      "  --allow-other-build      resume a map that another popc build made\n"
+	      "  -q, --quiet              no progress\n"
+	      "  -h, --help               this help\n"
+	      "\n"
+	      "Exit status: 0 done (or this shard's part done), 1 a run failed without a\n"
+	      "verdict, 2 bad scene or usage, 5 interrupted (finished runs kept).\n",
+	      f);
+}
+
+enum { OPT_VARIANT = 256, OPT_VARY, OPT_SET, OPT_STIFFNESS, OPT_TOL, OPT_CRITERION, OPT_PORT_TOL,
+       OPT_SHARD, OPT_KEEP_LOG, OPT_ALLOW_OTHER_BUILD };
+
+typedef struct map_args {
+	char **variants, **vary, **sets;
+	int n_variants, n_vary, n_sets;
+	const char *scene_path, *dir, *shard_text, *stiffness;
+	double tol, port_tol_J;
+	unsigned criteria;
+	long long jobs;
+	int quiet, keep_log, allow_other_build;
+} map_args;
+
+/* The searches of every line and criterion, from the rows in DIR. */
+typedef struct map_state {
+	long n_k, check_steps, n_lines;
+	int n_crit;
+	popc_map_criterion crit[POPC_MAP_N_CRITERIA];
+	popc_map_search *search;        /* n_lines * n_crit */
+	long *line_runs;                /* runs with a row, per line */
+	popc_sweep_results res;
+	int have_res;
+	long long *todo;                /* needed runs of the shard without a row */
+	long long n_todo, n_pending_other, n_needed;
+} map_state;
+
+static int default_jobs(void)
+{
+	const char *slurm = getenv("SLURM_CPUS_PER_TASK");
+	long long n;
+	if (slurm && popc_parse_ll_text(slurm, 1, 4096, &n) == 0)
+		return (int)n;
+	n = sysconf(_SC_NPROCESSORS_ONLN);
+	return n > 0 ? (int)(n > 4096 ? 4096 : n) : 1;
+}
+
+static void state_release(map_state *m)
+{
+	if (m->have_res)
+		popc_sweep_results_free(&m->res);
+	m->have_res = 0;
+}
+
+/* Reads the rows and replays every search; fills todo with the shard's
+ * runs that some search needs and that have no row yet. */
+static int evaluate(map_state *m, const popc_sweep_plan *p, const char *dir,
+		    const popc_sweep_shard *shard, double port_tol_J, popc_error *err)
+{
+	state_release(m);
+	const char *dirs[1] = {dir};
+	int st = popc_sweep_results_load(&m->res, p, dirs, 1, 0, err);
+	if (st)
+		return st;
+	m->have_res = 1;
+	unsigned char *v = malloc((size_t)m->n_k * POPC_MAP_N_CRITERIA);
+	if (!v)
+		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+	m->n_todo = m->n_pending_other = m->n_needed = 0;
+	for (long line = 0; line < m->n_lines && !st; line++) {
+		m->line_runs[line] = 0;
+		memset(v, POPC_MAP_UNKNOWN, (size_t)m->n_k * POPC_MAP_N_CRITERIA);
+		for (long k = 0; k < m->n_k && !st; k++) {
+			const popc_sweep_result_entry *e = &m->res.run[line * m->n_k + k];
+			if (!e->row)
+				continue;
+			m->line_runs[line]++;
+			popc_map_facts f;
+			if ((st = popc_map_facts_from_row(p, e->row, &f, err)) != 0)
+				break;
+			for (int c = 0; c < m->n_crit; c++)
+				v[(size_t)c * (size_t)m->n_k + (size_t)k] = (unsigned char)popc_map_verdict_of(m->crit[c], &f, port_tol_J);
+		}
+		for (int c = 0; c < m->n_crit && !st; c++) {
+			popc_map_search *s = &m->search[line * m->n_crit + c];
+			popc_map_search_line(v + (size_t)c * (size_t)m->n_k, m->n_k, m->check_steps, s);
+			for (int q = 0; q < s->n_need; q++) {
+				long long i = line * m->n_k + s->need[q];
+				/* two criteria may need the same run */
+				int dup = 0;
+				for (long long t = 0; t < m->n_todo; t++)
+					dup |= m->todo[t] == i;
+				if (dup)
+					continue;
+				m->n_needed++;
+				if (!popc_sweep_in_shard(shard, i))
+					m->n_pending_other++;
+				else
+					m->todo[m->n_todo++] = i;
+			}
+		}
+	}
+	free(v);
+	return st;
+}
+
+static const char *outcome_name(popc_map_outcome o)
+{
+	switch (o) {
+	case POPC_MAP_NEEDS_RUNS: return "pending";
+	case POPC_MAP_BRACKET: return "bracket";
+	case POPC_MAP_ALL_OK: return "above-range";
+	case POPC_MAP_NONE_OK: return "below-range";
+	case POPC_MAP_NOT_MONOTONIC: return "not-monotonic";
+	case POPC_MAP_UNDECIDED_RUN: return "undecided";
+	}
+	return "?";
+}
+
+/* K of grid point k, as the plan's last axis writes it. */
+static double k_of(const popc_sweep_plan *p, long k)
+{
+	double d = NAN;
+	popc_parse_double_text(p->axes[p->n_axes - 1].values[k], &d);
+	return d;
+}
+
+static void put_double(FILE *f, double d)
+{
+	char b[64];
+	popc_format_double(d, b);
+	fputs(b, f);
+}
+
+/* A metric of run i's row (empty when it has none). */
+static void put_cell(FILE *f, const map_state *m, const popc_sweep_plan *p, long long i,
+		     const char *name)
+{
+	const char *cell;
+	size_t len;
+	if (i >= 0 && m->res.run[i].row && popc_map_row_cell(p, m->res.run[i].row, name, &cell, &len) == 0)
+		fwrite(cell, 1, len, f);
+}
+
+/* DIR/boundary.csv: one row per line and criterion. */
+static int write_boundary(const map_state *m, const popc_sweep_plan *p, const char *dir,
+			  popc_error *err)
+{
+	char *buf = NULL;
+	size_t n = 0;
+	FILE *f = open_memstream(&buf, &n);
+	if (!f)
+		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+	for (int a = 0; a < p->n_axes - 1; a++)
+		fprintf(f, "%s.%s,", p->axes[a].section, p->axes[a].key);
+	fputs("criterion,outcome,k_ok_N_per_m,k_bad_N_per_m,width,k_check_low_N_per_m,"
+	      "k_check_high_N_per_m,runs,line_runs,k_colgate_schenkel_N_per_m,pc_energy_J,pc_rms_N,"
+	      "chatter_s,port_energy_min_J,run_ok,run_bad,note\n", f);
+	int *vi = malloc((size_t)p->n_axes * sizeof *vi);
+	if (!vi) {
+		fclose(f);
+		free(buf);
+		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+	}
+	for (long line = 0; line < m->n_lines; line++) {
+		long long first = line * m->n_k;
+		popc_sweep_run_values(p, first, vi);
+		popc_scene s;
+		popc_error serr;
+		double k_cs = NAN;
+		if (popc_sweep_run_scene(p, first, &s, &serr) == 0) {
+			/* Colgate and Schenkel: passive when b > K T / 2 + |B| */
+			double b = s.op_damping_Nspm + s.dev_damping_Nspm;
+			k_cs = 2.0 * (b - fabs(s.env_damping_Nspm)) / popc_scene_period_s(&s);
+		}
+		for (int c = 0; c < m->n_crit; c++) {
+			const popc_map_search *se = &m->search[line * m->n_crit + c];
+			for (int a = 0; a < p->n_axes - 1; a++)
+				fprintf(f, "%s,", p->axes[a].values[vi[a]]);
+			fprintf(f, "%s,%s,", popc_map_criterion_name(m->crit[c]), outcome_name(se->outcome));
+			long ok = se->outcome == POPC_MAP_BRACKET ? se->ok_index
+				  : se->outcome == POPC_MAP_ALL_OK ? m->n_k - 1 : -1;
+			long bad = se->outcome == POPC_MAP_BRACKET ? se->bad_index
+				   : se->outcome == POPC_MAP_NONE_OK ? 0 : -1;
+			if (ok >= 0)
+				put_double(f, k_of(p, ok));
+			fputc(',', f);
+			if (bad >= 0)
+				put_double(f, k_of(p, bad));
+			fputc(',', f);
+			if (ok >= 0 && bad >= 0)
+				put_double(f, k_of(p, bad) / k_of(p, ok) - 1.0);
+			fputc(',', f);
+			if (se->check_low >= 0)
+				put_double(f, k_of(p, se->check_low));
+			fputc(',', f);
+			if (se->check_high >= 0)
+				put_double(f, k_of(p, se->check_high));
+			fprintf(f, ",%ld,%ld,", se->runs, m->line_runs[line]);
+			if (isfinite(k_cs))
+				put_double(f, k_cs);
+			fputc(',', f);
+			long long i_ok = ok >= 0 ? first + ok : -1;
+			put_cell(f, m, p, i_ok, "pc_energy");
+			fputc(',', f);
+			put_cell(f, m, p, i_ok, "pc_rms");
+			fputc(',', f);
+			put_cell(f, m, p, i_ok, "chatter_s");
+			fputc(',', f);
+			put_cell(f, m, p, i_ok, "port_energy_min");
+			fputc(',', f);
+			char id[POPC_SWEEP_ID_MAX];
+			if (ok >= 0) {
+				popc_sweep_run_id(p, first + ok, id);
+				fputs(id, f);
+			}
+			fputc(',', f);
+			if (bad >= 0) {
+				popc_sweep_run_id(p, first + bad, id);
+				fputs(id, f);
+			}
+			fputc(',', f);
+			if (se->outcome == POPC_MAP_NOT_MONOTONIC)
+				fprintf(f, "acceptable at K = %.6g above unacceptable at K = %.6g: no edge drawn",
+					k_of(p, se->culprit_ok), k_of(p, se->culprit_bad));
+			else if (se->outcome == POPC_MAP_UNDECIDED_RUN) {
+				popc_sweep_run_id(p, first + se->culprit_ok, id);
+				fprintf(f, "run %s at K = %.6g failed or lacks the criterion's cell", id,
+					k_of(p, se->culprit_ok));
+			}
+			fputc('\n', f);
+		}
+	}
+	free(vi);
+	if (fclose(f) != 0) {
+		free(buf);
+		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+	}
+	char path[POPC_PATH_MAX + 32];
+	snprintf(path, sizeof path, "%s/boundary.csv", dir);
+	int st = popc_write_file_atomic(path, buf, n, err);
+	free(buf);
+	return st;
+}
+
+/* The short table on stdout. */
+static void print_table(const map_state *m, const popc_sweep_plan *p)
+{
+	int *vi = malloc((size_t)p->n_axes * sizeof *vi);
+	if (!vi)
+		return;
+	printf("%-16s", "variant");
+	for (int a = 1; a < p->n_axes - 1; a++)
+		printf(" %-12.12s", p->axes[a].key);
+	printf(" %-12s %-13s %12s %12s %5s\n", "criterion", "outcome", "K_ok N/m", "K_bad N/m", "runs");
+	for (long line = 0; line < m->n_lines; line++) {
+		popc_sweep_run_values(p, line * m->n_k, vi);
+		for (int c = 0; c < m->n_crit; c++) {
+			const popc_map_search *se = &m->search[line * m->n_crit + c];
+			printf("%-16s", p->axes[0].values[vi[0]]);
+			for (int a = 1; a < p->n_axes - 1; a++)
+				printf(" %-12.12s", p->axes[a].values[vi[a]]);
+			printf(" %-12s %-13s", popc_map_criterion_name(m->crit[c]), outcome_name(se->outcome));
+			long ok = se->outcome == POPC_MAP_BRACKET ? se->ok_index
+				  : se->outcome == POPC_MAP_ALL_OK ? m->n_k - 1 : -1;
+			long bad = se->outcome == POPC_MAP_BRACKET ? se->bad_index
+				   : se->outcome == POPC_MAP_NONE_OK ? 0 : -1;
+			if (ok >= 0)
+				printf(" %12.5g", k_of(p, ok));
+			else
+				printf(" %12s", "-");
+			if (bad >= 0)
+				printf(" %12.5g", k_of(p, bad));
+			else
+				printf(" %12s", "-");
+			printf(" %5ld\n", se->runs);
+		}
+	}
+	free(vi);
+}
+
+/* Builds the map's plan: variants, the --vary axes, then the K grid. */
+static int make_plan(const map_args *a, popc_sweep_plan *plan, popc_error *err)
+{
+	popc_scene base;
+	popc_scene_defaults(&base);
+	int st = popc_scene_load(&base, a->scene_path, err);
+	for (int m = 0; m < a->n_sets && !st; m++) {
+		if (strncmp(a->sets[m], "environment.stiffness", 21) == 0 ||
+		    strncmp(a->sets[m], "controller.variant", 18) == 0)
+			return popc_error_set(err, POPC_ERR_INVALID,
+					      "--set %s: the map varies this key itself (--stiffness, "
+					      "--variant)",
+					      a->sets[m]);
+		st = popc_scene_set_assignment(&base, a->sets[m], err);
+	}
+	if (st)
+		return st;
+	double k_lo = 1e2, k_hi = 1e6;
+	if (a->stiffness) {
+		const char *colon = strchr(a->stiffness, ':');
+		if (!colon || popc_parse_double_span(a->stiffness, colon, &k_lo) != POPC_PARSE_OK ||
+		    popc_parse_double_text(colon + 1, &k_hi) != POPC_PARSE_OK || !(k_lo > 0) ||
+		    !(k_hi > k_lo))
+			return popc_error_set(err, POPC_ERR_INVALID,
+					      "--stiffness '%s': LO:HI in N/m with 0 < LO < HI",
+					      a->stiffness);
+	}
+	long n_k = popc_map_grid_points(k_lo, k_hi, a->tol);
+	int n_axes = a->n_vary + 2;
+	popc_sweep_axis *axes = calloc((size_t)n_axes, sizeof *axes);
+	char spec[POPC_SWEEP_VALUE_MAX * 4];
+	size_t used = 0;
+	if (!axes)
+		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+	used += (size_t)snprintf(spec, sizeof spec, "controller.variant=");
+	for (int v = 0; v < a->n_variants && used < sizeof spec; v++)
+		used += (size_t)snprintf(spec + used, sizeof spec - used, "%s%s", v ? "," : "", a->variants[v]);
+	st = popc_sweep_axis_parse(spec, &axes[0], err);
+	for (int k = 0; k < a->n_vary && !st; k++) {
+		st = popc_sweep_axis_parse(a->vary[k], &axes[k + 1], err);
+		if (!st && ((strcmp(axes[k + 1].section, "environment") == 0 &&
+			     strcmp(axes[k + 1].key, "stiffness") == 0) ||
+			    (strcmp(axes[k + 1].section, "controller") == 0 &&
+			     strcmp(axes[k + 1].key, "variant") == 0)))
+			st = popc_error_set(err, POPC_ERR_INVALID,
+					    "--vary %s: the map varies this key itself (--stiffness, "
+					    "--variant)",
+					    a->vary[k]);
+	}
+	if (!st) {
+		snprintf(spec, sizeof spec, "environment.stiffness=%.17g:%.17g:%ld:log", k_lo, k_hi, n_k);
+		st = popc_sweep_axis_parse(spec, &axes[n_axes - 1], err);
+	}
+	if (st) {
+		for (int k = 0; k < n_axes; k++)
+			popc_sweep_axis_free(&axes[k]);
+		free(axes);
+		return st;
+	}
+	/* every run's scene is checked when it is made; here the lines' ends */
+	st = popc_sweep_plan_init(plan, &base, axes, n_axes, 0, err);
+	for (long long i = 0; !st && i < plan->n_runs; i += n_k) {
+		popc_scene s;
+		st = popc_sweep_run_scene(plan, i, &s, err);
+		if (!st)
+			st = popc_sweep_run_scene(plan, i + n_k - 1, &s, err);
+	}
+	if (!st)
+		popc_sweep_plan_set_build(plan, popc_cli_version(), popc_cli_build_id());
+	return st;
+}
+
+static int map_main(const map_args *a)
+{
+	popc_error err;
+	popc_sweep_plan plan;
+	memset(&plan, 0, sizeof plan);
+	int st = make_plan(a, &plan, &err);
+	if (st) {
+		popc_sweep_plan_free(&plan);
+		return popc_cli_fail("map", st, &err);
+	}
+	popc_sweep_shard shard = {.index = 0, .count = 1};
+	if (a->shard_text)
+		st = popc_sweep_shard_parse(a->shard_text, &shard, &err);
+	else
+		st = popc_sweep_shard_from_slurm(getenv("SLURM_ARRAY_TASK_ID"),
+						 getenv("SLURM_ARRAY_TASK_COUNT"),
+						 getenv("SLURM_ARRAY_TASK_MIN"),
+						 getenv("SLURM_ARRAY_TASK_STEP"), &shard, &err);
+	if (st < 0) {
+		popc_sweep_plan_free(&plan);
+		return popc_cli_fail("map", st, &err);
+	}
+	char scene_abs[PATH_MAX];
+	char *r = realpath(plan.base.source, NULL);
+	snprintf(scene_abs, sizeof scene_abs, "%s", r ? r : plan.base.source);
+	free(r);
+	st = popc_sweep_dir_prepare(&plan, a->dir, scene_abs, a->allow_other_build, &err);
+	if (st < 0) {
+		popc_sweep_plan_free(&plan);
+		return popc_cli_fail("map", st, &err);
+	}
+	map_state m = {0};
+	int trouble = 0, step = 0;
+	long long made = 0;
+	popc_sweep_axis *kax = &plan.axes[plan.n_axes - 1];
+	m.n_k = kax->n_values;
+	m.check_steps = popc_map_check_steps(k_of(&plan, 0), k_of(&plan, m.n_k - 1), m.n_k);
+	m.n_lines = (long)(plan.n_runs / m.n_k);
+	for (int c = 0; c < POPC_MAP_N_CRITERIA; c++)
+		if (a->criteria & (1u << c))
+			m.crit[m.n_crit++] = (popc_map_criterion)c;
+	m.search = calloc((size_t)m.n_lines * (size_t)m.n_crit, sizeof *m.search);
+	m.line_runs = calloc((size_t)m.n_lines, sizeof *m.line_runs);
+	m.todo = malloc((size_t)m.n_lines * 2 * (size_t)m.n_crit * sizeof *m.todo);
+	if (!m.search || !m.line_runs || !m.todo) {
+		st = popc_error_set(&err, POPC_ERR_NOMEM, "out of memory");
+		goto out;
+	}
+	sweep_pool_config pool = {.plan = &plan, .dir = a->dir, .keep_log = a->keep_log,
+				  .jobs = a->jobs > 0 ? (int)a->jobs : default_jobs(), .rows_pid = 0,
+				  .die_after_claim = -1};
+	sweep_pool_test_hooks(&pool);
+	popc_cli_install_signals();
+	for (;;) {
+		if ((st = evaluate(&m, &plan, a->dir, &shard, a->port_tol_J, &err)) != 0)
+			goto out;
+		if (m.n_todo == 0 || popc_cli_stop)
+			break;
+		step++;
+		sweep_progress prog;
+		sweep_progress_start(&prog, a->quiet, m.n_todo, 0);
+		if (!a->quiet)
+			fprintf(stderr, "popc map: step %d: %lld runs\n", step, m.n_todo);
+		trouble |= sweep_pool_run(&pool, m.todo, m.n_todo, &prog);
+		made += prog.done_now;
+		if (trouble || popc_cli_stop)
+			break;
+	}
+	if (!a->quiet)
+		fprintf(stderr, "popc map: %lld runs made now in %d steps\n", made, step);
+	if (popc_cli_stop) {
+		fprintf(stderr, "popc map: interrupted; run the same command again to resume\n");
+		state_release(&m);
+		free(m.search);
+		free(m.line_runs);
+		free(m.todo);
+		popc_sweep_plan_free(&plan);
+		return POPC_EXIT_INTERRUPTED;
+	}
+	if (m.n_needed > 0 && trouble) {
+		fprintf(stderr, "popc map: a run's row could not be recorded (above); run the same "
+				"command again to resume\n");
+		goto out;
+	}
+	if (m.n_needed > 0) {
+		fprintf(stderr,
+			"popc map: %lld runs of other shards pending; run every shard again until "
+			"%s/boundary.csv exists\n",
+			m.n_pending_other, a->dir);
+		goto out;
+	}
+	if ((st = write_boundary(&m, &plan, a->dir, &err)) != 0)
+		goto out;
+	const char *crit_names[POPC_MAP_N_CRITERIA];
+	for (int c = 0; c < m.n_crit; c++)
+		crit_names[c] = popc_map_criterion_name(m.crit[c]);
+	if ((st = popc_map_figure_write(&plan, a->dir, crit_names, m.n_crit, &err)) != 0)
+		goto out;
+	if (popc_map_figure_plot(a->dir, &err) != 0)
+		fprintf(stderr, "popc map: note: %s\n", err.msg);
+	print_table(&m, &plan);
+	for (long s = 0; s < m.n_lines * m.n_crit; s++)
+		trouble |= m.search[s].outcome == POPC_MAP_UNDECIDED_RUN;
+out:
+	state_release(&m);
+	free(m.search);
+	free(m.line_runs);
+	free(m.todo);
+	popc_sweep_plan_free(&plan);
+	if (st)
+		return popc_cli_fail("map", st, &err);
+	return trouble ? POPC_EXIT_RUN_FAILED : 0;
+}
+
+int popc_cmd_map(int argc, char **argv)
+{
+	static const struct option opts[] = {
+		{"variant", required_argument, NULL, OPT_VARIANT},
+		{"vary", required_argument, NULL, OPT_VARY},
+		{"set", required_argument, NULL, OPT_SET},
+		{"stiffness", required_argument, NULL, OPT_STIFFNESS},
+		{"tol", required_argument, NULL, OPT_TOL},
+		{"criterion", required_argument, NULL, OPT_CRITERION},
+		{"port-tol", required_argument, NULL, OPT_PORT_TOL},
+		{"output", required_argument, NULL, 'o'},
+		{"jobs", required_argument, NULL, 'j'},
+		{"shard", required_argument, NULL, OPT_SHARD},
+		{"keep-log", no_argument, NULL, OPT_KEEP_LOG},
+		{"allow-other-build", no_argument, NULL, OPT_ALLOW_OTHER_BUILD},
+		{"quiet", no_argument, NULL, 'q'},
+		{"help", no_argument, NULL, 'h'},
+		{NULL, 0, NULL, 0},
+	};
+	map_args a = {.tol = 0.02, .port_tol_J = 1e-6, .criteria = 1u << POPC_MAP_PASSIVE};
+	int c, rc = -1, oom = 0;
+	popc_error err;
+	optind = 1;
+	while (rc < 0 && (c = getopt_long(argc, argv, "o:j:qh", opts, NULL)) != -1) {
+		switch (c) {
+		case OPT_VARIANT: oom |= popc_cli_push(&a.variants, &a.n_variants, optarg); break;
+		case OPT_VARY: oom |= popc_cli_push(&a.vary, &a.n_vary, optarg); break;
+		case OPT_SET: oom |= popc_cli_push(&a.sets, &a.n_sets, optarg); break;
+		case OPT_STIFFNESS: a.stiffness = optarg; break;
+		case OPT_TOL:
+			if (popc_parse_double_text(optarg, &a.tol) != POPC_PARSE_OK || !(a.tol >= 1e-4) ||
+			    !(a.tol <= 1)) {
+				fprintf(stderr, "popc map: --tol '%s': a number in [1e-4, 1]\n", optarg);
+				rc = 2;
+			}
+			break;
+		case OPT_PORT_TOL:
+			if (popc_parse_double_text(optarg, &a.port_tol_J) != POPC_PARSE_OK ||
+			    !(a.port_tol_J >= 0) || !(a.port_tol_J <= 1e6)) {
+				fprintf(stderr, "popc map: --port-tol '%s': joules in [0, 1e6]\n", optarg);
+				rc = 2;
+			}
+			break;
+		case OPT_CRITERION:
+			if (popc_map_criteria_parse(optarg, &a.criteria, &err) != 0) {
+				fprintf(stderr, "popc map: %s\n", err.msg);
+				rc = 2;
+			}
+			break;
+		case 'o': a.dir = optarg; break;
+		case 'j':
+			if (popc_parse_ll_text(optarg, 1, 4096, &a.jobs) != 0) {
+				fprintf(stderr, "popc map: -j '%s': a whole number in [1, 4096]\n", optarg);
+				rc = 2;
+			}
+			break;
+		case OPT_SHARD: a.shard_text = optarg; break;
+		case OPT_KEEP_LOG: a.keep_log = 1; break;
+		case OPT_ALLOW_OTHER_BUILD: a.allow_other_build = 1; break;
+		case 'q': a.quiet = 1; break;
+		case 'h': usage(stdout); rc = 0; break;
+		default: usage(stderr); rc = 2; break;
+		}
+	}
+	if (rc < 0) {
+		const char *why = optind >= argc       ? "missing SCENE file"
+				  : optind + 1 != argc ? "more than one SCENE file"
+				  : !a.dir             ? "missing -o DIR"
+				  : !a.dir[0]          ? "-o '': give a directory name"
+				  : a.n_variants == 0  ? "no --variant given"
+						       : NULL;
+		if (oom) {
+			fprintf(stderr, "popc map: out of memory\n");
+			rc = 1;
+		} else if (why) {
+			fprintf(stderr, "popc map: %s\n", why);
+			usage(stderr);
+			rc = 2;
+		} else {
+			a.scene_path = argv[optind];
+			rc = map_main(&a);
+		}
+	}
+	free(a.variants);
+	free(a.vary);
+	free(a.sets);
+	return rc;
+}

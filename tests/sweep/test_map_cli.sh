@@ -1,0 +1,120 @@
+#!/usr/bin/env bash
+# popc map as a user runs it (docs/MAPS.md): usage errors, a map of the
+# paper's plant with its boundary against the passivity relation it measures,
+# the PC variants' extension and its cost, the figure, an interrupted map
+# resumed without running a finished run again, and two shards giving the
+# one-machine boundary exactly.
+set -u
+POPC=${POPC:?POPC must name the popc program}
+SRC=${POPC_SOURCE_ROOT:?}
+SCENE=$SRC/data/scenes/paper.ini
+T=$(mktemp -d /tmp/popc-map-cli-XXXXXX)
+pid=
+cleanup() { [ -n "$pid" ] && kill "$pid" 2>/dev/null; rm -rf "$T"; }
+trap cleanup EXIT
+. "$SRC/tests/check.sh"
+well_formed() { awk -F, 'NR == 1 { n = NF } NF != n { bad = 1 } END { exit bad }' "$1"; }
+# data rows of every rows file of a map directory (header and notes left out)
+rows() { cat "$1"/rows/*.csv | grep -v '^run,' | grep -v '^#' | wc -l; }
+ids() { cat "$1"/rows/*.csv | grep -v '^run,' | grep -v '^#' | cut -d, -f1 | sort -u | wc -l; }
+# a cell of boundary.csv: col NAME, for the row whose first three cells are V,B,C
+cell() { awk -F, -v v="$2" -v b="$3" -v c="$4" -v name="$5" \
+  'NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
+   $1 == v && $2 == b && $3 == c { print $(col[name]) }' "$1"; }
+
+# the map of these tests: 2 s runs (contact begins at 0.7 s; the passive
+# boundary of 5 s runs is the same, docs/MAPS.md), K over three decades at 2 %
+MAP=(--variant none,ref-energy --vary environment.damping=0.1,0.25,0.4 --set run.duration=2
+     --stiffness 1e2:1e5 --tol 0.02 --criterion passive)
+
+# ---- usage: refused before anything runs
+expect_exit 0 "map --help" "$POPC" map --help
+check "  --help names the criteria" grep -q "limit-cycle" "$T/out"
+expect_exit 2 "map without --variant" "$POPC" map "$SCENE" -o "$T/x"
+check "  says so" err_has "no --variant"
+expect_exit 2 "map with an unknown criterion" "$POPC" map "$SCENE" --variant none --criterion stable -o "$T/x"
+check "  names it and the allowed ones" err_has "'stable': not a criterion (allowed: diverged"
+expect_exit 2 "map with --stiffness HI:LO" "$POPC" map "$SCENE" --variant none --stiffness 1e4:1e2 -o "$T/x"
+check "  says the range" err_has "0 < LO < HI"
+expect_exit 2 "map varying the stiffness itself" "$POPC" map "$SCENE" --variant none --vary environment.stiffness=1,2 -o "$T/x"
+check "  says the map varies it" err_has "the map varies this key itself"
+expect_exit 2 "map with an unknown variant" "$POPC" map "$SCENE" --variant none,nope -o "$T/x"
+check "  nothing written" test ! -e "$T/x/boundary.csv"
+
+# ---- one machine
+expect_exit 0 "map of none and ref-energy over three B" "$POPC" map "$SCENE" "${MAP[@]}" -o "$T/a" -j 2 -q
+check "  boundary.csv is well formed" well_formed "$T/a/boundary.csv"
+check "  with 6 lines" test "$(wc -l < "$T/a/boundary.csv")" -eq 7
+check "  the table is on stdout" grep -q "^none  *0.25  *passive  *bracket" "$T/out"
+check "  figure: map.gp, map.png, map.pdf" test -s "$T/a/map.gp" -a -s "$T/a/map.png" -a -s "$T/a/map.pdf"
+check "  map.png is a PNG" bash -c "head -c 8 '$T/a/map.png' | grep -q PNG"
+check "  every run once: rows = distinct ids" test "$(rows "$T/a")" -eq "$(ids "$T/a")"
+total=0
+for v in none ref-energy; do for b in 0.1 0.25 0.4; do
+  total=$((total + $(cell "$T/a/boundary.csv" $v $b passive line_runs)))
+  check "  $v B=$b: a bracket" test "$(cell "$T/a/boundary.csv" $v $b passive outcome)" = bracket
+  check "  $v B=$b: at most 2 + 9 + 2 runs" test "$(cell "$T/a/boundary.csv" $v $b passive runs)" -le 13
+  check "  $v B=$b: width within 2 %" awk -v w="$(cell "$T/a/boundary.csv" $v $b passive width)" 'BEGIN { exit !(w > 0 && w <= 0.02) }'
+done; done
+check "  runs in boundary.csv = rows kept ($total)" test "$total" -eq "$(rows "$T/a")"
+# none's E_port boundary is the sampled VE's low-frequency passivity
+# condition B > K T / 2, K* = 2 B / T (docs/MAPS.md); it meets the
+# Colgate-Schenkel line 2 (b - |B|) / T where they cross, at B = b / 2 = 0.25
+for b in 0.1 0.25 0.4; do
+  ok=$(cell "$T/a/boundary.csv" none $b passive k_ok_N_per_m); badk=$(cell "$T/a/boundary.csv" none $b passive k_bad_N_per_m)
+  check "  none B=$b: K* = 2B/T = $(awk -v b=$b 'BEGIN{print 2*b/0.001}') within the bracket [$ok, $badk] and 2 %" \
+    awk -v ok="$ok" -v bad="$badk" -v b=$b 'BEGIN { k = 2 * b / 0.001; exit !(k >= ok / 1.02 && k <= bad * 1.02) }'
+done
+cs=$(cell "$T/a/boundary.csv" none 0.25 passive k_colgate_schenkel_N_per_m)
+check "  none B=0.25: the Colgate-Schenkel K ($cs) in the bracket" \
+  awk -v ok="$(cell "$T/a/boundary.csv" none 0.25 passive k_ok_N_per_m)" -v bad="$(cell "$T/a/boundary.csv" none 0.25 passive k_bad_N_per_m)" -v k="$cs" \
+  'BEGIN { exit !(k >= ok && k <= bad) }'
+# the PC extends the passive region at every B, at a cost it measures
+for b in 0.1 0.25 0.4; do
+  check "  ref-energy B=$b passive far above none's edge (x 5)" \
+    awk -v p="$(cell "$T/a/boundary.csv" ref-energy $b passive k_ok_N_per_m)" -v n="$(cell "$T/a/boundary.csv" none $b passive k_bad_N_per_m)" 'BEGIN { exit !(p > 5 * n) }'
+  check "  ref-energy B=$b: the PC's energy at the edge is measured (> 0 J)" \
+    awk -v e="$(cell "$T/a/boundary.csv" ref-energy $b passive pc_energy_J)" 'BEGIN { exit !(e + 0 > 0) }'
+done
+expect_exit 0 "the same map again" "$POPC" map "$SCENE" "${MAP[@]}" -o "$T/a" -j 2
+check "  runs nothing" err_has "0 runs made now in 0 steps"
+
+# ---- interrupted, then resumed: no finished run made again
+"$POPC" map "$SCENE" "${MAP[@]}" -o "$T/r" -j 1 -q >"$T/r.out" 2>"$T/r.err" &
+pid=$!
+for _ in $(seq 1 600); do
+  [ -d "$T/r/rows" ] && [ "$(cat "$T/r"/rows/*.csv 2>/dev/null | grep -vc '^run,')" -ge 12 ] && break
+  kill -0 "$pid" 2>/dev/null || break
+  sleep 0.05
+done
+kill -INT "$pid" 2>/dev/null
+wait "$pid"; rc=$?; pid=
+check "  interrupted map exits 5 (got $rc)" test "$rc" -eq 5
+check "  and writes no boundary" test ! -e "$T/r/boundary.csv"
+before=$(rows "$T/r")
+check "  $before runs kept" test "$before" -ge 12
+expect_exit 0 "the map resumed" "$POPC" map "$SCENE" "${MAP[@]}" -o "$T/r" -j 2
+check "  no run made twice: rows = distinct ids" test "$(rows "$T/r")" -eq "$(ids "$T/r")"
+check "  the runs = the one-machine map's" test "$(rows "$T/r")" -eq "$(rows "$T/a")"
+check "  made now = total - kept" err_has "$(( $(rows "$T/a") - before )) runs made now"
+check "  the same boundary" cmp "$T/a/boundary.csv" "$T/r/boundary.csv"
+
+# ---- two shards sharing the directory, each run until boundary.csv exists
+n=0
+while [ ! -e "$T/s/boundary.csv" ] && [ $n -lt 60 ]; do
+  "$POPC" map "$SCENE" "${MAP[@]}" -o "$T/s" -j 1 -q --shard 1/2 >/dev/null 2>>"$T/s.err" || break
+  "$POPC" map "$SCENE" "${MAP[@]}" -o "$T/s" -j 1 -q --shard 2/2 >/dev/null 2>>"$T/s.err" || break
+  n=$((n + 1))
+done
+check "  shards finish in $n rounds" test -e "$T/s/boundary.csv"
+check "  a shard waiting for the other says so" grep -q "runs of other shards pending" "$T/s.err"
+check "  two shards give the one-machine boundary exactly" cmp "$T/a/boundary.csv" "$T/s/boundary.csv"
+check "  and make the same runs, each once" test "$(rows "$T/s")" -eq "$(rows "$T/a")" -a "$(rows "$T/s")" -eq "$(ids "$T/s")"
+
+# ---- a line that is not monotonic is said, not drawn: ref-energy's PC
+# chatters at 100 N/m over 5 s and not at 1e6 N/m
+expect_exit 0 "chatter map of ref-energy" "$POPC" map "$SCENE" --variant ref-energy --vary environment.damping=0.1 \
+  --stiffness 1e2:1e6 --criterion chatter -o "$T/c" -q
+check "  not-monotonic, no edge" bash -c "grep -q '^ref-energy,0.1,chatter,not-monotonic,,,' '$T/c/boundary.csv'"
+check "  the note names the fold" grep -q "above unacceptable at K = 100" "$T/c/boundary.csv"
+check_summary
