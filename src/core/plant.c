@@ -305,7 +305,33 @@ int popc_plant_init(popc_plant *p, const popc_plant_config *cfg, popc_error *err
 				"lower K, or raise run.rate",
 				turn, POPC_PLANT_TURN_MAX_RAD, cfg->stiffness_Npm, m, cfg->damping_Nspm, h);
 	}
+	if (!(cfg->coulomb_N >= 0) || !isfinite(cfg->coulomb_N) || !(cfg->stiction_N >= 0) ||
+	    !isfinite(cfg->stiction_N))
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "plant: device.coulomb = %g N and device.stiction = %g N must be "
+				      "finite and >= 0",
+				      cfg->coulomb_N, cfg->stiction_N);
+	if (cfg->stiction_N > 0 && cfg->stiction_N < cfg->coulomb_N)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "plant: device.stiction = %g N is below device.coulomb = %g N; "
+				      "allowed device.stiction >= device.coulomb (or 0: equal to it)",
+				      cfg->stiction_N, cfg->coulomb_N);
+	memset(p, 0, sizeof *p);
 	p->cfg = *cfg;
+	p->friction = cfg->coulomb_N > 0 || cfg->stiction_N > 0;
+	p->friction_subs = 1;
+	if (p->friction && cfg->method == POPC_INTEGRATOR_EXACT) {
+		/* v = 0 is searched on sub-intervals that turn at most 1/2 rad
+		 * (plant_friction.c, FRICTION_TURN_RAD) */
+		double rate = fmax(sqrt(k_m), cfg->omega_radps);
+		double n = ceil(rate * h / 0.5);
+		p->friction_subs = n <= 1.0 ? 1 : n >= 256.0 ? 256 : (int)n;
+		if (popc_plant_coeffs(cfg, h / p->friction_subs, &p->sub) != 0)
+			return popc_error_set(err, POPC_ERR_NUMERIC,
+					      "plant: the exact step matrices for T / %d = %g s are not "
+					      "finite (K/M = %g 1/s^2, B/M = %g 1/s)",
+					      p->friction_subs, h / p->friction_subs, k_m, b_m);
+	}
 	if (popc_plant_coeffs(cfg, cfg->period_s, &p->full) != 0)
 		return popc_error_set(err, POPC_ERR_NUMERIC,
 				      "plant: the %s step matrices for T = %g s are not finite (K/M = %g "
@@ -379,8 +405,20 @@ static void fixed_step(const popc_plant_config *cfg, const popc_plant_step_coeff
 	st->v_mps = v;
 }
 
+double popc_plant_stick_N(const popc_plant_config *cfg)
+{
+	return fmax(cfg->stiction_N, cfg->coulomb_N);
+}
+
 void popc_plant_step(const popc_plant *p, popc_plant_state *st, const popc_plant_input *u)
 {
+	if (p->friction) {
+		/* the full period's matrices are finite (popc_plant_init); a
+		 * segment's are finite for an h below T (the same exponential,
+		 * shorter) */
+		(void)popc_plant_friction_step(p, st, u, p->full.h_s);
+		return;
+	}
 	if (p->cfg.method == POPC_INTEGRATOR_EXACT)
 		popc_plant_step_exact(&p->full, st, u);
 	else
@@ -390,6 +428,8 @@ void popc_plant_step(const popc_plant *p, popc_plant_state *st, const popc_plant
 int popc_plant_step_h(const popc_plant *p, popc_plant_state *st, const popc_plant_input *u,
 		      double h_s)
 {
+	if (p->friction)
+		return popc_plant_friction_step(p, st, u, h_s);
 	if (h_s == p->full.h_s) {
 		popc_plant_step(p, st, u);
 		return 0;
