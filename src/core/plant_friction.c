@@ -254,21 +254,36 @@ static double break_away(const popc_plant_config *c, const popc_plant_input *u, 
 			return 2.0 * h + 1.0;
 		double edge = u->u1_Nps > 0.0 ? f_s : -f_s;
 		double t = (edge + kx - u->u0_N) / u->u1_Nps;
-		if (!(t > tau))
-			t = nextafter(tau, HUGE_VAL);
 		if (t > h)
 			return t;
-		/* a few roundings each way: the first double past the edge (within
-		 * 64 doubles: a force flat to rounding over more is at the edge) */
-		for (int i = 0; i < 64 && OUTSIDE(t); i++) {
-			double prev = nextafter(t, -HUGE_VAL);
-			if (!(prev > tau) || !OUTSIDE(prev))
-				break;
-			t = prev;
+		if (!(t > tau))
+			t = tau;
+		if (OUTSIDE(t)) {
+			/* the closed form rounds: back to the first double past the
+			 * edge (within 64 doubles: a force flat to rounding over more
+			 * is at the edge anyway) */
+			for (int i = 0; i < 64; i++) {
+				double prev = nextafter(t, -HUGE_VAL);
+				if (!(prev > tau) || !OUTSIDE(prev))
+					break;
+				t = prev;
+			}
+			return t;
 		}
-		for (int i = 0; i < 64 && !OUTSIDE(t) && t <= h; i++)
-			t = nextafter(t, HUGE_VAL);
-		return OUTSIDE(t) ? t : 2.0 * h + 1.0;
+		/* g is monotone: past the edge from some time in (t, h] or never */
+		if (!OUTSIDE(h))
+			return 2.0 * h + 1.0;
+		double lo = t, hi = h;
+		for (int it = 0; it < ROOT_ITERATIONS_MAX; it++) {
+			double mid = lo + 0.5 * (hi - lo);
+			if (!(mid > lo && mid < hi))
+				break;
+			if (OUTSIDE(mid))
+				hi = mid;
+			else
+				lo = mid;
+		}
+		return hi;
 	}
 	int n = subs < 1 ? 1 : subs;
 	double step = (h - tau) / n, lo = tau;
