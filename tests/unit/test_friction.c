@@ -24,11 +24,15 @@
 typedef struct ramp_case {
 	double m, b, k, f_c, f_s, speed, period, duration;
 	double b_ho; /* the part of b that is the operator's (drives B_HO x_d') */
+	double sine_N, omega_radps; /* an exogenous force sine_N sin(omega t) (0: none) */
 } ramp_case;
 
 static double ramp_u(const ramp_case *c, double t)
 {
-	return c->k * c->speed * t + c->b_ho * c->speed;
+	double u = c->k * c->speed * t + c->b_ho * c->speed;
+	if (c->sine_N != 0.0)
+		u += c->sine_N * sin(c->omega_radps * t);
+	return u;
 }
 
 /* ---- the reference: RK4 at 1e-7 s with event location -------------------- */
@@ -115,7 +119,7 @@ static popc_plant ramp_plant(const ramp_case *c, popc_integrator method, int sub
 {
 	popc_plant_config cfg = {.mass_kg = c->m, .damping_Nspm = c->b, .stiffness_Npm = c->k,
 				 .method = method, .substeps = substeps, .period_s = c->period,
-				 .coulomb_N = c->f_c, .stiction_N = c->f_s};
+				 .coulomb_N = c->f_c, .stiction_N = c->f_s, .omega_radps = c->omega_radps};
 	popc_plant p;
 	popc_error err;
 	assert_int_equal(popc_plant_init(&p, &cfg, &err), 0);
@@ -123,10 +127,17 @@ static popc_plant ramp_plant(const ramp_case *c, popc_integrator method, int sub
 	return p;
 }
 
-/* The tick's input: u(t_k + tau) = u(t_k) + K speed tau (first-order hold) */
+/* The tick's input: u(t_k + tau) = u(t_k) + K speed tau (first-order hold),
+ * plus the sine's two columns */
 static popc_plant_input ramp_input(const ramp_case *c, long k)
 {
-	popc_plant_input u = {ramp_u(c, (double)k * c->period), c->k * c->speed, 0.0, 0.0};
+	double t = (double)k * c->period;
+	popc_plant_input u = {c->k * c->speed * t + c->b_ho * c->speed, c->k * c->speed, 0.0, 0.0};
+	if (c->sine_N != 0.0) {
+		/* sine_N sin(w (t + tau)) = us sin(w tau) + uc cos(w tau) */
+		u.us_N = c->sine_N * cos(c->omega_radps * t);
+		u.uc_N = c->sine_N * sin(c->omega_radps * t);
+	}
 	return u;
 }
 
@@ -235,6 +246,26 @@ static void test_exact_fast_plant_against_reference(void **state)
 		      p.friction_subs, r.max_err_m, r.ref_slips, r.ref_sticks);
 	assert_true(r.ref_slips >= 2);
 	assert_true(r.max_err_m < 1e-10);
+}
+
+/* A sine force on a held hand (speed 0): 1 N at 1 Hz against F_s = 0.5 N,
+ * F_c = 0.3 N: the body slides with the force, sticks where it turns (the
+ * net force there is about F_c < F_s) and breaks away when the force has
+ * come back by about F_c + F_s; the break-away times are bisected on the
+ * sine. Bound 1e-9 m (the sine's rounding: popc turns it per tick by the
+ * angle-sum rule, the reference calls sin(w t)) */
+static void test_exact_sine_against_reference(void **state)
+{
+	(void)state;
+	static const ramp_case c = {.m = 0.3, .b = 0.5, .k = 50.0, .f_c = 0.3, .f_s = 0.5,
+				    .speed = 0.0, .period = 1e-3, .duration = 2.5, .b_ho = 0.5,
+				    .sine_N = 1.0, .omega_radps = 6.283185307179586};
+	run_result r = run_against_reference(&c, POPC_INTEGRATOR_EXACT, 1);
+	print_message("exact, sine force: max |x - x_ref| = %.3g m, %ld breaks, %ld sticks\n",
+		      r.max_err_m, r.ref_slips, r.ref_sticks);
+	assert_true(r.ref_slips >= 4 && r.ref_sticks >= 4);
+	assert_true(r.stuck_phases == r.ref_sticks);
+	assert_true(r.max_err_m < 1e-9);
 }
 
 /* The fixed-step integrators with the same law: their own error against the
@@ -357,6 +388,7 @@ int main(void)
 		cmocka_unit_test(test_exact_stick_slip_against_reference),
 		cmocka_unit_test(test_exact_coulomb_only_against_reference),
 		cmocka_unit_test(test_exact_fast_plant_against_reference),
+		cmocka_unit_test(test_exact_sine_against_reference),
 		cmocka_unit_test(test_fixed_step_against_reference),
 		cmocka_unit_test(test_slide_to_rest_closed_form),
 		cmocka_unit_test(test_no_friction_is_linear_and_unwritten),
