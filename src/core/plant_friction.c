@@ -55,6 +55,11 @@
  * the root is near 0) */
 #define ROOT_ITERATIONS_MAX 2200
 
+double popc_plant_stick_N(const popc_plant_config *cfg)
+{
+	return fmax(cfg->stiction_N, cfg->coulomb_N);
+}
+
 static double input_at(const popc_plant_input *u, double w, double tau)
 {
 	double val = u->u0_N + u->u1_Nps * tau;
