@@ -233,7 +233,7 @@ static void test_exact_coulomb_only_against_reference(void **state)
 }
 
 /* A stiffer plant at a slow control rate: v = 0 searched on sub-intervals
- * of the period (sqrt(K/M) T = 4.1 rad per period: 9 sub-intervals) */
+ * of the period (sqrt(K/M) T = 1.3 rad per period: 3 sub-intervals) */
 static void test_exact_fast_plant_against_reference(void **state)
 {
 	(void)state;
