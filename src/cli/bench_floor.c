@@ -66,6 +66,12 @@ static int applies(const popc_scene *s, const char **why)
 		*why = "only the exact integrator";
 	else if (s->variant == POPC_VARIANT_FILTERED_VELOCITY)
 		*why = "every variant but filtered-velocity (its FOAW estimator is a loop of its own)";
+	else if (s->variant > POPC_VARIANT_IMPROVED)
+		*why = "only the variants of the paper (none to improved), not its successors";
+	else if (s->delay_ticks != 0)
+		*why = "only run.delay_ticks = 0";
+	else if (s->dev_coulomb_N != 0.0 || s->dev_stiction_N != 0.0)
+		*why = "only a device without friction";
 	else if (s->intent == POPC_INTENT_SINE)
 		*why = "only affine operator intents (ramp, force, table)";
 	else

@@ -1,4 +1,5 @@
-/* The lumped plant M x'' = u(t) - B x' - K x and its integrators (plant.h). */
+/* The lumped plant M x'' = u(t) - B x' - K x: validation, setup and the step
+ * matrices (plant.h); the steps themselves are in plant_step.c. */
 #include "popc/core/plant.h"
 
 #include <math.h>
@@ -305,102 +306,38 @@ int popc_plant_init(popc_plant *p, const popc_plant_config *cfg, popc_error *err
 				"lower K, or raise run.rate",
 				turn, POPC_PLANT_TURN_MAX_RAD, cfg->stiffness_Npm, m, cfg->damping_Nspm, h);
 	}
+	if (!(cfg->coulomb_N >= 0) || !isfinite(cfg->coulomb_N) || !(cfg->stiction_N >= 0) ||
+	    !isfinite(cfg->stiction_N))
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "plant: device.coulomb = %g N and device.stiction = %g N must be "
+				      "finite and >= 0",
+				      cfg->coulomb_N, cfg->stiction_N);
+	if (cfg->stiction_N > 0 && cfg->stiction_N < cfg->coulomb_N)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "plant: device.stiction = %g N is below device.coulomb = %g N; "
+				      "allowed device.stiction >= device.coulomb (or 0: equal to it)",
+				      cfg->stiction_N, cfg->coulomb_N);
+	memset(p, 0, sizeof *p);
 	p->cfg = *cfg;
+	p->friction = cfg->coulomb_N > 0 || cfg->stiction_N > 0;
+	p->friction_subs = 1;
+	if (p->friction && cfg->method == POPC_INTEGRATOR_EXACT) {
+		/* v = 0 is searched on sub-intervals that turn at most 1/2 rad
+		 * (plant_friction.c, FRICTION_TURN_RAD) */
+		double rate = fmax(sqrt(k_m), cfg->omega_radps);
+		double n = ceil(rate * h / 0.5);
+		p->friction_subs = n <= 1.0 ? 1 : n >= 256.0 ? 256 : (int)n;
+		if (popc_plant_coeffs(cfg, h / p->friction_subs, &p->sub) != 0)
+			return popc_error_set(err, POPC_ERR_NUMERIC,
+					      "plant: the exact step matrices for T / %d = %g s are not "
+					      "finite (K/M = %g 1/s^2, B/M = %g 1/s)",
+					      p->friction_subs, h / p->friction_subs, k_m, b_m);
+	}
 	if (popc_plant_coeffs(cfg, cfg->period_s, &p->full) != 0)
 		return popc_error_set(err, POPC_ERR_NUMERIC,
 				      "plant: the %s step matrices for T = %g s are not finite (K/M = %g "
 				      "1/s^2, B/M = %g 1/s): the plant (operator.* + device.* mass, damping, "
 				      "stiffness) is too stiff for double precision at this run.rate",
 				      popc_integrator_name(cfg->method), h, k_m, b_m);
-	return 0;
-}
-
-static inline double input_at(const popc_plant_input *u, double w, double tau)
-{
-	double val = u->u0_N + u->u1_Nps * tau;
-	if (w != 0.0)
-		val += u->us_N * sin(w * tau) + u->uc_N * cos(w * tau);
-	return val;
-}
-
-static void fixed_step(const popc_plant_config *cfg, const popc_plant_step_coeffs *c,
-		       popc_plant_state *st, const popc_plant_input *u)
-{
-	const int n = cfg->substeps;
-	const double hs = c->h_s / n, m = cfg->mass_kg, k = cfg->stiffness_Npm,
-		     b = cfg->damping_Nspm, w = cfg->omega_radps;
-	double x = st->x_m, v = st->v_mps;
-	switch (cfg->method) {
-	case POPC_INTEGRATOR_TRAPEZOID: {
-		double u_prev = input_at(u, w, 0.0);
-		for (int i = 0; i < n; i++) {
-			double u_next = input_at(u, w, (i + 1) * hs);
-			double xs = c->trap[0][0] * x + c->trap[0][1] * v + c->trap_in[0] * (u_prev + u_next);
-			double vs = c->trap[1][0] * x + c->trap[1][1] * v + c->trap_in[1] * (u_prev + u_next);
-			x = xs;
-			v = vs;
-			u_prev = u_next;
-		}
-		break;
-	}
-	case POPC_INTEGRATOR_RK4:
-		for (int i = 0; i < n; i++) {
-			double t = i * hs;
-			double u0 = input_at(u, w, t), um = input_at(u, w, t + hs / 2),
-			       u1 = input_at(u, w, t + hs);
-			double k1x = v, k1v = (u0 - b * v - k * x) / m;
-			double x2 = x + hs / 2 * k1x, v2 = v + hs / 2 * k1v;
-			double k2x = v2, k2v = (um - b * v2 - k * x2) / m;
-			double x3 = x + hs / 2 * k2x, v3 = v + hs / 2 * k2v;
-			double k3x = v3, k3v = (um - b * v3 - k * x3) / m;
-			double x4 = x + hs * k3x, v4 = v + hs * k3v;
-			double k4x = v4, k4v = (u1 - b * v4 - k * x4) / m;
-			x += hs / 6 * (k1x + 2 * k2x + 2 * k3x + k4x);
-			v += hs / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
-		}
-		break;
-	case POPC_INTEGRATOR_SEMI_IMPLICIT_EULER:
-		for (int i = 0; i < n; i++) {
-			v += hs * (input_at(u, w, i * hs) - b * v - k * x) / m;
-			x += hs * v;
-		}
-		break;
-	case POPC_INTEGRATOR_EULER:
-		for (int i = 0; i < n; i++) {
-			double a = (input_at(u, w, i * hs) - b * v - k * x) / m;
-			x += hs * v;
-			v += hs * a;
-		}
-		break;
-	default:
-		break;
-	}
-	st->x_m = x;
-	st->v_mps = v;
-}
-
-void popc_plant_step(const popc_plant *p, popc_plant_state *st, const popc_plant_input *u)
-{
-	if (p->cfg.method == POPC_INTEGRATOR_EXACT)
-		popc_plant_step_exact(&p->full, st, u);
-	else
-		fixed_step(&p->cfg, &p->full, st, u);
-}
-
-int popc_plant_step_h(const popc_plant *p, popc_plant_state *st, const popc_plant_input *u,
-		      double h_s)
-{
-	if (h_s == p->full.h_s) {
-		popc_plant_step(p, st, u);
-		return 0;
-	}
-	popc_plant_step_coeffs c;
-	int status = popc_plant_coeffs(&p->cfg, h_s, &c);
-	if (status)
-		return status;
-	if (p->cfg.method == POPC_INTEGRATOR_EXACT)
-		popc_plant_step_exact(&c, st, u);
-	else
-		fixed_step(&p->cfg, &c, st, u);
 	return 0;
 }

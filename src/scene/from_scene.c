@@ -24,6 +24,8 @@ void popc_plant_config_from_scene(popc_plant_config *cfg, const popc_scene *s)
 	cfg->method = s->integrator;
 	cfg->substeps = s->substeps;
 	cfg->period_s = popc_scene_period_s(s);
+	cfg->coulomb_N = s->dev_coulomb_N;
+	cfg->stiction_N = s->dev_stiction_N;
 }
 
 void popc_environment_from_scene(popc_environment *e, const popc_scene *s)

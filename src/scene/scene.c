@@ -30,25 +30,30 @@ typedef struct scene_key {
 	const char *const *names; /* KEY_ENUM: NULL-terminated names, index = value */
 	const char *help;
 	const char *def;          /* the default, as a scene file spells it (set_key reads it) */
+	int declared_only;        /* physics modelled only when declared: written (resolved
+				   * scene, log header) only when not 0, so that a scene
+				   * without it keeps its bytes */
 } scene_key;
 
 static const char *const axis_names[] = {"sim", "modbus", NULL};
 
 #define OFF(field) offsetof(popc_scene, field)
 #define NUM(sec, k, field, def, lo, hi, open, unit, help) \
-	{sec, k, KEY_DOUBLE, OFF(field), lo, hi, open, unit, NULL, help, def}
+	{sec, k, KEY_DOUBLE, OFF(field), lo, hi, open, unit, NULL, help, def, 0}
+#define NUM_DECLARED(sec, k, field, lo, hi, unit, help) \
+	{sec, k, KEY_DOUBLE, OFF(field), lo, hi, 0, unit, NULL, help, "0", 1}
 
 static const scene_key scene_keys[] = {
 	NUM("run", "duration", duration_s, "5", 0, 1e7, 1, "s", "simulated time"),
 	NUM("run", "rate", rate_Hz, "1000", 1, 1e6, 0, "Hz", "control rate 1/T"),
 	{"run", "delay_ticks", KEY_INT, OFF(delay_ticks), 0, POPC_SCENE_MAX_DELAY_TICKS, 0, "periods", NULL,
-	 "loop delay: the command of tick k takes effect at tick k + 1 + delay_ticks", "0"},
+	 "loop delay: the command of tick k takes effect at tick k + 1 + delay_ticks", "0", 0},
 
 	NUM("operator", "mass", op_mass_kg, "0.1", 0, 1e3, 0, "kg", "hand mass M_HO"),
 	NUM("operator", "damping", op_damping_Nspm, "0.5", 0, 1e6, 0, "N s/m", "hand damping B_HO"),
 	NUM("operator", "stiffness", op_stiffness_Npm, "50", 0, 1e9, 0, "N/m", "hand stiffness K_HO"),
 	{"operator", "intent", KEY_ENUM, OFF(intent), 0, 0, 0, "", popc_intent_kind_names,
-	 "what the operator wants: x_d(t) or a force", "ramp"},
+	 "what the operator wants: x_d(t) or a force", "ramp", 0},
 	NUM("operator", "x0", op_x0_m, "-0.0065", -1e3, 1e3, 0, "m", "rest position of the hand (start of x_d)"),
 	NUM("operator", "t0", op_t0_s, "0.1", 0, 1e7, 0, "s", "start of the ramp, force or sine"),
 	NUM("operator", "speed", op_speed_mps, "0.045", 0, 1e3, 1, "m/s", "ramp speed"),
@@ -59,16 +64,20 @@ static const scene_key scene_keys[] = {
 	NUM("operator", "frequency", op_frequency_Hz, "1", 0, 1e5, 0, "Hz", "sine frequency"),
 	{"operator", "table", KEY_STRING, OFF(op_table), 0, 0, 0, "path", NULL,
 	 "table intent: CSV of t,value rows (relative to the scene file; on the command "
-	 "line, to the working directory)", ""},
+	 "line, to the working directory)", "", 0},
 	{"operator", "table_quantity", KEY_ENUM, OFF(op_table_quantity), 0, 0, 0, "", popc_table_quantity_names,
-	 "table intent: the value column is x_d (m) or an exogenous force (N)", "position"},
+	 "table intent: the value column is x_d (m) or an exogenous force (N)", "position", 0},
 
 	NUM("device", "mass", dev_mass_kg, "0.2", 0, 1e3, 0, "kg", "device mass M_HI"),
 	NUM("device", "damping", dev_damping_Nspm, "0", 0, 1e6, 0, "N s/m", "device damping B_HI"),
 	NUM("device", "stiffness", dev_stiffness_Npm, "0", 0, 1e9, 0, "N/m", "device stiffness K_HI"),
+	NUM_DECLARED("device", "coulomb", dev_coulomb_N, 0, 1e6, "N",
+		     "Coulomb friction F_c: -F_c sign(v) while sliding (0: none)"),
+	NUM_DECLARED("device", "stiction", dev_stiction_N, 0, 1e6, "N",
+		     "static friction F_s >= F_c: at v = 0 stuck while |net force| <= F_s (0: = F_c)"),
 
 	{"environment", "kind", KEY_ENUM, OFF(env_kind), 0, 0, 0, "", popc_environment_kind_names,
-	 "unilateral wall or bilateral spring", "wall"},
+	 "unilateral wall or bilateral spring", "wall", 0},
 	NUM("environment", "stiffness", env_stiffness_Npm, "1000", 0, 1e9, 0, "N/m", "K_e"),
 	NUM("environment", "damping", env_damping_Nspm, "0", 0, 1e6, 0, "N s/m", "B_e (wall damping)"),
 	NUM("environment", "position", env_position_m, "0", -1e3, 1e3, 0, "m", "wall surface / spring rest"),
@@ -76,36 +85,36 @@ static const scene_key scene_keys[] = {
 	NUM("encoder", "resolution", enc_resolution_m, "1e-5", 0, 1, 1, "m", "delta: x_meas = delta floor(x/delta)"),
 
 	{"controller", "variant", KEY_ENUM, OFF(variant), 0, 0, 0, "", popc_variant_names,
-	 "PO/PC variant (DESIGN section 4)", "ref-energy"},
+	 "PO/PC variant (DESIGN section 4)", "ref-energy", 0},
 	NUM("controller", "pc_bound", pc_bound_N, "5", 0, 1e6, 1, "N", "bound on |f_pc|"),
 	{"controller", "ignore_mode", KEY_ENUM, OFF(ignore_mode), 0, 0, 0, "", popc_ignore_mode_names,
-	 "Table I Prev_fc: undo f_c(k-1) (Fig. 7) or literal f_e(k) (docs/TABLE1.md)", "undo"},
+	 "Table I Prev_fc: undo f_c(k-1) (Fig. 7) or literal f_e(k) (docs/TABLE1.md)", "undo", 0},
 	{"controller", "foaw_window", KEY_INT, OFF(foaw_window), 1, POPC_FOAW_MAX_WINDOW, 0,
-	 "samples", NULL, "filtered-velocity: longest FOAW window", "16"},
+	 "samples", NULL, "filtered-velocity: longest FOAW window", "16", 0},
 	NUM("controller", "foaw_noise", foaw_noise_m, "0", 0, 1, 0, "m",
 	    "filtered-velocity: FOAW noise band d (0: the encoder resolution)"),
 	{"controller", "reversal_count", KEY_INT, OFF(reversal_count), 1, POPC_REVERSAL_MAX_COUNT, 0,
-	 "", NULL, "pc-off-reversals: reversals of the count direction that turn the PC off ...", "4"},
+	 "", NULL, "pc-off-reversals: reversals of the count direction that turn the PC off ...", "4", 0},
 	{"controller", "reversal_window", KEY_INT, OFF(reversal_window), 1, 1e7, 0, "ticks", NULL,
-	 "pc-off-reversals: ... when they fall within this many ticks", "100"},
+	 "pc-off-reversals: ... when they fall within this many ticks", "100", 0},
 	{"controller", "po_window", KEY_INT, OFF(po_window), 1, POPC_PO_MAX_WINDOW, 0, "ticks", NULL,
-	 "windowed-po: the PO sums W - E_ref over the last po_window ticks", "25"},
+	 "windowed-po: the PO sums W - E_ref over the last po_window ticks", "25", 0},
 	NUM("controller", "po_velocity_floor", po_velocity_floor_mps, "0.01", 0, 1e3, 0, "m/s",
 	    "windowed-po: no PC below this measured speed |dx| / T"),
 	NUM("controller", "po_damping_max", po_damping_max_Nspm, "50", 0, 1e9, 0, "N s/m",
 	    "windowed-po: bound on the PC's damping |f_pc| / |v|"),
 
 	{"integrator", "method", KEY_ENUM, OFF(integrator), 0, 0, 0, "", popc_integrator_names,
-	 "plant integration", "exact"},
+	 "plant integration", "exact", 0},
 	{"integrator", "substeps", KEY_INT, OFF(substeps), 1, 1e6, 0, "", NULL,
-	 "fixed-step integrators: steps per control period", "100"},
+	 "fixed-step integrators: steps per control period", "100", 0},
 
 	{"axis", "kind", KEY_ENUM, OFF(axis), 0, 0, 0, "", axis_names,
-	 "sim (the plant above) or modbus (a servo drive)", "sim"},
+	 "sim (the plant above) or modbus (a servo drive)", "sim", 0},
 	{"axis", "map", KEY_STRING, OFF(axis_map), 0, 0, 0, "path", NULL,
-	 "modbus: register map file (relative as operator.table)", ""},
+	 "modbus: register map file (relative as operator.table)", "", 0},
 	{"axis", "connect", KEY_STRING, OFF(axis_connect), 0, 0, 0, "uri", NULL,
-	 "modbus: " POPC_URI_NOTATION, ""},
+	 "modbus: " POPC_URI_NOTATION, "", 0},
 };
 
 #define N_KEYS (sizeof scene_keys / sizeof scene_keys[0])
@@ -603,6 +612,12 @@ int popc_scene_validate(const popc_scene *s, popc_error *err)
 		return popc_error_set(err, POPC_ERR_INVALID,
 				      "%s: run.duration * run.rate = %.0f ticks; at most 4e9", src,
 				      s->duration_s * s->rate_Hz);
+	if (s->dev_stiction_N > 0 && s->dev_stiction_N < s->dev_coulomb_N)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: device.stiction = %g N is below device.coulomb = %g N; allowed "
+				      "device.stiction >= device.coulomb, or 0 (static friction equal to "
+				      "the Coulomb friction)",
+				      src, s->dev_stiction_N, s->dev_coulomb_N);
 	if (strcmp(s->axis, "modbus") == 0 && (!s->axis_map[0] || !s->axis_connect[0]))
 		return popc_error_set(err, POPC_ERR_INVALID,
 				      "%s: axis.kind = modbus needs axis.map and axis.connect", src);
@@ -638,6 +653,8 @@ void popc_scene_write(const popc_scene *s, FILE *f, const char *prefix)
 			fprintf(f, "%s[%s]\n", prefix, section);
 		}
 		const char *field = (const char *)s + k->offset;
+		if (k->declared_only && *(const double *)(const void *)field == 0.0)
+			continue;
 		switch (k->type) {
 		case KEY_DOUBLE: {
 			char num[POPC_DOUBLE_TEXT_MAX + 1];

@@ -49,6 +49,11 @@ typedef struct popc_plant_config {
 	popc_integrator method;
 	int substeps;              /* >= 1; ignored by the exact method */
 	double period_s;           /* control period T */
+	/* Device friction (plant_friction.c), modelled only when one is > 0:
+	 * Coulomb -coulomb_N sign(v) while sliding; at v = 0 the body sticks
+	 * while |u(t) - K x| <= max(stiction_N, coulomb_N). Both 0: the linear
+	 * plant above, bit for bit. */
+	double coulomb_N, stiction_N;
 } popc_plant_config;
 
 /* Precomputed step of length h: x+ = Phi x + Gam u (exact) or the integrator's
@@ -64,6 +69,9 @@ typedef struct popc_plant_step_coeffs {
 typedef struct popc_plant {
 	popc_plant_config cfg;
 	popc_plant_step_coeffs full;   /* for h = T */
+	int friction;                  /* cfg declares friction: steps go through plant_friction.c */
+	int friction_subs;             /* exact: sub-intervals of T searched for v = 0 (>= 1) */
+	popc_plant_step_coeffs sub;    /* exact with friction: the step of T / friction_subs */
 } popc_plant;
 
 /* One exact step with precomputed coefficients: x+ = Phi x + Gam u. Inline
@@ -102,7 +110,10 @@ static inline void popc_plant_step_exact(const popc_plant_step_coeffs *c, popc_p
  * stiff for double precision). */
 int popc_plant_init(popc_plant *p, const popc_plant_config *cfg, popc_error *err);
 
-/* Advances the state by one control period T. */
+/* Advances the state by one control period T. With friction (p->friction)
+ * the exact method splits the period where the velocity reaches zero and
+ * holds a stuck body (plant_friction.c); the fixed-step ones apply the same
+ * law per substep. */
 void popc_plant_step(const popc_plant *p, popc_plant_state *st, const popc_plant_input *u);
 
 /* Advances the state by h in (0, T] (a period split at a profile breakpoint);
@@ -115,6 +126,16 @@ int popc_plant_step_h(const popc_plant *p, popc_plant_state *st, const popc_plan
  * Returns 0, or POPC_ERR_NUMERIC when the matrix exponential fails or a
  * coefficient is not finite (the coefficients must then not be used). */
 int popc_plant_coeffs(const popc_plant_config *cfg, double h_s, popc_plant_step_coeffs *c);
+
+/* The step of h_s in (0, T] of a plant with friction (plant_friction.c);
+ * popc_plant_step and popc_plant_step_h call it when p->friction. Returns 0 or
+ * POPC_ERR_NUMERIC (state untouched) when a segment's matrices are not
+ * finite. */
+int popc_plant_friction_step(const popc_plant *p, popc_plant_state *st, const popc_plant_input *u,
+			     double h_s);
+
+/* The threshold of static friction: max(stiction_N, coulomb_N). */
+double popc_plant_stick_N(const popc_plant_config *cfg);
 
 /* Dense matrix exponential of an n x n matrix (n <= 8), row major, by scaling
  * and squaring with a [6/6] Pade approximant (Higham 2005, table 2.3: backward

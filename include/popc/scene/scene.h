@@ -41,6 +41,7 @@ typedef struct popc_scene {
 	popc_table_quantity op_table_quantity;
 	/* [device] */
 	double dev_mass_kg, dev_damping_Nspm, dev_stiffness_Npm;
+	double dev_coulomb_N, dev_stiction_N;   /* friction; 0, 0: none (written only when declared) */
 	/* [environment] */
 	popc_environment_kind env_kind;
 	double env_stiffness_Npm, env_damping_Nspm, env_position_m;
