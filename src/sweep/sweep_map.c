@@ -5,6 +5,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "popc/sweep/sweep_row.h"
 #include "popc/util/parse.h"
 
 static const char *const criterion_names[POPC_MAP_N_CRITERIA] = {
@@ -46,29 +47,11 @@ int popc_map_criteria_parse(const char *text, unsigned *set, popc_error *err)
 
 enum { MAX_CELLS = 512 };
 
-static int split_cells(const char *line, const char **cell, size_t *len, int max)
-{
-	int n = 0;
-	const char *p = line;
-	for (;;) {
-		size_t l = strcspn(p, ",\r\n");
-		if (n < max) {
-			cell[n] = p;
-			len[n] = l;
-		}
-		n++;
-		if (p[l] != ',')
-			break;
-		p += l + 1;
-	}
-	return n;
-}
-
 static int header_index(const popc_sweep_plan *p, const char *name)
 {
 	const char *cell[MAX_CELLS];
 	size_t len[MAX_CELLS];
-	int n = split_cells(p->columns, cell, len, MAX_CELLS);
+	int n = popc_sweep_split_cells(p->columns, cell, len, MAX_CELLS);
 	size_t nl = strlen(name);
 	for (int c = 0; c < n && c < MAX_CELLS; c++)
 		if (len[c] == nl && memcmp(cell[c], name, nl) == 0)
@@ -82,7 +65,7 @@ int popc_map_facts_from_row(const popc_sweep_plan *p, const char *row, popc_map_
 	memset(f, 0, sizeof *f);
 	const char *cell[MAX_CELLS];
 	size_t len[MAX_CELLS];
-	int n = split_cells(row, cell, len, MAX_CELLS);
+	int n = popc_sweep_split_cells(row, cell, len, MAX_CELLS);
 	int c_exit = header_index(p, "exit_status"), c_lc = header_index(p, "limit_cycle");
 	int c_ch = header_index(p, "chatter_s"), c_port = header_index(p, "port_energy_min");
 	if (c_exit < 0 || c_lc < 0 || c_ch < 0 || c_port < 0 || n > MAX_CELLS)
@@ -117,7 +100,7 @@ int popc_map_row_cell(const popc_sweep_plan *p, const char *row, const char *nam
 {
 	const char *cell[MAX_CELLS];
 	size_t len[MAX_CELLS];
-	int n = split_cells(row, cell, len, MAX_CELLS);
+	int n = popc_sweep_split_cells(row, cell, len, MAX_CELLS);
 	int c = header_index(p, name);
 	if (c < 0 || c >= n || c >= MAX_CELLS)
 		return -1;

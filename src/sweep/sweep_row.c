@@ -10,9 +10,7 @@
 #include "popc/util/numfmt.h"
 #include "popc/util/parse.h"
 
-/* Splits one CSV line (ending at '\n', '\r' or NUL; no quoting: popc's
- * summaries hold none) into at most max cells. Returns the cell count. */
-static int split_cells(const char *line, const char **cell, size_t *len, int max)
+int popc_sweep_split_cells(const char *line, const char **cell, size_t *len, int max)
 {
 	int n = 0;
 	const char *p = line;
@@ -122,8 +120,8 @@ int popc_sweep_row(const popc_sweep_plan *p, long long i, int exit_status, const
 	size_t hlen[RUN_CSV_MAX_COLUMNS], rlen[RUN_CSV_MAX_COLUMNS];
 	int nh = 0, nr = 0;
 	if (run_row) {
-		nh = split_cells(run_header, hcell, hlen, RUN_CSV_MAX_COLUMNS);
-		nr = split_cells(run_row, rcell, rlen, RUN_CSV_MAX_COLUMNS);
+		nh = popc_sweep_split_cells(run_header, hcell, hlen, RUN_CSV_MAX_COLUMNS);
+		nr = popc_sweep_split_cells(run_row, rcell, rlen, RUN_CSV_MAX_COLUMNS);
 		if (nh > RUN_CSV_MAX_COLUMNS || nr != nh)
 			return popc_error_set(err, POPC_ERR_INVALID,
 					      "run summary: %d cells in the row, %d in the header", nr, nh);
@@ -188,7 +186,7 @@ int popc_sweep_row_exit_status(const popc_sweep_plan *p, const char *row)
 {
 	const char *cell[RUN_CSV_MAX_COLUMNS + 64];
 	size_t len[RUN_CSV_MAX_COLUMNS + 64];
-	int n = split_cells(row, cell, len, RUN_CSV_MAX_COLUMNS + 64);
+	int n = popc_sweep_split_cells(row, cell, len, RUN_CSV_MAX_COLUMNS + 64);
 	int c = popc_sweep_column_index(p->n_axes, POPC_SWEEP_CELL_EXIT_STATUS);
 	long long v;
 	if (c < 0 || c >= RUN_CSV_MAX_COLUMNS + 64 || n <= c ||
@@ -201,8 +199,8 @@ int popc_sweep_run_csv_status(const char *run_header, const char *run_row, int *
 {
 	const char *hcell[RUN_CSV_MAX_COLUMNS], *rcell[RUN_CSV_MAX_COLUMNS];
 	size_t hlen[RUN_CSV_MAX_COLUMNS], rlen[RUN_CSV_MAX_COLUMNS];
-	int nh = split_cells(run_header, hcell, hlen, RUN_CSV_MAX_COLUMNS);
-	int nr = split_cells(run_row, rcell, rlen, RUN_CSV_MAX_COLUMNS);
+	int nh = popc_sweep_split_cells(run_header, hcell, hlen, RUN_CSV_MAX_COLUMNS);
+	int nr = popc_sweep_split_cells(run_row, rcell, rlen, RUN_CSV_MAX_COLUMNS);
 	if (nh > RUN_CSV_MAX_COLUMNS || nr != nh)
 		return -1;
 	int c = find_cell(hcell, hlen, nh, "status");
@@ -217,8 +215,8 @@ double popc_sweep_run_csv_wall_time_s(const char *run_header, const char *run_ro
 {
 	const char *hcell[RUN_CSV_MAX_COLUMNS], *rcell[RUN_CSV_MAX_COLUMNS];
 	size_t hlen[RUN_CSV_MAX_COLUMNS], rlen[RUN_CSV_MAX_COLUMNS];
-	int nh = split_cells(run_header, hcell, hlen, RUN_CSV_MAX_COLUMNS);
-	int nr = split_cells(run_row, rcell, rlen, RUN_CSV_MAX_COLUMNS);
+	int nh = popc_sweep_split_cells(run_header, hcell, hlen, RUN_CSV_MAX_COLUMNS);
+	int nr = popc_sweep_split_cells(run_row, rcell, rlen, RUN_CSV_MAX_COLUMNS);
 	int c = find_cell(hcell, hlen, nh < RUN_CSV_MAX_COLUMNS ? nh : RUN_CSV_MAX_COLUMNS,
 			  "wall_time_s");
 	double wall_s = 0.0;

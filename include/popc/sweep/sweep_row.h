@@ -39,4 +39,10 @@ int popc_sweep_run_csv_status(const char *run_header, const char *run_row, int *
  * not a number. */
 double popc_sweep_run_csv_wall_time_s(const char *run_header, const char *run_row);
 
+/* Splits one CSV line (ending at '\n', '\r' or NUL; no quoting: popc's
+ * summaries hold none) into at most max cells: cell[i] points into line,
+ * len[i] is its length. Returns the cell count, which may exceed max (the
+ * cells past max are counted, not stored). */
+int popc_sweep_split_cells(const char *line, const char **cell, size_t *len, int max);
+
 #endif
