@@ -92,16 +92,6 @@ typedef struct map_state {
 	long long n_todo, n_pending_other, n_needed;
 } map_state;
 
-static int default_jobs(void)
-{
-	const char *slurm = getenv("SLURM_CPUS_PER_TASK");
-	long long n;
-	if (slurm && popc_parse_ll_text(slurm, 1, 4096, &n) == 0)
-		return (int)n;
-	n = sysconf(_SC_NPROCESSORS_ONLN);
-	return n > 0 ? (int)(n > 4096 ? 4096 : n) : 1;
-}
-
 static void state_release(map_state *m)
 {
 	if (m->have_res)
@@ -418,14 +408,8 @@ static int map_main(const map_args *a)
 		popc_sweep_plan_free(&plan);
 		return popc_cli_fail("map", st, &err);
 	}
-	popc_sweep_shard shard = {.index = 0, .count = 1};
-	if (a->shard_text)
-		st = popc_sweep_shard_parse(a->shard_text, &shard, &err);
-	else
-		st = popc_sweep_shard_from_slurm(getenv("SLURM_ARRAY_TASK_ID"),
-						 getenv("SLURM_ARRAY_TASK_COUNT"),
-						 getenv("SLURM_ARRAY_TASK_MIN"),
-						 getenv("SLURM_ARRAY_TASK_STEP"), &shard, &err);
+	popc_sweep_shard shard;
+	st = sweep_pool_shard(a->shard_text, &shard, &err);
 	if (st < 0) {
 		popc_sweep_plan_free(&plan);
 		return popc_cli_fail("map", st, &err);
@@ -457,7 +441,7 @@ static int map_main(const map_args *a)
 		goto out;
 	}
 	sweep_pool_config pool = {.plan = &plan, .dir = a->dir, .keep_log = a->keep_log,
-				  .jobs = a->jobs > 0 ? (int)a->jobs : default_jobs(), .rows_pid = 0,
+				  .jobs = a->jobs > 0 ? (int)a->jobs : sweep_pool_default_jobs(), .rows_pid = 0,
 				  .die_after_claim = -1};
 	sweep_pool_test_hooks(&pool);
 	popc_cli_install_signals();

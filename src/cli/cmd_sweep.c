@@ -136,16 +136,6 @@ static void show_notes(const char *verb, const popc_sweep_results *r, int quiet)
 
 /* ---- the verbs ---------------------------------------------------------------------- */
 
-static int default_jobs(void)
-{
-	const char *slurm = getenv("SLURM_CPUS_PER_TASK");
-	long long n;
-	if (slurm && popc_parse_ll_text(slurm, 1, 4096, &n) == 0)
-		return (int)n;
-	n = sysconf(_SC_NPROCESSORS_ONLN);
-	return n > 0 ? (int)(n > 4096 ? 4096 : n) : 1;
-}
-
 static void abs_path(const char *path, char *out, size_t cap)
 {
 	char *r = realpath(path, NULL);
@@ -322,7 +312,7 @@ typedef struct sweep_args {
 	char **vary, **sets;          /* pointers into argv */
 	int n_vary, n_sets;
 	int quiet, keep_log, list, allow_other_build;
-	long long jobs;               /* 0: default_jobs() */
+	long long jobs;               /* 0: sweep_pool_default_jobs() */
 	const char *scene_path, *dir, *shard_text, *program;
 } sweep_args;
 
@@ -370,14 +360,8 @@ static int sweep_main(const sweep_args *a)
 	}
 	popc_sweep_plan_set_build(&plan, popc_cli_version(), popc_cli_build_id());
 
-	popc_sweep_shard shard = {.index = 0, .count = 1};
-	if (a->shard_text)
-		st = popc_sweep_shard_parse(a->shard_text, &shard, &err);
-	else
-		st = popc_sweep_shard_from_slurm(getenv("SLURM_ARRAY_TASK_ID"),
-						 getenv("SLURM_ARRAY_TASK_COUNT"),
-						 getenv("SLURM_ARRAY_TASK_MIN"),
-						 getenv("SLURM_ARRAY_TASK_STEP"), &shard, &err);
+	popc_sweep_shard shard;
+	st = sweep_pool_shard(a->shard_text, &shard, &err);
 	if (st < 0) {
 		popc_sweep_plan_free(&plan);
 		return popc_cli_fail("sweep", st, &err);
@@ -434,7 +418,7 @@ static int sweep_main(const sweep_args *a)
 	popc_sweep_results_free(&res);
 
 	sweep_pool_config pool = {.plan = &plan, .dir = a->dir, .keep_log = a->keep_log,
-				  .jobs = a->jobs > 0 ? (int)a->jobs : default_jobs(), .rows_pid = 0,
+				  .jobs = a->jobs > 0 ? (int)a->jobs : sweep_pool_default_jobs(), .rows_pid = 0,
 				  .die_after_claim = -1};
 	sweep_pool_test_hooks(&pool);
 	sweep_progress prog;

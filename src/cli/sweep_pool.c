@@ -43,6 +43,7 @@
 #include "popc/sweep/sweep_dir.h"
 #include "popc/sweep/sweep_row.h"
 #include "popc/sweep/sweep_run.h"
+#include "popc/util/parse.h"
 
 #if ATOMIC_LLONG_LOCK_FREE != 2 || ATOMIC_CHAR_LOCK_FREE != 2
 #error "the worker pool needs lock-free atomics in shared memory"
@@ -405,4 +406,25 @@ void sweep_pool_test_hooks(sweep_pool_config *cfg)
 	v = getenv("POPC_SWEEP_TEST_DIE_AFTER_CLAIM");
 	if (v && popc_parse_ll_text(v, 0, LONG_MAX, &n) == 0)
 		cfg->die_after_claim = n;
+}
+
+int sweep_pool_default_jobs(void)
+{
+	const char *slurm = getenv("SLURM_CPUS_PER_TASK");
+	long long n;
+	if (slurm && popc_parse_ll_text(slurm, 1, 4096, &n) == 0)
+		return (int)n;
+	n = sysconf(_SC_NPROCESSORS_ONLN);
+	return n > 0 ? (int)(n > 4096 ? 4096 : n) : 1;
+}
+
+int sweep_pool_shard(const char *shard_text, popc_sweep_shard *shard, popc_error *err)
+{
+	*shard = (popc_sweep_shard){.index = 0, .count = 1};
+	if (shard_text)
+		return popc_sweep_shard_parse(shard_text, shard, err);
+	return popc_sweep_shard_from_slurm(getenv("SLURM_ARRAY_TASK_ID"),
+					   getenv("SLURM_ARRAY_TASK_COUNT"),
+					   getenv("SLURM_ARRAY_TASK_MIN"),
+					   getenv("SLURM_ARRAY_TASK_STEP"), shard, err);
 }

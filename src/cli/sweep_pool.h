@@ -35,4 +35,13 @@ void sweep_pool_test_hooks(sweep_pool_config *cfg);
 int sweep_pool_run(const sweep_pool_config *cfg, const long long *todo, long long n_todo,
 		   sweep_progress *prog);
 
+/* The workers of a sweep or a map without -j: SLURM_CPUS_PER_TASK when set
+ * (1 to 4096), else the online processors. */
+int sweep_pool_default_jobs(void);
+
+/* The shard this invocation makes: --shard I/N when given (shard_text), else
+ * Slurm's array task (SLURM_ARRAY_TASK_*), else 1/1. Negative with err set
+ * when either is malformed. */
+int sweep_pool_shard(const char *shard_text, popc_sweep_shard *shard, popc_error *err);
+
 #endif
