@@ -1,7 +1,8 @@
 #!/bin/sh
 # The chatter detector's verdicts on a scene as distributions: each variant
-# (VARIANTS, default all seven) at 5 s and 20 s, over 10 sub-count start
-# offsets (operator.x0 = -10 mm + j um, j = 0..9: tenths of the 10 um count).
+# (VARIANTS, default all ten) at 5 s and 20 s, over 10 sub-count start
+# offsets (operator.x0 = the scene's x0 + j delta / 10, j = 0..9: tenths of a
+# count; x0 and delta read from `popc scene show` with the given options).
 # Prints per variant and duration how many runs have chatter (and when the
 # first interval starts) and a limit cycle, and the range of the largest
 # window PC RMS. docs/ANALYSIS.md quotes its output.
@@ -12,13 +13,16 @@ set -eu
 P=$1 A=$2 S=$3
 shift 3
 W=$(mktemp -d "${TMPDIR:-/tmp}/chatter-offsets.XXXXXX")
+resolved=$("$P" scene show "$S" "$@")
+x0_base=$(echo "$resolved" | awk -F' = ' '/^\[/ { s = $0 } s == "[operator]" && $1 == "x0" { print $2 }')
+delta=$(echo "$resolved" | awk -F' = ' '/^\[/ { s = $0 } s == "[encoder]" && $1 == "resolution" { print $2 }')
 trap 'rm -rf "$W"' EXIT
 for d in 5 20; do
-	for v in ${VARIANTS:-none po-pc ref-energy filtered-velocity ignore hold improved}; do
+	for v in ${VARIANTS:-none po-pc ref-energy filtered-velocity ignore hold improved pc-off-reversals energy-bounding windowed-po}; do
 		: >"$W/v.txt"
 		: >"$W/rms.txt"
 		for j in 0 1 2 3 4 5 6 7 8 9; do
-			x0=$(awk -v j="$j" 'BEGIN { printf "%.10g", -0.01 + j * 1e-6 }')
+			x0=$(awk -v b="$x0_base" -v d="$delta" -v j="$j" 'BEGIN { printf "%.12g", b + j * d / 10 }')
 			"$P" run "$S" --variant "$v" --set run.duration="$d" --set operator.x0="$x0" \
 				"$@" --log "$W/l.csv" -q
 			"$A" chatter --format csv "$W/l.csv" >"$W/o.csv" 2>/dev/null || true
