@@ -34,7 +34,9 @@ paper=(gcc libc6-dev meson ninja-build pkg-config libinih-dev libmodbus-dev libc
 # `npm ci` from tests/readers/package-lock.json; it skips when the registry
 # is unreachable). npm only where no npm is there: NodeSource's nodejs
 # bundles its own, and Debian's npm package cannot be installed beside it.
-test=("${paper[@]}" socat parallel slurm-wlm munge python3 clang scdoc man-db python3-pandas nodejs)
+# g++ and libfast-float-dev: bench/fastfloat_reader, the reference reader of
+# docs/BENCHMARKS.md section 3 (built by every build where they are found).
+test=("${paper[@]}" socat parallel slurm-wlm munge python3 clang scdoc man-db python3-pandas nodejs g++ libfast-float-dev)
 command -v npm >/dev/null 2>&1 || test+=(npm)
 
 usage() { echo "usage: tools/install-deps.sh [--list] [paper|test]..." >&2; exit 2; }

@@ -173,6 +173,17 @@ static void describe_range(const scene_key *k, char *buf, size_t cap)
 	}
 }
 
+/* The name a message gives key k (see set_key) and its allowed range. */
+static void describe_key(const scene_key *k, const char *where, const char *option, char *range,
+			 size_t range_cap, char *who, size_t who_cap)
+{
+	describe_range(k, range, range_cap);
+	if (option)
+		snprintf(who, who_cap, "%s", option);
+	else
+		snprintf(who, who_cap, "%s%s.%s", where, k->section, k->key);
+}
+
 /* Why a string value cannot be written to a scene file and read back, or
  * NULL. The resolved scene is written as one (popc scene show, a sweep's
  * runs/<id>/scene.ini) and read with libinih, so "key = value" must fit
@@ -205,12 +216,11 @@ static int unwritable(const scene_key *k, const char *value, char *why, size_t c
 static int set_key(popc_scene *s, const scene_key *k, const char *value, const char *where,
 		   const char *option, popc_error *err)
 {
+	/* the key's name and allowed range for messages, formatted only when one
+	 * is needed: a sweep sets its --vary keys on every run (snprintf here
+	 * was 16 % of a sweep's per-run CPU, docs/BENCHMARKS.md section 6) */
 	char range[160], who[200];
-	describe_range(k, range, sizeof range);
-	if (option)
-		snprintf(who, sizeof who, "%s", option);
-	else
-		snprintf(who, sizeof who, "%s%s.%s", where, k->section, k->key);
+#define DESCRIBE_KEY() describe_key(k, where, option, range, sizeof range, who, sizeof who)
 	const char *sep = option ? " " : " = ";
 	char *field = (char *)s + k->offset;
 	switch (k->type) {
@@ -223,6 +233,8 @@ static int set_key(popc_scene *s, const scene_key *k, const char *value, const c
 		popc_parse_status ps = k->type == KEY_INT
 					       ? popc_parse_ll_text(value, LLONG_MIN, LLONG_MAX, &whole)
 					       : popc_parse_double_text(value, &v);
+		if (ps != POPC_PARSE_OK)
+			DESCRIBE_KEY();
 		if (k->type == KEY_INT && ps == POPC_PARSE_OVERFLOW)
 			return popc_error_set(err, POPC_ERR_INVALID, "%s%s%s: out of range; allowed %s",
 					      who, sep, value, range);
@@ -242,9 +254,11 @@ static int set_key(popc_scene *s, const scene_key *k, const char *value, const c
 		if (k->type == KEY_INT)
 			v = (double)whole;
 		int below = k->min_open ? !(v > k->min) : !(v >= k->min);
-		if (below || !(v <= k->max))
+		if (below || !(v <= k->max)) {
+			DESCRIBE_KEY();
 			return popc_error_set(err, POPC_ERR_INVALID, "%s%s%s: out of range; allowed %s",
 					      who, sep, value, range);
+		}
 		if (k->type == KEY_INT)
 			*(int *)(void *)field = (int)whole;
 		else
@@ -261,9 +275,11 @@ static int set_key(popc_scene *s, const scene_key *k, const char *value, const c
 				return 0;
 			}
 		}
+		DESCRIBE_KEY();
 		return popc_error_set(err, POPC_ERR_INVALID, "%s%s'%s': unknown value; allowed %s", who,
 				      sep, value, range);
 	case KEY_STRING:
+		DESCRIBE_KEY(); /* a path is set once per scene, not per tick or run */
 		if (strlen(value) >= POPC_PATH_MAX)
 			return popc_error_set(err, POPC_ERR_INVALID, "%s: longer than %d characters", who,
 					      POPC_PATH_MAX - 1);
@@ -274,6 +290,7 @@ static int set_key(popc_scene *s, const scene_key *k, const char *value, const c
 		return 0;
 	}
 	return POPC_ERR_INVALID;
+#undef DESCRIBE_KEY
 }
 
 static int unknown_key(const char *section, const char *key, int section_known, const char *where,
