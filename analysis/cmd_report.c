@@ -395,7 +395,7 @@ int ana_cmd_report(int argc, char **argv)
 	long long points = 2000;
 	int no_draw = 0, c, rc = 0, n = 0, fig_asked = 0;
 	unsigned figs = 0;
-	double zoom_s = NAN;
+	double zoom_s = (double)NAN;
 	report_log *logs = NULL;
 	report_name *names = NULL;
 	optind = 1;
@@ -476,14 +476,14 @@ int ana_cmd_report(int argc, char **argv)
 		memset(lg, 0, sizeof *lg);
 		snprintf(lg->path, sizeof lg->path, "%s", argv[i]);
 		for (int w = 0; w < RW_COUNT; w++)
-			lg->t_event_s[w] = NAN;
+			lg->t_event_s[w] = (double)NAN;
 		lg->t_event_s[RW_ZOOM] = zoom_s;
-		lg->t_contact_s = NAN;
-		lg->t_settle_s = NAN;
-		lg->t_settle_final_s = NAN;
-		lg->x_settled_min_m = lg->x_settled_max_m = NAN;
-		lg->f_c_min_N = INFINITY;
-		lg->f_c_max_N = -INFINITY;
+		lg->t_contact_s = (double)NAN;
+		lg->t_settle_s = (double)NAN;
+		lg->t_settle_final_s = (double)NAN;
+		lg->x_settled_min_m = lg->x_settled_max_m = (double)NAN;
+		lg->f_c_min_N = (double)INFINITY;
+		lg->f_c_max_N = -(double)INFINITY;
 		if (find_events(lg, &in, figs, &rc) != 0)
 			continue;
 		report_pass pass;
@@ -560,7 +560,7 @@ int ana_cmd_report(int argc, char **argv)
 		goto out;
 	/* one scale per force for the whole report: 10 % headroom over the
 	 * largest |f_pc| (the bound, when a log reaches it) and f_c of any log */
-	report_scales sc = {0.0, INFINITY, -INFINITY};
+	report_scales sc = {0.0, (double)INFINITY, -(double)INFINITY};
 	for (int i = 0; i < n; i++) {
 		if (!logs[i].sum.has_pc_force)
 			continue;

@@ -13,12 +13,12 @@ void ana_find_events_init(ana_events_finder *f, double hold_s)
 	memset(f, 0, sizeof *f);
 	f->hold_s = hold_s;
 	ana_events *ev = &f->ev;
-	ev->settle_s = ev->settle_end_s = ev->settle_final_s = NAN;
+	ev->settle_s = ev->settle_end_s = ev->settle_final_s = (double)NAN;
 	ev->settle_tick = -1;
-	ev->fig5_s = ev->fig5_dw_J = ev->fig8_s = NAN;
-	ev->fig5_first_s = ev->fig8_first_s = NAN;
-	f->run_fig5_s = f->run_fig5_dw_J = f->run_fig8_s = NAN;
-	ev->x_min_settled_m = ev->x_max_settled_m = NAN;
+	ev->fig5_s = ev->fig5_dw_J = ev->fig8_s = (double)NAN;
+	ev->fig5_first_s = ev->fig8_first_s = (double)NAN;
+	f->run_fig5_s = f->run_fig5_dw_J = f->run_fig8_s = (double)NAN;
+	ev->x_min_settled_m = ev->x_max_settled_m = (double)NAN;
 }
 
 static void settle_found(ana_events_finder *f)
@@ -53,7 +53,7 @@ static void track_settle(ana_events_finder *f, const popc_tick *t, int calm)
 		f->run_start_s = t->t_s;
 		f->run_start_tick = f->n;
 		f->run_x_min_m = f->run_x_max_m = t->x_m;
-		f->run_fig5_s = f->run_fig5_dw_J = f->run_fig8_s = NAN;
+		f->run_fig5_s = f->run_fig5_dw_J = f->run_fig8_s = (double)NAN;
 	}
 	if (t->x_m < f->run_x_min_m)
 		f->run_x_min_m = t->x_m;

@@ -418,7 +418,7 @@ int report_write_overlay(FILE *f, const report_log *logs, int n, const report_sc
 	      "  set lmargin at screen 0.1\n"
 	      "  set rmargin at screen 0.76\n",
 	      f);
-	double xmin = INFINITY, xmax = -INFINITY, pad = 0.0;
+	double xmin = (double)INFINITY, xmax = -(double)INFINITY, pad = 0.0;
 	for (int i = 0; i < n; i++)
 		if (!isnan(logs[i].t_contact_s)) {
 			xmin = fmin(xmin, logs[i].x_contact_min_m);

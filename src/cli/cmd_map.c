@@ -167,7 +167,7 @@ static const char *outcome_name(popc_map_outcome o)
 /* K of grid point k, as the plan's last axis writes it. */
 static double k_of(const popc_sweep_plan *p, long k)
 {
-	double d = NAN;
+	double d = (double)NAN;
 	popc_parse_double_text(p->axes[p->n_axes - 1].values[k], &d);
 	return d;
 }
@@ -214,7 +214,7 @@ static int write_boundary(const map_state *m, const popc_sweep_plan *p, const ch
 		popc_sweep_run_values(p, first, vi);
 		popc_scene s;
 		popc_error serr;
-		double k_cs = NAN;
+		double k_cs = (double)NAN;
 		if (popc_sweep_run_scene(p, first, &s, &serr) == 0) {
 			/* Colgate and Schenkel: passive when b > K T / 2 + |B| */
 			double b = s.op_damping_Nspm + s.dev_damping_Nspm;

@@ -48,7 +48,7 @@ int popc_map_figure_write(const popc_sweep_plan *p, const char *dir, const char 
 	/* x on a log scale when its values are positive and span two decades */
 	int log_x = 0;
 	if (has_x) {
-		double lo = INFINITY, hi = -INFINITY;
+		double lo = (double)INFINITY, hi = -(double)INFINITY;
 		int positive = 1;
 		for (int v = 0; v < p->axes[1].n_values; v++) {
 			double d;

@@ -21,7 +21,7 @@ double cli_progress_after_s(double default_s)
 void cli_progress_start(cli_progress *p, int quiet, double after_s)
 {
 	*p = (cli_progress){.shown = !quiet && isatty(STDERR_FILENO), .after_s = after_s,
-			    .t_start = popc_now_s(), .t_last = -INFINITY};
+			    .t_start = popc_now_s(), .t_last = -(double)INFINITY};
 }
 
 int cli_progress_due(cli_progress *p, int final)

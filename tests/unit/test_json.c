@@ -93,9 +93,9 @@ static void write_numbers(popc_json *j, const void *arg)
 	popc_json_number(j, 1e-5);
 	popc_json_number(j, 1.5e17);
 	popc_json_number(j, 5e-324);
-	popc_json_number(j, NAN);
-	popc_json_number(j, INFINITY);
-	popc_json_number(j, -INFINITY);
+	popc_json_number(j, (double)NAN);
+	popc_json_number(j, (double)INFINITY);
+	popc_json_number(j, -(double)INFINITY);
 	popc_json_integer(j, -9007199254740993LL);
 	popc_json_null(j);
 	popc_json_end_array(j);

@@ -632,9 +632,9 @@ static void test_format_point(void **state)
 		}
 	}
 	char buf[POPC_DOUBLE_TEXT_MAX + 1];
-	popc_format_double_point(NAN, buf);
+	popc_format_double_point((double)NAN, buf);
 	assert_string_equal(buf, "nan");
-	popc_format_double_point(-INFINITY, buf);
+	popc_format_double_point(-(double)INFINITY, buf);
 	assert_string_equal(buf, "-inf");
 
 	rng_seed(UINT64_C(0x243f6a8885a308d3));
