@@ -236,7 +236,7 @@ run_in_root() { # timeout-seconds command output-file; sets rc, the command's ex
 }
 
 phase "command 1: ${cmds[0]}"
-run_in_root 900 "${cmds[0]}" "$W/paper.out"
+run_in_root 1800 "${cmds[0]}" "$W/paper.out"
 [ "$rc" -eq 0 ] || failed "${cmds[0]} exited $rc"
 for f in out/paper/report/index.html out/paper/compare.md; do
   [ -s "$root/root/popc/$f" ] || failed "${cmds[0]} did not make $f"
