@@ -55,8 +55,11 @@ duckdb)
 		rm -rf "$NPM" && mkdir -p "$NPM" || die "cannot make $NPM"
 		cp "$HERE/package.json" "$HERE/package-lock.json" "$NPM/"
 		if ! (cd "$NPM" && timeout 300 npm ci --no-audit --no-fund --loglevel=error) >"$W/npm.log" 2>&1; then
-			# unreachable registry: skip; any other npm failure: fail
-			if grep -qiE 'ENOTFOUND|EAI_AGAIN|ECONNREFUSED|ECONNRESET|ETIMEDOUT|ENETUNREACH|network|proxy' "$W/npm.log"; then
+			# unreachable registry, or one this machine cannot trust (a
+			# TLS-intercepting proxy whose CA a fresh root lacks: seen in
+			# tools/check-fresh-root.sh's root): skip; any other npm
+			# failure: fail
+			if grep -qiE 'ENOTFOUND|EAI_AGAIN|ECONNREFUSED|ECONNRESET|ETIMEDOUT|ENETUNREACH|network|proxy|SELF_SIGNED_CERT|UNABLE_TO_GET_ISSUER_CERT|UNABLE_TO_VERIFY_LEAF_SIGNATURE|CERT_UNTRUSTED' "$W/npm.log"; then
 				rm -rf "$NPM"
 				skip "the npm registry is unreachable, DuckDB's package not installed: $(grep -m1 -iE 'err' "$W/npm.log")"
 			fi
