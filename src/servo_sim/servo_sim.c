@@ -242,7 +242,13 @@ typedef struct server {
 	int exiting;
 	/* RTU: the silence before each request, from the end of the last frame
 	 * on the line (a request received or a reply sent) to the request's
-	 * first byte: what a drive that needs a gap between frames sees */
+	 * first byte: what a drive that needs a gap between frames sees. A
+	 * reply's end is stamped just before its write (the write puts the
+	 * whole frame on the pty at once, after --pace's sleep): a server
+	 * preempted after the write would otherwise stamp it late and report a
+	 * silence shorter than the client kept (8.98 ms against a kept 10 ms,
+	 * seen beside two parallel builds). So the measured silence exceeds the
+	 * wire's by at most the write's own duration. */
 	int64_t line_busy_ns;      /* 0: no frame yet */
 	int64_t silence_min_ns;    /* -1: no request after a frame yet */
 	long silences;
@@ -312,6 +318,7 @@ static void send_raw(server *sv, const uint8_t *buf, int n)
 {
 	int fd = modbus_get_socket(sv->ctx);
 	int off = 0;
+	sv->line_busy_ns = popc_now_ns(); /* before the write: see line_busy_ns */
 	while (off < n) {
 		ssize_t w = sv->uri.rtu ? write(fd, buf + off, (size_t)(n - off))
 					: send(fd, buf + off, (size_t)(n - off), MSG_NOSIGNAL);
@@ -322,7 +329,6 @@ static void send_raw(server *sv, const uint8_t *buf, int n)
 		}
 		off += (int)w;
 	}
-	sv->line_busy_ns = popc_now_ns();
 }
 
 /* The reply faults that alter or hold the built frame (the others act on
@@ -418,8 +424,8 @@ static int handle(server *sv, const uint8_t *q, int len, int64_t t_rx)
 		drive_set_fault(&sv->drive, "injected", 0);
 	}
 	if (in_range(&sv->exception, n)) {
+		sv->line_busy_ns = popc_now_ns(); /* before the write: see line_busy_ns */
 		modbus_reply_exception(sv->ctx, q, (unsigned)sv->exception.arg);
-		sv->line_busy_ns = popc_now_ns();
 		return 0;
 	}
 	drive_tick(&sv->drive, t_rx);
@@ -431,8 +437,8 @@ static int handle(server *sv, const uint8_t *q, int len, int64_t t_rx)
 	if (reply_altered(sv, n)) {
 		send_altered_reply(sv, n, q, len, t_rx);
 	} else {
+		sv->line_busy_ns = popc_now_ns(); /* before the write: see line_busy_ns */
 		modbus_reply(sv->ctx, q, len, sv->drive.mb);
-		sv->line_busy_ns = popc_now_ns();
 	}
 	if (sv->exit_after.at > 0 && n >= sv->exit_after.at) {
 		sv->exiting = 1;
