@@ -12,6 +12,7 @@
 #include "popc/core/intent.h"
 #include "popc/log/log.h"
 #include "popc/core/plant.h"
+#include "popc/core/plant_dissipation.h"
 #include "popc/scene/from_scene.h"
 
 /* Divergence bound: a position beyond 10 x the largest position the scene
@@ -104,6 +105,12 @@ typedef struct sim_axis {
 	popc_plant plant, exact;   /* exact: the reference the integrator is measured against */
 	int shadow;                /* 1 when plant is not already exact */
 	int exact_linear;          /* exact method without friction: sim_exchange's fast path */
+	/* The damping's dissipation over a whole period (plant_dissipation.h),
+	 * for exact_linear plants: the true trajectory is then the exact one.
+	 * dissipated_J: over the last period (NaN when the axis cannot say). */
+	popc_plant_dissipation diss;
+	int has_diss;              /* diss holds a finite form */
+	double dissipated_J;
 	popc_intent intent;
 	/* The plant integrates y = x - x_rest, the displacement from its initial
 	 * rest position, with the input u - K x_rest (the same linear equation
@@ -241,6 +248,7 @@ static int sim_sample(popc_axis *a, popc_axis_sample *out, popc_error *err)
 	const double x_m = s->x_rest_m + s->st.x_m;
 	out->count = popc_encoder_count(x_m, s->delta_m, &ok);
 	out->x_true_m = x_m;
+	out->dissipated_J = s->dissipated_J;
 	out->dt_s = 0.0;
 	out->rtt_s = 0.0;
 	if (!isfinite(x_m) || !isfinite(s->st.v_mps) || fabs(x_m) > s->diverged_m) {
@@ -285,6 +293,18 @@ static int sim_sample(popc_axis *a, popc_axis_sample *out, popc_error *err)
 	return 0;
 }
 
+/* The damping's dissipation over a part h of a period split at a breakpoint
+ * (its form computed for h: a few microseconds, a few times per run); NaN
+ * when that form is not finite, as the step's own matrices then fail too. */
+static double part_dissipated_J(const popc_plant *p, const popc_plant_state *st,
+				const popc_plant_input *u, double h_s)
+{
+	popc_plant_dissipation d;
+	if (popc_plant_dissipation_init(&d, &p->cfg, h_s) != 0)
+		return (double)NAN;
+	return popc_plant_dissipated_J(&d, st, u);
+}
+
 /* Advances plant (and the exact shadow) over one control period with f_c held,
  * splitting the period at breakpoints of the operator's profile so that the
  * exact discretization stays exact. A breakpoint within tol_s before the
@@ -297,16 +317,21 @@ static int sim_sample(popc_axis *a, popc_axis_sample *out, popc_error *err)
  * one ulp before operator.t0 = 0.017: the ramp started a period late). Returns
  * 0 or the status of a partial step whose matrices could not be computed
  * (*h_failed_s: its length). */
-static int advance(sim_axis *s, popc_plant *p, popc_plant_state *st, double f_c, double *h_failed_s)
+static int advance(sim_axis *s, popc_plant *p, popc_plant_state *st, double f_c, double *h_failed_s,
+		   double *dissipated_J)
 {
 	double t = (double)s->k * s->period_s, t_end = (double)(s->k + 1) * s->period_s;
 	int whole = 1, status;
+	if (dissipated_J)
+		*dissipated_J = 0.0;
 	for (;;) {
 		popc_plant_input u;
 		double next;
 		popc_intent_input(&s->intent, t, &u, &next); /* next > t (intent.h) */
 		u.u0_N = (u.u0_N - s->k_x_rest_N) - f_c; /* in y = x - x_rest */
 		if (next < t_end - s->tol_s && next > t) {
+			if (dissipated_J)
+				*dissipated_J += part_dissipated_J(p, st, &u, next - t);
 			if ((status = popc_plant_step_h(p, st, &u, next - t)) != 0) {
 				*h_failed_s = next - t;
 				return status;
@@ -315,6 +340,9 @@ static int advance(sim_axis *s, popc_plant *p, popc_plant_state *st, double f_c,
 			whole = 0;
 			continue;
 		}
+		if (dissipated_J)
+			*dissipated_J += whole ? popc_plant_dissipated_J(&s->diss, st, &u)
+					       : part_dissipated_J(p, st, &u, t_end - t);
 		if (whole) {
 			popc_plant_step(p, st, &u);
 		} else if ((status = popc_plant_step_h(p, st, &u, t_end - t)) != 0) {
@@ -400,8 +428,11 @@ static int sim_exchange(popc_axis *a, double f_c_N, popc_axis_sample *next, popc
 		popc_plant_input u;
 		if (popc_intent_period_input(&s->intent, &s->seg, t, t_end, s->tol_s, &u)) {
 			u.u0_N = (u.u0_N - s->k_x_rest_N) - f_c_N; /* in y = x - x_rest */
+			s->dissipated_J = s->has_diss ? popc_plant_dissipated_J(&s->diss, &s->st, &u)
+						      : (double)NAN;
 			popc_plant_step_exact(&s->plant.full, &s->st, &u);
-		} else if (advance(s, &s->plant, &s->st, f_c_N, &h_failed) != 0) {
+		} else if (advance(s, &s->plant, &s->st, f_c_N, &h_failed,
+				   s->has_diss ? &s->dissipated_J : NULL) != 0) {
 			return partial_step_failed(s, h_failed, err);
 		}
 		s->k++;
@@ -419,10 +450,10 @@ static int sim_exchange(popc_axis *a, double f_c_N, popc_axis_sample *next, popc
 		return integrator_failed(s, what, err);
 	}
 	double x_before = s->st.x_m;
-	if (advance(s, &s->plant, &s->st, f_c_N, &h_failed) != 0)
+	if (advance(s, &s->plant, &s->st, f_c_N, &h_failed, NULL) != 0)
 		return partial_step_failed(s, h_failed, err);
 	if (s->shadow) {
-		if (advance(s, &s->exact, &s->st_exact, f_c_N, &h_failed) != 0)
+		if (advance(s, &s->exact, &s->st_exact, f_c_N, &h_failed, NULL) != 0)
 			return partial_step_failed(s, h_failed, err);
 		double x_ex = s->st_exact.x_m, e = fabs(s->st.x_m - x_ex);
 		if (e > s->max_error_m || isnan(e))
@@ -550,6 +581,14 @@ int popc_sim_axis_create(popc_axis **out, const popc_scene *sc, popc_error *err)
 	popc_plant_config_from_scene(&cfg, sc);
 	int st = popc_plant_init(&s->plant, &cfg, err);
 	s->exact_linear = !st && cfg.method == POPC_INTEGRATOR_EXACT && !s->plant.friction;
+	/* the dissipation is exact where the trajectory is: exact and linear;
+	 * a fixed-step integrator's or a friction plant's is not offered */
+	s->dissipated_J = (double)NAN;
+	if (s->exact_linear) {
+		s->has_diss = popc_plant_dissipation_init(&s->diss, &cfg, s->period_s) == 0;
+		if (s->has_diss)
+			s->dissipated_J = 0.0; /* none before tick 0 */
+	}
 	s->log_rho = s->log_rho_exact = s->log_rho_limit = 0.0;
 	s->k_unstable = LLONG_MAX;
 	if (!st && cfg.method != POPC_INTEGRATOR_EXACT) {

@@ -46,9 +46,12 @@ static void usage(FILE *f)
 	      "  --set section.key=value  a fixed override of the scene (repeatable)\n"
 	      "  --stiffness LO:HI        the K range, N/m (default 1e2:1e6)\n"
 	      "  --tol R                  relative width of the bracket (default 0.02)\n"
-	      "  --criterion C[,C...]     diverged, limit-cycle, chatter, passive (default\n"
-	      "                           passive); one boundary per criterion\n"
-	      "  --port-tol J             passive: E_port never below -J (default 1e-6 J)\n"
+	      "  --criterion C[,C...]     diverged, limit-cycle, chatter, passive,\n"
+	      "                           device-passive (default passive); one boundary\n"
+	      "                           per criterion\n"
+	      "  --port-tol J             passive: E_port never below -J; device-passive:\n"
+	      "                           E_dev = E_port + the plant's damping's dissipation\n"
+	      "                           never below -J (default 1e-6 J)\n"
 	      "  -o, --output DIR         the map directory (created if needed)\n"
 	      "  -j, --jobs N             parallel runs (default: SLURM_CPUS_PER_TASK, else\n"
 	      "                           every online core)\n"
@@ -202,7 +205,7 @@ static int write_boundary(const map_state *m, const popc_sweep_plan *p, const ch
 		fprintf(f, "%s.%s,", p->axes[a].section, p->axes[a].key);
 	fputs("criterion,outcome,k_ok_N_per_m,k_bad_N_per_m,width,k_check_low_N_per_m,"
 	      "k_check_high_N_per_m,runs,line_runs,k_colgate_schenkel_N_per_m,pc_energy_J,pc_rms_N,"
-	      "chatter_s,port_energy_min_J,run_ok,run_bad,note\n", f);
+	      "chatter_s,port_energy_min_J,device_energy_min_J,run_ok,run_bad,note\n", f);
 	int *vi = malloc((size_t)p->n_axes * sizeof *vi);
 	if (!vi) {
 		fclose(f);
@@ -255,6 +258,8 @@ static int write_boundary(const map_state *m, const popc_sweep_plan *p, const ch
 			put_cell(f, m, p, i_ok, "chatter_s");
 			fputc(',', f);
 			put_cell(f, m, p, i_ok, "port_energy_min");
+			fputc(',', f);
+			put_cell(f, m, p, i_ok, "device_energy_min");
 			fputc(',', f);
 			char id[POPC_SWEEP_ID_MAX];
 			if (ok >= 0) {

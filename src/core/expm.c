@@ -4,7 +4,7 @@
 
 #include "popc/core/plant.h"
 
-#define NMAX 8
+#define NMAX 12
 
 static void matmul(int n, const double *a, const double *b, double *out)
 {

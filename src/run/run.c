@@ -36,6 +36,7 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 	st = axis->ops->start(axis, err);
 	if (st)
 		why = st == POPC_ERR_INTERRUPTED ? "signal" : "axis start failed";
+	smp.dissipated_J = (double)NAN; /* unless the axis says */
 	if (!st) {
 		st = axis->ops->sample(axis, &smp, err);
 		if (st)
@@ -47,6 +48,9 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 	popc_port_energy port;
 	popc_port_energy_init(&port);
 	sum->has_port_energy = has_true_x;
+	/* E_dev = E_port + D, while the axis gives D at every tick */
+	sum->has_device_energy = has_true_x;
+	double diss_sum_J = 0.0, diss_comp_J = 0.0;
 	/* run.delay_ticks = d: the command of tick k reaches the axis with the
 	 * exchange of tick k + d (sent after tick k + d's sample), so it acts
 	 * from t = (k + 1 + d) T, d periods later than without delay; the first
@@ -93,6 +97,17 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 			sum->po_error_end_J = e;
 			if (fabs(e) > sum->po_error_max_J)
 				sum->po_error_max_J = fabs(e);
+			if (sum->has_device_energy && isfinite(smp.dissipated_J)) {
+				/* D(k) = sum of the periods' dissipations before tick k */
+				double d = popc_compensated_add(&diss_sum_J, &diss_comp_J,
+								k > 0 ? smp.dissipated_J : 0.0);
+				double dev = row.E_port_J + d;
+				sum->device_energy_J = dev;
+				if (dev < sum->device_energy_min_J)
+					sum->device_energy_min_J = dev;
+			} else {
+				sum->has_device_energy = 0;
+			}
 		}
 		row.dt_s = smp.dt_s;
 		row.rtt_s = smp.rtt_s;
@@ -104,6 +119,7 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 			break;
 		}
 		sum->ticks = k + 1;
+		smp.dissipated_J = (double)NAN;
 		if (k + 1 < n_ticks && (st = axis->ops->exchange(axis, command_N, &smp, err)) != 0) {
 			why = st == POPC_ERR_NUMERIC ? "integrator unstable"
 			      : st == POPC_ERR_DIVERGED ? "closed loop diverged"
@@ -164,7 +180,9 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
  * sum (the popc_run_summary), s (the scene) and m (sum's metrics); format is
  * TEXT (a name), INT (a decimal integer), REAL (shortest round-trip form) or
  * PORT (REAL for an axis with a true position, sum->has_port_energy; an
- * empty cell otherwise, as the log has no E_port column: never a NaN). */
+ * empty cell otherwise, as the log has no E_port column: never a NaN) or
+ * DEVICE (REAL where the axis gave the plant's dissipation at every tick,
+ * sum->has_device_energy; an empty cell otherwise). */
 #define RUN_SUMMARY_FIELDS(FIELD)                                                                   \
 	FIELD(VARIANT, variant, "", TEXT, popc_variant_name(s->variant), "controller variant")     \
 	FIELD(INTEGRATOR, integrator, "", TEXT, popc_integrator_name(sum->integrator),              \
@@ -207,6 +225,10 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 	      "observer error W - E_port at the last tick")                                         \
 	FIELD(PO_ERROR_MAX, po_error_max, "J", PORT, sum->po_error_max_J,                           \
 	      "max |W - E_port| over the run")                                                      \
+	FIELD(DEVICE_ENERGY_END, device_energy_end, "J", DEVICE, sum->device_energy_J,              \
+	      "E_port + the energy the plant's damping dissipated, at the last tick (E_dev)")       \
+	FIELD(DEVICE_ENERGY_MIN, device_energy_min, "J", DEVICE, sum->device_energy_min_J,          \
+	      "minimum of E_dev over the run (< 0: the device port gave out energy)")               \
 	FIELD(RENDERED_STIFFNESS, rendered_stiffness, "N/m", REAL,                                  \
 	      popc_metrics_rendered_stiffness(m),                                                   \
 	      "least squares f_c / penetration over the ticks in contact")
@@ -218,7 +240,13 @@ enum summary_field_id {
 	SUMMARY_N_FIELDS
 };
 
-typedef enum summary_format { SUMMARY_TEXT, SUMMARY_INT, SUMMARY_REAL, SUMMARY_PORT } summary_format;
+typedef enum summary_format {
+	SUMMARY_TEXT,
+	SUMMARY_INT,
+	SUMMARY_REAL,
+	SUMMARY_PORT,
+	SUMMARY_DEVICE
+} summary_format;
 
 static const struct summary_field {
 	const char *name, *unit, *meaning;
@@ -245,6 +273,7 @@ static void summary_values(const popc_run_summary *sum, const popc_scene *s,
 #define VALUE_INT(e) .integer = (e)
 #define VALUE_REAL(e) .real = (e)
 #define VALUE_PORT(e) .real = (e)
+#define VALUE_DEVICE(e) .real = (e)
 #define FIELD_VALUE(ID, name, unit, format, value, meaning)                                         \
 	v[SUMMARY_##ID] = (summary_value){VALUE_##format(value)};
 	RUN_SUMMARY_FIELDS(FIELD_VALUE)
@@ -278,6 +307,20 @@ void popc_run_summary_print(const popc_run_summary *sum, const popc_scene *s, FI
 			"largest |.| %.4g J\n",
 			v[SUMMARY_PORT_ENERGY_END].real, v[SUMMARY_PO_ERROR_END].real,
 			v[SUMMARY_PO_ERROR_MAX].real);
+	if (sum->has_device_energy)
+		fprintf(f, "  device port E_dev = E_port + damping's dissipation: final %.4g J, "
+			"minimum %.4g J\n",
+			v[SUMMARY_DEVICE_ENERGY_END].real, v[SUMMARY_DEVICE_ENERGY_MIN].real);
+}
+
+/* Whether field i has a value for this run (PORT and DEVICE fields may not). */
+static int summary_field_known(const popc_run_summary *sum, int i)
+{
+	if (summary_fields[i].format == SUMMARY_PORT)
+		return sum->has_port_energy;
+	if (summary_fields[i].format == SUMMARY_DEVICE)
+		return sum->has_device_energy;
+	return 1;
 }
 
 void popc_run_summary_csv_header(FILE *f)
@@ -300,9 +343,10 @@ void popc_run_summary_csv_row(const popc_run_summary *sum, const popc_scene *s, 
 		switch (summary_fields[i].format) {
 		case SUMMARY_TEXT: fputs(v[i].text, f); break;
 		case SUMMARY_INT: fprintf(f, "%lld", v[i].integer); break;
-		case SUMMARY_PORT:  /* no true position: an empty cell */
+		case SUMMARY_PORT:   /* no true position: an empty cell */
+		case SUMMARY_DEVICE: /* no dissipation: an empty cell */
 		case SUMMARY_REAL: {
-			if (summary_fields[i].format == SUMMARY_PORT && !sum->has_port_energy)
+			if (!summary_field_known(sum, i))
 				break;
 			char b[POPC_DOUBLE_TEXT_MAX + 1];
 			popc_format_double(v[i].real, b);

@@ -34,6 +34,9 @@ const popc_sweep_column popc_sweep_columns[] = {
 	RUN_METRIC("port_energy_min"),
 	RUN_METRIC("po_error_end"),
 	RUN_METRIC("po_error_max"),
+	/* the device port's energy: empty where the axis gives no dissipation */
+	RUN_METRIC("device_energy_end"),
+	RUN_METRIC("device_energy_min"),
 	RUN_METRIC("rendered_stiffness"),
 	{"chatter_s", POPC_SWEEP_CELL_CHATTER_S, POPC_SWEEP_FORMAT_DOUBLE,
 	 POPC_SWEEP_EMPTY_CHATTER_UNCHECKED},

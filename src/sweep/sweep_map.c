@@ -13,6 +13,7 @@ static const char *const criterion_names[POPC_MAP_N_CRITERIA] = {
 	[POPC_MAP_LIMIT_CYCLE] = "limit-cycle",
 	[POPC_MAP_CHATTER] = "chatter",
 	[POPC_MAP_PASSIVE] = "passive",
+	[POPC_MAP_DEVICE_PASSIVE] = "device-passive",
 };
 
 const char *popc_map_criterion_name(popc_map_criterion c)
@@ -33,7 +34,8 @@ int popc_map_criteria_parse(const char *text, unsigned *set, popc_error *err)
 		if (found < 0)
 			return popc_error_set(err, POPC_ERR_INVALID,
 					      "--criterion '%.*s': not a criterion (allowed: diverged, "
-					      "limit-cycle, chatter, passive, comma-separated)",
+					      "limit-cycle, chatter, passive, device-passive, "
+					      "comma-separated)",
 					      (int)l, p);
 		*set |= 1u << found;
 		if (p[l] != ',')
@@ -68,10 +70,12 @@ int popc_map_facts_from_row(const popc_sweep_plan *p, const char *row, popc_map_
 	int n = popc_sweep_split_cells(row, cell, len, MAX_CELLS);
 	int c_exit = header_index(p, "exit_status"), c_lc = header_index(p, "limit_cycle");
 	int c_ch = header_index(p, "chatter_s"), c_port = header_index(p, "port_energy_min");
-	if (c_exit < 0 || c_lc < 0 || c_ch < 0 || c_port < 0 || n > MAX_CELLS)
+	int c_dev = header_index(p, "device_energy_min");
+	if (c_exit < 0 || c_lc < 0 || c_ch < 0 || c_port < 0 || c_dev < 0 || n > MAX_CELLS)
 		return popc_error_set(err, POPC_ERR_INVALID,
-				      "the sweep's columns lack exit_status, limit_cycle, chatter_s "
-				      "or port_energy_min (a directory of an older popc)");
+				      "the sweep's columns lack exit_status, limit_cycle, chatter_s, "
+				      "port_energy_min or device_energy_min (a directory of an older "
+				      "popc)");
 	long long v;
 	if (n <= c_exit || popc_parse_ll_span(cell[c_exit], cell[c_exit] + len[c_exit], 0, 999, 0, &v) != 0)
 		return popc_error_set(err, POPC_ERR_INVALID, "a row without an exit status");
@@ -91,6 +95,11 @@ int popc_map_facts_from_row(const popc_sweep_plan *p, const char *row, popc_map_
 	    popc_parse_double_span(cell[c_port], cell[c_port] + len[c_port], &d) == POPC_PARSE_OK) {
 		f->has_port_energy_min = 1;
 		f->port_energy_min_J = d;
+	}
+	if (n > c_dev && len[c_dev] > 0 &&
+	    popc_parse_double_span(cell[c_dev], cell[c_dev] + len[c_dev], &d) == POPC_PARSE_OK) {
+		f->has_device_energy_min = 1;
+		f->device_energy_min_J = d;
 	}
 	return 0;
 }
@@ -131,6 +140,10 @@ popc_map_verdict popc_map_verdict_of(popc_map_criterion c, const popc_map_facts 
 		if (!f->has_port_energy_min)
 			return POPC_MAP_UNDECIDED;
 		return f->port_energy_min_J < -port_tol_J ? POPC_MAP_BAD : POPC_MAP_OK;
+	case POPC_MAP_DEVICE_PASSIVE:
+		if (!f->has_device_energy_min)
+			return POPC_MAP_UNDECIDED;
+		return f->device_energy_min_J < -port_tol_J ? POPC_MAP_BAD : POPC_MAP_OK;
 	default:
 		return POPC_MAP_UNDECIDED;
 	}

@@ -85,7 +85,7 @@ check "nothing was written by refused sweeps" test ! -e "$T/bad"
 # ---- a small sweep with logs, two jobs
 expect_exit 0 "3 x 3 sweep, -j 2" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/s" -j 2
 S=$T/s/summary.csv
-check "  header" test "$(head -1 "$S")" = "run,operator.speed,controller.variant,exit_status,ticks,pc_rms,pc_max,pc_active,pc_energy,w_minus_eref_min,w_minus_eref_end,vsign_rate,pc_rms_late,vsign_rate_late,integrator_error_m,port_energy_end,port_energy_min,po_error_end,po_error_max,rendered_stiffness,chatter_s,chatter_intervals,limit_cycle,wall_time_s"
+check "  header" test "$(head -1 "$S")" = "run,operator.speed,controller.variant,exit_status,ticks,pc_rms,pc_max,pc_active,pc_energy,w_minus_eref_min,w_minus_eref_end,vsign_rate,pc_rms_late,vsign_rate_late,integrator_error_m,port_energy_end,port_energy_min,po_error_end,po_error_max,device_energy_end,device_energy_min,rendered_stiffness,chatter_s,chatter_intervals,limit_cycle,wall_time_s"
 check "  9 rows in id order" test "$(tail -n +2 "$S" | cut -d, -f1 | tr '\n' ' ')" = "0000 0001 0002 0003 0004 0005 0006 0007 0008 "
 check "  last axis fastest" test "$(sed -n 3p "$S" | cut -d, -f2,3)" = "0.02,ref-energy"
 check "  all succeeded" test "$(tail -n +2 "$S" | cut -d, -f4 | sort -u)" = "0"

@@ -53,7 +53,8 @@ static void test_header_follows_table(void **state)
 			    "run,operator.speed,controller.variant,exit_status,ticks,pc_rms,pc_max,"
 			    "pc_active,pc_energy,w_minus_eref_min,w_minus_eref_end,vsign_rate,"
 			    "pc_rms_late,vsign_rate_late,integrator_error_m,port_energy_end,"
-			    "port_energy_min,po_error_end,po_error_max,rendered_stiffness,chatter_s,"
+			    "port_energy_min,po_error_end,po_error_max,device_energy_end,"
+			    "device_energy_min,rendered_stiffness,chatter_s,"
 			    "chatter_intervals,limit_cycle,wall_time_s\n");
 	assert_int_equal(count_cells(p.columns), popc_sweep_columns_count(2));
 	const char *cell = p.columns;
@@ -84,7 +85,8 @@ static void test_header_follows_table(void **state)
 	assert_string_equal(h0, "run,exit_status,ticks,pc_rms,pc_max,pc_active,pc_energy,"
 				"w_minus_eref_min,w_minus_eref_end,vsign_rate,pc_rms_late,"
 				"vsign_rate_late,integrator_error_m,port_energy_end,port_energy_min,po_error_end,"
-				"po_error_max,rendered_stiffness,chatter_s,chatter_intervals,limit_cycle,wall_time_s\n");
+				"po_error_max,device_energy_end,device_energy_min,rendered_stiffness,chatter_s,"
+				"chatter_intervals,limit_cycle,wall_time_s\n");
 	assert_int_equal(popc_sweep_columns_count(0), count_cells(h0));
 	assert_int_equal(popc_sweep_column_index(0, POPC_SWEEP_CELL_EXIT_STATUS), 1);
 	free(h0);
@@ -119,7 +121,7 @@ static void test_metrics_in_run_summary(void **state)
 		assert_int_equal(col->format, POPC_SWEEP_FORMAT_TEXT);
 		assert_int_equal(col->empty, POPC_SWEEP_EMPTY_WITHOUT_SUMMARY);
 	}
-	assert_int_equal(n_metrics, 16);
+	assert_int_equal(n_metrics, 18);
 	free(header);
 }
 
@@ -133,8 +135,9 @@ static void test_rows_have_header_cells(void **state)
 	const char *header = "status,pc_rms,pc_max,pc_active,pc_energy,w_minus_eref_min,"
 			     "w_minus_eref_end,vsign_rate,pc_rms_late,vsign_rate_late,"
 			     "integrator_error_m,rendered_stiffness,ticks,wall_time_s,port_energy_end,port_energy_min,"
-			     "po_error_end,po_error_max\n";
-	const char *row = "0,1.5,5,0.25,-0.001,-2e-05,3,12.5,1.25,13,0,1000,5001,0.002,1e-3,-4e-4,-2e-5,3e-5\n";
+			     "po_error_end,po_error_max,device_energy_end,device_energy_min\n";
+	const char *row = "0,1.5,5,0.25,-0.001,-2e-05,3,12.5,1.25,13,0,1000,5001,0.002,1e-3,-4e-4,-2e-5,"
+			  "3e-5,2e-3,-1e-7\n";
 	popc_chatter_result full, none;
 	memset(&full, 0, sizeof full);
 	full.windows = 491;

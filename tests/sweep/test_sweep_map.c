@@ -44,16 +44,24 @@ static void test_criteria(void **state)
 
 	popc_map_facts f = {.exit_status = 0, .has_limit_cycle = 1, .limit_cycle = 0,
 			    .has_chatter = 1, .chatter_s = 0, .has_port_energy_min = 1,
-			    .port_energy_min_J = -5e-7};
+			    .port_energy_min_J = -5e-7, .has_device_energy_min = 1,
+			    .device_energy_min_J = -2e-7};
 	for (int c = 0; c < POPC_MAP_N_CRITERIA; c++)
 		assert_int_equal(popc_map_verdict_of((popc_map_criterion)c, &f, 1e-6), POPC_MAP_OK);
 	assert_int_equal(popc_map_verdict_of(POPC_MAP_PASSIVE, &f, 1e-7), POPC_MAP_BAD);
+	/* device-passive reads E_dev's minimum, not E_port's */
+	assert_int_equal(popc_map_verdict_of(POPC_MAP_DEVICE_PASSIVE, &f, 3e-7), POPC_MAP_OK);
+	assert_int_equal(popc_map_verdict_of(POPC_MAP_DEVICE_PASSIVE, &f, 1e-7), POPC_MAP_BAD);
+	assert_int_equal(popc_map_criteria_parse("device-passive", &set, &err), 0);
+	assert_int_equal(set, 1u << POPC_MAP_DEVICE_PASSIVE);
 	f.chatter_s = 0.001;
 	assert_int_equal(popc_map_verdict_of(POPC_MAP_CHATTER, &f, 1e-6), POPC_MAP_BAD);
 	f.has_limit_cycle = 0;
 	assert_int_equal(popc_map_verdict_of(POPC_MAP_LIMIT_CYCLE, &f, 1e-6), POPC_MAP_UNDECIDED);
 	f.has_port_energy_min = 0; /* an axis without a true position */
 	assert_int_equal(popc_map_verdict_of(POPC_MAP_PASSIVE, &f, 1e-6), POPC_MAP_UNDECIDED);
+	f.has_device_energy_min = 0; /* no dissipation: a real axis, friction, a fixed step */
+	assert_int_equal(popc_map_verdict_of(POPC_MAP_DEVICE_PASSIVE, &f, 1e-6), POPC_MAP_UNDECIDED);
 	f.exit_status = 6; /* diverged: unacceptable under every criterion */
 	for (int c = 0; c < POPC_MAP_N_CRITERIA; c++)
 		assert_int_equal(popc_map_verdict_of((popc_map_criterion)c, &f, 1e-6), POPC_MAP_BAD);

@@ -140,7 +140,8 @@ static void test_product_order(void **state)
 			    "run,operator.speed,controller.variant,encoder.resolution,exit_status,ticks,"
 			    "pc_rms,pc_max,pc_active,pc_energy,w_minus_eref_min,w_minus_eref_end,"
 			    "vsign_rate,pc_rms_late,vsign_rate_late,integrator_error_m,"
-			    "port_energy_end,port_energy_min,po_error_end,po_error_max,rendered_stiffness,chatter_s,"
+			    "port_energy_end,port_energy_min,po_error_end,po_error_max,device_energy_end,"
+			    "device_energy_min,rendered_stiffness,chatter_s,"
 			    "chatter_intervals,limit_cycle,wall_time_s\n");
 	popc_sweep_plan_free(&p);
 }
@@ -386,9 +387,9 @@ static void test_rows(void **state)
 	const char *header = "status,extra,pc_rms,pc_max,pc_active,pc_energy,w_minus_eref_min,"
 			     "w_minus_eref_end,vsign_rate,pc_rms_late,vsign_rate_late,"
 			     "integrator_error_m,rendered_stiffness,ticks,wall_time_s,port_energy_end,port_energy_min,"
-			     "po_error_end,po_error_max\n";
+			     "po_error_end,po_error_max,device_energy_end,device_energy_min\n";
 	/* the port cells empty, as a real axis' summary has them: empty here too */
-	const char *row = "-4,x,1.5,5,0.25,-0.001,-2e-05,3,12.5,1.25,13,0,1000,5001,0.002,,,,\n";
+	const char *row = "-4,x,1.5,5,0.25,-0.001,-2e-05,3,12.5,1.25,13,0,1000,5001,0.002,,,,,,\n";
 	popc_chatter_result chat;
 	memset(&chat, 0, sizeof chat);
 	chat.chatter_s = 0.5;
@@ -404,7 +405,7 @@ static void test_rows(void **state)
 	int n = popc_sweep_row(&p, 3, 6, header, row, &chat, 0.25, buf, sizeof buf, &err);
 	assert_true(n > 0);
 	assert_string_equal(buf, "0003,0.02,improved,6,5001,1.5,5,0.25,-0.001,-2e-05,3,12.5,1.25,13,0,"
-				 ",,,,1000,0.5,2,1,0.25\n");
+				 ",,,,,,1000,0.5,2,1,0.25\n");
 	assert_int_equal(popc_sweep_row_exit_status(&p, buf), 6);
 	int status;
 	assert_int_equal(popc_sweep_run_csv_status(header, row, &status), 0);
@@ -412,7 +413,7 @@ static void test_rows(void **state)
 
 	n = popc_sweep_row(&p, 0, 1, NULL, NULL, NULL, 0.0, buf, sizeof buf, &err);
 	assert_true(n > 0);
-	assert_string_equal(buf, "0000,0.01,none,1,,,,,,,,,,,,,,,,,,,,0\n");
+	assert_string_equal(buf, "0000,0.01,none,1,,,,,,,,,,,,,,,,,,,,,,0\n");
 
 	/* a run too short for a verdict has empty cells, not 0: 500 ticks have
 	 * chatter windows but less than half a limit-cycle window ... */
@@ -423,7 +424,7 @@ static void test_rows(void **state)
 	chat.lc_min_ticks = 1000;
 	n = popc_sweep_row(&p, 3, 0, header, row, &chat, 0.25, buf, sizeof buf, &err);
 	assert_true(n > 0);
-	assert_string_equal(buf, "0003,0.02,improved,0,5001,1.5,5,0.25,-0.001,-2e-05,3,12.5,1.25,13,0,,,,,1000,"
+	assert_string_equal(buf, "0003,0.02,improved,0,5001,1.5,5,0.25,-0.001,-2e-05,3,12.5,1.25,13,0,,,,,,,1000,"
 				 "0,0,,0.25\n");
 	assert_int_equal(popc_sweep_row_exit_status(&p, buf), 0);
 	/* ... 50 ticks not one chatter window either */
@@ -431,14 +432,14 @@ static void test_rows(void **state)
 	chat.lc_ticks = 50;
 	n = popc_sweep_row(&p, 3, 0, header, row, &chat, 0.25, buf, sizeof buf, &err);
 	assert_true(n > 0);
-	assert_string_equal(buf, "0003,0.02,improved,0,5001,1.5,5,0.25,-0.001,-2e-05,3,12.5,1.25,13,0,,,,,1000,"
+	assert_string_equal(buf, "0003,0.02,improved,0,5001,1.5,5,0.25,-0.001,-2e-05,3,12.5,1.25,13,0,,,,,,,1000,"
 				 ",,,0.25\n");
 	/* limit cycle checked, chatter not (a longer chatter window) */
 	chat.lc_ticks = 1000;
 	chat.limit_cycle = 0;
 	n = popc_sweep_row(&p, 3, 0, header, row, &chat, 0.25, buf, sizeof buf, &err);
 	assert_true(n > 0);
-	assert_string_equal(buf, "0003,0.02,improved,0,5001,1.5,5,0.25,-0.001,-2e-05,3,12.5,1.25,13,0,,,,,1000,"
+	assert_string_equal(buf, "0003,0.02,improved,0,5001,1.5,5,0.25,-0.001,-2e-05,3,12.5,1.25,13,0,,,,,,,1000,"
 				 ",,0,0.25\n");
 
 	/* a run summary without a metric column is an error naming it */

@@ -61,6 +61,21 @@ static double simpson_work(double f, double M, double B, double K, double t0, do
 	return f * s * h / 3.0;
 }
 
+/* Simpson's rule of B v(t)^2 over [t0, t1] with n (even) subintervals: the
+ * energy the plant's damping dissipates. */
+static double simpson_dissipation(double f, double M, double B, double K, double t0, double t1,
+				  int n)
+{
+	const double h = (t1 - t0) / n;
+	double v0 = velocity(f, M, B, K, t0), v1 = velocity(f, M, B, K, t1);
+	double s = v0 * v0 + v1 * v1;
+	for (int i = 1; i < n; i++) {
+		double v = velocity(f, M, B, K, t0 + i * h);
+		s += (i % 2 ? 4.0 : 2.0) * v * v;
+	}
+	return B * s * h / 3.0;
+}
+
 static void test_constant_command_against_quadrature(void **state)
 {
 	(void)state;
@@ -98,14 +113,16 @@ static void test_constant_command_against_quadrature(void **state)
 	const int c_t = popc_log_reader_column(&rd, "t"), c_f_c = popc_log_reader_column(&rd, "f_c");
 	const int c_port = popc_log_reader_column(&rd, "E_port");
 	assert_true(c_t >= 0 && c_f_c >= 0 && c_port >= 0);
-	double val[POPC_LOG_MAX_COLUMNS], truth = 0.0, worst = 0.0, last = 0.0;
+	double val[POPC_LOG_MAX_COLUMNS], truth = 0.0, worst = 0.0, last = 0.0, dissipated = 0.0;
 	int st, n = 0;
 	while ((st = popc_log_reader_next(&rd, val, &err)) == 1) {
 		/* the case itself: the command is the constant 0.5 N */
 		assert_true(val[c_f_c] == f_c);
 		double t = val[c_t];
-		if (n > 0)
+		if (n > 0) {
 			truth += simpson_work(f_c, M, B, K, t - 1e-3, t, 64);
+			dissipated += simpson_dissipation(f_c, M, B, K, t - 1e-3, t, 64);
+		}
 		worst = fmax(worst, fabs(val[c_port] - truth));
 		last = val[c_port];
 		n++;
@@ -125,6 +142,19 @@ static void test_constant_command_against_quadrature(void **state)
 	assert_true(worst <= 1e-15);
 	assert_true(sum.has_port_energy);
 	assert_true(sum.port_energy_J == last);
+	/* E_dev = E_port + B integral v^2: the form of plant_dissipation.h summed
+	 * per period against Simpson on the closed-form velocity. The push gives
+	 * the hand about f^2 / (2 K) = 2.5 mJ of spring energy plus motion; the
+	 * damping takes a part of the work: E_dev lies between E_port and 0 */
+	assert_true(sum.has_device_energy);
+	double dev_truth = last + dissipated;
+	print_message("constant f_c: E_dev(1 s) = %.17g J, quadrature %.17g J (dissipated %.6g J)\n",
+		      sum.device_energy_J, dev_truth, dissipated);
+	assert_true(dissipated > 1e-4);
+	assert_true(sum.device_energy_J > last && sum.device_energy_J < 0.0);
+	/* the form's rounding (a few ulps of J per period) over 1000 periods */
+	assert_true(fabs(sum.device_energy_J - dev_truth) <= 1e-14);
+	assert_true(sum.device_energy_min_J <= sum.device_energy_J);
 }
 
 int main(void)

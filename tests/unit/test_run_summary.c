@@ -107,7 +107,8 @@ static void check_summary(const char *what, const popc_run_summary *sum, const p
 			    "variant,integrator,substeps,status,ticks,sim_time_s,wall_time_s,"
 			    "realtime_factor,ns_per_tick,integrator_error_m,pc_active,pc_rms,pc_max,"
 			    "pc_rms_late,pc_energy,w_minus_eref_min,w_minus_eref_end,vsign_rate,"
-			    "vsign_rate_late,port_energy_end,port_energy_min,po_error_end,po_error_max,rendered_stiffness\n");
+			    "vsign_rate_late,port_energy_end,port_energy_min,po_error_end,po_error_max,"
+			    "device_energy_end,device_energy_min,rendered_stiffness\n");
 	enum { MAX_CELLS = 64 };
 	char *names[MAX_CELLS], *cells[MAX_CELLS];
 	const int n_names = split_cells(header, names, MAX_CELLS);
@@ -128,6 +129,13 @@ static void check_summary(const char *what, const popc_run_summary *sum, const p
 						 cells[i]);
 				continue;
 			}
+		}
+		/* the device port's energy: a number where the axis gave the
+		 * plant's dissipation, else an empty cell */
+		if (strncmp(names[i], "device_energy", 13) == 0 && !sum->has_device_energy) {
+			if (cells[i][0] != '\0')
+				fail_msg("%s: %s = '%s' without a dissipation", what, names[i], cells[i]);
+			continue;
 		}
 		if (popc_parse_double(cells[i], end, &v) != (size_t)(end - cells[i]) || !isfinite(v))
 			fail_msg("%s: %s = '%s' is no finite number", what, names[i], cells[i]);

@@ -19,6 +19,11 @@
 typedef struct popc_axis_sample {
 	long long count;
 	double x_true_m;      /* NaN when unknown (real axis) */
+	/* energy the plant's damping dissipated over the period before this
+	 * sample, J (plant_dissipation.h; 0 at tick 0). NaN when the axis cannot
+	 * say (a real axis, a fixed-step integrator, friction): the runner sets
+	 * NaN before every call, so an axis without it leaves it alone. */
+	double dissipated_J;
 	double dt_s;          /* measured period before this sample (0 for a simulated axis) */
 	double rtt_s;         /* transaction time of the exchange (0 for a simulated axis) */
 } popc_axis_sample;

@@ -137,7 +137,7 @@ int popc_plant_friction_step(const popc_plant *p, popc_plant_state *st, const po
 /* The threshold of static friction: max(stiction_N, coulomb_N). */
 double popc_plant_stick_N(const popc_plant_config *cfg);
 
-/* Dense matrix exponential of an n x n matrix (n <= 8), row major, by scaling
+/* Dense matrix exponential of an n x n matrix (n <= 12), row major, by scaling
  * and squaring with a [6/6] Pade approximant (Higham 2005, table 2.3: backward
  * error below 2^-53 for ||A|| / 2^s <= 0.54). A matrix that needs squarings
  * (||A||_1 > 0.54) is balanced first by a diagonal similarity of powers of two

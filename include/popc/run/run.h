@@ -25,6 +25,12 @@ typedef struct popc_run_summary {
 	int has_port_energy;
 	double port_energy_J, po_error_end_J, po_error_max_J;
 	double port_energy_min_J;     /* min over the run of E_port (0 at t = 0) */
+	/* the device port's energy E_dev = E_port + D (D: the energy the
+	 * plant's damping dissipated, plant_dissipation.h), for an axis that
+	 * gave D at every tick (has_device_energy; 0 otherwise): at the last
+	 * tick and its minimum (0 at t = 0) */
+	int has_device_energy;
+	double device_energy_J, device_energy_min_J;
 	int status;                   /* 0 or the popc_status that stopped the run */
 	char stop_reason[POPC_ERROR_MSG_MAX + 64];
 } popc_run_summary;

@@ -29,6 +29,8 @@ typedef enum popc_map_criterion {
 	POPC_MAP_LIMIT_CYCLE,   /* ... and no sustained limit cycle (limit_cycle = 0) */
 	POPC_MAP_CHATTER,       /* ... and no PC chatter (chatter_s = 0) */
 	POPC_MAP_PASSIVE,       /* ... and E_port never below -port_tol_J */
+	POPC_MAP_DEVICE_PASSIVE, /* ... and E_dev = E_port + the plant's damping's
+				  * dissipation never below -port_tol_J */
 	POPC_MAP_N_CRITERIA
 } popc_map_criterion;
 
@@ -54,6 +56,8 @@ typedef struct popc_map_facts {
 	double chatter_s;
 	int has_port_energy_min;
 	double port_energy_min_J;
+	int has_device_energy_min;
+	double device_energy_min_J;
 } popc_map_facts;
 
 /* The facts of a sweep row of plan p (a row of its summary.csv). */

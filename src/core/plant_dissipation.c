@@ -1,0 +1,110 @@
+/* The damping's dissipation over a step as a quadratic form (plant_dissipation.h). */
+#include "popc/core/plant_dissipation.h"
+
+#include <math.h>
+#include <string.h>
+
+/* The augmented matrix of the exact step (plant.c, exact_coeffs), unscaled:
+ * z = [y, v, y1, y2, p, q], y1 = u0 + u1 tau, p = uc cos(w tau) + us sin(w tau). */
+static int augmented(const popc_plant_config *cfg, double a[36])
+{
+	int n = cfg->omega_radps != 0.0 ? 6 : 4;
+	double m = cfg->mass_kg;
+	memset(a, 0, 36 * sizeof a[0]);
+	a[0 * n + 1] = 1.0;
+	a[1 * n + 0] = -cfg->stiffness_Npm / m;
+	a[1 * n + 1] = -cfg->damping_Nspm / m;
+	a[1 * n + 2] = 1.0 / m;
+	a[2 * n + 3] = 1.0;
+	if (n == 6) {
+		a[1 * n + 4] = 1.0 / m;
+		a[4 * n + 5] = cfg->omega_radps;
+		a[5 * n + 4] = -cfg->omega_radps;
+	}
+	return n;
+}
+
+/* out = x^T y for n x n row-major matrices (out may not alias). */
+static void mul_tn(int n, const double *x, const double *y, double *out)
+{
+	for (int i = 0; i < n; i++)
+		for (int j = 0; j < n; j++) {
+			double acc = 0.0;
+			for (int k = 0; k < n; k++)
+				acc += x[k * n + i] * y[k * n + j];
+			out[i * n + j] = acc;
+		}
+}
+
+static void mul_nn(int n, const double *x, const double *y, double *out)
+{
+	for (int i = 0; i < n; i++)
+		for (int j = 0; j < n; j++) {
+			double acc = 0.0;
+			for (int k = 0; k < n; k++)
+				acc += x[i * n + k] * y[k * n + j];
+			out[i * n + j] = acc;
+		}
+}
+
+int popc_plant_dissipation_init(popc_plant_dissipation *d, const popc_plant_config *cfg,
+				double h_s)
+{
+	memset(d, 0, sizeof *d);
+	double a[36];
+	int n = augmented(cfg, a);
+	d->n = n;
+	if (!(cfg->damping_Nspm > 0.0))
+		return 0; /* no damping, no dissipation: Q = 0 exactly */
+	double norm = 0.0;
+	for (int j = 0; j < n; j++) {
+		double col = 0.0;
+		for (int i = 0; i < n; i++)
+			col += fabs(a[i * n + j]);
+		norm = col > norm ? col : norm;
+	}
+	/* h / 2^s with ||A||_1 h / 2^s <= 1/2 */
+	int s = 0;
+	double h = h_s;
+	while (norm * h > 0.5 && s < 200) {
+		h *= 0.5;
+		s++;
+	}
+	/* Van Loan's block matrix [[-A^T, e_v e_v^T], [0, A]] h, 2n x 2n */
+	const int n2 = 2 * n;
+	double c[144] = {0}, e[144];
+	for (int i = 0; i < n; i++)
+		for (int j = 0; j < n; j++) {
+			c[i * n2 + j] = -a[j * n + i] * h;
+			c[(n + i) * n2 + n + j] = a[i * n + j] * h;
+		}
+	c[1 * n2 + n + 1] = h; /* e_v e_v^T h: v is component 1 */
+	if (popc_expm(n2, c, e) != 0)
+		return POPC_ERR_NUMERIC;
+	double phi[36], g[36], integral[36], tmp[36], tmp2[36];
+	for (int i = 0; i < n; i++)
+		for (int j = 0; j < n; j++) {
+			phi[i * n + j] = e[(n + i) * n2 + n + j];
+			g[i * n + j] = e[i * n2 + n + j];
+		}
+	mul_tn(n, phi, g, integral);
+	for (int k = 0; k < s; k++) {
+		/* I(2h) = I(h) + Phi^T I(h) Phi, Phi(2h) = Phi^2 */
+		mul_nn(n, integral, phi, tmp);
+		mul_tn(n, phi, tmp, tmp2);
+		for (int i = 0; i < n * n; i++)
+			integral[i] += tmp2[i];
+		mul_nn(n, phi, phi, tmp);
+		memcpy(phi, tmp, sizeof(double) * (size_t)(n * n));
+	}
+	const double b = cfg->damping_Nspm;
+	for (int i = 0; i < n; i++)
+		for (int j = 0; j < n; j++) {
+			/* the integral is symmetric: its two roundings averaged */
+			double q = b * (0.5 * (integral[i * n + j] + integral[j * n + i]));
+			if (!isfinite(q))
+				return POPC_ERR_NUMERIC;
+			d->q[i][j] = q;
+		}
+	return 0;
+}
