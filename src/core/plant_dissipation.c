@@ -106,5 +106,10 @@ int popc_plant_dissipation_init(popc_plant_dissipation *d, const popc_plant_conf
 				return POPC_ERR_NUMERIC;
 			d->q[i][j] = q;
 		}
+	for (int i = 0; i < n; i++) {
+		d->d[i] = d->q[i][i];
+		for (int j = i + 1; j < n; j++)
+			d->u[i][j] = 2.0 * d->q[i][j];
+	}
 	return 0;
 }
