@@ -58,7 +58,8 @@ echo "# times: setup $(secs "$t0" "$t1") s, build $(secs "$t1" "$t2") s, install
 
 # ---- what is where
 for f in bin/popc bin/popc-analyze share/popc/slurm/popc-sweep.sbatch share/doc/popc/LICENSE \
-         share/doc/popc/README.md share/doc/popc/SWEEPS.md share/bash-completion/completions/popc \
+         share/doc/popc/README.md share/doc/popc/SWEEPS.md share/doc/popc/MAPS.md \
+         share/doc/popc/figures/map-zwidth-spring.png share/bash-completion/completions/popc \
          share/bash-completion/completions/popc-analyze; do
   check "installed: $f" test -s "$P/$f"
 done
