@@ -294,8 +294,11 @@ static int sim_sample(popc_axis *a, popc_axis_sample *out, popc_error *err)
 }
 
 /* The damping's dissipation over a part h of a period split at a breakpoint
- * (its form computed for h: a few microseconds, a few times per run); NaN
- * when that form is not finite, as the step's own matrices then fail too. */
+ * (its form computed for h: one 8 x 8 exponential, about 5 us). A ramp has
+ * two such breakpoints per run; a table intent whose rows fall inside most
+ * periods pays it every tick (measured: a 0.37 ms table, 7 s at 1 kHz, 0.01
+ * s of CPU without the dissipation, 0.05 s with it). NaN when the form is not
+ * finite, as the step's own matrices then fail too. */
 static double part_dissipated_J(const popc_plant *p, const popc_plant_state *st,
 				const popc_plant_input *u, double h_s)
 {
