@@ -101,7 +101,7 @@ static const scene_key scene_keys[] = {
 	 "windowed-po: the PO sums W - E_ref over the last po_window ticks", "25", 0},
 	NUM("controller", "po_velocity_floor", po_velocity_floor_mps, "0.01", 0, 1e3, 0, "m/s",
 	    "windowed-po: no PC below this measured speed |dx| / T"),
-	NUM("controller", "po_damping_max", po_damping_max_Nspm, "50", 0, 1e9, 0, "N s/m",
+	NUM("controller", "po_damping_max", po_damping_max_Nspm, "8", 0, 1e9, 0, "N s/m",
 	    "windowed-po: bound on the PC's damping |f_pc| / |v|"),
 
 	{"integrator", "method", KEY_ENUM, OFF(integrator), 0, 0, 0, "", popc_integrator_names,
