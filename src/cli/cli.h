@@ -35,6 +35,10 @@ int popc_cli_load_scene_options(popc_scene *s, const char *path, char **sets, in
  * Returns 0, or -1 when out of memory (the list is left as it was). */
 int popc_cli_push(char ***list, int *n, char *value);
 
+/* Whether the --set assignment "section.key=value" names this key (names
+ * compared without the blanks around them, as popc_scene_set reads them). */
+int popc_cli_set_names_key(const char *set, const char *section, const char *key);
+
 /* Whether path is "-" (standard output) while popc started with descriptor 1
  * closed (stdfds.h): then says so on stderr, naming the option, and returns 1
  * (the caller exits 2 before anything runs). */

@@ -5,6 +5,7 @@
 
 #include "cli.h"
 #include "popc/util/stdfds.h"
+#include "popc/util/text.h"
 
 volatile sig_atomic_t popc_cli_stop = 0;
 
@@ -65,6 +66,24 @@ int popc_cli_load_scene_options(popc_scene *s, const char *path, char **sets, in
 int popc_cli_load_scene(popc_scene *s, const char *path, char **sets, int n_sets, popc_error *err)
 {
 	return popc_cli_load_scene_options(s, path, sets, n_sets, NULL, 0, err);
+}
+
+int popc_cli_set_names_key(const char *set, const char *section, const char *key)
+{
+	const char *eq = strchr(set, '='), *dot = strchr(set, '.');
+	if (!eq || !dot || dot > eq)
+		return 0;
+	const char *given[2][2] = {{set, dot}, {dot + 1, eq}};
+	const char *want[2] = {section, key};
+	for (int k = 0; k < 2; k++) {
+		const char *gb = given[k][0], *ge = given[k][1];
+		const char *wb = want[k], *we = want[k] + strlen(want[k]);
+		popc_trim_blanks(&gb, &ge);
+		popc_trim_blanks(&wb, &we);
+		if (ge - gb != we - wb || memcmp(gb, wb, (size_t)(ge - gb)) != 0)
+			return 0;
+	}
+	return 1;
 }
 
 int popc_cli_push(char ***list, int *n, char *value)

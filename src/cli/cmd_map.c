@@ -338,8 +338,8 @@ static int make_plan(const map_args *a, popc_sweep_plan *plan, popc_error *err)
 	popc_scene_defaults(&base);
 	int st = popc_scene_load(&base, a->scene_path, err);
 	for (int m = 0; m < a->n_sets && !st; m++) {
-		if (strncmp(a->sets[m], "environment.stiffness", 21) == 0 ||
-		    strncmp(a->sets[m], "controller.variant", 18) == 0)
+		if (popc_cli_set_names_key(a->sets[m], "environment", "stiffness") ||
+		    popc_cli_set_names_key(a->sets[m], "controller", "variant"))
 			return popc_error_set(err, POPC_ERR_INVALID,
 					      "--set %s: the map varies this key itself (--stiffness, "
 					      "--variant)",
@@ -379,6 +379,12 @@ static int make_plan(const map_args *a, popc_sweep_plan *plan, popc_error *err)
 					    "--vary %s: the map varies this key itself (--stiffness, "
 					    "--variant)",
 					    a->vary[k]);
+		for (int m = 0; m < a->n_sets && !st; m++)
+			if (popc_cli_set_names_key(a->sets[m], axes[k + 1].section, axes[k + 1].key))
+				st = popc_error_set(err, POPC_ERR_INVALID,
+						    "--set %s and --vary %s: the key is both fixed and "
+						    "varied; give it once",
+						    a->sets[m], a->vary[k]);
 	}
 	if (!st) {
 		snprintf(spec, sizeof spec, "environment.stiffness=%.17g:%.17g:%ld:log", k_lo, k_hi, n_k);

@@ -43,6 +43,10 @@ expect_exit 2 "map with --stiffness HI:LO" "$POPC" map "$SCENE" --variant none -
 check "  says the range" err_has "0 < LO < HI"
 expect_exit 2 "map varying the stiffness itself" "$POPC" map "$SCENE" --variant none --vary environment.stiffness=1,2 -o "$T/x"
 check "  says the map varies it" err_has "the map varies this key itself"
+expect_exit 2 "map with a key both --set and --vary" "$POPC" map "$SCENE" --variant none --vary environment.damping=0.1 --set " environment . damping = 0.3" -o "$T/x"
+check "  names both" err_has "the key is both fixed and varied"
+expect_exit 2 "map with --set of its own K, blanks around the names" "$POPC" map "$SCENE" --variant none --set "environment . stiffness=5" -o "$T/x"
+check "  says the map varies it" err_has "the map varies this key itself"
 expect_exit 2 "map with an unknown variant" "$POPC" map "$SCENE" --variant none,nope -o "$T/x"
 check "  nothing written" test ! -e "$T/x/boundary.csv"
 
