@@ -362,6 +362,10 @@ typedef struct ana_summary {
 	 * has_port_energy = 0 (n/a, empty in CSV) for a log without E_port or W */
 	int has_port_energy;
 	double port_energy_end_J, po_error_end_J, po_error_max_J;
+	double port_energy_min_J;     /* min of E_port over the log's rows */
+	/* least squares f_c / penetration over the rows in contact (0 without
+	 * contact), as the run summary's rendered_stiffness */
+	double rendered_stiffness_Npm;
 	/* the scene the log ran (header, then --set; paper defaults for what a
 	 * foreign log lacks): the report's parameter box */
 	double env_stiffness_Npm, env_position_m, enc_resolution_m, pc_bound_N;

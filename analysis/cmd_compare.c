@@ -44,6 +44,8 @@ static int summary_finite(const char *path, const ana_summary *s, popc_error *er
 		{"port_energy_end", s->port_energy_end_J},
 		{"po_error_end (W - E_port)", s->po_error_end_J},
 		{"po_error_max (max |W - E_port|)", s->po_error_max_J},
+		{"port_energy_min", s->port_energy_min_J},
+		{"rendered_stiffness", s->rendered_stiffness_Npm},
 	};
 	for (size_t i = 0; i < sizeof q / sizeof q[0]; i++)
 		if (!isfinite(q[i].v))
@@ -120,6 +122,8 @@ int ana_summarize(const char *path, const ana_input_options *o, const popc_chatt
 			/* W(k) - E_port(k): the observer's error at tick k */
 			const double e = row.tick.W_J - row.E_port_J;
 			s->port_energy_end_J = row.E_port_J;
+			if (s->ticks == 0 || row.E_port_J < s->port_energy_min_J)
+				s->port_energy_min_J = row.E_port_J;
 			s->po_error_end_J = e;
 			if (fabs(e) > s->po_error_max_J)
 				s->po_error_max_J = fabs(e);
@@ -142,6 +146,7 @@ int ana_summarize(const char *path, const ana_input_options *o, const popc_chatt
 	s->w_minus_eref_end_J = m.w_minus_eref_end_J;
 	s->vsign_rate_Hz = popc_metrics_vsign_rate(&m.all, m.period_s);
 	s->vsign_rate_late_Hz = popc_metrics_vsign_rate(&m.late, m.period_s);
+	s->rendered_stiffness_Npm = popc_metrics_rendered_stiffness(&m);
 	return summary_finite(path, s, err);
 }
 
@@ -185,7 +190,7 @@ static const char *const columns[] = {
 	"log", "variant", "ticks", "duration_s", "pc_rms", "pc_rms_late", "pc_max", "pc_active",
 	"pc_energy", "w_minus_eref_min", "w_minus_eref_end", "vsign_rate", "vsign_rate_late",
 	"chatter_s", "chatter_intervals", "limit_cycle", "lc_amplitude", "lc_frequency",
-	"port_energy_end", "po_error_end", "po_error_max",
+	"port_energy_end", "po_error_end", "po_error_max", "port_energy_min", "rendered_stiffness",
 };
 #define N_COLUMNS ((int)(sizeof columns / sizeof columns[0]))
 /* The columns that are text in JSON (the others are numbers, or null where
@@ -229,10 +234,11 @@ void ana_summary_print_header(FILE *f, ana_format fmt)
 		break;
 	default:
 		fprintf(f, "%-20s %-18s %7s %8s %8s %8s %8s %8s %10s %10s %10s %8s %8s %8s %4s %3s %10s %8s "
-			   "%10s %10s %10s\n",
+			   "%10s %10s %10s %10s %9s\n",
 			"log", "variant", "ticks", "dur_s", "pc_rms", "rms_late", "pc_max", "active",
 			"pc_energy", "wme_min", "wme_end", "vsign/s", "vs_late", "chat_s", "n", "lc",
-			"lc_amp_m", "lc_Hz", "E_port_end", "poerr_end", "poerr_max");
+			"lc_amp_m", "lc_Hz", "E_port_end", "poerr_end", "poerr_max", "E_port_min",
+			"K_rend");
 	}
 }
 
@@ -280,10 +286,11 @@ void ana_summary_print_row(FILE *f, ana_format fmt, const ana_summary *s)
 		else
 			fprintf(f, " %3s %10s %8s", "n/a", "n/a", "n/a");
 		if (s->has_port_energy)
-			fprintf(f, " %10.3e %10.3e %10.3e\n", s->port_energy_end_J, s->po_error_end_J,
-				s->po_error_max_J);
+			fprintf(f, " %10.3e %10.3e %10.3e %10.3e", s->port_energy_end_J,
+				s->po_error_end_J, s->po_error_max_J, s->port_energy_min_J);
 		else
-			fprintf(f, " %10s %10s %10s\n", "n/a", "n/a", "n/a");
+			fprintf(f, " %10s %10s %10s %10s", "n/a", "n/a", "n/a", "n/a");
+		fprintf(f, " %9.4g\n", s->rendered_stiffness_Npm);
 		return;
 	}
 	const char *sep = fmt == ANA_CSV ? "," : " | ";
@@ -326,8 +333,9 @@ void ana_summary_print_row(FILE *f, ana_format fmt, const ana_summary *s)
 		ana_put_double(f, c->lc_frequency_Hz);
 	}
 	/* the true port energy: only a log with E_port (and W) has it */
-	const double port[] = {s->port_energy_end_J, s->po_error_end_J, s->po_error_max_J};
-	for (int i = 0; i < 3; i++) {
+	const double port[] = {s->port_energy_end_J, s->po_error_end_J, s->po_error_max_J,
+			       s->port_energy_min_J};
+	for (int i = 0; i < 4; i++) {
 		fputs(sep, f);
 		if (!s->has_port_energy)
 			fputs(na, f);
@@ -336,6 +344,11 @@ void ana_summary_print_row(FILE *f, ana_format fmt, const ana_summary *s)
 		else
 			ana_put_double(f, port[i]);
 	}
+	fputs(sep, f);
+	if (fmt == ANA_MARKDOWN)
+		fprintf(f, "%.4g", s->rendered_stiffness_Npm);
+	else
+		ana_put_double(f, s->rendered_stiffness_Npm);
 	fputs(fmt == ANA_MARKDOWN ? " |\n" : "\n", f);
 }
 
@@ -352,7 +365,9 @@ static void usage(FILE *f)
 	      "  lc_amplitude (m), lc_frequency (Hz) from the chatter detector; port_energy_end\n"
 	      "  (J, the log's true port energy E_port at the end), po_error_end and\n"
 	      "  po_error_max (J, the observer's error W - E_port at the end, largest |.|),\n"
-	      "  n/a (empty in CSV) for a log without E_port (a real axis, a foreign log).\n"
+	      "  port_energy_min (J, the smallest E_port), n/a (empty in CSV) for a log\n"
+	      "  without E_port (a real axis, a foreign log); rendered_stiffness (N/m, least\n"
+	      "  squares f_c / penetration over the rows in contact; 0 without contact).\n"
 	      "The late window is the second half of run.duration (popc logs), else --late-from.\n"
 	      "A log without a PC force (no f_pc or f_c column) gets n/a (empty in CSV) for the\n"
 	      "PC and chatter columns, and for W - E_ref unless W and E_ref are logged; a log\n"

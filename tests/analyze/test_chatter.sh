@@ -124,15 +124,15 @@ if expect_rc 0 "$A" compare --format csv "$W/short.csv" "$W/window.csv" "$W/half
 		[ "$(grep -c "limit cycle not checked" "$W/err")" -eq 3 ] &&
 		ok "compare: a short log's chatter and limit-cycle cells empty, notes" || fail "compare short: $(cat "$W/out" "$W/err")"
 fi
-expect_rc 0 "$A" compare --format markdown "$W/short.csv" && grep -q "^| short | unknown | 50 |.* | n/a | n/a | n/a | n/a | n/a | [-0-9.e]* | [-0-9.e]* | [-0-9.e]* |$" "$W/out" &&
+expect_rc 0 "$A" compare --format markdown "$W/short.csv" && grep -q "^| short | unknown | 50 |.* | n/a | n/a | n/a | n/a | n/a | [-0-9.e]* | [-0-9.e]* | [-0-9.e]* | [-0-9.e]* | [-0-9.e+]* |$" "$W/out" &&
 	ok "compare markdown: n/a" || fail "compare md short: $(cat "$W/out")"
-expect_rc 0 "$A" compare "$W/half.csv" && grep -q "^half .*  0    0 n/a        n/a      n/a  *[-0-9.e+]*  *[-0-9.e+]*  *[-0-9.e+]*$" "$W/out" &&
+expect_rc 0 "$A" compare "$W/half.csv" && grep -q "^half .*  0    0 n/a        n/a      n/a  *[-0-9.e+]*  *[-0-9.e+]*  *[-0-9.e+]*  *[-0-9.e+]*  *[-0-9.e+]*$" "$W/out" &&
 	ok "compare text: limit-cycle cells n/a" || fail "compare text half: $(cat "$W/out")"
 # report: the tables as compare's, the HTML cell and the log's paragraph say
 # not checked, a note on stderr
 if expect_rc 0 "$A" report --no-draw -o "$W/rep-short" "$W/half.csv" "$W/second.csv"; then
-	grep -q "^| half | .* | n/a | n/a | n/a | [-0-9.e]* | [-0-9.e]* | [-0-9.e]* |$" "$W/rep-short/compare.md" &&
-		grep -q "^half,.*,,,[-0-9.e]*,[-0-9.e]*,[-0-9.e]*$" "$W/rep-short/compare.csv" &&
+	grep -q "^| half | .* | n/a | n/a | n/a | [-0-9.e]* | [-0-9.e]* | [-0-9.e]* | [-0-9.e]* | [-0-9.e+]* |$" "$W/rep-short/compare.md" &&
+		grep -q "^half,.*,,,[-0-9.e]*,[-0-9.e]*,[-0-9.e]*,[-0-9.e]*,[-0-9.e+]*$" "$W/rep-short/compare.csv" &&
 		grep -q '<td>half</td>\|href="#half">half</a></td><td>unknown</td>.*<td>n/a</td></tr>' "$W/rep-short/index.html" &&
 		grep -q 'href="#second">second</a></td><td>unknown</td>.*<td>no</td></tr>' "$W/rep-short/index.html" &&
 		grep -q "No chatter flagged. Limit cycle not checked (shorter than half a limit-cycle window)." "$W/rep-short/index.md" &&

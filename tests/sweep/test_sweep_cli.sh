@@ -113,7 +113,7 @@ if [ -x "$ANA" ]; then
       FILENAME == ARGV[1] { c = $0; next }
       $1 == id { r = $0 }
       END {
-        n = split("pc_rms pc_rms_late pc_max pc_active pc_energy w_minus_eref_min w_minus_eref_end vsign_rate vsign_rate_late chatter_s chatter_intervals limit_cycle", k, " ")
+        n = split("pc_rms pc_rms_late pc_max pc_active pc_energy w_minus_eref_min w_minus_eref_end vsign_rate vsign_rate_late chatter_s chatter_intervals limit_cycle port_energy_end port_energy_min po_error_end po_error_max rendered_stiffness", k, " ")
         split(c, cc, ","); split(r, rr, ",")
         for (i = 1; i <= n; i++) if (cc[col[ARGV[1], k[i]]] != rr[col[ARGV[2], k[i]]]) { print "   " k[i] ": compare " cc[col[ARGV[1], k[i]]] ", sweep " rr[col[ARGV[2], k[i]]]; e = 1 }
         exit e
