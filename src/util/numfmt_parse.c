@@ -1125,10 +1125,13 @@ static inline __attribute__((always_inline)) const char *scan_double(const char 
 	}
 	/* the integer part digit by digit: it is short in a log ("0", "49") */
 	const char *ip = p;
-	while (p < end && is_digit(*p)) {
-		w = w * 10 + (uint64_t)(*p - '0');
-		p++;
-	}
+	if (end - p >= 2 && p[1] == '.' && is_digit(p[0])) /* "0.", "4." */
+		w = (uint64_t)(*p++ - '0');
+	else
+		while (p < end && is_digit(*p)) {
+			w = w * 10 + (uint64_t)(*p - '0');
+			p++;
+		}
 	const size_t in = (size_t)(p - ip);
 	const char *fp = p;
 	size_t fn = 0, fraction_zeros = 0;
