@@ -447,7 +447,7 @@ int popc_log_reader_next(popc_log_reader *r, double *values, popc_error *err)
 {
 	char *line;
 	size_t len;
-	int complete;
+	int complete, tried_one_pass = 0;
 	for (;;) {
 		if (r->first_row_pending) { /* no_header: read at open, r->lineno is its line */
 			r->first_row_pending = 0;
@@ -463,13 +463,15 @@ int popc_log_reader_next(popc_log_reader *r, double *values, popc_error *err)
 		/* the common row, numbers and delimiters only, in one pass; any
 		 * other line (a comment, a quote, a blank, an error) goes the way
 		 * below, which checks everything */
-		if (r->fast_rows && complete &&
-		    popc_parse_double_row(line, line + len, r->delimiter, values, r->n_cols) ==
-			    r->n_cols) {
-			for (int i = 0; i < r->n_cols; i++)
-				if (!r->parse[i])
-					values[i] = (double)NAN;
-			goto row_read;
+		if (r->fast_rows && complete) {
+			if (popc_parse_double_row(line, line + len, r->delimiter, values,
+						  r->n_cols) == r->n_cols) {
+				for (int i = 0; i < r->n_cols; i++)
+					if (!r->parse[i])
+						values[i] = (double)NAN;
+				goto row_read;
+			}
+			tried_one_pass = 1;
 		}
 		if (r->fast_rows && memchr(line, '\0', len))
 			return popc_error_set(err, POPC_ERR_INVALID,
@@ -540,6 +542,11 @@ int popc_log_reader_next(popc_log_reader *r, double *values, popc_error *err)
 				(int)(ce[i] - cs[i] > 40 ? 40 : ce[i] - cs[i]), cs[i]);
 		}
 	}
+	/* a good row that is not plain numbers (quoted, blanks, a text column
+	 * nobody reads): the file's rows are likely all so, and the one-pass
+	 * attempt would be wasted on each; the split reads them from here */
+	if (tried_one_pass)
+		r->fast_rows = 0;
 row_read:
 	if (r->t_col >= 0) {
 		double t = values[r->t_col];

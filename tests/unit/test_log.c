@@ -362,11 +362,23 @@ static void test_reader_one_pass_and_split(void **state)
 	for (int row = 0; row < 5; row++) {
 		if (popc_log_reader_next(&r, v, &err) != 1)
 			fail_msg("row %d: %s", row, err.msg);
+		/* the first row is plain, the second not: the split reads the
+		 * rows from there on (the one-pass attempt would fail on each) */
+		assert_int_equal(r.fast_rows, row == 0);
 		assert_true(v[0] == t[row]);
 		assert_true(v[1] == 0.5);
 		assert_true(v[2] == -1.25e-3);
 	}
 	assert_int_equal(popc_log_reader_next(&r, v, &err), 0);
+	popc_log_reader_close(&r);
+	/* comments and blank lines between rows keep the one-pass path */
+	path = write_file("comments.csv", "t,x\n0,1\n# c\n\n \n0.001,2\n# stop = x\n");
+	assert_int_equal(popc_log_reader_open(&r, path, NULL, &err), 0);
+	assert_int_equal(popc_log_reader_next(&r, v, &err), 1);
+	assert_int_equal(popc_log_reader_next(&r, v, &err), 1);
+	assert_true(v[0] == 0.001 && v[1] == 2.0);
+	assert_int_equal(popc_log_reader_next(&r, v, &err), 0);
+	assert_true(r.fast_rows);
 	popc_log_reader_close(&r);
 	/* a column nobody reads may hold text, on either path */
 	path = write_file("text.csv", "t,x,note\n0,1,2\n0.001,2,\"a, b\"\n0.002,3,c\n");
