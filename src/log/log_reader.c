@@ -455,6 +455,20 @@ int popc_log_reader_next(popc_log_reader *r, double *values, popc_error *err)
 			complete = r->first_row_complete;
 			break;
 		}
+		/* the common row straight from the buffer, its end found by the
+		 * parse (no search for the newline first); a row the buffer cuts,
+		 * or any other line, is read by next_line below */
+		const char *row_end;
+		if (r->fast_rows &&
+		    popc_parse_double_line(r->buf + r->start, r->buf + r->end, r->delimiter, values,
+					   r->n_cols, &row_end) == r->n_cols) {
+			r->start = (size_t)(row_end - r->buf) + (*row_end == '\r' ? 2 : 1);
+			r->lineno++;
+			for (int i = 0; i < r->n_cols; i++)
+				if (!r->parse[i])
+					values[i] = (double)NAN;
+			goto row_read;
+		}
 		int got = next_line(r, &line, &len, &complete, !r->fast_rows);
 		if (got < 0)
 			return line_error(r, got, err);

@@ -1213,12 +1213,17 @@ static int zero_text_underflows(const char *s, const char *end)
 	return 0;
 }
 
-int popc_parse_double_row(const char *s, const char *end, char delim, double *out, int n)
+/* popc_parse_double_row, and popc_parse_double_line when line_end is set:
+ * then the last number is followed by "\n" or "\r\n" inside [s, end), where
+ * *line_end is put. */
+static inline __attribute__((always_inline)) int parse_row(const char *s, const char *end,
+							   char delim, double *out, int n,
+							   const char **line_end)
 {
 	/* a delimiter that can stand inside a number would split differently
 	 * from a search for it ("1e5" with delimiter 'e') */
 	if (is_digit(delim) || delim == '.' || delim == '+' || delim == '-' || delim == 'e' ||
-	    delim == 'E' || delim == '\0')
+	    delim == 'E' || delim == '\0' || delim == '\n' || delim == '\r')
 		return 0;
 	const char *p = s;
 	for (int i = 0; i < n; i++) {
@@ -1226,8 +1231,18 @@ int popc_parse_double_row(const char *s, const char *end, char delim, double *ou
 		const char *q = scan_double(p, end, &v);
 		if (!q)
 			return i;
-		if (i + 1 < n ? q == end || *q != delim : q != end)
-			return i; /* text after the number, or too few or many cells */
+		if (i + 1 < n) {
+			if (q == end || *q != delim)
+				return i; /* text after the number, or too few cells */
+		} else if (line_end) {
+			/* the line's end, seen inside the text (else the last number
+			 * may go on past end) */
+			if (q == end || !(*q == '\n' || (*q == '\r' && end - q >= 2 && q[1] == '\n')))
+				return i;
+			*line_end = q;
+		} else if (q != end) {
+			return i; /* text after the last number, or too many cells */
+		}
 		/* finite and nonzero in one test, as popc_parse_double_exact */
 		uint64_t bits;
 		memcpy(&bits, &v, sizeof bits);
@@ -1239,4 +1254,15 @@ int popc_parse_double_row(const char *s, const char *end, char delim, double *ou
 		p = q + 1;
 	}
 	return n;
+}
+
+int popc_parse_double_row(const char *s, const char *end, char delim, double *out, int n)
+{
+	return parse_row(s, end, delim, out, n, NULL);
+}
+
+int popc_parse_double_line(const char *s, const char *end, char delim, double *out, int n,
+			   const char **line_end)
+{
+	return parse_row(s, end, delim, out, n, line_end);
 }

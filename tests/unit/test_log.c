@@ -434,6 +434,50 @@ static void test_reader_one_pass_and_split(void **state)
 	}
 }
 
+/* Rows read straight from the block buffer end where the parse finds their
+ * newline; a row the 1 MiB buffer cuts is read whole after a refill. A file
+ * of about 3 MiB (rows of every length cut at some byte of every kind: a
+ * digit, a point, an exponent, a delimiter, a CR of a CR LF) reads back
+ * bitwise, on the right line numbers. */
+static void test_reader_rows_across_blocks(void **state)
+{
+	(void)state;
+	char path[512];
+	snprintf(path, sizeof path, "%s/blocks.csv", tmpdir);
+	FILE *f = fopen(path, "wb");
+	assert_non_null(f);
+	fputs("# format = 1\nt,x,f\n", f);
+	const long rows = 60000;
+	uint64_t state_rng = 88172645463325252u;
+	for (long k = 0; k < rows; k++) {
+		state_rng ^= state_rng << 13, state_rng ^= state_rng >> 7, state_rng ^= state_rng << 17;
+		double x = (double)(state_rng >> 11) * 0x1p-53 * (k % 7 == 0 ? 1e-300 : 1.0);
+		fprintf(f, "%ld,%.17g,%.*e%s", k, x, (int)(k % 17), -x * 3.0, k % 5 ? "\n" : "\r\n");
+	}
+	fputs("# stop = completed\n", f);
+	fclose(f);
+	popc_log_reader r;
+	popc_error err;
+	assert_int_equal(popc_log_reader_open(&r, path, NULL, &err), 0);
+	double v[POPC_LOG_MAX_COLUMNS];
+	state_rng = 88172645463325252u;
+	for (long k = 0; k < rows; k++) {
+		if (popc_log_reader_next(&r, v, &err) != 1)
+			fail_msg("row %ld: %s", k, err.msg);
+		state_rng ^= state_rng << 13, state_rng ^= state_rng >> 7, state_rng ^= state_rng << 17;
+		double x = (double)(state_rng >> 11) * 0x1p-53 * (k % 7 == 0 ? 1e-300 : 1.0);
+		char text[64];
+		snprintf(text, sizeof text, "%.*e", (int)(k % 17), -x * 3.0);
+		if (v[0] != (double)k || v[1] != x || memcmp(&v[2], &(double){strtod(text, NULL)}, 8))
+			fail_msg("row %ld read as %.17g, %.17g, %.17g", k, v[0], v[1], v[2]);
+		assert_int_equal(r.lineno, k + 3);
+	}
+	assert_int_equal(popc_log_reader_next(&r, v, &err), 0);
+	assert_int_equal(popc_log_reader_unfinished(&r), 0);
+	assert_true(r.fast_rows);
+	popc_log_reader_close(&r);
+}
+
 /* A UTF-8 byte order mark (Excel's "CSV UTF-8") before the first line is
  * skipped: before the column names, and before a header comment. */
 static void test_reader_bom(void **state)
@@ -705,6 +749,7 @@ int main(void)
 		cmocka_unit_test(test_round_trip_bitwise),
 		cmocka_unit_test(test_reader_errors),
 		cmocka_unit_test(test_reader_one_pass_and_split),
+		cmocka_unit_test(test_reader_rows_across_blocks),
 		cmocka_unit_test(test_reader_bom),
 		cmocka_unit_test(test_reader_trailing_sections),
 		cmocka_unit_test(test_foreign_log_mapping),

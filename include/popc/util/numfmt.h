@@ -55,4 +55,12 @@ size_t popc_parse_double(const char *s, const char *end, double *out);
  * number may hold (a digit, '.', '+', '-', 'e', 'E'; returns 0 for one). */
 int popc_parse_double_row(const char *s, const char *end, char delim, double *out, int n);
 
+/* popc_parse_double_row on a line that starts at s and ends inside [s, end)
+ * at its first "\n" (or "\r\n"), without a search for it first: the last
+ * number must be followed by "\n" or "\r\n" before end, whose first byte's
+ * address goes to *line_end when all n cells are read. A line the text cuts
+ * before its end returns less than n. delim is no '\n' or '\r' either. */
+int popc_parse_double_line(const char *s, const char *end, char delim, double *out, int n,
+			   const char **line_end);
+
 #endif
