@@ -50,8 +50,9 @@ static int fill(popc_log_reader *r)
 
 /* Next line without its end-of-line; *complete = 0 if the file ended without a
  * newline. Returns 0 at the end of the file, -1 on a line too long, -2 on a
- * read error, -3 on a NUL byte in the line. */
-static int next_line(popc_log_reader *r, char **line, size_t *len, int *complete)
+ * read error, -3 on a NUL byte in the line (if check_nul: the rows' fast path
+ * leaves that check to when it fails, as a NUL byte fails it). */
+static int next_line(popc_log_reader *r, char **line, size_t *len, int *complete, int check_nul)
 {
 	for (;;) {
 		char *nl = memchr(r->buf + r->start, '\n', r->end - r->start);
@@ -77,7 +78,7 @@ static int next_line(popc_log_reader *r, char **line, size_t *len, int *complete
 	}
 	/* the cells are C strings: past a NUL byte the rest of the line would
 	 * be dropped unseen (a cell "0\0junk" read as 0, cells after it missing) */
-	if (memchr(*line, '\0', *len))
+	if (check_nul && memchr(*line, '\0', *len))
 		return -3;
 	if (*len && (*line)[*len - 1] == '\r')
 		(*len)--;
@@ -276,7 +277,7 @@ int popc_log_reader_open(popc_log_reader *r, const char *path, const popc_log_re
 	size_t len;
 	int complete;
 	for (;;) {
-		int got = next_line(r, &line, &len, &complete);
+		int got = next_line(r, &line, &len, &complete, 1);
 		if (got < 0) {
 			int st = line_error(r, got, err);
 			popc_log_reader_close(r);
@@ -405,6 +406,11 @@ int popc_log_reader_open(popc_log_reader *r, const char *path, const popc_log_re
 			popc_log_reader_close(r);
 			return POPC_ERR_INVALID;
 		}
+	/* rows of plain numbers are read in one pass (popc_parse_double_row)
+	 * unless the split needs more than the delimiter: runs of blanks, a
+	 * decimal comma, or a comment mark that could begin a number */
+	r->fast_rows = r->delimiter != ' ' && r->opt.decimal != ',' &&
+		       !strchr("0123456789.+-", r->comment);
 	r->t_col = popc_log_reader_column(r, popc_log_columns[POPC_LOG_COLUMN_T].name);
 	for (int i = 0; i < r->n_cols; i++)
 		r->parse[i] = 1;
@@ -441,7 +447,7 @@ int popc_log_reader_next(popc_log_reader *r, double *values, popc_error *err)
 {
 	char *line;
 	size_t len;
-	int complete;
+	int complete, tried_one_pass = 0;
 	for (;;) {
 		if (r->first_row_pending) { /* no_header: read at open, r->lineno is its line */
 			r->first_row_pending = 0;
@@ -449,11 +455,42 @@ int popc_log_reader_next(popc_log_reader *r, double *values, popc_error *err)
 			complete = r->first_row_complete;
 			break;
 		}
-		int got = next_line(r, &line, &len, &complete);
+		/* the common row straight from the buffer, its end found by the
+		 * parse (no search for the newline first); a row the buffer cuts,
+		 * or any other line, is read by next_line below */
+		const char *row_end;
+		if (r->fast_rows &&
+		    popc_parse_double_line(r->buf + r->start, r->buf + r->end, r->delimiter, values,
+					   r->n_cols, &row_end) == r->n_cols) {
+			r->start = (size_t)(row_end - r->buf) + (*row_end == '\r' ? 2 : 1);
+			r->lineno++;
+			for (int i = 0; i < r->n_cols; i++)
+				if (!r->parse[i])
+					values[i] = (double)NAN;
+			goto row_read;
+		}
+		int got = next_line(r, &line, &len, &complete, !r->fast_rows);
 		if (got < 0)
 			return line_error(r, got, err);
 		if (got == 0)
 			return 0;
+		/* the common row, numbers and delimiters only, in one pass; any
+		 * other line (a comment, a quote, a blank, an error) goes the way
+		 * below, which checks everything */
+		if (r->fast_rows && complete) {
+			if (popc_parse_double_row(line, line + len, r->delimiter, values,
+						  r->n_cols) == r->n_cols) {
+				for (int i = 0; i < r->n_cols; i++)
+					if (!r->parse[i])
+						values[i] = (double)NAN;
+				goto row_read;
+			}
+			tried_one_pass = 1;
+		}
+		if (r->fast_rows && memchr(line, '\0', len))
+			return popc_error_set(err, POPC_ERR_INVALID,
+					      "%s:%lld: a NUL byte in the line (a log is a text file)",
+					      r->path, r->lineno);
 		/* popc ends every line with a newline: a last line without one was
 		 * cut (a full disk under an older popc, a killed process, a copy
 		 * cut short), even if its cells are all there (its last number may
@@ -519,6 +556,12 @@ int popc_log_reader_next(popc_log_reader *r, double *values, popc_error *err)
 				(int)(ce[i] - cs[i] > 40 ? 40 : ce[i] - cs[i]), cs[i]);
 		}
 	}
+	/* a good row that is not plain numbers (quoted, blanks, a text column
+	 * nobody reads): the file's rows are likely all so, and the one-pass
+	 * attempt would be wasted on each; the split reads them from here */
+	if (tried_one_pass)
+		r->fast_rows = 0;
+row_read:
 	if (r->t_col >= 0) {
 		double t = values[r->t_col];
 		if (r->rows > 0 && !(t > r->t_prev))

@@ -718,7 +718,7 @@ static inline int is_digit(char c)
  * returns 1, or returns 0 when the 128-bit product is too close to a rounding
  * boundary to decide; *bits then is still a candidate at most one step away
  * from the answer, for the slow path to refine. */
-static int eisel_lemire(uint64_t w, int64_t q, uint64_t *bits)
+static inline __attribute__((always_inline)) int eisel_lemire(uint64_t w, int64_t q, uint64_t *bits)
 {
 	if (w == 0 || q < POW5_Q_MIN) {
 		*bits = 0;
@@ -941,7 +941,7 @@ static int compare_with_midpoint_above(const decimal_value *x, uint64_t b)
 
 /* Moves the candidate (a double at most a step or two from the answer) to the
  * correctly rounded one, ties to even. */
-static uint64_t slow_path(const char *ip, size_t in, const char *fp, size_t fn, int64_t exp10,
+static __attribute__((noinline)) uint64_t slow_path(const char *ip, size_t in, const char *fp, size_t fn, int64_t exp10,
 			  uint64_t cand)
 {
 	decimal_value x;
@@ -974,20 +974,23 @@ static uint64_t slow_path(const char *ip, size_t in, const char *fp, size_t fn, 
 
 #if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
 #define HAVE_SWAR 1
-/* Whether the 8 bytes of v (little-endian load) are all ASCII digits: each
- * byte must be 0x3_ and stay 0x3_ after adding 6. */
-static inline int eight_digits(uint64_t v)
+#define BYTES_01 UINT64_C(0x0101010101010101)
+
+/* One bit (the top one) per byte of v (little-endian load) that is no ASCII
+ * digit. Per byte, without carries between bytes: with b the low 7 bits,
+ * b + 0x50 reaches 0x80 iff b >= '0' and b + 0x46 reaches 0x80 iff b > '9';
+ * a byte with its own top bit set is no digit either. */
+static inline uint64_t non_digit_bytes(uint64_t v)
 {
-	return ((v & UINT64_C(0xf0f0f0f0f0f0f0f0)) == UINT64_C(0x3030303030303030)) &&
-	       (((v + UINT64_C(0x0606060606060606)) & UINT64_C(0xf0f0f0f0f0f0f0f0)) ==
-		UINT64_C(0x3030303030303030));
+	const uint64_t low7 = v & (0x7f * BYTES_01);
+	return (~(low7 + 0x50 * BYTES_01) | (low7 + 0x46 * BYTES_01) | v) & (0x80 * BYTES_01);
 }
 
 /* The value of 8 ASCII digits (first digit in the lowest byte), combining
  * neighbours into pairs, quads and octets in place; no lane overflows. */
 static inline uint32_t parse_eight_digits(uint64_t v)
 {
-	v -= UINT64_C(0x3030303030303030);
+	v -= 0x30 * BYTES_01;
 	v = v * 10 + (v >> 8); /* bytes 0, 2, 4, 6: two-digit values */
 	v &= UINT64_C(0x00ff00ff00ff00ff);
 	v = v * 100 + (v >> 16); /* 16-bit lanes 0, 2: four-digit values */
@@ -995,9 +998,63 @@ static inline uint32_t parse_eight_digits(uint64_t v)
 	v = v * 10000 + (v >> 32); /* low 32 bits: eight-digit value */
 	return (uint32_t)v;
 }
+
+static const uint64_t pow10_u64[8] = {1, 10, 100, 1000, 10000, 100000, 1000000, 10000000};
 #else
 #define HAVE_SWAR 0
 #endif
+
+/* Reads the digits at [p, end) into *w (w = 10 w + digit, modulo 2^64) and
+ * returns the first character past them. Eight at a time where 8 bytes are
+ * left; the last 1 to 7 of a run in one step too: shifted to the top of the
+ * word, with '0' bytes below them, they are an 8-digit number of that value. */
+static inline const char *scan_digits(const char *p, const char *end, uint64_t *w)
+{
+	uint64_t acc = *w;
+#if HAVE_SWAR
+	while (end - p >= 8) {
+		uint64_t v;
+		memcpy(&v, p, sizeof v);
+		const uint64_t stop = non_digit_bytes(v);
+		if (stop == 0) {
+			acc = acc * 100000000 + parse_eight_digits(v);
+			p += 8;
+			continue;
+		}
+		const unsigned k = (unsigned)__builtin_ctzll(stop) >> 3; /* digits before it, 0..7 */
+		if (k > 0) {
+			const uint64_t top = (v << (64 - 8 * k)) | ((0x30 * BYTES_01) >> (8 * k));
+			acc = acc * pow10_u64[k] + parse_eight_digits(top);
+		}
+		*w = acc;
+		return p + k;
+	}
+#endif
+	while (p < end && is_digit(*p)) {
+		acc = acc * 10 + (uint64_t)(*p - '0');
+		p++;
+	}
+	*w = acc;
+	return p;
+}
+
+/* The first character at or after p that is no '0'. */
+static inline const char *skip_zeros(const char *p, const char *end)
+{
+#if HAVE_SWAR
+	while (end - p >= 8) {
+		uint64_t v;
+		memcpy(&v, p, sizeof v);
+		const uint64_t other = v ^ (0x30 * BYTES_01); /* nonzero bytes: no '0' */
+		if (other != 0)
+			return p + ((unsigned)__builtin_ctzll(other) >> 3);
+		p += 8;
+	}
+#endif
+	while (p < end && *p == '0')
+		p++;
+	return p;
+}
 
 /* Exponents beyond this only saturate (10^17 leaves room for any digit count). */
 #define EXP10_SATURATE INT64_C(100000000000000000)
@@ -1011,44 +1068,86 @@ static const double exact_pow10[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6, 
 #define HAVE_CLINGER 0 /* x87 excess precision would round twice */
 #endif
 
-size_t popc_parse_double(const char *s, const char *end, double *out)
+/* The value of n digits (n <= 19) of a digit string split by the point
+ * (integer digits [ip, ip + in), fraction digits after them at fp), from its
+ * k0-th digit on. */
+static uint64_t first_19_digits(const char *ip, size_t in, const char *fp, size_t k0, size_t n)
+{
+	uint64_t w = 0;
+	for (size_t j = k0; j < k0 + n; j++)
+		w = w * 10 + (uint64_t)((j < in ? ip[j] : fp[j - in]) - '0');
+	return w;
+}
+
+/* long_mantissa's answer when the digits fit after all: no double has these
+ * bits (a NaN's) */
+#define LONG_MANTISSA_FITS UINT64_MAX
+
+/* The bits of a positive number whose digit string (integer digits
+ * [ip, ip + in), fraction digits [fp, fp + fn)) is longer than 19: kept out
+ * of the inline scanner, as popc never writes one. Returns
+ * LONG_MANTISSA_FITS with *w set to the digits' value if at most 19 of them
+ * are significant (leading zeros do not count). */
+static __attribute__((noinline)) uint64_t long_mantissa(const char *ip, size_t in, const char *fp,
+							size_t fn, int64_t exp10, uint64_t *w)
+{
+	size_t k0 = 0; /* the first nonzero digit */
+	while (k0 < in + fn && (k0 < in ? ip[k0] : fp[k0 - in]) == '0')
+		k0++;
+	const size_t n_sig = in + fn - k0;
+	const uint64_t first = first_19_digits(ip, in, fp, k0, n_sig < 19 ? n_sig : 19);
+	if (n_sig <= 19) {
+		*w = first;
+		return LONG_MANTISSA_FITS;
+	}
+	/* Keep the first 19 digits: the true value lies in [w, w + 1) * 10^q,
+	 * decided if both ends round alike. */
+	const int64_t q = exp10 - (int64_t)fn + (int64_t)(n_sig - 19);
+	uint64_t bits, bits_up;
+	if (eisel_lemire(first, q, &bits) && eisel_lemire(first + 1, q, &bits_up) &&
+	    bits_up == bits)
+		return bits;
+	return slow_path(ip, in, fp, fn, exp10, bits);
+}
+
+/* popc_parse_double's work, inlined into popc_parse_double_row (a call per
+ * cell costs a tenth of the cell): returns the first character past the
+ * number, or NULL if none starts at s. */
+static inline __attribute__((always_inline)) const char *scan_double(const char *s, const char *end, double *out)
 {
 	const char *p = s;
 	int neg = 0;
-	uint64_t w = 0; /* the digits, modulo 2^64 (recomputed below if > 19 of them) */
+	uint64_t w = 0; /* the significant digits, modulo 2^64 (recomputed below if > 19) */
 
 	if (p < end && (*p == '-' || *p == '+')) {
 		neg = *p == '-';
 		p++;
 	}
+	/* the integer part digit by digit: it is short in a log ("0", "49") */
 	const char *ip = p;
-	while (p < end && is_digit(*p)) {
-		w = w * 10 + (uint64_t)(*p - '0');
-		p++;
-	}
-	size_t in = (size_t)(p - ip);
-	const char *fp = p;
-	size_t fn = 0;
-	if (p < end && *p == '.') {
-		fp = ++p;
-#if HAVE_SWAR
-		while (end - p >= 8) {
-			uint64_t v;
-			memcpy(&v, p, sizeof v);
-			if (!eight_digits(v))
-				break;
-			w = w * 100000000 + parse_eight_digits(v);
-			p += 8;
-		}
-#endif
+	if (end - p >= 2 && p[1] == '.' && is_digit(p[0])) /* "0.", "4." */
+		w = (uint64_t)(*p++ - '0');
+	else
 		while (p < end && is_digit(*p)) {
 			w = w * 10 + (uint64_t)(*p - '0');
 			p++;
 		}
+	const size_t in = (size_t)(p - ip);
+	const char *fp = p;
+	size_t fn = 0, fraction_zeros = 0;
+	if (p < end && *p == '.') {
+		fp = ++p;
+		/* zeros after the point of a number without integer digits are
+		 * no significant digits ("0.000123": 3 of 7 digits) */
+		if (w == 0) {
+			p = skip_zeros(p, end);
+			fraction_zeros = (size_t)(p - fp);
+		}
+		p = scan_digits(p, end, &w);
 		fn = (size_t)(p - fp);
 	}
 	if (in + fn == 0)
-		return 0; /* no digits: "", "-", ".", "e5" are not numbers */
+		return NULL; /* no digits: "", "-", ".", "e5" are not numbers */
 
 	int64_t exp10 = 0;
 	if (p < end && (*p == 'e' || *p == 'E')) {
@@ -1070,45 +1169,100 @@ size_t popc_parse_double(const char *s, const char *end, double *out)
 			p = e;
 		}
 	}
-	size_t consumed = (size_t)(p - s);
 
-	/* The value is w * 10^q, exactly unless truncated. */
-	int64_t q = exp10 - (int64_t)fn;
-	int truncated = 0;
-	if (in + fn > 19) {
-		/* Leading zeros do not count; beyond 19 significant digits keep
-		 * the first 19 and note the truncation. */
-		size_t i = 0, n = in + fn;
-		while (i < n && (i < in ? ip[i] : fp[i - in]) == '0')
-			i++;
-		if (n - i > 19) {
-			truncated = 1;
-			q += (int64_t)(n - i - 19);
-			w = 0;
-			for (size_t j = i; j < i + 19; j++)
-				w = w * 10 + (uint64_t)((j < in ? ip[j] : fp[j - in]) - '0');
-		}
-	}
-
+	/* The value is w * 10^q, exactly if at most 19 digits are significant. */
+	const int64_t q = exp10 - (int64_t)fn;
 	uint64_t bits;
+	/* More than 19 digits, not counting zeros before the first nonzero
+	 * one after the point: count the significant ones exactly (zeros
+	 * before the point too; w may also have wrapped to 0 modulo 2^64) */
+	if (in + fn - fraction_zeros > 19) {
+		bits = long_mantissa(ip, in, fp, fn, exp10, &w);
+		if (bits != LONG_MANTISSA_FITS)
+			goto sign;
+	}
 #if HAVE_CLINGER
-	if (!truncated && w <= (UINT64_C(1) << 53) && q >= -22 && q <= 22) {
+	if (w <= (UINT64_C(1) << 53) && q >= -22 && q <= 22) {
 		double d = (double)w;
 		d = q < 0 ? d / exact_pow10[-q] : d * exact_pow10[q];
 		*out = neg ? -d : d;
-		return consumed;
+		return p;
 	}
 #endif
-	int ok = eisel_lemire(w, q, &bits);
-	if (ok && truncated) {
-		/* The true value lies in [w, w + 1) * 10^q: decided if both ends
-		 * round alike. */
-		uint64_t bits_up;
-		ok = eisel_lemire(w + 1, q, &bits_up) && bits_up == bits;
-	}
-	if (!ok)
+	if (!eisel_lemire(w, q, &bits))
 		bits = slow_path(ip, in, fp, fn, exp10, bits);
+sign:
 	bits |= (uint64_t)neg << 63;
 	memcpy(out, &bits, sizeof *out);
-	return consumed;
+	return p;
+}
+
+size_t popc_parse_double(const char *s, const char *end, double *out)
+{
+	const char *p = scan_double(s, end, out);
+	return p ? (size_t)(p - s) : 0;
+}
+
+/* Whether a number text that read as 0.0 has a nonzero digit before its
+ * exponent (an underflow: 1e-400 did, 0e-400 did not). */
+static int zero_text_underflows(const char *s, const char *end)
+{
+	for (const char *p = s; p < end && *p != 'e' && *p != 'E'; p++)
+		if (*p >= '1' && *p <= '9')
+			return 1;
+	return 0;
+}
+
+/* popc_parse_double_row, and popc_parse_double_line when line_end is set:
+ * then the last number is followed by "\n" or "\r\n" inside [s, end), where
+ * *line_end is put. */
+static inline __attribute__((always_inline)) int parse_row(const char *s, const char *end,
+							   char delim, double *out, int n,
+							   const char **line_end)
+{
+	/* a delimiter that can stand inside a number would split differently
+	 * from a search for it ("1e5" with delimiter 'e') */
+	if (is_digit(delim) || delim == '.' || delim == '+' || delim == '-' || delim == 'e' ||
+	    delim == 'E' || delim == '\0' || delim == '\n' || delim == '\r')
+		return 0;
+	const char *p = s;
+	for (int i = 0; i < n; i++) {
+		double v;
+		const char *q = scan_double(p, end, &v);
+		if (!q)
+			return i;
+		if (i + 1 < n) {
+			if (q == end || *q != delim)
+				return i; /* text after the number, or too few cells */
+		} else if (line_end) {
+			/* the line's end, seen inside the text (else the last number
+			 * may go on past end) */
+			if (q == end || !(*q == '\n' || (*q == '\r' && end - q >= 2 && q[1] == '\n')))
+				return i;
+			*line_end = q;
+		} else if (q != end) {
+			return i; /* text after the last number, or too many cells */
+		}
+		/* finite and nonzero in one test, as popc_parse_double_exact */
+		uint64_t bits;
+		memcpy(&bits, &v, sizeof bits);
+		bits <<= 1;
+		if (bits - 1 >= (UINT64_C(0x7ff0000000000000) << 1) - 1 &&
+		    (bits != 0 || (q - p > 4 && zero_text_underflows(p, q))))
+			return i; /* infinity, or an underflow to zero */
+		out[i] = v;
+		p = q + 1;
+	}
+	return n;
+}
+
+int popc_parse_double_row(const char *s, const char *end, char delim, double *out, int n)
+{
+	return parse_row(s, end, delim, out, n, NULL);
+}
+
+int popc_parse_double_line(const char *s, const char *end, char delim, double *out, int n,
+			   const char **line_end)
+{
+	return parse_row(s, end, delim, out, n, line_end);
 }

@@ -323,6 +323,161 @@ static void test_reader_errors(void **state)
 	assert_int_equal(read_all("/nonexistent.csv", NULL, NULL, &err), POPC_ERR_IO);
 }
 
+/* Writes len bytes (NUL bytes included) to a file in the test directory. */
+static const char *write_bytes(const char *name, const char *bytes, size_t len)
+{
+	static char path[512];
+	snprintf(path, sizeof path, "%s/%s", tmpdir, name);
+	FILE *f = fopen(path, "wb");
+	assert_non_null(f);
+	assert_int_equal(fwrite(bytes, 1, len, f), len);
+	fclose(f);
+	return path;
+}
+
+/* Rows of plain numbers are read in one pass (popc_parse_double_row); every
+ * other row goes through the split, which checks it: both give the same
+ * values, and a NUL byte anywhere (a row, a cell read or not, a comment, a
+ * cut last line) is refused naming its line, as before the one-pass path. */
+static void test_reader_one_pass_and_split(void **state)
+{
+	(void)state;
+	/* the same numbers written plainly and as the split's cases: quoted,
+	 * blanks around, a sign, no integer digit, an exponent */
+	const char *text = "t,x,f\n"
+			   "0,0.5,-1.25e-3\n"
+			   "\"0.001\",\"0.5\",-1.25e-3\n"
+			   "0.002, 0.5 ,\t-0.00125\n"
+			   "+0.003,.5,\"-1.25E-3\"\n"
+			   "# a comment between rows\n"
+			   "\n"
+			   "0.004,5e-1,-125e-5\n";
+	const char *path = write_file("mixed.csv", text);
+	popc_log_reader r;
+	popc_error err;
+	assert_int_equal(popc_log_reader_open(&r, path, NULL, &err), 0);
+	assert_true(r.fast_rows);
+	double v[POPC_LOG_MAX_COLUMNS];
+	const double t[] = {0, 0.001, 0.002, 0.003, 0.004};
+	for (int row = 0; row < 5; row++) {
+		if (popc_log_reader_next(&r, v, &err) != 1)
+			fail_msg("row %d: %s", row, err.msg);
+		/* the first row is plain, the second not: the split reads the
+		 * rows from there on (the one-pass attempt would fail on each) */
+		assert_int_equal(r.fast_rows, row == 0);
+		assert_true(v[0] == t[row]);
+		assert_true(v[1] == 0.5);
+		assert_true(v[2] == -1.25e-3);
+	}
+	assert_int_equal(popc_log_reader_next(&r, v, &err), 0);
+	popc_log_reader_close(&r);
+	/* comments and blank lines between rows keep the one-pass path */
+	path = write_file("comments.csv", "t,x\n0,1\n# c\n\n \n0.001,2\n# stop = x\n");
+	assert_int_equal(popc_log_reader_open(&r, path, NULL, &err), 0);
+	assert_int_equal(popc_log_reader_next(&r, v, &err), 1);
+	assert_int_equal(popc_log_reader_next(&r, v, &err), 1);
+	assert_true(v[0] == 0.001 && v[1] == 2.0);
+	assert_int_equal(popc_log_reader_next(&r, v, &err), 0);
+	assert_true(r.fast_rows);
+	popc_log_reader_close(&r);
+	/* a column nobody reads may hold text, on either path */
+	path = write_file("text.csv", "t,x,note\n0,1,2\n0.001,2,\"a, b\"\n0.002,3,c\n");
+	assert_int_equal(popc_log_reader_open(&r, path, NULL, &err), 0);
+	int cols[] = {0, 1};
+	assert_int_equal(popc_log_reader_use_columns(&r, cols, 2), 0);
+	for (int row = 0; row < 3; row++) {
+		assert_int_equal(popc_log_reader_next(&r, v, &err), 1);
+		assert_true(v[1] == row + 1 && isnan(v[2]));
+	}
+	popc_log_reader_close(&r);
+
+	const struct {
+		const char *bytes;
+		size_t len;
+		const char *must_contain;
+	} nul[] = {
+		{"t,x\n0,1\n0.001,2\0" "5\n", 18, ":3: a NUL byte in the line"},
+		{"t,x\n0,1\n0.001\0,2\n", 17, ":3: a NUL byte in the line"},
+		{"t,x\n0,1\n\0" "0.001,2\n", 17, ":3: a NUL byte in the line"},
+		{"t,x\n0,1\n# a\0 comment\n0.001,2\n", 30, ":3: a NUL byte in the line"},
+		{"# format = 1\nt,x\n0,1\n0.001,2\0", 29, ":4: a NUL byte in the line"},
+	};
+	for (size_t i = 0; i < sizeof nul / sizeof nul[0]; i++) {
+		path = write_bytes("nul.csv", nul[i].bytes, nul[i].len);
+		int st = read_all(path, NULL, NULL, &err);
+		if (st != POPC_ERR_INVALID || !strstr(err.msg, nul[i].must_contain))
+			fail_msg("NUL case %zu: status %d, '%s'", i, st, st ? err.msg : "");
+	}
+	/* in a column nobody reads too */
+	path = write_bytes("nul.csv", "t,x,note\n0,1,a\n0.001,2,b\0c\n", 27);
+	assert_int_equal(popc_log_reader_open(&r, path, NULL, &err), 0);
+	assert_int_equal(popc_log_reader_use_columns(&r, cols, 2), 0);
+	assert_int_equal(popc_log_reader_next(&r, v, &err), 1);
+	assert_int_equal(popc_log_reader_next(&r, v, &err), POPC_ERR_INVALID);
+	assert_non_null(strstr(err.msg, ":3: a NUL byte in the line"));
+	popc_log_reader_close(&r);
+	/* errors a one-pass row leaves to the split: its messages */
+	const struct {
+		const char *text, *must_contain;
+	} bad[] = {
+		{"t,x\n0,1\n0.001,1e-400\n", ":3: column 2 (x): below the smallest double"},
+		{"t,x\n0,1\n0.001,1e400\n", ":3: column 2 (x): not a finite number '1e400'"},
+		{"t,x\n0,1\n0.001,2,\n", ":3: more than 2 cells"},
+		{"t,x\n0,1\n0.001;2\n", ":3: 1 cells, expected 2 (short row)"},
+		{"t,x\n0,1\n0.001,2e\n", ":3: column 2 (x): not a finite number '2e'"},
+	};
+	for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+		path = write_file("bad.csv", bad[i].text);
+		int st = read_all(path, NULL, NULL, &err);
+		if (st != POPC_ERR_INVALID || !strstr(err.msg, bad[i].must_contain))
+			fail_msg("case %zu: status %d, '%s'", i, st, st ? err.msg : "");
+	}
+}
+
+/* Rows read straight from the block buffer end where the parse finds their
+ * newline; a row the 1 MiB buffer cuts is read whole after a refill. A file
+ * of about 3 MiB (rows of every length cut at some byte of every kind: a
+ * digit, a point, an exponent, a delimiter, a CR of a CR LF) reads back
+ * bitwise, on the right line numbers. */
+static void test_reader_rows_across_blocks(void **state)
+{
+	(void)state;
+	char path[512];
+	snprintf(path, sizeof path, "%s/blocks.csv", tmpdir);
+	FILE *f = fopen(path, "wb");
+	assert_non_null(f);
+	fputs("# format = 1\nt,x,f\n", f);
+	const long rows = 60000;
+	uint64_t state_rng = 88172645463325252u;
+	for (long k = 0; k < rows; k++) {
+		state_rng ^= state_rng << 13, state_rng ^= state_rng >> 7, state_rng ^= state_rng << 17;
+		double x = (double)(state_rng >> 11) * 0x1p-53 * (k % 7 == 0 ? 1e-300 : 1.0);
+		fprintf(f, "%ld,%.17g,%.*e%s", k, x, (int)(k % 17), -x * 3.0, k % 5 ? "\n" : "\r\n");
+	}
+	fputs("# stop = completed\n", f);
+	fclose(f);
+	popc_log_reader r;
+	popc_error err;
+	assert_int_equal(popc_log_reader_open(&r, path, NULL, &err), 0);
+	double v[POPC_LOG_MAX_COLUMNS];
+	state_rng = 88172645463325252u;
+	for (long k = 0; k < rows; k++) {
+		if (popc_log_reader_next(&r, v, &err) != 1)
+			fail_msg("row %ld: %s", k, err.msg);
+		state_rng ^= state_rng << 13, state_rng ^= state_rng >> 7, state_rng ^= state_rng << 17;
+		double x = (double)(state_rng >> 11) * 0x1p-53 * (k % 7 == 0 ? 1e-300 : 1.0);
+		char text[64];
+		snprintf(text, sizeof text, "%.*e", (int)(k % 17), -x * 3.0);
+		if (v[0] != (double)k || v[1] != x || memcmp(&v[2], &(double){strtod(text, NULL)}, 8))
+			fail_msg("row %ld read as %.17g, %.17g, %.17g", k, v[0], v[1], v[2]);
+		assert_int_equal(r.lineno, k + 3);
+	}
+	assert_int_equal(popc_log_reader_next(&r, v, &err), 0);
+	assert_int_equal(popc_log_reader_unfinished(&r), 0);
+	assert_true(r.fast_rows);
+	popc_log_reader_close(&r);
+}
+
 /* A UTF-8 byte order mark (Excel's "CSV UTF-8") before the first line is
  * skipped: before the column names, and before a header comment. */
 static void test_reader_bom(void **state)
@@ -593,6 +748,8 @@ int main(void)
 		cmocka_unit_test(test_column_names_line),
 		cmocka_unit_test(test_round_trip_bitwise),
 		cmocka_unit_test(test_reader_errors),
+		cmocka_unit_test(test_reader_one_pass_and_split),
+		cmocka_unit_test(test_reader_rows_across_blocks),
 		cmocka_unit_test(test_reader_bom),
 		cmocka_unit_test(test_reader_trailing_sections),
 		cmocka_unit_test(test_foreign_log_mapping),

@@ -659,6 +659,175 @@ static void test_format_point(void **state)
 	}
 }
 
+/* ---- (e) the digit scanner's own paths ----------------------------------- */
+
+/* %.17g texts of random doubles (the form a C logger writes), and the same
+ * digits behind runs of zeros (0.000ddd, 000ddd.d, d.ddd000...): the scanner
+ * reads digits 8 at a time with a partial last step and skips zero runs 8 at
+ * a time, so every length and alignment must agree with strtod bitwise. */
+static void test_parse_digit_runs(void **state)
+{
+	(void)state;
+	rng_seed(UINT64_C(0x5deece66d));
+	long n = iterations() / 4;
+	for (long i = 0; i < n; i++) {
+		uint64_t b = rng();
+		if (i & 1) /* magnitudes of a log's cells, 1e-12 to 1e6 */
+			b = (b & UINT64_C(0x800fffffffffffff)) | ((uint64_t)(983 + rng() % 63) << 52);
+		double v = double_of(b);
+		if (!isfinite(v))
+			continue;
+		char t[600];
+		int len = snprintf(t, sizeof t, "%.17g", v);
+		size_t used;
+		double got;
+		if ((used = popc_parse_double(t, t + len, &got)) != (size_t)len) {
+			print_error("parse(\"%s\") consumed %zu of %d\n", t, used, len);
+			fail();
+		}
+		expect_same_bits(got, v, t);
+		/* the 17 significant digits behind zeros, before a point or after */
+		char digits[32];
+		snprintf(digits, sizeof digits, "%017llu",
+			 (unsigned long long)(rng() % UINT64_C(100000000000000000)));
+		int zeros = (int)(rng() % 40), trail = (int)(rng() % 24), form = (int)(rng() % 4);
+		char *p = t;
+		if (rng() & 1)
+			*p++ = '-';
+		if (form == 0) { /* 0.000ddd */
+			p += sprintf(p, "0.");
+			memset(p, '0', (size_t)zeros), p += zeros;
+			p += sprintf(p, "%s", digits);
+		} else if (form == 1) { /* 000ddd.ddd000 */
+			memset(p, '0', (size_t)zeros), p += zeros;
+			p += sprintf(p, "%.9s.%s", digits, digits + 9);
+			memset(p, '0', (size_t)trail), p += trail;
+		} else if (form == 2) { /* .000ddd000e-X */
+			*p++ = '.';
+			memset(p, '0', (size_t)zeros), p += zeros;
+			p += sprintf(p, "%s", digits);
+			memset(p, '0', (size_t)trail), p += trail;
+			p += sprintf(p, "e-%d", (int)(rng() % 330));
+		} else { /* ddd000.000e+X: zeros on both sides of the point */
+			p += sprintf(p, "%s", digits);
+			memset(p, '0', (size_t)trail), p += trail;
+			*p++ = '.';
+			memset(p, '0', (size_t)zeros), p += zeros;
+			p += sprintf(p, "e+%d", (int)(rng() % 300));
+		}
+		*p = '\0';
+		expect_same_bits(parse_all(t), strtod(t, NULL), t);
+	}
+	/* An integer part of more than 19 digits wraps the digit accumulator
+	 * modulo 2^64, to 0 for 2^64 itself: the count of significant digits
+	 * must not take such a part for zeros. */
+	const char *wrap[] = {
+		"18446744073709551616",      "18446744073709551616.0000001",
+		"36893488147419103232.00012", "18446744073709551616e-10",
+		"00000000000000000000000018446744073709551616.5",
+		"0.00000000000000000000000000000000000000001",
+		"0000000000000000000000000.0000000000000000000000001234567890123456789012",
+		"9007199254740993",           "9007199254740993.000000000000000000000000001",
+		"0.000000000000000000000000000000000000000000000000000000000000000000000000000",
+	};
+	for (size_t i = 0; i < sizeof wrap / sizeof wrap[0]; i++)
+		expect_same_bits(parse_all(wrap[i]), strtod(wrap[i], NULL), wrap[i]);
+}
+
+/* popc_parse_double_row against popc_parse_double cell by cell: a row of
+ * plain numbers is read whole, bitwise as the cells one by one; a row with
+ * any other cell (blank, quote, text after a number, inf, an underflow, a NUL
+ * byte, too few or too many cells) stops at or before that cell. */
+static void test_parse_row(void **state)
+{
+	(void)state;
+	rng_seed(99);
+	const char delims[] = {',', ';', '\t', '|'};
+	const char *odd[] = {" 1", "1 ", "\"1\"", "1x", "1e", "inf", "1e400", "-1e999",
+			     "1e-400", "0.0000001e-330", "", "-", ".", "nan", "1,5", "\0011" /* 0x01 '1' */};
+	long n = iterations() / 20;
+	for (long i = 0; i < n; i++) {
+		const char delim = delims[rng() % 4];
+		const int cells = 1 + (int)(rng() % 14);
+		char row[1024];
+		char *p = row;
+		double want[16];
+		int bad = -1; /* the first cell that is no plain number */
+		int shifted = 0;
+		for (int c = 0; c < cells; c++) {
+			if (c)
+				*p++ = delim;
+			char *cell = p;
+			if (rng() % 16 == 0) {
+				const char *o = odd[rng() % (sizeof odd / sizeof odd[0])];
+				p += sprintf(p, "%s", o);
+				/* with a delimiter inside ("1,5" split at ',') the
+				 * cells shift: two numbers, maybe a whole row */
+				shifted |= strchr(o, delim) != NULL;
+				if (bad < 0)
+					bad = c;
+				continue;
+			}
+			uint64_t b = rng();
+			if (rng() & 1)
+				b = (b & UINT64_C(0x800fffffffffffff)) | ((uint64_t)(983 + rng() % 63) << 52);
+			double v = double_of(b);
+			if (!isfinite(v))
+				v = 0.0;
+			if (rng() & 1)
+				popc_format_double(v, cell);
+			else
+				sprintf(cell, "%.17g", v);
+			p += strlen(cell);
+			want[c] = strtod(cell, NULL);
+		}
+		*p = '\0';
+		/* sometimes a NUL byte inside the row, or a row one cell short or
+		 * long */
+		int shape = (int)(rng() % 8), n_read = cells;
+		size_t len = (size_t)(p - row);
+		if (shape == 0 && len > 1) {
+			size_t at = rng() % len;
+			int cell = 0; /* the cell it falls in (or ends, for a delimiter) */
+			for (size_t k = 0; k < at; k++)
+				cell += row[k] == delim;
+			row[at] = '\0';
+			bad = bad < 0 || cell < bad ? cell : bad;
+		} else if (shape == 1) {
+			n_read = cells + 1;
+			bad = bad < 0 ? cells : bad;
+		} else if (shape == 2 && cells > 1) {
+			n_read = cells - 1;
+			bad = bad < 0 ? cells - 1 : bad;
+		}
+		double got[16];
+		int ok = popc_parse_double_row(row, row + len, delim, got, n_read);
+		if (bad < 0) {
+			if (ok != n_read) {
+				print_error("row \"%s\": %d of %d cells\n", row, ok, n_read);
+				fail();
+			}
+			for (int c = 0; c < cells; c++)
+				expect_same_bits(got[c], want[c], row);
+		} else {
+			if (!shifted && (ok == n_read || ok > bad)) {
+				print_error("row \"%.200s\" (cell %d is odd, shape %d): %d of %d cells\n",
+					    row, bad, shape, ok, n_read);
+				fail();
+			}
+			for (int c = 0; c < ok && c < bad; c++)
+				expect_same_bits(got[c], want[c], row);
+		}
+	}
+	/* a delimiter that can stand in a number is refused */
+	double v[2];
+	const char e_row[] = "1e5e2", point_row[] = "1.5", comma_row[] = "1,5";
+	assert_int_equal(popc_parse_double_row(e_row, e_row + 5, 'e', v, 2), 0);
+	assert_int_equal(popc_parse_double_row(point_row, point_row + 3, '.', v, 2), 0);
+	assert_int_equal(popc_parse_double_row(comma_row, comma_row + 3, ',', v, 2), 2);
+	assert_true(v[0] == 1.0 && v[1] == 5.0);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -673,6 +842,8 @@ int main(void)
 		cmocka_unit_test(test_shortest),
 		cmocka_unit_test(test_shortest_subnormals_and_binades),
 		cmocka_unit_test(test_format_point),
+		cmocka_unit_test(test_parse_digit_runs),
+		cmocka_unit_test(test_parse_row),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -87,6 +87,7 @@ typedef struct popc_log_reader {
 	int t_col;                      /* index of "t", -1 if none: time must increase */
 	unsigned char parse[POPC_LOG_MAX_COLUMNS]; /* 0: a column nobody reads (NaN) */
 	int popc_log;                   /* the header has "format": popc wrote it */
+	int fast_rows;                  /* rows may be read by popc_parse_double_row */
 	double t_prev;
 	long long last_row_line;        /* line of the last row returned (0: none) */
 	long long cut_line;             /* a popc log's last line, cut (no newline); 0: none */

@@ -42,4 +42,25 @@ size_t popc_format_double_point(double v, char *buf);
  * the number, so the caller checks what follows (delimiter, end of line). */
 size_t popc_parse_double(const char *s, const char *end, double *out);
 
+/* A row of n numbers at [s, end) in one pass: cell i is the text from the
+ * start (or just past the delimiter before it) to the next delim, the last
+ * one to end. Stores each cell's double in out[] while every cell so far is
+ * a number as popc_parse_double reads it, filling its cell exactly (no
+ * blanks, no quotes, nothing after it), finite, and not an underflow to
+ * zero (a nonzero digit that read as 0, as "1e-400"); returns how many
+ * consecutive cells from the first were such numbers: n for a row of plain
+ * numbers, less where a cell needs a closer look (the caller's own split
+ * then reads the line, and says what is wrong with it, if anything). A row
+ * with other than n cells returns less than n. delim is no character a
+ * number may hold (a digit, '.', '+', '-', 'e', 'E'; returns 0 for one). */
+int popc_parse_double_row(const char *s, const char *end, char delim, double *out, int n);
+
+/* popc_parse_double_row on a line that starts at s and ends inside [s, end)
+ * at its first "\n" (or "\r\n"), without a search for it first: the last
+ * number must be followed by "\n" or "\r\n" before end, whose first byte's
+ * address goes to *line_end when all n cells are read. A line the text cuts
+ * before its end returns less than n. delim is no '\n' or '\r' either. */
+int popc_parse_double_line(const char *s, const char *end, char delim, double *out, int n,
+			   const char **line_end);
+
 #endif
