@@ -81,6 +81,18 @@ static void put_string(FILE *f, const char *text, size_t n)
 	const unsigned char *s = (const unsigned char *)text;
 	fputc('"', f);
 	for (size_t i = 0; i < n;) {
+		/* a span of printable ASCII that needs no escape, in one fwrite:
+		 * a summary's names and text cells are all such, and a fputc per
+		 * byte was most of a sweep's summary.jsonl (docs/BENCHMARKS.md 6) */
+		size_t plain = i;
+		while (plain < n && s[plain] >= 0x20 && s[plain] < 0x80 && s[plain] != '"' &&
+		       s[plain] != '\\')
+			plain++;
+		if (plain > i) {
+			fwrite(s + i, 1, plain - i, f);
+			i = plain;
+			continue;
+		}
 		unsigned c = s[i];
 		if (c == '"' || c == '\\') {
 			fputc('\\', f);
