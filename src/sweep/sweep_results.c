@@ -303,13 +303,20 @@ int popc_sweep_results_write(const popc_sweep_results *r, const popc_sweep_plan 
 	}
 	int n_names = popc_json_csv_names(names_line, names, n_cells);
 	popc_sweep_columns_json_kinds(p->n_axes, kinds);
+	/* the names escaped once as keys, not once a row */
+	char *keys = popc_json_csv_keys(n_names, names);
+	free(names_line);
+	free(names);
+	if (!keys) {
+		free(kinds);
+		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+	}
 	popc_atomic_file out, json;
 	int st = popc_atomic_file_open(&out, out_path, err);
 	if (!st && (st = popc_atomic_file_open(&json, json_path, err)) != 0)
 		popc_atomic_file_abort(&out);
 	if (st) {
-		free(names_line);
-		free(names);
+		free(keys);
 		free(kinds);
 		return st;
 	}
@@ -328,7 +335,7 @@ int popc_sweep_results_write(const popc_sweep_results *r, const popc_sweep_plan 
 			continue;
 		}
 		fwrite(e->row, 1, (size_t)e->len, f);
-		popc_json_csv_object(json.f, n_names, names, kinds, e->row, (size_t)e->len);
+		popc_json_csv_object_keyed(json.f, n_names, keys, kinds, e->row, (size_t)e->len);
 		if (e->exit_status == 0) {
 			t->ok++;
 			continue;
@@ -340,8 +347,7 @@ int popc_sweep_results_write(const popc_sweep_results *r, const popc_sweep_plan 
 			visit(user, i, e->exit_status, reason);
 		}
 	}
-	free(names_line);
-	free(names);
+	free(keys);
 	free(kinds);
 	st = popc_atomic_file_commit(&out, err);
 	if (st) {

@@ -2,6 +2,7 @@
 #include "popc/util/json.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "popc/util/numfmt.h"
@@ -272,6 +273,56 @@ void popc_json_csv_object(FILE *f, int n, const char *const *names, const popc_j
 	char buf[4096];
 	for (int c = 0; c < n; c++) {
 		popc_json_key(&j, names[c]);
+		if (!more) {
+			popc_json_null(&j);
+			continue;
+		}
+		size_t cl;
+		const char *cell = next_cell(&p, end, buf, sizeof buf, &cl, &more);
+		put_cell(&j, kinds[c], cell, cl);
+	}
+	popc_json_end_object(&j);
+	fputc('\n', f);
+}
+
+char *popc_json_csv_keys(int n, const char *const *names)
+{
+	char *text = NULL;
+	size_t len = 0;
+	FILE *f = open_memstream(&text, &len);
+	if (!f)
+		return NULL;
+	for (int c = 0; c < n; c++) {
+		if (c > 0)
+			fputc(',', f); /* the comma before every key but the first */
+		put_string(f, names[c], strlen(names[c]));
+		fputc(':', f);
+		fputc('\0', f);
+	}
+	if (fclose(f) != 0) {
+		free(text);
+		return NULL;
+	}
+	return text;
+}
+
+void popc_json_csv_object_keyed(FILE *f, int n, const char *keys, const popc_json_kind *kinds,
+				const char *row, size_t len)
+{
+	const char *end = row + len;
+	while (end > row && (end[-1] == '\n' || end[-1] == '\r'))
+		end--;
+	popc_json j;
+	popc_json_init(&j, f);
+	popc_json_begin_object(&j);
+	const char *p = row;
+	int more = 1; /* a line holds one cell at least, even an empty one */
+	char buf[4096];
+	for (int c = 0; c < n; c++) {
+		size_t kl = strlen(keys);
+		fwrite(keys, 1, kl, f); /* its comma included: the value follows directly */
+		keys += kl + 1;
+		j.after_key = 1;
 		if (!more) {
 			popc_json_null(&j);
 			continue;
