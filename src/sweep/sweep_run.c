@@ -98,16 +98,16 @@ static int write_scene(const char *path, const popc_scene *s, popc_error *err)
 }
 
 int popc_sweep_run_one(const popc_sweep_plan *p, long long i, const char *dir, int keep_log,
-		       int rows_fd, volatile sig_atomic_t *stop_flag, popc_sweep_result *res,
-		       popc_error *err)
+		       popc_sweep_rows_batch *rows, volatile sig_atomic_t *stop_flag,
+		       popc_sweep_result *res, popc_error *err)
 {
 	memset(res, 0, sizeof *res);
 	double t0 = popc_now_s();
 	char rdir[POPC_PATH_MAX], path[POPC_PATH_MAX + 32];
-	if (popc_sweep_run_dir(p, dir, i, rdir, sizeof rdir) != 0)
-		return popc_error_set(err, POPC_ERR_IO, "%s: path too long", dir);
 	/* summaries only: no directory per run (a mkdir costs about as much
-	 * as a tenth of a paper-scene run) */
+	 * as a tenth of a paper-scene run), so no name for it either */
+	if (keep_log && popc_sweep_run_dir(p, dir, i, rdir, sizeof rdir) != 0)
+		return popc_error_set(err, POPC_ERR_IO, "%s: path too long", dir);
 	if (keep_log && mkdir(rdir, 0777) != 0 && errno != EEXIST)
 		return popc_error_set(err, POPC_ERR_IO, "%s: %s", rdir, strerror(errno));
 
@@ -189,7 +189,10 @@ int popc_sweep_run_one(const popc_sweep_plan *p, long long i, const char *dir, i
 		return n;
 	/* the sweep's record first: a run whose row is in the rows file is
 	 * finished whatever happens to the copy below */
-	int st2 = popc_sweep_rows_append(p, rows_fd, i, row, res->exit_status, res->reason, err);
+	int st2 = popc_sweep_rows_batch_add(rows, p, i, row, res->exit_status, res->reason, err);
+	/* with a log, the row is written before the run's own summary.csv */
+	if (!st2 && keep_log)
+		st2 = popc_sweep_rows_flush(rows, err);
 	if (st2)
 		return st2;
 	res->recorded = 1;
