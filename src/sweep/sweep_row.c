@@ -242,13 +242,24 @@ int popc_sweep_row(const popc_sweep_plan *p, long long i, int exit_status, const
 
 int popc_sweep_row_exit_status(const popc_sweep_plan *p, const char *row)
 {
-	const char *cell[RUN_CSV_MAX_COLUMNS + 64];
-	size_t len[RUN_CSV_MAX_COLUMNS + 64];
-	int n = popc_sweep_split_cells(row, cell, len, RUN_CSV_MAX_COLUMNS + 64);
+	/* cell c found by its commas, the row not split: the parent reads
+	 * every run's row this way, twice a sweep */
 	int c = popc_sweep_column_index(p->n_axes, POPC_SWEEP_CELL_EXIT_STATUS);
+	if (c < 0 || c >= RUN_CSV_MAX_COLUMNS + 64)
+		return -1;
+	const char *cell = row;
+	for (int k = 0; k < c; k++) {
+		while (*cell && *cell != ',' && *cell != '\r' && *cell != '\n')
+			cell++;
+		if (*cell != ',')
+			return -1; /* fewer cells than c + 1 */
+		cell++;
+	}
+	const char *end = cell;
+	while (*end && *end != ',' && *end != '\r' && *end != '\n')
+		end++;
 	long long v;
-	if (c < 0 || c >= RUN_CSV_MAX_COLUMNS + 64 || n <= c ||
-	    popc_parse_ll_span(cell[c], cell[c] + len[c], 0, 999, 0, &v) != 0)
+	if (popc_parse_ll_span(cell, end, 0, 999, 0, &v) != 0)
 		return -1;
 	return (int)v;
 }
