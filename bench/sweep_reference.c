@@ -6,7 +6,9 @@
  * Makes every run of the product of the --vary lists in this one process, one
  * after the other, as a `popc sweep -j 1 --no-log` worker makes it: the run's
  * scene (the base scene with its values set, validated), the simulated axis,
- * the chatter detector on every tick, popc_run. Nothing else: no checking of
+ * the chatter detector on every tick, popc_run with a stop flag (never set
+ * here; popc run and a sweep's runs check it every tick, 3 instructions a
+ * tick). Nothing else: no checking of
  * every run before the first, no worker process, no summary text, no row, no
  * files. So the CPU of `popc sweep` minus the CPU of this program on the same
  * runs is what the sweep adds to its runs (its own cost), process start-up and
@@ -14,6 +16,7 @@
  *
  * Prints the number of runs and of ticks, and the sum of the runs' pc_energy,
  * so that the runs are seen to be the sweep's (its summary.csv has the same). */
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -24,6 +27,8 @@
 #include "popc/scene/from_scene.h"
 #include "popc/sweep/sweep_chatter.h"
 #include "popc/sweep/sweep_plan.h"
+
+static volatile sig_atomic_t stop_flag;
 
 static void feed_chatter(void *user, const popc_tick *tick)
 {
@@ -88,7 +93,8 @@ int main(int argc, char **argv)
 			st = popc_sweep_chatter_init(&det, &s, &ccfg, &err);
 		}
 		if (!st) {
-			popc_run_options ro = {.on_tick = feed_chatter, .tick_user = &det};
+			popc_run_options ro = {.stop_flag = &stop_flag, .on_tick = feed_chatter,
+					       .tick_user = &det};
 			st = popc_run(&s, axis, &ro, &sum, &err);
 			popc_chatter_finish(&det, &chat);
 			ticks += sum.ticks;
