@@ -361,10 +361,17 @@ int popc_sweep_rows_append(const popc_sweep_plan *p, int fd, long long i, const 
 	return write_rows(fd, buf, (size_t)len, err);
 }
 
+/* The batch's buffer: room for a few rows of the longest kind, and for a few
+ * dozen of the usual few hundred bytes. Written whenever less than one
+ * longest row would fit (not sized for max_rows longest rows: a buffer
+ * that large is a fresh mapping, and its pages' first touches cost more
+ * than the writes saved). */
+enum { ROWS_BATCH_BYTES = 1 << 16 };
+
 int popc_sweep_rows_batch_init(popc_sweep_rows_batch *b, int fd, int max_rows, popc_error *err)
 {
 	*b = (popc_sweep_rows_batch){.fd = fd, .max_rows = max_rows > 1 ? max_rows : 1};
-	b->buf = malloc((size_t)b->max_rows * POPC_SWEEP_ROWS_ENTRY_MAX);
+	b->buf = malloc(ROWS_BATCH_BYTES);
 	return b->buf ? 0 : popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
 }
 
@@ -384,7 +391,8 @@ int popc_sweep_rows_batch_add(popc_sweep_rows_batch *b, const popc_sweep_plan *p
 		return popc_error_set(err, POPC_ERR_INVALID, "summary row too long");
 	b->len += (size_t)len;
 	b->n_rows++;
-	return b->n_rows >= b->max_rows ? popc_sweep_rows_flush(b, err) : 0;
+	int full = b->n_rows >= b->max_rows || ROWS_BATCH_BYTES - b->len < POPC_SWEEP_ROWS_ENTRY_MAX;
+	return full ? popc_sweep_rows_flush(b, err) : 0;
 }
 
 int popc_sweep_rows_flush(popc_sweep_rows_batch *b, popc_error *err)

@@ -323,8 +323,12 @@ int popc_sweep_results_write(const popc_sweep_results *r, const popc_sweep_plan 
 	/* 64 kB stdio buffers, not the file system's 4 kB blocks: the two
 	 * summaries of 10,000 runs (about 10 MB) in 150 write()s, not 2,400 (a
 	 * write costs some microseconds of system time on a VM) */
-	enum { SUMMARY_BUFFER = 1 << 16 };
-	char *out_buf = malloc(SUMMARY_BUFFER), *json_buf = malloc(SUMMARY_BUFFER);
+	enum { SUMMARY_BUFFER = 1 << 16, SUMMARY_BUFFER_RUNS = 1000 };
+	/* (for a large sweep only: a small one's summaries fit in a few
+	 * writes, fewer than the new buffers' page faults) */
+	int big = p->n_runs >= SUMMARY_BUFFER_RUNS;
+	char *out_buf = big ? malloc(SUMMARY_BUFFER) : NULL;
+	char *json_buf = big ? malloc(SUMMARY_BUFFER) : NULL;
 	if (out_buf)
 		setvbuf(out.f, out_buf, _IOFBF, SUMMARY_BUFFER);
 	if (json_buf)

@@ -79,9 +79,10 @@ int popc_sweep_rows_append(const popc_sweep_plan *p, int fd, long long i, const 
  * rows are written as popc_sweep_rows_append writes them, in order. */
 typedef struct popc_sweep_rows_batch {
 	int fd;
-	int n_rows, max_rows; /* held; written when max_rows are (1: each at once) */
+	int n_rows, max_rows; /* held; written when max_rows are (1: each at
+			       * once), or fewer when they fill the buffer */
 	size_t len;
-	char *buf;            /* max_rows entries of POPC_SWEEP_ROWS_ENTRY_MAX */
+	char *buf;            /* always room for one more entry after an add */
 } popc_sweep_rows_batch;
 
 /* The most bytes of one row with its reason line. */
@@ -90,8 +91,8 @@ typedef struct popc_sweep_rows_batch {
 int popc_sweep_rows_batch_init(popc_sweep_rows_batch *b, int fd, int max_rows, popc_error *err);
 void popc_sweep_rows_batch_free(popc_sweep_rows_batch *b);
 /* Holds run i's row as popc_sweep_rows_append would write it; writes the
- * held rows once max_rows are held (the caller flushes before adding to a
- * full batch: n_rows < max_rows). */
+ * held rows once max_rows are held or the buffer has no room for another
+ * (n_rows is then 0). */
 int popc_sweep_rows_batch_add(popc_sweep_rows_batch *b, const popc_sweep_plan *p, long long i,
 			      const char *row, int exit_status, const char *reason, popc_error *err);
 /* Writes the held rows with one write() (none held: nothing). */
