@@ -9,7 +9,8 @@
  * The runs to make are a list of indices; workers take the next one from a
  * counter in shared memory (no message per run: a pipe round trip and two
  * context switches cost a few percent of a paper-scene run), run it and
- * append its row to their own rows file. The parent only watches: each worker
+ * append its row to their own rows file (summaries only: 32 rows a write(),
+ * ROWS_HELD_MAX below). The parent only watches: each worker
  * holds the write end of a "life" pipe, whose EOF tells the parent the worker
  * is gone; the worker's slot says which run it had in hand, if any.
  *
