@@ -9,7 +9,8 @@
  * The runs to make are a list of indices; workers take the next one from a
  * counter in shared memory (no message per run: a pipe round trip and two
  * context switches cost a few percent of a paper-scene run), run it and
- * append its row to their own rows file. The parent only watches: each worker
+ * append its row to their own rows file (summaries only: 32 rows a write(),
+ * ROWS_HELD_MAX below). The parent only watches: each worker
  * holds the write end of a "life" pipe, whose EOF tells the parent the worker
  * is gone; the worker's slot says which run it had in hand, if any.
  *
@@ -81,26 +82,73 @@ typedef struct pool_ctx {
 	sweep_progress *prog;
 } pool_ctx;
 
+/* Rows a summaries-only worker holds before one write(): a write() per row
+ * cost about 3 us of system time a run on the 2-core VM of
+ * docs/BENCHMARKS.md section 6, a third of the sweep's own cost per run. A
+ * held row is not recorded: a worker that dies loses at most these, whose
+ * runs the parent makes again (the reconciliation below), as it does a run
+ * taken in the window. With logs each row is written at once (a run's
+ * summary.csv follows its row). */
+enum { ROWS_HELD_MAX = 32 };
+
+/* The runs whose rows the worker holds, recorded when the rows are written. */
+typedef struct held_runs {
+	long long k[ROWS_HELD_MAX];   /* todo indices */
+	popc_sweep_result res[ROWS_HELD_MAX];
+	int n;
+} held_runs;
+
+/* Writes the held rows and records their runs: a run is counted done (and a
+ * failed one shown) once its row is in the rows file, so that a run made
+ * again after a worker died is shown once. Rows that cannot be written are
+ * said, and their runs end without a result (no retry), as before. */
+static void record_held(pool_ctx *c, popc_sweep_rows_batch *rows, held_runs *h)
+{
+	popc_error err;
+	if (popc_sweep_rows_flush(rows, &err) != 0) {
+		fprintf(stderr, "popc sweep: %s\n", err.msg);
+		atomic_store(&c->sh->trouble, 1);
+	}
+	for (int m = 0; m < h->n; m++) {
+		const popc_sweep_result *res = &h->res[m];
+		long long k = h->k[m];
+		if (res->exit_status != 0) {
+			atomic_fetch_add(&c->sh->failed, 1);
+			sweep_progress_failure(c->prog, c->plan, c->todo[k], res->exit_status, res->reason);
+		}
+		atomic_store(&c->recorded[k], 1);
+		atomic_fetch_add(&c->sh->done, 1);
+	}
+	h->n = 0;
+}
+
 static void worker_main(pool_ctx *c, int slot)
 {
 	popc_error err;
 	int fd = popc_sweep_rows_open(c->plan, c->dir, c->rows_pid ? c->rows_pid : (long)getpid(), &err);
-	if (fd < 0) {
-		fprintf(stderr, "popc sweep: %s\n", err.msg);
+	popc_sweep_rows_batch rows;
+	held_runs *held = malloc(sizeof *held);
+	if (fd < 0 || !held ||
+	    popc_sweep_rows_batch_init(&rows, fd, c->keep_log ? 1 : ROWS_HELD_MAX, &err) != 0) {
+		fprintf(stderr, "popc sweep: %s\n", fd < 0 || held ? err.msg : "out of memory");
 		atomic_store(&c->sh->trouble, 1);
 		_exit(1);
 	}
+	held->n = 0;
 	while (!popc_cli_stop) {
 		long long k = atomic_fetch_add(&c->sh->next, 1);
 		if (k >= c->n_todo)
 			break;
 		long long i = c->todo[k];
-		/* test hook: die in the window between taking a run and saying so */
-		if (i == c->die_after_claim && atomic_exchange(&c->sh->hook_fired, 1) == 0)
+		/* test hook: die in the window between taking a run and saying
+		 * so (the held rows written first: the hook's run is the one lost) */
+		if (i == c->die_after_claim && atomic_exchange(&c->sh->hook_fired, 1) == 0) {
+			record_held(c, &rows, held);
 			raise(SIGKILL);
+		}
 		atomic_store(&c->sh->current[slot], k);
-		popc_sweep_result res;
-		int st = popc_sweep_run_one(c->plan, i, c->dir, c->keep_log, fd, &popc_cli_stop, &res, &err);
+		popc_sweep_result *res = &held->res[held->n];
+		int st = popc_sweep_run_one(c->plan, i, c->dir, c->keep_log, &rows, &popc_cli_stop, res, &err);
 		if (st != 0) {
 			/* its row could not be written (the sweep exits 1 listing
 			 * it as without a result; no retry), or only the run's own
@@ -108,18 +156,22 @@ static void worker_main(pool_ctx *c, int slot)
 			fprintf(stderr, "popc sweep: %s\n", err.msg);
 			atomic_store(&c->sh->trouble, 1);
 		}
-		if (st == 0 && res.interrupted) {
+		if (st == 0 && res->interrupted) {
 			atomic_store(&c->sh->current[slot], -1);
 			break; /* not recorded: run again (next round, or a resumed sweep) */
 		}
-		if ((st == 0 || res.recorded) && res.exit_status != 0) {
-			atomic_fetch_add(&c->sh->failed, 1);
-			sweep_progress_failure(c->prog, c->plan, i, res.exit_status, res.reason);
-		}
-		atomic_store(&c->recorded[k], 1);
-		atomic_fetch_add(&c->sh->done, 1);
+		if (!(st == 0 || res->recorded))
+			res->exit_status = 0; /* no result: not shown as failed */
+		held->k[held->n++] = k;
+		/* written now (the batch is full, or a log's row was written at
+		 * once) or held for the next write */
+		if (rows.n_rows == 0 || held->n == ROWS_HELD_MAX)
+			record_held(c, &rows, held);
 		atomic_store(&c->sh->current[slot], -1);
 	}
+	record_held(c, &rows, held);
+	popc_sweep_rows_batch_free(&rows);
+	free(held);
 	close(fd);
 	/* no atexit handlers, no second flush of the parent's stdio; 5 tells the
 	 * parent a signal stopped this worker */

@@ -326,6 +326,14 @@ static int trimmed(const char *text, size_t len, char *out, size_t cap)
 	return 0;
 }
 
+/* How scene_set's messages name the assignment: "--set section.key", or the
+ * option given. */
+static void set_who(char *who, size_t cap, const char *option, const char *sec, const char *name)
+{
+	snprintf(who, cap, "%s%s%s%s", option ? option : "--set ", option ? "" : sec,
+		 option ? "" : ".", option ? "" : name);
+}
+
 /* popc_scene_set and popc_scene_set_option: option NULL for --set */
 static int scene_set(popc_scene *s, const char *section, const char *key, const char *value,
 		     const char *option, popc_error *err)
@@ -335,17 +343,22 @@ static int scene_set(popc_scene *s, const char *section, const char *key, const 
 	if (trimmed(section, strlen(section), sec, sizeof sec) ||
 	    trimmed(key, strlen(key), name, sizeof name))
 		return popc_error_set(err, POPC_ERR_INVALID, "--set %s.%s: name too long", section, key);
+	/* who is named in a message only: formatted when one may follow (a
+	 * sweep sets its varied keys for every run, and this snprintf was a
+	 * tenth of a sweep's own instructions, docs/BENCHMARKS.md section 6) */
 	char who[200];
-	snprintf(who, sizeof who, "%s%s%s%s", option ? option : "--set ", option ? "" : sec,
-		 option ? "" : ".", option ? "" : name);
-	if (trimmed(value, strlen(value), val, sizeof val))
+	if (trimmed(value, strlen(value), val, sizeof val)) {
+		set_who(who, sizeof who, option, sec, name);
 		return popc_error_set(err, POPC_ERR_INVALID, "%s: value longer than %d characters", who,
 				      POPC_PATH_MAX - 1);
+	}
 	int section_known;
 	const scene_key *k = find_key(sec, name, &section_known);
 	if (!k)
 		return unknown_key(sec, name, section_known, "--set: ", err);
 	int st = set_key(s, k, val, "--set ", option, err);
+	if (is_path_key(k))
+		set_who(who, sizeof who, option, sec, name);
 	if (!st && is_path_key(k))
 		st = resolve_relative((char *)s + k->offset, NULL, who,
 				      k->offset == offsetof(popc_scene, axis_map), err);

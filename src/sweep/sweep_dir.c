@@ -314,10 +314,12 @@ int popc_sweep_rows_open(const popc_sweep_plan *p, const char *dir, long name_pi
 	return fd;
 }
 
-int popc_sweep_rows_append(const popc_sweep_plan *p, int fd, long long i, const char *row,
-			   int exit_status, const char *reason, popc_error *err)
+/* Run i's entry in a rows file into buf (POPC_SWEEP_ROWS_ENTRY_MAX bytes):
+ * for a failed run with a reason, "# <id> stop = <reason>" on a line first,
+ * then the row. Returns its length, or -1 when the row is too long. */
+static long rows_entry(const popc_sweep_plan *p, long long i, const char *row, int exit_status,
+		       const char *reason, char *buf)
 {
-	char buf[POPC_SWEEP_ROW_MAX + 640];
 	size_t len = 0;
 	if (exit_status != 0 && reason && reason[0]) {
 		char id[POPC_SWEEP_ID_MAX];
@@ -329,12 +331,16 @@ int popc_sweep_rows_append(const popc_sweep_plan *p, int fd, long long i, const 
 		buf[len++] = '\n';
 	}
 	size_t lr = strlen(row);
-	if (len + lr > sizeof buf)
-		return popc_error_set(err, POPC_ERR_INVALID, "summary row too long");
+	if (len + lr > POPC_SWEEP_ROWS_ENTRY_MAX)
+		return -1;
 	memcpy(buf + len, row, lr);
-	len += lr;
-	/* one write(): the row is whole in the file or (killed mid-write) its
-	 * incomplete tail is the file's last line, which readers skip */
+	return (long)(len + lr);
+}
+
+/* One write(): the rows are whole in the file or (killed mid-write) the
+ * incomplete tail is the file's last line, which readers skip. */
+static int write_rows(int fd, const char *buf, size_t len, popc_error *err)
+{
 	ssize_t w;
 	do
 		w = write(fd, buf, len);
@@ -343,4 +349,58 @@ int popc_sweep_rows_append(const popc_sweep_plan *p, int fd, long long i, const 
 		return popc_error_set(err, POPC_ERR_IO, "summary rows: %s",
 				      w < 0 ? strerror(errno) : "short write");
 	return 0;
+}
+
+int popc_sweep_rows_append(const popc_sweep_plan *p, int fd, long long i, const char *row,
+			   int exit_status, const char *reason, popc_error *err)
+{
+	char buf[POPC_SWEEP_ROWS_ENTRY_MAX];
+	long len = rows_entry(p, i, row, exit_status, reason, buf);
+	if (len < 0)
+		return popc_error_set(err, POPC_ERR_INVALID, "summary row too long");
+	return write_rows(fd, buf, (size_t)len, err);
+}
+
+/* The batch's buffer: room for a few rows of the longest kind, and for a few
+ * dozen of the usual few hundred bytes. Written whenever less than one
+ * longest row would fit (not sized for max_rows longest rows: a buffer
+ * that large is a fresh mapping, and its pages' first touches cost more
+ * than the writes saved). */
+enum { ROWS_BATCH_BYTES = 1 << 16 };
+
+int popc_sweep_rows_batch_init(popc_sweep_rows_batch *b, int fd, int max_rows, popc_error *err)
+{
+	*b = (popc_sweep_rows_batch){.fd = fd, .max_rows = max_rows > 1 ? max_rows : 1};
+	b->buf = malloc(ROWS_BATCH_BYTES);
+	return b->buf ? 0 : popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+}
+
+void popc_sweep_rows_batch_free(popc_sweep_rows_batch *b)
+{
+	free(b->buf);
+	b->buf = NULL;
+}
+
+int popc_sweep_rows_batch_add(popc_sweep_rows_batch *b, const popc_sweep_plan *p, long long i,
+			      const char *row, int exit_status, const char *reason, popc_error *err)
+{
+	if (b->n_rows >= b->max_rows)
+		return popc_error_set(err, POPC_ERR_INVALID, "summary rows: the batch is full");
+	long len = rows_entry(p, i, row, exit_status, reason, b->buf + b->len);
+	if (len < 0)
+		return popc_error_set(err, POPC_ERR_INVALID, "summary row too long");
+	b->len += (size_t)len;
+	b->n_rows++;
+	int full = b->n_rows >= b->max_rows || ROWS_BATCH_BYTES - b->len < POPC_SWEEP_ROWS_ENTRY_MAX;
+	return full ? popc_sweep_rows_flush(b, err) : 0;
+}
+
+int popc_sweep_rows_flush(popc_sweep_rows_batch *b, popc_error *err)
+{
+	if (b->len == 0)
+		return 0;
+	size_t len = b->len;
+	b->len = 0;
+	b->n_rows = 0;
+	return write_rows(b->fd, b->buf, len, err);
 }

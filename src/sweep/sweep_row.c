@@ -15,7 +15,11 @@ int popc_sweep_split_cells(const char *line, const char **cell, size_t *len, int
 	int n = 0;
 	const char *p = line;
 	for (;;) {
-		size_t l = strcspn(p, ",\r\n");
+		/* a loop, not strcspn: cells are a few bytes, and strcspn's setup
+		 * was most of the split (twice a run in a sweep) */
+		size_t l = 0;
+		while (p[l] && p[l] != ',' && p[l] != '\r' && p[l] != '\n')
+			l++;
 		if (n < max) {
 			cell[n] = p;
 			len[n] = l;
@@ -35,6 +39,56 @@ static int find_cell(const char *const *cell, const size_t *len, int n, const ch
 		if (len[c] == nl && memcmp(cell[c], name, nl) == 0)
 			return c;
 	return -1;
+}
+
+/* find_cell from cell `from` on, then from the start: the summary columns
+ * come in the run summary's order, so the search from the cell after the last
+ * one found mostly takes one comparison. */
+static int find_cell_from(const char *const *cell, const size_t *len, int n, const char *name,
+			  int from)
+{
+	if (n <= 0)
+		return -1;
+	size_t nl = strlen(name);
+	for (int k = 0; k < n; k++) {
+		int c = (from + k) % n;
+		if (len[c] == nl && memcmp(cell[c], name, nl) == 0)
+			return c;
+	}
+	return -1;
+}
+
+/* The row being made: bytes past cap are counted, not written (as snprintf
+ * counts them), so that a row too long is an error after the walk. The
+ * cells are copied, not formatted with snprintf: a row of some 25 cells
+ * cost a worker about 27,000 instructions with snprintf per cell, a fifth
+ * of a 2-tick run's (docs/BENCHMARKS.md section 6). */
+typedef struct row_text {
+	char *buf;
+	size_t cap, len;
+} row_text;
+
+static void put(row_text *t, const char *s, size_t n)
+{
+	if (t->len < t->cap) {
+		size_t room = t->cap - t->len;
+		memcpy(t->buf + t->len, s, n < room ? n : room);
+	}
+	t->len += n;
+}
+
+/* "%d" of v: its digits, a '-' first when negative. */
+static void put_int(row_text *t, int v)
+{
+	char digits[16];
+	int k = (int)sizeof digits;
+	unsigned long long m = v < 0 ? 0ULL - (unsigned long long)(long long)v : (unsigned long long)v;
+	do
+		digits[--k] = (char)('0' + m % 10);
+	while ((m /= 10) != 0);
+	if (v < 0)
+		digits[--k] = '-';
+	put(t, digits + k, sizeof digits - (size_t)k);
 }
 
 #define RUN_CSV_MAX_COLUMNS 64
@@ -75,7 +129,7 @@ static int cell_is_empty(popc_sweep_cell_empty rule, const row_input *in)
 
 /* The value of a one-cell column (every source but the axes). */
 static int cell_get(const popc_sweep_column *col, const row_input *in, cell_value *v,
-		    popc_error *err)
+		    int *next_run_cell, popc_error *err)
 {
 	memset(v, 0, sizeof *v);
 	v->kind = POPC_SWEEP_FORMAT_INT;
@@ -87,7 +141,9 @@ static int cell_get(const popc_sweep_column *col, const row_input *in, cell_valu
 		return 0;
 	case POPC_SWEEP_CELL_EXIT_STATUS: v->whole = in->exit_status; return 0;
 	case POPC_SWEEP_CELL_RUN_SUMMARY: {
-		int c = find_cell(in->hcell, in->hlen, in->n_cells, col->name);
+		int c = find_cell_from(in->hcell, in->hlen, in->n_cells, col->name, *next_run_cell);
+		if (c >= 0)
+			*next_run_cell = c + 1;
 		if (c < 0)
 			return popc_error_set(err, POPC_ERR_INVALID, "run summary: no column '%s'",
 					      col->name);
@@ -133,27 +189,25 @@ int popc_sweep_row(const popc_sweep_plan *p, long long i, int exit_status, const
 	const row_input in = {.id = id, .exit_status = exit_status, .run_row = run_row,
 			      .hcell = hcell, .rcell = rcell, .hlen = hlen, .rlen = rlen,
 			      .n_cells = nh, .chatter = chatter, .wall_time_s = wall_time_s};
-	size_t len = 0;
-#define PUT(...)                                                                                   \
-	do {                                                                                       \
-		int w_ = snprintf(buf + len, len < cap ? cap - len : 0, __VA_ARGS__);              \
-		len += w_ > 0 ? (size_t)w_ : 0;                                                    \
-	} while (0)
-	int cells = 0;
+	row_text t = {.buf = buf, .cap = cap, .len = 0};
+	int cells = 0, next_run_cell = 0;
 	for (int c = 0; c < popc_sweep_n_columns; c++) {
 		const popc_sweep_column *col = &popc_sweep_columns[c];
 		if (col->source == POPC_SWEEP_CELL_AXES) {
-			for (int a = 0; a < p->n_axes; a++)
-				PUT("%s%s", cells++ ? "," : "", p->axes[a].values[idx[a]]);
+			for (int a = 0; a < p->n_axes; a++) {
+				if (cells++)
+					put(&t, ",", 1);
+				const char *v = p->axes[a].values[idx[a]];
+				put(&t, v, strlen(v));
+			}
 			continue;
 		}
-		const char *sep = cells++ ? "," : "";
-		if (cell_is_empty(col->empty, &in)) {
-			PUT("%s", sep);
+		if (cells++)
+			put(&t, ",", 1);
+		if (cell_is_empty(col->empty, &in))
 			continue;
-		}
 		cell_value v;
-		int st = cell_get(col, &in, &v, err);
+		int st = cell_get(col, &in, &v, &next_run_cell, err);
 		if (st)
 			return st;
 		/* a format that does not fit the source's value is a mistake in
@@ -165,32 +219,47 @@ int popc_sweep_row(const popc_sweep_plan *p, long long i, int exit_status, const
 					      col->name);
 		char real[POPC_DOUBLE_TEXT_MAX + 1];
 		switch (col->format) {
-		case POPC_SWEEP_FORMAT_TEXT: PUT("%s%.*s", sep, (int)v.len, v.text); break;
-		case POPC_SWEEP_FORMAT_INT: PUT("%s%d", sep, v.whole); break;
+		case POPC_SWEEP_FORMAT_TEXT: put(&t, v.text, v.len); break;
+		case POPC_SWEEP_FORMAT_INT: put_int(&t, v.whole); break;
 		case POPC_SWEEP_FORMAT_DOUBLE:
 			popc_format_double(v.kind == POPC_SWEEP_FORMAT_INT ? (double)v.whole : v.real,
 					   real);
-			PUT("%s%s", sep, real);
+			put(&t, real, strlen(real));
 			break;
 		}
 	}
-	PUT("\n");
-#undef PUT
-	if (len >= cap)
+	put(&t, "\n", 1);
+	size_t len = t.len;
+	if (len >= cap) {
+		if (cap > 0)
+			buf[cap - 1] = '\0'; /* as snprintf leaves it */
 		return popc_error_set(err, POPC_ERR_INVALID, "summary row of run %s longer than %zu bytes",
 				      id, cap);
+	}
+	buf[len] = '\0';
 	return (int)len;
 }
 
 int popc_sweep_row_exit_status(const popc_sweep_plan *p, const char *row)
 {
-	const char *cell[RUN_CSV_MAX_COLUMNS + 64];
-	size_t len[RUN_CSV_MAX_COLUMNS + 64];
-	int n = popc_sweep_split_cells(row, cell, len, RUN_CSV_MAX_COLUMNS + 64);
+	/* cell c found by its commas, the row not split: the parent reads
+	 * every run's row this way, twice a sweep */
 	int c = popc_sweep_column_index(p->n_axes, POPC_SWEEP_CELL_EXIT_STATUS);
+	if (c < 0 || c >= RUN_CSV_MAX_COLUMNS + 64)
+		return -1;
+	const char *cell = row;
+	for (int k = 0; k < c; k++) {
+		while (*cell && *cell != ',' && *cell != '\r' && *cell != '\n')
+			cell++;
+		if (*cell != ',')
+			return -1; /* fewer cells than c + 1 */
+		cell++;
+	}
+	const char *end = cell;
+	while (*end && *end != ',' && *end != '\r' && *end != '\n')
+		end++;
 	long long v;
-	if (c < 0 || c >= RUN_CSV_MAX_COLUMNS + 64 || n <= c ||
-	    popc_parse_ll_span(cell[c], cell[c] + len[c], 0, 999, 0, &v) != 0)
+	if (popc_parse_ll_span(cell, end, 0, 999, 0, &v) != 0)
 		return -1;
 	return (int)v;
 }

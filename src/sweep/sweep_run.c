@@ -29,23 +29,60 @@ static void feed_chatter(void *user, const popc_tick *tick)
 	popc_chatter_add(user, tick);
 }
 
-/* The popc run summary header and row as text, as `popc run --summary` writes
- * them: the sweep row is built from these by column name, like for --list runs. */
-static int summary_text(const popc_run_summary *sum, const popc_scene *s, char **header, char **row)
+/* The popc run summary header as text, as `popc run --summary` writes it:
+ * the same for every run (it depends on no summary), so made once per
+ * process and kept (a worker makes thousands of rows from it). */
+static const char *summary_header(void)
 {
+	static char *header;
+	if (header)
+		return header;
 	size_t len;
-	*header = *row = NULL;
-	FILE *f = open_memstream(header, &len);
+	char *text = NULL;
+	FILE *f = open_memstream(&text, &len);
 	if (!f)
-		return -1;
+		return NULL;
 	popc_run_summary_csv_header(f);
-	if (fclose(f) != 0)
-		return -1;
-	f = open_memstream(row, &len);
+	if (fclose(f) != 0) {
+		free(text);
+		return NULL;
+	}
+	header = text;
+	return header;
+}
+
+/* The popc run summary row as text, as `popc run --summary` writes it: the
+ * sweep row is built from it and the header by column name, like for --list
+ * runs. Written into buf (cap bytes) through fmemopen, which allocates no
+ * growing buffer (open_memstream's first calloc of 8 kB, twice a run, was a
+ * tenth of a 2-tick run's instructions); a row that does not fit goes through
+ * open_memstream into *spill (malloc'd, for the caller to free). Returns the
+ * text, or NULL when out of memory. */
+static const char *summary_row(const popc_run_summary *sum, const popc_scene *s, char *buf,
+			       size_t cap, char **spill)
+{
+	*spill = NULL;
+	FILE *f = fmemopen(buf, cap, "w");
+	if (f) {
+		popc_run_summary_csv_row(sum, s, f);
+		fflush(f);
+		long n = ftell(f);
+		int bad = ferror(f);
+		/* fmemopen "w" keeps a NUL after the text while it fits */
+		if (fclose(f) == 0 && !bad && n >= 0 && (size_t)n + 1 < cap && buf[n] == '\0')
+			return buf;
+	}
+	size_t len;
+	f = open_memstream(spill, &len);
 	if (!f)
-		return -1;
+		return NULL;
 	popc_run_summary_csv_row(sum, s, f);
-	return fclose(f) != 0 ? -1 : 0;
+	if (fclose(f) != 0) {
+		free(*spill);
+		*spill = NULL;
+		return NULL;
+	}
+	return *spill;
 }
 
 static int write_scene(const char *path, const popc_scene *s, popc_error *err)
@@ -61,16 +98,16 @@ static int write_scene(const char *path, const popc_scene *s, popc_error *err)
 }
 
 int popc_sweep_run_one(const popc_sweep_plan *p, long long i, const char *dir, int keep_log,
-		       int rows_fd, volatile sig_atomic_t *stop_flag, popc_sweep_result *res,
-		       popc_error *err)
+		       popc_sweep_rows_batch *rows, volatile sig_atomic_t *stop_flag,
+		       popc_sweep_result *res, popc_error *err)
 {
 	memset(res, 0, sizeof *res);
 	double t0 = popc_now_s();
 	char rdir[POPC_PATH_MAX], path[POPC_PATH_MAX + 32];
-	if (popc_sweep_run_dir(p, dir, i, rdir, sizeof rdir) != 0)
-		return popc_error_set(err, POPC_ERR_IO, "%s: path too long", dir);
 	/* summaries only: no directory per run (a mkdir costs about as much
-	 * as a tenth of a paper-scene run) */
+	 * as a tenth of a paper-scene run), so no name for it either */
+	if (keep_log && popc_sweep_run_dir(p, dir, i, rdir, sizeof rdir) != 0)
+		return popc_error_set(err, POPC_ERR_IO, "%s: path too long", dir);
 	if (keep_log && mkdir(rdir, 0777) != 0 && errno != EEXIST)
 		return popc_error_set(err, POPC_ERR_IO, "%s: %s", rdir, strerror(errno));
 
@@ -136,22 +173,26 @@ int popc_sweep_run_one(const popc_sweep_plan *p, long long i, const char *dir, i
 		return 0;
 	}
 
-	char *header = NULL, *run_row = NULL;
-	if (have_sum && summary_text(&sum, &s, &header, &run_row) != 0) {
-		free(header);
-		free(run_row);
-		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+	const char *header = NULL, *run_row = NULL;
+	char run_row_buf[POPC_SWEEP_ROW_MAX], *spill = NULL;
+	if (have_sum) {
+		header = summary_header();
+		run_row = header ? summary_row(&sum, &s, run_row_buf, sizeof run_row_buf, &spill) : NULL;
+		if (!run_row)
+			return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
 	}
 	char row[POPC_SWEEP_ROW_MAX];
-	int n = popc_sweep_row(p, i, res->exit_status, header, have_sum ? run_row : NULL,
-			       have_chat ? &chat : NULL, res->wall_time_s, row, sizeof row, err);
-	free(header);
-	free(run_row);
+	int n = popc_sweep_row(p, i, res->exit_status, header, run_row, have_chat ? &chat : NULL,
+			       res->wall_time_s, row, sizeof row, err);
+	free(spill);
 	if (n < 0)
 		return n;
 	/* the sweep's record first: a run whose row is in the rows file is
 	 * finished whatever happens to the copy below */
-	int st2 = popc_sweep_rows_append(p, rows_fd, i, row, res->exit_status, res->reason, err);
+	int st2 = popc_sweep_rows_batch_add(rows, p, i, row, res->exit_status, res->reason, err);
+	/* with a log, the row is written before the run's own summary.csv */
+	if (!st2 && keep_log)
+		st2 = popc_sweep_rows_flush(rows, err);
 	if (st2)
 		return st2;
 	res->recorded = 1;

@@ -2,6 +2,7 @@
 #include "popc/util/json.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "popc/util/numfmt.h"
@@ -81,6 +82,18 @@ static void put_string(FILE *f, const char *text, size_t n)
 	const unsigned char *s = (const unsigned char *)text;
 	fputc('"', f);
 	for (size_t i = 0; i < n;) {
+		/* a span of printable ASCII that needs no escape, in one fwrite:
+		 * a summary's names and text cells are all such, and a fputc per
+		 * byte was most of a sweep's summary.jsonl (docs/BENCHMARKS.md 6) */
+		size_t plain = i;
+		while (plain < n && s[plain] >= 0x20 && s[plain] < 0x80 && s[plain] != '"' &&
+		       s[plain] != '\\')
+			plain++;
+		if (plain > i) {
+			fwrite(s + i, 1, plain - i, f);
+			i = plain;
+			continue;
+		}
 		unsigned c = s[i];
 		if (c == '"' || c == '\\') {
 			fputc('\\', f);
@@ -270,6 +283,128 @@ void popc_json_csv_object(FILE *f, int n, const char *const *names, const popc_j
 	}
 	popc_json_end_object(&j);
 	fputc('\n', f);
+}
+
+char *popc_json_csv_keys(int n, const char *const *names)
+{
+	char *text = NULL;
+	size_t len = 0;
+	FILE *f = open_memstream(&text, &len);
+	if (!f)
+		return NULL;
+	for (int c = 0; c < n; c++) {
+		if (c > 0)
+			fputc(',', f); /* the comma before every key but the first */
+		put_string(f, names[c], strlen(names[c]));
+		fputc(':', f);
+		fputc('\0', f);
+	}
+	if (fclose(f) != 0) {
+		free(text);
+		return NULL;
+	}
+	return text;
+}
+
+/* The line of popc_json_csv_object_keyed, made in memory and written with
+ * one fwrite when full or done: a stdio call per key and per value was most
+ * of a sweep's summary.jsonl (some 50 calls a row). Anything but the common
+ * forms (a plain ASCII string, a number) goes through the FILE writers above,
+ * after what is held is written, so that the escaping is in one place. */
+typedef struct line_out {
+	FILE *f;
+	size_t len;
+	char buf[4096];
+} line_out;
+
+static void line_flush(line_out *o)
+{
+	if (o->len)
+		fwrite(o->buf, 1, o->len, o->f);
+	o->len = 0;
+}
+
+static void line_put(line_out *o, const char *s, size_t n)
+{
+	if (o->len + n > sizeof o->buf) {
+		line_flush(o);
+		if (n > sizeof o->buf) {
+			fwrite(s, 1, n, o->f);
+			return;
+		}
+	}
+	memcpy(o->buf + o->len, s, n);
+	o->len += n;
+}
+
+/* Is every byte of [s, s + n) printable ASCII needing no escape? */
+static int plain_ascii(const char *s, size_t n)
+{
+	for (size_t i = 0; i < n; i++) {
+		unsigned char c = (unsigned char)s[i];
+		if (c < 0x20 || c >= 0x80 || c == '"' || c == '\\')
+			return 0;
+	}
+	return 1;
+}
+
+/* put_cell's value into the line: the same bytes, the rare forms by put_cell
+ * itself (j's comma state: after a key, so it writes no comma). */
+static void line_cell(line_out *o, popc_json *j, popc_json_kind kind, const char *s, size_t n)
+{
+	if (n == 0) {
+		line_put(o, "null", 4);
+		return;
+	}
+	int text = kind == POPC_JSON_TEXT;
+	double v = 0.0;
+	int reads = !text && popc_parse_double(s, s + n, &v) == n && isfinite(v);
+	if (reads && is_json_number(s, n)) {
+		line_put(o, s, n);
+	} else if (reads) {
+		char b[POPC_DOUBLE_TEXT_MAX + 1];
+		popc_format_double(v, b);
+		line_put(o, b, strlen(b));
+	} else if ((text || kind == POPC_JSON_AUTO) && plain_ascii(s, n)) {
+		line_put(o, "\"", 1);
+		line_put(o, s, n);
+		line_put(o, "\"", 1);
+	} else {
+		line_flush(o);
+		j->after_key = 1;
+		put_cell(j, kind, s, n);
+	}
+}
+
+void popc_json_csv_object_keyed(FILE *f, int n, const char *keys, const popc_json_kind *kinds,
+				const char *row, size_t len)
+{
+	const char *end = row + len;
+	while (end > row && (end[-1] == '\n' || end[-1] == '\r'))
+		end--;
+	popc_json j;
+	popc_json_init(&j, f);
+	line_out o;
+	o.f = f;
+	o.len = 0;
+	line_put(&o, "{", 1);
+	const char *p = row;
+	int more = 1; /* a line holds one cell at least, even an empty one */
+	char buf[4096];
+	for (int c = 0; c < n; c++) {
+		size_t kl = strlen(keys);
+		line_put(&o, keys, kl); /* its comma included: the value follows directly */
+		keys += kl + 1;
+		if (!more) {
+			line_put(&o, "null", 4);
+			continue;
+		}
+		size_t cl;
+		const char *cell = next_cell(&p, end, buf, sizeof buf, &cl, &more);
+		line_cell(&o, &j, kinds[c], cell, cl);
+	}
+	line_put(&o, "}\n", 2);
+	line_flush(&o);
 }
 
 int popc_json_csv_names(char *line, const char **names, int cap)

@@ -402,6 +402,16 @@ check "  every run has a row" test "$(id_col "$T/k/summary.csv")" = "$(id_col "$
 check "  exit 1 (got $rc)" test "$rc" -eq 1
 expect_exit 0 "again: the crashed run is retried" mid "$POPC" sweep "$SCENE" "${MID[@]}" -o "$T/k" -j 2 -q
 check "  all 20 succeeded, as in the uninterrupted sweep" same_nowall "$T/k/summary.csv" "$T/ref/summary.csv"
+# -j 1: the one worker holds the rows of runs 0000-0009 for one write
+# (summaries only); killed, it loses them unwritten, and they are made again
+caught "$T/k1" 1
+check "-j 1: the worker killed by SIGKILL with run 0010 in hand (pid ${worker:-none})" test -n "$worker"
+[ -n "$worker" ] && kill -KILL "$worker"
+release
+check "  the ten runs whose rows it held run again" err_has "10 runs taken by a worker that stopped before recording them: running them again"
+check "  exactly run 0010 failed (failed: $(failed_ids "$T/k1/summary.csv"))" test "$(failed_ids "$T/k1/summary.csv")" = "0010 "
+check "  every run has a row, once" test "$(id_col "$T/k1/summary.csv")" = "$(id_col "$T/ref/summary.csv")"
+check "  exit 1 (got $rc)" test "$rc" -eq 1
 
 # SIGTERM to one worker, not the sweep: it stops its run unrecorded and ends;
 # a new worker takes over the runs after 0010, and 0010 runs again at the

@@ -34,6 +34,7 @@
 
 #include <stddef.h>
 
+#include "popc/sweep/sweep_columns.h"
 #include "popc/sweep/sweep_plan.h"
 #include "popc/util/error.h"
 
@@ -70,5 +71,31 @@ int popc_sweep_rows_open(const popc_sweep_plan *p, const char *dir, long name_pi
 /* Appends run i's row (and, for a failed run, its reason) with one write(). */
 int popc_sweep_rows_append(const popc_sweep_plan *p, int fd, long long i, const char *row,
 			   int exit_status, const char *reason, popc_error *err);
+
+/* Rows held for one write() of several: a write costs a few microseconds of
+ * system time, some percent of a 2-tick run (docs/BENCHMARKS.md section 6).
+ * A held row is not recorded: until popc_sweep_rows_flush has written it, a
+ * worker that dies loses it, and its run is made again (sweep_pool.c). The
+ * rows are written as popc_sweep_rows_append writes them, in order. */
+typedef struct popc_sweep_rows_batch {
+	int fd;
+	int n_rows, max_rows; /* held; written when max_rows are (1: each at
+			       * once), or fewer when they fill the buffer */
+	size_t len;
+	char *buf;            /* always room for one more entry after an add */
+} popc_sweep_rows_batch;
+
+/* The most bytes of one row with its reason line. */
+#define POPC_SWEEP_ROWS_ENTRY_MAX (POPC_SWEEP_ROW_MAX + 640)
+
+int popc_sweep_rows_batch_init(popc_sweep_rows_batch *b, int fd, int max_rows, popc_error *err);
+void popc_sweep_rows_batch_free(popc_sweep_rows_batch *b);
+/* Holds run i's row as popc_sweep_rows_append would write it; writes the
+ * held rows once max_rows are held or the buffer has no room for another
+ * (n_rows is then 0). */
+int popc_sweep_rows_batch_add(popc_sweep_rows_batch *b, const popc_sweep_plan *p, long long i,
+			      const char *row, int exit_status, const char *reason, popc_error *err);
+/* Writes the held rows with one write() (none held: nothing). */
+int popc_sweep_rows_flush(popc_sweep_rows_batch *b, popc_error *err);
 
 #endif

@@ -55,6 +55,15 @@ typedef enum popc_json_kind {
 void popc_json_csv_object(FILE *f, int n, const char *const *names, const popc_json_kind *kinds,
 			  const char *row, size_t len);
 
+/* The same objects for many rows with the same names: popc_json_csv_keys
+ * writes the n names once as the objects' keys (malloc'd; NULL when out of
+ * memory), and popc_json_csv_object_keyed writes a row with them, the same
+ * bytes as popc_json_csv_object (a sweep's summary.jsonl: the names escaped
+ * once, not once a row). */
+char *popc_json_csv_keys(int n, const char *const *names);
+void popc_json_csv_object_keyed(FILE *f, int n, const char *keys, const popc_json_kind *kinds,
+				const char *row, size_t len);
+
 /* Splits a CSV header line like popc_json_csv_object's rows: up to cap
  * names, each NUL-terminated in place of its separator (line is changed).
  * Returns the number of names. */
