@@ -287,26 +287,6 @@ static int cmd_merge(int argc, char **argv)
 	return t.failed || t.missing ? 1 : 0;
 }
 
-/* Does the --set assignment "section.key=value" name this key? Names are
- * compared without the blanks around them, as popc_scene_set reads them. */
-static int set_names_key(const char *set, const char *section, const char *key)
-{
-	const char *eq = strchr(set, '='), *dot = strchr(set, '.');
-	if (!eq || !dot || dot > eq)
-		return 0;
-	const char *given[2][2] = {{set, dot}, {dot + 1, eq}};
-	const char *want[2] = {section, key};
-	for (int k = 0; k < 2; k++) {
-		const char *gb = given[k][0], *ge = given[k][1];
-		const char *wb = want[k], *we = want[k] + strlen(want[k]);
-		popc_trim_blanks(&gb, &ge);
-		popc_trim_blanks(&wb, &we);
-		if (ge - gb != we - wb || memcmp(gb, wb, (size_t)(ge - gb)) != 0)
-			return 0;
-	}
-	return 1;
-}
-
 /* The command line of a sweep (not merge), checked. */
 typedef struct sweep_args {
 	char **vary, **sets;          /* pointers into argv */
@@ -341,7 +321,7 @@ static int sweep_main(const sweep_args *a)
 		st = popc_sweep_axis_parse(a->vary[k], &axes[k], &err);
 	for (int k = 0; k < n_vary && !st; k++)
 		for (int m = 0; m < a->n_sets && !st; m++)
-			if (set_names_key(a->sets[m], axes[k].section, axes[k].key))
+			if (popc_cli_set_names_key(a->sets[m], axes[k].section, axes[k].key))
 				st = popc_error_set(&err, POPC_ERR_INVALID,
 						    "--set %s and --vary %s.%s=%s: the key is both fixed "
 						    "and varied; give it once",

@@ -179,7 +179,8 @@ static int is_json_number(const char *s, size_t n)
 		while (DIGIT(i))
 			i++;
 	if (i < n && s[i] == '.') {
-		if (!DIGIT(++i))
+		i++; /* not inside DIGIT, which names its argument three times */
+		if (!DIGIT(i))
 			return 0;
 		while (DIGIT(i))
 			i++;

@@ -174,6 +174,8 @@ static void test_csv_rows(void **state)
 		/* a JSON number stays its text; another number text is reformatted */
 		{"1,1e-6,-0,.5\n", "{\"run\":\"1\",\"axis\":1e-6,\"n\":-0,\"x\":0.5}\n"},
 		{"1,+2,1.,1E+3", "{\"run\":\"1\",\"axis\":2,\"n\":1,\"x\":1E+3}\n"},
+		/* a fraction is a JSON number too: its text as given, trailing zeros kept */
+		{"6,0.10,2.50e-3,-1.5\n", "{\"run\":\"6\",\"axis\":0.10,\"n\":2.50e-3,\"x\":-1.5}\n"},
 		/* empty cells and missing ones are null; not a number in a NUMBER column: null */
 		{"2,,,\n", "{\"run\":\"2\",\"axis\":null,\"n\":null,\"x\":null}\n"},
 		{"3,a\n", "{\"run\":\"3\",\"axis\":\"a\",\"n\":null,\"x\":null}\n"},
