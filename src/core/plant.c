@@ -169,6 +169,24 @@ static double underdamped_turn(const popc_plant_config *cfg, double h)
 	return sqrt(d) / (2.0 * m) * h * exp(-b / (2.0 * m) * h);
 }
 
+int popc_plant_augmented(const popc_plant_config *cfg, double a[36])
+{
+	int n = cfg->omega_radps != 0.0 ? 6 : 4;
+	double m = cfg->mass_kg;
+	memset(a, 0, 36 * sizeof a[0]);
+	a[0 * n + 1] = 1.0;
+	a[1 * n + 0] = -cfg->stiffness_Npm / m;
+	a[1 * n + 1] = -cfg->damping_Nspm / m;
+	a[1 * n + 2] = 1.0 / m;
+	a[2 * n + 3] = 1.0;
+	if (n == 6) {
+		a[1 * n + 4] = 1.0 / m;
+		a[4 * n + 5] = cfg->omega_radps;
+		a[5 * n + 4] = -cfg->omega_radps;
+	}
+	return n;
+}
+
 /* Exact step: the augmented system [x v y1 y2 p q] with y1' = y2 (affine input
  * u0 + u1 tau) and the rotation p' = w q, q' = -w p (p(0) = uc, q(0) = us gives
  * p = uc cos(w tau) + us sin(w tau)); u = y1 + p drives v. expm(A_aug h) holds
@@ -180,19 +198,8 @@ static int exact_coeffs(const popc_plant_config *cfg, double h, popc_plant_step_
 		overdamped_coeffs(cfg, h, c);
 		return 0;
 	}
-	int n = cfg->omega_radps != 0.0 ? 6 : 4;
-	double a[36] = {0}, e[36];
-	double m = cfg->mass_kg;
-	a[0 * n + 1] = 1.0;
-	a[1 * n + 0] = -cfg->stiffness_Npm / m;
-	a[1 * n + 1] = -cfg->damping_Nspm / m;
-	a[1 * n + 2] = 1.0 / m;
-	a[2 * n + 3] = 1.0;
-	if (n == 6) {
-		a[1 * n + 4] = 1.0 / m;
-		a[4 * n + 5] = cfg->omega_radps;
-		a[5 * n + 4] = -cfg->omega_radps;
-	}
+	double a[36], e[36];
+	int n = popc_plant_augmented(cfg, a);
 	for (int i = 0; i < n * n; i++)
 		a[i] *= h;
 	int st = popc_expm(n, a, e);

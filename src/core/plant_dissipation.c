@@ -4,26 +4,6 @@
 #include <math.h>
 #include <string.h>
 
-/* The augmented matrix of the exact step (plant.c, exact_coeffs), unscaled:
- * z = [y, v, y1, y2, p, q], y1 = u0 + u1 tau, p = uc cos(w tau) + us sin(w tau). */
-static int augmented(const popc_plant_config *cfg, double a[36])
-{
-	int n = cfg->omega_radps != 0.0 ? 6 : 4;
-	double m = cfg->mass_kg;
-	memset(a, 0, 36 * sizeof a[0]);
-	a[0 * n + 1] = 1.0;
-	a[1 * n + 0] = -cfg->stiffness_Npm / m;
-	a[1 * n + 1] = -cfg->damping_Nspm / m;
-	a[1 * n + 2] = 1.0 / m;
-	a[2 * n + 3] = 1.0;
-	if (n == 6) {
-		a[1 * n + 4] = 1.0 / m;
-		a[4 * n + 5] = cfg->omega_radps;
-		a[5 * n + 4] = -cfg->omega_radps;
-	}
-	return n;
-}
-
 /* out = x^T y for n x n row-major matrices (out may not alias). */
 static void mul_tn(int n, const double *x, const double *y, double *out)
 {
@@ -52,7 +32,7 @@ int popc_plant_dissipation_init(popc_plant_dissipation *d, const popc_plant_conf
 {
 	memset(d, 0, sizeof *d);
 	double a[36];
-	int n = augmented(cfg, a);
+	int n = popc_plant_augmented(cfg, a);
 	d->n = n;
 	if (!(cfg->damping_Nspm > 0.0))
 		return 0; /* no damping, no dissipation: Q = 0 exactly */

@@ -260,12 +260,19 @@ static const char *next_cell(const char **p, const char *end, char *buf, size_t 
 	return s;
 }
 
-void popc_json_csv_object(FILE *f, int n, const char *const *names, const popc_json_kind *kinds,
-			  const char *row, size_t len)
+/* The end of a CSV line without its line break (LF or CR LF). */
+static const char *line_end(const char *row, size_t len)
 {
 	const char *end = row + len;
 	while (end > row && (end[-1] == '\n' || end[-1] == '\r'))
 		end--;
+	return end;
+}
+
+void popc_json_csv_object(FILE *f, int n, const char *const *names, const popc_json_kind *kinds,
+			  const char *row, size_t len)
+{
+	const char *end = line_end(row, len);
 	popc_json j;
 	popc_json_init(&j, f);
 	popc_json_begin_object(&j);
@@ -380,9 +387,7 @@ static void line_cell(line_out *o, popc_json *j, popc_json_kind kind, const char
 void popc_json_csv_object_keyed(FILE *f, int n, const char *keys, const popc_json_kind *kinds,
 				const char *row, size_t len)
 {
-	const char *end = row + len;
-	while (end > row && (end[-1] == '\n' || end[-1] == '\r'))
-		end--;
+	const char *end = line_end(row, len);
 	popc_json j;
 	popc_json_init(&j, f);
 	line_out o;

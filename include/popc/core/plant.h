@@ -137,6 +137,12 @@ int popc_plant_friction_step(const popc_plant *p, popc_plant_state *st, const po
 /* The threshold of static friction: max(stiction_N, coulomb_N). */
 double popc_plant_stick_N(const popc_plant_config *cfg);
 
+/* The exact step's augmented matrix A (row major, n x n in a[0 .. n*n)),
+ * unscaled: z = [x, v, y1, y2, p, q], z' = A z, with y1 = u0 + u1 tau the
+ * affine input and p = uc cos(w tau) + us sin(w tau) the sine's (plant.c).
+ * Returns n: 6 with the sine input, else 4. */
+int popc_plant_augmented(const popc_plant_config *cfg, double a[36]);
+
 /* Dense matrix exponential of an n x n matrix (n <= 12), row major, by scaling
  * and squaring with a [6/6] Pade approximant (Higham 2005, table 2.3: backward
  * error below 2^-53 for ||A|| / 2^s <= 0.54). A matrix that needs squarings
