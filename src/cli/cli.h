@@ -39,6 +39,11 @@ int popc_cli_push(char ***list, int *n, char *value);
  * compared without the blanks around them, as popc_scene_set reads them). */
 int popc_cli_set_names_key(const char *set, const char *section, const char *key);
 
+/* Closes the open_memstream f (its text in *buf, *n) and writes the text to
+ * DIR/NAME atomically; frees *buf either way. */
+int popc_cli_commit_memstream(FILE *f, char **buf, size_t *n, const char *dir, const char *name,
+			      popc_error *err);
+
 /* Whether path is "-" (standard output) while popc started with descriptor 1
  * closed (stdfds.h): then says so on stderr, naming the option, and returns 1
  * (the caller exits 2 before anything runs). */

@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "popc/util/atomic_file.h"
 #include "popc/util/stdfds.h"
 #include "popc/util/text.h"
 
@@ -84,6 +85,22 @@ int popc_cli_set_names_key(const char *set, const char *section, const char *key
 			return 0;
 	}
 	return 1;
+}
+
+int popc_cli_commit_memstream(FILE *f, char **buf, size_t *n, const char *dir, const char *name,
+			      popc_error *err)
+{
+	if (fclose(f) != 0) {
+		free(*buf);
+		*buf = NULL;
+		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+	}
+	char path[POPC_PATH_MAX + 64];
+	snprintf(path, sizeof path, "%s/%s", dir, name);
+	int st = popc_write_file_atomic(path, *buf, *n, err);
+	free(*buf);
+	*buf = NULL;
+	return st;
 }
 
 int popc_cli_push(char ***list, int *n, char *value)

@@ -22,7 +22,6 @@
 #include "popc/sweep/sweep_map.h"
 #include "popc/sweep/sweep_plan.h"
 #include "popc/sweep/sweep_results.h"
-#include "popc/util/atomic_file.h"
 #include "popc/util/numfmt.h"
 #include "popc/util/parse.h"
 #include "sweep_pool.h"
@@ -284,15 +283,7 @@ static int write_boundary(const map_state *m, const popc_sweep_plan *p, const ch
 		}
 	}
 	free(vi);
-	if (fclose(f) != 0) {
-		free(buf);
-		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
-	}
-	char path[POPC_PATH_MAX + 32];
-	snprintf(path, sizeof path, "%s/boundary.csv", dir);
-	int st = popc_write_file_atomic(path, buf, n, err);
-	free(buf);
-	return st;
+	return popc_cli_commit_memstream(f, &buf, &n, dir, "boundary.csv", err);
 }
 
 /* The short table on stdout. */

@@ -12,7 +12,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "popc/util/atomic_file.h"
+#include "cli.h"
 #include "popc/util/parse.h"
 
 /* The unit of an x axis key, for its label. */
@@ -100,15 +100,7 @@ int popc_map_figure_write(const popc_sweep_plan *p, const char *dir, const char 
 	fputs("set terminal pdfcairo size 11in,7in enhanced font ',10'\nset output 'map.pdf'\nreplot\n",
 	      f);
 	fputs("unset output\n", f);
-	if (fclose(f) != 0) {
-		free(buf);
-		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
-	}
-	char path[POPC_PATH_MAX + 16];
-	snprintf(path, sizeof path, "%s/map.gp", dir);
-	int st = popc_write_file_atomic(path, buf, n, err);
-	free(buf);
-	return st;
+	return popc_cli_commit_memstream(f, &buf, &n, dir, "map.gp", err);
 }
 
 int popc_map_figure_plot(const char *dir, popc_error *err)

@@ -6,7 +6,7 @@
 
 #define NMAX 12
 
-static void matmul(int n, const double *a, const double *b, double *out)
+void popc_matmul(int n, const double *a, const double *b, double *out)
 {
 	double tmp[NMAX * NMAX];
 	for (int i = 0; i < n; i++)
@@ -112,7 +112,7 @@ static void balance(int n, double *a, double *d)
 	}
 }
 
-static double norm1(int n, const double *a)
+double popc_norm1(int n, const double *a)
 {
 	double norm = 0.0;
 	for (int j = 0; j < n; j++) {
@@ -140,7 +140,7 @@ int popc_expm(int n, const double *a_in, double *out)
 	memcpy(a, a_in, sizeof(double) * (size_t)nn);
 	for (int i = 0; i < n; i++)
 		d[i] = 1.0;
-	double norm = norm1(n, a);
+	double norm = popc_norm1(n, a);
 	if (!isfinite(norm))
 		return POPC_ERR_NUMERIC;
 	/* Balanced only when squarings follow: below theta6 the approximant alone
@@ -148,7 +148,7 @@ int popc_expm(int n, const double *a_in, double *out)
 	 * paper's scene at 1 kHz: ||A T|| = 0.17) keeps its bits. */
 	if (norm > theta6) {
 		balance(n, a, d);
-		norm = norm1(n, a);
+		norm = popc_norm1(n, a);
 	}
 	int s = 0;
 	if (norm > theta6)
@@ -169,12 +169,12 @@ int popc_expm(int n, const double *a_in, double *out)
 			den[i] += sign * c[j] * p[i];
 		}
 		if (j < 6)
-			matmul(n, p, x, p);
+			popc_matmul(n, p, x, p);
 	}
 	if (solve(n, den, num) != 0)
 		return POPC_ERR_NUMERIC;
 	for (int i = 0; i < s; i++)
-		matmul(n, num, num, num);
+		popc_matmul(n, num, num, num);
 	for (int i = 0; i < n; i++) /* expm(A) = D expm(D^-1 A D) D^-1 */
 		for (int j = 0; j < n; j++)
 			out[i * n + j] = num[i * n + j] * (d[i] / d[j]);

@@ -4,27 +4,12 @@
 #include <math.h>
 #include <string.h>
 
-/* out = x^T y for n x n row-major matrices (out may not alias). */
-static void mul_tn(int n, const double *x, const double *y, double *out)
+/* out = x^T (n x n, row major) */
+static void transpose(int n, const double *x, double *out)
 {
 	for (int i = 0; i < n; i++)
-		for (int j = 0; j < n; j++) {
-			double acc = 0.0;
-			for (int k = 0; k < n; k++)
-				acc += x[k * n + i] * y[k * n + j];
-			out[i * n + j] = acc;
-		}
-}
-
-static void mul_nn(int n, const double *x, const double *y, double *out)
-{
-	for (int i = 0; i < n; i++)
-		for (int j = 0; j < n; j++) {
-			double acc = 0.0;
-			for (int k = 0; k < n; k++)
-				acc += x[i * n + k] * y[k * n + j];
-			out[i * n + j] = acc;
-		}
+		for (int j = 0; j < n; j++)
+			out[i * n + j] = x[j * n + i];
 }
 
 int popc_plant_dissipation_init(popc_plant_dissipation *d, const popc_plant_config *cfg,
@@ -36,13 +21,7 @@ int popc_plant_dissipation_init(popc_plant_dissipation *d, const popc_plant_conf
 	d->n = n;
 	if (!(cfg->damping_Nspm > 0.0))
 		return 0; /* no damping, no dissipation: Q = 0 exactly */
-	double norm = 0.0;
-	for (int j = 0; j < n; j++) {
-		double col = 0.0;
-		for (int i = 0; i < n; i++)
-			col += fabs(a[i * n + j]);
-		norm = col > norm ? col : norm;
-	}
+	const double norm = popc_norm1(n, a);
 	/* h / 2^s with ||A||_1 h / 2^s <= 1/2 */
 	int s = 0;
 	double h = h_s;
@@ -61,35 +40,34 @@ int popc_plant_dissipation_init(popc_plant_dissipation *d, const popc_plant_conf
 	c[1 * n2 + n + 1] = h; /* e_v e_v^T h: v is component 1 */
 	if (popc_expm(n2, c, e) != 0)
 		return POPC_ERR_NUMERIC;
-	double phi[36], g[36], integral[36], tmp[36], tmp2[36];
+	double phi[36], phi_t[36], g[36], integral[36], tmp[36];
 	for (int i = 0; i < n; i++)
 		for (int j = 0; j < n; j++) {
 			phi[i * n + j] = e[(n + i) * n2 + n + j];
 			g[i * n + j] = e[i * n2 + n + j];
 		}
-	mul_tn(n, phi, g, integral);
+	transpose(n, phi, phi_t);
+	popc_matmul(n, phi_t, g, integral);
 	for (int k = 0; k < s; k++) {
 		/* I(2h) = I(h) + Phi^T I(h) Phi, Phi(2h) = Phi^2 */
-		mul_nn(n, integral, phi, tmp);
-		mul_tn(n, phi, tmp, tmp2);
+		popc_matmul(n, integral, phi, tmp);
+		popc_matmul(n, phi_t, tmp, tmp);
 		for (int i = 0; i < n * n; i++)
-			integral[i] += tmp2[i];
-		mul_nn(n, phi, phi, tmp);
-		memcpy(phi, tmp, sizeof(double) * (size_t)(n * n));
+			integral[i] += tmp[i];
+		popc_matmul(n, phi, phi, phi);
+		transpose(n, phi, phi_t);
 	}
 	const double b = cfg->damping_Nspm;
 	for (int i = 0; i < n; i++)
-		for (int j = 0; j < n; j++) {
+		for (int j = i; j < n; j++) {
 			/* the integral is symmetric: its two roundings averaged */
 			double q = b * (0.5 * (integral[i * n + j] + integral[j * n + i]));
 			if (!isfinite(q))
 				return POPC_ERR_NUMERIC;
-			d->q[i][j] = q;
+			if (j == i)
+				d->d[i] = q;
+			else
+				d->u[i][j] = 2.0 * q;
 		}
-	for (int i = 0; i < n; i++) {
-		d->d[i] = d->q[i][i];
-		for (int j = i + 1; j < n; j++)
-			d->u[i][j] = 2.0 * d->q[i][j];
-	}
 	return 0;
 }

@@ -44,6 +44,8 @@
 
 #include "popc/core/plant.h"
 
+#include "plant_substep.h"
+
 /* A body keeps hitting v = 0 at its stick/slip boundary (F_s = F_c and an
  * applied force that barely moves it) with each event advancing time by
  * about one ulp: after this many events in one step it stays at rest for
@@ -58,14 +60,6 @@
 double popc_plant_stick_N(const popc_plant_config *cfg)
 {
 	return fmax(cfg->stiction_N, cfg->coulomb_N);
-}
-
-static double input_at(const popc_plant_input *u, double w, double tau)
-{
-	double val = u->u0_N + u->u1_Nps * tau;
-	if (w != 0.0)
-		val += u->us_N * sin(w * tau) + u->uc_N * cos(w * tau);
-	return val;
 }
 
 /* u(tau0 + t) as an input of t, plus the constant force f_N */
@@ -88,7 +82,7 @@ static void shift_input(const popc_plant_input *u, double w, double tau0, double
 static double accel(const popc_plant_config *c, const popc_plant_input *u, double t,
 		    const popc_plant_state *st)
 {
-	return (input_at(u, c->omega_radps, t) - c->damping_Nspm * st->v_mps -
+	return (popc_plant_input_at(u, c->omega_radps, t) - c->damping_Nspm * st->v_mps -
 		c->stiffness_Npm * st->x_m) /
 	       c->mass_kg;
 }
@@ -253,7 +247,7 @@ static double break_away(const popc_plant_config *c, const popc_plant_input *u, 
 			 double tau, double h, double f_s, int subs)
 {
 	double kx = c->stiffness_Npm * x, w = c->omega_radps;
-#define OUTSIDE(t) (fabs(input_at(u, w, (t)) - kx) > f_s)
+#define OUTSIDE(t) (fabs(popc_plant_input_at(u, w, (t)) - kx) > f_s)
 	if (w == 0.0) {
 		if (u->u1_Nps == 0.0)
 			return 2.0 * h + 1.0;
@@ -327,7 +321,7 @@ static int exact_friction_step(const popc_plant *p, popc_plant_state *st, const 
 	for (int events = 0; tau < h; events++) {
 		double s;
 		if (cur.v_mps == 0.0) {
-			double g = input_at(u, w, tau) - c->stiffness_Npm * cur.x_m;
+			double g = popc_plant_input_at(u, w, tau) - c->stiffness_Npm * cur.x_m;
 			if (!(fabs(g) > f_s)) {
 				if (events >= FRICTION_EVENTS_MAX)
 					break; /* at rest for the rest of the step */
@@ -335,7 +329,7 @@ static int exact_friction_step(const popc_plant *p, popc_plant_state *st, const 
 				if (!(tb < h))
 					break; /* stuck to the end of the step */
 				tau = tb;
-				g = input_at(u, w, tau) - c->stiffness_Npm * cur.x_m;
+				g = popc_plant_input_at(u, w, tau) - c->stiffness_Npm * cur.x_m;
 			}
 			s = sign_of(g);
 		} else {
@@ -381,33 +375,22 @@ static void fixed_substep(const popc_plant_config *cfg, const popc_plant_step_co
 	double x = *xp, v = *vp;
 	switch (cfg->method) {
 	case POPC_INTEGRATOR_TRAPEZOID: {
-		double us = input_at(u, w, t) + input_at(u, w, t + hs) + 2.0 * f_N;
+		double us = popc_plant_input_at(u, w, t) + popc_plant_input_at(u, w, t + hs) + 2.0 * f_N;
 		double xs = c->trap[0][0] * x + c->trap[0][1] * v + c->trap_in[0] * us;
 		double vs = c->trap[1][0] * x + c->trap[1][1] * v + c->trap_in[1] * us;
 		x = xs;
 		v = vs;
 		break;
 	}
-	case POPC_INTEGRATOR_RK4: {
-		double u0 = input_at(u, w, t) + f_N, um = input_at(u, w, t + hs / 2) + f_N,
-		       u1 = input_at(u, w, t + hs) + f_N;
-		double k1x = v, k1v = (u0 - b * v - k * x) / m;
-		double x2 = x + hs / 2 * k1x, v2 = v + hs / 2 * k1v;
-		double k2x = v2, k2v = (um - b * v2 - k * x2) / m;
-		double x3 = x + hs / 2 * k2x, v3 = v + hs / 2 * k2v;
-		double k3x = v3, k3v = (um - b * v3 - k * x3) / m;
-		double x4 = x + hs * k3x, v4 = v + hs * k3v;
-		double k4x = v4, k4v = (u1 - b * v4 - k * x4) / m;
-		x += hs / 6 * (k1x + 2 * k2x + 2 * k3x + k4x);
-		v += hs / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
+	case POPC_INTEGRATOR_RK4:
+		popc_plant_rk4_substep(cfg, u, t, hs, f_N, &x, &v);
 		break;
-	}
 	case POPC_INTEGRATOR_SEMI_IMPLICIT_EULER:
-		v += hs * (input_at(u, w, t) + f_N - b * v - k * x) / m;
+		v += hs * (popc_plant_input_at(u, w, t) + f_N - b * v - k * x) / m;
 		x += hs * v;
 		break;
 	case POPC_INTEGRATOR_EULER: {
-		double a = (input_at(u, w, t) + f_N - b * v - k * x) / m;
+		double a = (popc_plant_input_at(u, w, t) + f_N - b * v - k * x) / m;
 		x += hs * v;
 		v += hs * a;
 		break;
@@ -437,7 +420,7 @@ static int fixed_friction_step(const popc_plant *p, popc_plant_state *st, const 
 	for (int i = 0; i < n; i++) {
 		double t = i * hs, s;
 		if (v == 0.0) {
-			double g = input_at(u, cfg->omega_radps, t) - cfg->stiffness_Npm * x;
+			double g = popc_plant_input_at(u, cfg->omega_radps, t) - cfg->stiffness_Npm * x;
 			if (!(fabs(g) > f_s))
 				continue; /* stuck through this substep */
 			s = sign_of(g);

@@ -7,13 +7,7 @@
 
 #include <math.h>
 
-static inline double input_at(const popc_plant_input *u, double w, double tau)
-{
-	double val = u->u0_N + u->u1_Nps * tau;
-	if (w != 0.0)
-		val += u->us_N * sin(w * tau) + u->uc_N * cos(w * tau);
-	return val;
-}
+#include "plant_substep.h"
 
 static void fixed_step(const popc_plant_config *cfg, const popc_plant_step_coeffs *c,
 		       popc_plant_state *st, const popc_plant_input *u)
@@ -24,9 +18,9 @@ static void fixed_step(const popc_plant_config *cfg, const popc_plant_step_coeff
 	double x = st->x_m, v = st->v_mps;
 	switch (cfg->method) {
 	case POPC_INTEGRATOR_TRAPEZOID: {
-		double u_prev = input_at(u, w, 0.0);
+		double u_prev = popc_plant_input_at(u, w, 0.0);
 		for (int i = 0; i < n; i++) {
-			double u_next = input_at(u, w, (i + 1) * hs);
+			double u_next = popc_plant_input_at(u, w, (i + 1) * hs);
 			double xs = c->trap[0][0] * x + c->trap[0][1] * v + c->trap_in[0] * (u_prev + u_next);
 			double vs = c->trap[1][0] * x + c->trap[1][1] * v + c->trap_in[1] * (u_prev + u_next);
 			x = xs;
@@ -36,30 +30,18 @@ static void fixed_step(const popc_plant_config *cfg, const popc_plant_step_coeff
 		break;
 	}
 	case POPC_INTEGRATOR_RK4:
-		for (int i = 0; i < n; i++) {
-			double t = i * hs;
-			double u0 = input_at(u, w, t), um = input_at(u, w, t + hs / 2),
-			       u1 = input_at(u, w, t + hs);
-			double k1x = v, k1v = (u0 - b * v - k * x) / m;
-			double x2 = x + hs / 2 * k1x, v2 = v + hs / 2 * k1v;
-			double k2x = v2, k2v = (um - b * v2 - k * x2) / m;
-			double x3 = x + hs / 2 * k2x, v3 = v + hs / 2 * k2v;
-			double k3x = v3, k3v = (um - b * v3 - k * x3) / m;
-			double x4 = x + hs * k3x, v4 = v + hs * k3v;
-			double k4x = v4, k4v = (u1 - b * v4 - k * x4) / m;
-			x += hs / 6 * (k1x + 2 * k2x + 2 * k3x + k4x);
-			v += hs / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
-		}
+		for (int i = 0; i < n; i++)
+			popc_plant_rk4_substep(cfg, u, i * hs, hs, 0.0, &x, &v);
 		break;
 	case POPC_INTEGRATOR_SEMI_IMPLICIT_EULER:
 		for (int i = 0; i < n; i++) {
-			v += hs * (input_at(u, w, i * hs) - b * v - k * x) / m;
+			v += hs * (popc_plant_input_at(u, w, i * hs) - b * v - k * x) / m;
 			x += hs * v;
 		}
 		break;
 	case POPC_INTEGRATOR_EULER:
 		for (int i = 0; i < n; i++) {
-			double a = (input_at(u, w, i * hs) - b * v - k * x) / m;
+			double a = (popc_plant_input_at(u, w, i * hs) - b * v - k * x) / m;
 			x += hs * v;
 			v += hs * a;
 		}

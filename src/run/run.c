@@ -98,9 +98,10 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 			if (fabs(e) > sum->po_error_max_J)
 				sum->po_error_max_J = fabs(e);
 			if (sum->has_device_energy && isfinite(smp.dissipated_J)) {
-				/* D(k) = sum of the periods' dissipations before tick k */
+				/* D(k) = sum of the periods' dissipations before tick k
+				 * (the sample of tick 0 says 0: axis.h) */
 				double d = popc_compensated_add(&diss_sum_J, &diss_comp_J,
-								k > 0 ? smp.dissipated_J : 0.0);
+								smp.dissipated_J);
 				double dev = row.E_port_J + d;
 				sum->device_energy_J = dev;
 				if (dev < sum->device_energy_min_J)

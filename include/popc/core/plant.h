@@ -152,4 +152,9 @@ int popc_plant_augmented(const popc_plant_config *cfg, double a[36]);
  * for n out of range, or POPC_ERR_NUMERIC when A or the result is not finite. */
 int popc_expm(int n, const double *a, double *out);
 
+/* The dense helpers of expm.c, for n x n row-major matrices (n <= 12):
+ * out = a b (out may alias a or b), and the 1-norm (largest column sum). */
+void popc_matmul(int n, const double *a, const double *b, double *out);
+double popc_norm1(int n, const double *a);
+
 #endif

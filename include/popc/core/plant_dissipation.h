@@ -29,9 +29,8 @@
 
 typedef struct popc_plant_dissipation {
 	int n;              /* 4 (affine input) or 6 (with the sine input) */
-	double q[6][6];     /* symmetric, J per (unit of z)^2 */
-	double d[6];        /* q[i][i] */
-	double u[6][6];     /* 2 q[i][j] for j > i (0 elsewhere): the form's cross terms */
+	double d[6];        /* Q's diagonal, J per (unit of z)^2 */
+	double u[6][6];     /* 2 Q[i][j] for j > i (0 elsewhere): the form's cross terms */
 } popc_plant_dissipation;
 
 /* Computes Q for steps of h_s of the plant cfg (any method: the form is that
