@@ -13,6 +13,12 @@
 extern volatile sig_atomic_t popc_cli_stop;
 void popc_cli_install_signals(void);
 
+/* The command line popc was started with (main keeps it before any verb's
+ * getopt permutes it): -j 1's sweep starts popc again with it after a crash
+ * (sweep_crash.h). NULL before popc_cli_keep_argv. */
+extern char **popc_cli_argv;
+void popc_cli_keep_argv(int argc, char **argv);
+
 /* Prints "popc: <msg>" to stderr and returns the exit code for status. */
 int popc_cli_fail(const char *verb, int status, const popc_error *err);
 

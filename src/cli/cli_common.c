@@ -9,6 +9,20 @@
 #include "popc/util/text.h"
 
 volatile sig_atomic_t popc_cli_stop = 0;
+char **popc_cli_argv;
+
+void popc_cli_keep_argv(int argc, char **argv)
+{
+	/* a copy of the pointers: getopt permutes argv's, and verbs name
+	 * argv[0] "popc VERB" for getopt's messages */
+	char **copy = malloc((size_t)(argc + 1) * sizeof *copy);
+	if (!copy)
+		return; /* no copy: a crash in -j 1's sweep is not survived (sweep_crash.h) */
+	for (int k = 0; k < argc; k++)
+		copy[k] = argv[k];
+	copy[argc] = NULL;
+	popc_cli_argv = copy;
+}
 
 static void on_signal(int sig)
 {

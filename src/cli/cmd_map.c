@@ -53,7 +53,10 @@ static void usage(FILE *f)
 	      "                           never below -J (default 1e-6 J)\n"
 	      "  -o, --output DIR         the map directory (created if needed)\n"
 	      "  -j, --jobs N             parallel runs (default: SLURM_CPUS_PER_TASK, else\n"
-	      "                           every online core)\n"
+	      "                           every online core). -j 1 makes the runs in this\n"
+	      "                           process; if one crashes, the rows so far are\n"
+	      "                           kept and popc goes on as with --isolate\n"
+	      "  --isolate                make -j 1's runs in a worker process too\n"
 	      "  --shard I/N              make only shard I of N's runs (as popc sweep; the\n"
 	      "                           shards share DIR). Runs until nothing of its shard\n"
 	      "                           is pending, then exits; run every shard again until\n"
@@ -69,7 +72,7 @@ static void usage(FILE *f)
 }
 
 enum { OPT_VARIANT = 256, OPT_VARY, OPT_SET, OPT_STIFFNESS, OPT_TOL, OPT_CRITERION, OPT_PORT_TOL,
-       OPT_SHARD, OPT_KEEP_LOG, OPT_ALLOW_OTHER_BUILD };
+       OPT_SHARD, OPT_KEEP_LOG, OPT_ALLOW_OTHER_BUILD, OPT_ISOLATE };
 
 typedef struct map_args {
 	char **variants, **vary, **sets;
@@ -78,7 +81,7 @@ typedef struct map_args {
 	double tol, port_tol_J;
 	unsigned criteria;
 	long long jobs;
-	int quiet, keep_log, allow_other_build;
+	int quiet, keep_log, allow_other_build, isolate;
 } map_args;
 
 /* The searches of every line and criterion, from the rows in DIR. */
@@ -444,7 +447,7 @@ static int map_main(const map_args *a)
 	}
 	sweep_pool_config pool = {.plan = &plan, .dir = a->dir, .keep_log = a->keep_log,
 				  .jobs = a->jobs > 0 ? (int)a->jobs : sweep_pool_default_jobs(), .rows_pid = 0,
-				  .die_after_claim = -1};
+				  .die_after_claim = -1, .crash_at = -1, .interrupt_after = -1, .isolate = a->isolate};
 	sweep_pool_test_hooks(&pool);
 	popc_cli_install_signals();
 	for (;;) {
@@ -520,6 +523,7 @@ int popc_cmd_map(int argc, char **argv)
 		{"port-tol", required_argument, NULL, OPT_PORT_TOL},
 		{"output", required_argument, NULL, 'o'},
 		{"jobs", required_argument, NULL, 'j'},
+		{"isolate", no_argument, NULL, OPT_ISOLATE},
 		{"shard", required_argument, NULL, OPT_SHARD},
 		{"keep-log", no_argument, NULL, OPT_KEEP_LOG},
 		{"allow-other-build", no_argument, NULL, OPT_ALLOW_OTHER_BUILD},
@@ -567,6 +571,7 @@ int popc_cmd_map(int argc, char **argv)
 		case OPT_SHARD: a.shard_text = optarg; break;
 		case OPT_KEEP_LOG: a.keep_log = 1; break;
 		case OPT_ALLOW_OTHER_BUILD: a.allow_other_build = 1; break;
+		case OPT_ISOLATE: a.isolate = 1; break;
 		case 'q': a.quiet = 1; break;
 		case 'h': usage(stdout); rc = 0; break;
 		default: usage(stderr); rc = 2; break;

@@ -54,7 +54,10 @@ static void usage(FILE *f)
 	      "                           names it absolute)\n"
 	      "  -o, --output DIR         the sweep directory (created if needed)\n"
 	      "  -j, --jobs N             parallel runs (default: SLURM_CPUS_PER_TASK, else\n"
-	      "                           every online core)\n"
+	      "                           every online core). -j 1 makes the runs in this\n"
+	      "                           process; if one crashes, the rows so far are\n"
+	      "                           kept and popc goes on as with --isolate\n"
+	      "  --isolate                make -j 1's runs in a worker process too\n"
 	      "  --no-log                 keep run summaries only (no log.csv, no scene.ini)\n"
 	      "  --shard I/N              run only shard I of N, I from 1 to N (runs with\n"
 	      "                           id mod N = I - 1): --shard 1/2 and --shard 2/2 make\n"
@@ -89,7 +92,8 @@ static void usage(FILE *f)
 	      f);
 }
 
-enum { OPT_VARY = 256, OPT_SET, OPT_NO_LOG, OPT_SHARD, OPT_LIST, OPT_PROGRAM, OPT_ALLOW_OTHER_BUILD };
+enum { OPT_VARY = 256, OPT_SET, OPT_NO_LOG, OPT_SHARD, OPT_LIST, OPT_PROGRAM, OPT_ALLOW_OTHER_BUILD,
+       OPT_ISOLATE };
 
 /* ---- failures listed at the end ------------------------------------------------- */
 
@@ -291,7 +295,7 @@ static int cmd_merge(int argc, char **argv)
 typedef struct sweep_args {
 	char **vary, **sets;          /* pointers into argv */
 	int n_vary, n_sets;
-	int quiet, keep_log, list, allow_other_build;
+	int quiet, keep_log, list, allow_other_build, isolate;
 	long long jobs;               /* 0: sweep_pool_default_jobs() */
 	const char *scene_path, *dir, *shard_text, *program;
 } sweep_args;
@@ -399,7 +403,7 @@ static int sweep_main(const sweep_args *a)
 
 	sweep_pool_config pool = {.plan = &plan, .dir = a->dir, .keep_log = a->keep_log,
 				  .jobs = a->jobs > 0 ? (int)a->jobs : sweep_pool_default_jobs(), .rows_pid = 0,
-				  .die_after_claim = -1};
+				  .die_after_claim = -1, .crash_at = -1, .interrupt_after = -1, .isolate = a->isolate};
 	sweep_pool_test_hooks(&pool);
 	sweep_progress prog;
 	sweep_progress_start(&prog, a->quiet, n_shard, n_shard - n_todo);
@@ -465,6 +469,7 @@ int popc_cmd_sweep(int argc, char **argv)
 		{"set", required_argument, NULL, OPT_SET},
 		{"output", required_argument, NULL, 'o'},
 		{"jobs", required_argument, NULL, 'j'},
+		{"isolate", no_argument, NULL, OPT_ISOLATE},
 		{"no-log", no_argument, NULL, OPT_NO_LOG},
 		{"shard", required_argument, NULL, OPT_SHARD},
 		{"list", no_argument, NULL, OPT_LIST},
@@ -493,6 +498,7 @@ int popc_cmd_sweep(int argc, char **argv)
 		case OPT_LIST: a.list = 1; break;
 		case OPT_PROGRAM: a.program = optarg; break;
 		case OPT_ALLOW_OTHER_BUILD: a.allow_other_build = 1; break;
+		case OPT_ISOLATE: a.isolate = 1; break;
 		case 'q': a.quiet = 1; break;
 		case 'h': usage(stdout); rc = 0; break;
 		default: popc_option_hint(argv[0], opts, argc, argv); rc = 2; break;
@@ -510,6 +516,9 @@ int popc_cmd_sweep(int argc, char **argv)
 					    "keeps its log (merge computes the chatter columns from it)"
 				  : a.list && a.jobs
 					  ? "-j does not apply to --list: give GNU parallel its own --jobs"
+				  : a.list && a.isolate
+					  ? "--isolate does not apply to --list: each listed popc run is "
+					    "a process of its own"
 				  : a.program && !a.list
 					  ? "--program applies to --list only (the popc the listed lines "
 					    "call); a sweep runs in this process"

@@ -10,6 +10,7 @@ int main(int argc, char **argv)
 {
 	if (popc_stdfds_make_safe() != 0) /* a closed 0-2 on /dev/null, before any open (stdfds.h) */
 		return 1;
+	popc_cli_keep_argv(argc, argv);
 	static const popc_verb verbs[] = {
 		{"run", popc_cmd_run, "SCENE", "run one experiment"},
 		{"scene", popc_cmd_scene, "show|keys", "print a resolved scene, or every scene key"},

@@ -22,7 +22,11 @@
  * worker, or by the parent for a run whose worker died). When the workers are
  * done, the parent runs the taken-but-unrecorded entries again, in up to
  * RETRY_ROUNDS more rounds, and records what is still left as failed. A worker
- * that ends while runs remain and the sweep is not stopping is replaced. */
+ * that ends while runs remain and the sweep is not stopping is replaced.
+ *
+ * -j 1 has no worker: the sweep's own process runs the worker's loop
+ * (make_runs, c->here), and a crash among its runs starts popc again as
+ * --isolate (sweep_crash.h says why and how). */
 #define _DEFAULT_SOURCE   /* MAP_ANONYMOUS: POSIX.1-2024, and Linux, the BSDs, macOS before it */
 #include "sweep_pool.h"
 
@@ -40,6 +44,7 @@
 #include <unistd.h>
 
 #include "cli.h"
+#include "sweep_crash.h"
 #include "popc/sweep/sweep_columns.h"
 #include "popc/sweep/sweep_dir.h"
 #include "popc/sweep/sweep_row.h"
@@ -78,24 +83,50 @@ typedef struct pool_ctx {
 	int crash_fd;                 /* the parent's rows file, for lost runs */
 	long rows_pid;                /* the pid in rows file names: 0 the process' own (test hook) */
 	long long die_after_claim;    /* test hook: run index, -1 off */
+	long long crash_at;           /* test hook: run index, -1 off */
+	long long interrupt_after;    /* test hook: runs taken before ^C, -1 off */
+	int here;                     /* -j 1: the runs in this process, no worker */
 	long long parent_recorded;    /* runs the parent recorded as failed (record_lost) */
+	/* the counts of prog when this round began */
+	long long done0, done_now0, failed_now0, parent0;
 	sweep_progress *prog;
 } pool_ctx;
+
+/* prog from the round's counts (workers', and the parent's own records). */
+static void count_progress(pool_ctx *c)
+{
+	long long d = atomic_load(&c->sh->done), pr = c->parent_recorded - c->parent0;
+	c->prog->done = c->done0 + d + pr;
+	c->prog->done_now = c->done_now0 + d + pr;
+	c->prog->failed_now = c->failed_now0 + atomic_load(&c->sh->failed) + pr;
+}
+
+static void show_progress(pool_ctx *c, int final)
+{
+	if (c->prog->quiet)
+		return;
+	count_progress(c);
+	sweep_progress_show(c->prog, final);
+}
 
 /* Rows a summaries-only worker holds before one write(): a write() per row
  * cost about 3 us of system time a run on the 2-core VM of
  * docs/BENCHMARKS.md section 6, a third of the sweep's own cost per run. A
  * held row is not recorded: a worker that dies loses at most these, whose
  * runs the parent makes again (the reconciliation below), as it does a run
- * taken in the window. With logs each row is written at once (a run's
- * summary.csv follows its row). */
+ * taken in the window. So that such a loss stays small for long runs too,
+ * the rows are also written once the held runs took HELD_S_MAX of wall time.
+ * With logs each row is written at once (a run's summary.csv follows its
+ * row). */
 enum { ROWS_HELD_MAX = 32 };
+#define HELD_S_MAX 1.0
 
 /* The runs whose rows the worker holds, recorded when the rows are written. */
 typedef struct held_runs {
 	long long k[ROWS_HELD_MAX];   /* todo indices */
 	popc_sweep_result res[ROWS_HELD_MAX];
 	int n;
+	double wall_s;                /* the held runs' wall time */
 } held_runs;
 
 /* Writes the held rows and records their runs: a run is counted done (and a
@@ -120,9 +151,14 @@ static void record_held(pool_ctx *c, popc_sweep_rows_batch *rows, held_runs *h)
 		atomic_fetch_add(&c->sh->done, 1);
 	}
 	h->n = 0;
+	h->wall_s = 0.0;
 }
 
-static void worker_main(pool_ctx *c, int slot)
+/* The loop of a worker, or of the sweep itself at -j 1 (c->here): takes
+ * runs until none is left or the sweep stops. Returns the worker's exit
+ * status: 0, 1 (its rows file could not be opened; said), or 5 (stopped by
+ * a signal). */
+static int make_runs(pool_ctx *c, int slot)
 {
 	popc_error err;
 	int fd = popc_sweep_rows_open(c->plan, c->dir, c->rows_pid ? c->rows_pid : (long)getpid(), &err);
@@ -132,9 +168,15 @@ static void worker_main(pool_ctx *c, int slot)
 	    popc_sweep_rows_batch_init(&rows, fd, c->keep_log ? 1 : ROWS_HELD_MAX, &err) != 0) {
 		fprintf(stderr, "popc sweep: %s\n", fd < 0 || held ? err.msg : "out of memory");
 		atomic_store(&c->sh->trouble, 1);
-		_exit(1);
+		if (fd >= 0)
+			close(fd);
+		free(held);
+		return 1;
 	}
 	held->n = 0;
+	held->wall_s = 0.0;
+	if (c->here)
+		sweep_crash_hold(&rows);
 	while (!popc_cli_stop) {
 		long long k = atomic_fetch_add(&c->sh->next, 1);
 		if (k >= c->n_todo)
@@ -148,7 +190,19 @@ static void worker_main(pool_ctx *c, int slot)
 		}
 		atomic_store(&c->sh->current[slot], k);
 		popc_sweep_result *res = &held->res[held->n];
+		if (c->here)
+			sweep_crash_in_hand(i);
+		/* test hooks: the run ends the process that makes it, as a
+		 * crash; the sweep is sent SIGINT (as by ^C) once this process
+		 * has taken that many runs (counted across a map's rounds) */
+		if (i == c->crash_at)
+			abort();
+		static long long taken_here;
+		if (c->interrupt_after >= 0 && taken_here++ == c->interrupt_after)
+			kill(c->here ? getpid() : getppid(), SIGINT);
 		int st = popc_sweep_run_one(c->plan, i, c->dir, c->keep_log, &rows, &popc_cli_stop, res, &err);
+		if (c->here)
+			sweep_crash_in_hand(-1);
 		if (st != 0) {
 			/* its row could not be written (the sweep exits 1 listing
 			 * it as without a result; no retry), or only the run's own
@@ -163,19 +217,29 @@ static void worker_main(pool_ctx *c, int slot)
 		if (!(st == 0 || res->recorded))
 			res->exit_status = 0; /* no result: not shown as failed */
 		held->k[held->n++] = k;
+		held->wall_s += res->wall_time_s;
 		/* written now (the batch is full, or a log's row was written at
 		 * once) or held for the next write */
-		if (rows.n_rows == 0 || held->n == ROWS_HELD_MAX)
+		if (rows.n_rows == 0 || held->n == ROWS_HELD_MAX || held->wall_s >= HELD_S_MAX)
 			record_held(c, &rows, held);
 		atomic_store(&c->sh->current[slot], -1);
+		if (c->here)
+			show_progress(c, 0);
 	}
 	record_held(c, &rows, held);
+	if (c->here)
+		sweep_crash_hold(NULL);
 	popc_sweep_rows_batch_free(&rows);
 	free(held);
 	close(fd);
+	return popc_cli_stop ? POPC_EXIT_INTERRUPTED : 0;
+}
+
+static void worker_main(pool_ctx *c, int slot)
+{
 	/* no atexit handlers, no second flush of the parent's stdio; 5 tells the
 	 * parent a signal stopped this worker */
-	_exit(popc_cli_stop ? POPC_EXIT_INTERRUPTED : 0);
+	_exit(make_runs(c, slot));
 }
 
 static int spawn_worker(pool_ctx *c, int slot)
@@ -310,9 +374,17 @@ static int run_pool(pool_ctx *c, int jobs, long long **lost, long long *n_lost)
 	for (int k = 0; k < c->n_workers; k++)
 		c->w[k] = (worker){.pid = 0, .life_fd = -1};
 	int trouble = 0, stopping = 0, respawns = 0;
-	long long done0 = c->prog->done, done_now0 = c->prog->done_now, failed_now0 = c->prog->failed_now;
-	long long parent0 = c->parent_recorded;
-	for (int k = 0; k < c->n_workers && !trouble; k++) {
+	c->done0 = c->prog->done;
+	c->done_now0 = c->prog->done_now;
+	c->failed_now0 = c->prog->failed_now;
+	c->parent0 = c->parent_recorded;
+	if (c->here) {
+		/* -j 1: no worker; the loop below finds none alive */
+		atomic_store(&c->sh->current[0], -1);
+		int status = make_runs(c, 0);
+		trouble = status != 0 && status != POPC_EXIT_INTERRUPTED;
+	}
+	for (int k = 0; k < c->n_workers && !trouble && !c->here; k++) {
 		if (spawn_worker(c, k) != 0) {
 			fprintf(stderr, "popc sweep: cannot start a worker: %s\n", strerror(errno));
 			trouble = 1;
@@ -335,10 +407,7 @@ static int run_pool(pool_ctx *c, int jobs, long long **lost, long long *n_lost)
 			pfd[alive] = (struct pollfd){.fd = c->w[k].life_fd, .events = POLLIN};
 			slot_of[alive++] = k;
 		}
-		long long d = atomic_load(&c->sh->done), pr = c->parent_recorded - parent0;
-		c->prog->done = done0 + d + pr;
-		c->prog->done_now = done_now0 + d + pr;
-		c->prog->failed_now = failed_now0 + atomic_load(&c->sh->failed) + pr;
+		count_progress(c);
 		if (alive == 0)
 			break;
 		sweep_progress_show(c->prog, 0);
@@ -445,8 +514,19 @@ int sweep_pool_run(const sweep_pool_config *cfg, const long long *todo, long lon
 {
 	pool_ctx c = {.plan = cfg->plan, .dir = cfg->dir, .keep_log = cfg->keep_log, .todo = todo,
 		       .n_todo = n_todo, .rows_pid = cfg->rows_pid,
-		       .die_after_claim = cfg->die_after_claim, .prog = prog};
-	return run_sweep(&c, cfg->jobs);
+		       .die_after_claim = cfg->die_after_claim, .crash_at = cfg->crash_at,
+		       .interrupt_after = cfg->interrupt_after,
+		       .prog = prog};
+	/* -j 1 makes its runs here unless asked not to (--isolate, or the
+	 * popc that a crash here started: sweep_crash.h), or when a crash
+	 * here could not be survived (no program to start again) */
+	const char *isolate = getenv("POPC_SWEEP_ISOLATE");
+	c.here = cfg->jobs == 1 && !cfg->isolate && !(isolate && isolate[0] == '1') &&
+		 cfg->die_after_claim < 0 && sweep_crash_arm(cfg->plan) == 0;
+	int trouble = run_sweep(&c, cfg->jobs);
+	if (c.here)
+		sweep_crash_disarm();
+	return trouble;
 }
 
 void sweep_pool_test_hooks(sweep_pool_config *cfg)
@@ -458,6 +538,12 @@ void sweep_pool_test_hooks(sweep_pool_config *cfg)
 	v = getenv("POPC_SWEEP_TEST_DIE_AFTER_CLAIM");
 	if (v && popc_parse_ll_text(v, 0, LONG_MAX, &n) == 0)
 		cfg->die_after_claim = n;
+	v = getenv("POPC_SWEEP_TEST_CRASH_AT");
+	if (v && popc_parse_ll_text(v, 0, LONG_MAX, &n) == 0)
+		cfg->crash_at = n;
+	v = getenv("POPC_SWEEP_TEST_INTERRUPT_AFTER");
+	if (v && popc_parse_ll_text(v, 0, LONG_MAX, &n) == 0)
+		cfg->interrupt_after = n;
 }
 
 int sweep_pool_default_jobs(void)

@@ -326,13 +326,15 @@ MID=(--set operator.intent=table --set run.duration=0.5 --vary "operator.table=$
 mid() { (cd "$TAB" && "$@"); }
 # holds PID PATH: process PID has PATH open
 holds() { local f; for f in /proc/$1/fd/*; do [ "$(readlink "$f" 2>/dev/null)" = "$2" ] && return 0; done; return 1; }
-# caught DIR JOBS [ENV...]: starts the MID sweep into DIR with -j JOBS
-# (stderr in $T/err) and returns once a worker has run 0010 in hand: sets
-# pid (the sweep), worker (its child reading the FIFO) and holder.
+# caught DIR JOBS [ENV...]: starts the MID sweep into DIR with -j JOBS (1i:
+# -j 1 --isolate) (stderr in $T/err) and returns once a worker has run 0010
+# in hand: sets pid (the sweep), worker (the process reading the FIFO: a
+# child, or the sweep itself at -j 1) and holder.
 caught() {
   local dir=$1 jobs=$2 line c f; shift 2
+  local jobs_args=(-j "$jobs"); [ "$jobs" = 1i ] && jobs_args=(-j 1 --isolate)
   rm -f "$TAB/10.csv" "$T/held"; mkfifo "$TAB/10.csv" "$T/held"
-  cd "$TAB" && { env "$@" "$POPC" sweep "$SCENE" "${MID[@]}" -o "$dir" -j "$jobs" 2>"$T/err" & }
+  cd "$TAB" && { env "$@" "$POPC" sweep "$SCENE" "${MID[@]}" -o "$dir" "${jobs_args[@]}" 2>"$T/err" & }
   pid=$!
   cd - >/dev/null
   # the planner's read (bounded: a sweep that never planned must not hang the test)
@@ -349,7 +351,7 @@ caught() {
   local fd=
   n=0
   while [ "$line" = open ] && [ -z "$worker" ] && [ $((n += 1)) -le 1000 ]; do
-    for c in $(cat /proc/$pid/task/*/children 2>/dev/null); do
+    for c in $pid $(cat /proc/$pid/task/*/children 2>/dev/null); do
       for f in /proc/$c/fd/*; do
         [ "$(readlink "$f" 2>/dev/null)" = "$TAB/10.csv" ] && { worker=$c; fd=${f##*/}; }
       done
@@ -402,10 +404,11 @@ check "  every run has a row" test "$(id_col "$T/k/summary.csv")" = "$(id_col "$
 check "  exit 1 (got $rc)" test "$rc" -eq 1
 expect_exit 0 "again: the crashed run is retried" mid "$POPC" sweep "$SCENE" "${MID[@]}" -o "$T/k" -j 2 -q
 check "  all 20 succeeded, as in the uninterrupted sweep" same_nowall "$T/k/summary.csv" "$T/ref/summary.csv"
-# -j 1: the one worker holds the rows of runs 0000-0009 for one write
-# (summaries only); killed, it loses them unwritten, and they are made again
-caught "$T/k1" 1
-check "-j 1: the worker killed by SIGKILL with run 0010 in hand (pid ${worker:-none})" test -n "$worker"
+# -j 1 --isolate: the one worker holds the rows of runs 0000-0009 for one
+# write (summaries only); killed, it loses them unwritten, and they are made
+# again
+caught "$T/k1" 1i
+check "-j 1 --isolate: the worker killed by SIGKILL with run 0010 in hand (pid ${worker:-none}, sweep $pid)" test -n "$worker" -a "$worker" != "$pid"
 [ -n "$worker" ] && kill -KILL "$worker"
 release
 check "  the ten runs whose rows it held run again" err_has "10 runs taken by a worker that stopped before recording them: running them again"
@@ -413,12 +416,24 @@ check "  exactly run 0010 failed (failed: $(failed_ids "$T/k1/summary.csv"))" te
 check "  every run has a row, once" test "$(id_col "$T/k1/summary.csv")" = "$(id_col "$T/ref/summary.csv")"
 check "  exit 1 (got $rc)" test "$rc" -eq 1
 
+# -j 1 makes its runs in the sweep's own process: SIGKILL there ends the
+# sweep; the held rows (0000-0009) are lost unwritten, nothing recorded is;
+# the same command again makes them and the rest
+caught "$T/kh" 1
+check "-j 1: the sweep itself has run 0010 in hand (pid ${worker:-none})" test -n "$worker" -a "$worker" = "$pid"
+[ -n "$worker" ] && kill -KILL "$worker"
+release
+check "  killed (exit $rc)" test "$rc" -eq 137
+check "  no row was written yet (held)" test "$(cat "$T/kh"/rows/*.csv | grep -c '^00')" -eq 0
+expect_exit 0 "  the same command again" mid "$POPC" sweep "$SCENE" "${MID[@]}" -o "$T/kh" -j 1 -q
+check "  all 20 succeeded, as in the uninterrupted sweep" same_nowall "$T/kh/summary.csv" "$T/ref/summary.csv"
+
 # SIGTERM to one worker, not the sweep: it stops its run unrecorded and ends;
 # a new worker takes over the runs after 0010, and 0010 runs again at the
-# end. With -j 1 the sweep would otherwise have no worker left.
-for j in 1 2; do
+# end. With -j 1 --isolate the sweep would otherwise have no worker left.
+for j in 1i 2; do
   caught "$T/t$j" $j
-  check "-j $j: a worker sent SIGTERM alone with run 0010 in hand (pid ${worker:-none})" test -n "$worker"
+  check "-j $j: a worker sent SIGTERM alone with run 0010 in hand (pid ${worker:-none})" test -n "$worker" -a "$worker" != "$pid"
   [ -n "$worker" ] && kill -TERM "$worker"
   release
   check "  the sweep completes, exit 0 (got $rc)" test "$rc" -eq 0
@@ -426,6 +441,34 @@ for j in 1 2; do
   check "  ... and that run 0010 runs again" err_has "1 run taken by a worker that stopped before recording it: running it again"
   check "  every run has a row, once, all as in the uninterrupted sweep" same_nowall "$T/t$j/summary.csv" "$T/ref/summary.csv"
 done
+# -j 1: SIGTERM to the sweep (its runs' process): stopped, resumable
+caught "$T/th" 1
+[ -n "$worker" ] && kill -TERM "$worker"
+release
+check "-j 1: SIGTERM with run 0010 in hand: exit 5 (got $rc)" test "$rc" -eq 5
+check "  says how to resume" err_has "run the same command again to resume"
+check "  the ten runs before are in its summary" test "$(id_col "$T/th/summary.csv")" = "$(seq -f '%04g' -s ' ' 0 9) "
+expect_exit 0 "  the same command again completes it" mid "$POPC" sweep "$SCENE" "${MID[@]}" -o "$T/th" -j 1 -q
+check "  all 20 succeeded, as in the uninterrupted sweep" same_nowall "$T/th/summary.csv" "$T/ref/summary.csv"
+
+# A run that crashes (the test hook calls abort() in its place). With a
+# worker: the worker dies, the run is recorded as failed, the sweep goes on.
+# -j 1, runs in the sweep's process: the crash handler writes the held rows
+# and starts popc again as --isolate, which makes the run in a worker (where
+# it crashes again and is recorded) and the rest.
+ulimit -c 0
+same_nowall_but() { cmp -s <(nowall "$1" | grep -v "^$3,") <(nowall "$2" | grep -v "^$3,"); }
+for j in 1i 2 1; do
+  jobs_args=(-j "$j"); [ "$j" = 1i ] && jobs_args=(-j 1 --isolate)
+  expect_exit 1 "-j $j: run 0010 crashes" mid env POPC_SWEEP_TEST_CRASH_AT=10 "$POPC" sweep "$SCENE" "${MID[@]}" -o "$T/x$j" "${jobs_args[@]}"
+  check "  exactly run 0010 failed (failed: $(failed_ids "$T/x$j/summary.csv"))" test "$(failed_ids "$T/x$j/summary.csv")" = "0010 "
+  check "  its reason names the signal" err_has "0010 (operator.table=10.csv): exit 1: the worker process died of signal 6 (Aborted)"
+  check "  every run has a row, once; the others as in the uninterrupted sweep" same_nowall_but "$T/x$j/summary.csv" "$T/ref/summary.csv" 0010
+  check "  20 rows" test "$(id_col "$T/x$j/summary.csv")" = "$(id_col "$T/ref/summary.csv")"
+done
+check "  -j 1: says the sweep's process crashed, and goes on" err_has "run 0010 crashed (signal 6, Aborted) in the sweep's own process (-j 1); the rows so far are written; going on with a worker process (as --isolate)"
+check "  -j 1: the rows of the runs before it were written by the crashed process" err_has "10 of 20 runs already done"
+check "  -j 1: the process started again has the crashed one's pid (a rows file .N of it)" test -n "$(ls "$T/x1/rows" | grep -E '^[^.]+[.][0-9]+[.]1[.]csv$')"
 
 # A worker that dies between taking a run and saying so in its slot (the test
 # hook makes the narrow window certain): the parent finds the taken run
