@@ -154,6 +154,34 @@ static void record_held(pool_ctx *c, popc_sweep_rows_batch *rows, held_runs *h)
 	h->wall_s = 0.0;
 }
 
+/* -j 1's rows file: one per process, kept open across a map's rounds (a
+ * file per round would take the names HOST.PID.1.csv, .2, ... one after
+ * the other, as the same pid's). Closed at exit. */
+static struct {
+	int fd;
+	char dir[POPC_PATH_MAX];
+} here_rows = {.fd = -1};
+
+static int open_rows(pool_ctx *c, popc_error *err)
+{
+	if (c->here && here_rows.fd >= 0 && strcmp(here_rows.dir, c->dir) == 0)
+		return here_rows.fd;
+	int fd = popc_sweep_rows_open(c->plan, c->dir, c->rows_pid ? c->rows_pid : (long)getpid(), err);
+	if (c->here && fd >= 0 && strlen(c->dir) < sizeof here_rows.dir) {
+		if (here_rows.fd >= 0)
+			close(here_rows.fd);
+		here_rows.fd = fd;
+		strcpy(here_rows.dir, c->dir);
+	}
+	return fd;
+}
+
+static void close_rows(int fd)
+{
+	if (fd != here_rows.fd)
+		close(fd);
+}
+
 /* The loop of a worker, or of the sweep itself at -j 1 (c->here): takes
  * runs until none is left or the sweep stops. Returns the worker's exit
  * status: 0, 1 (its rows file could not be opened; said), or 5 (stopped by
@@ -161,7 +189,7 @@ static void record_held(pool_ctx *c, popc_sweep_rows_batch *rows, held_runs *h)
 static int make_runs(pool_ctx *c, int slot)
 {
 	popc_error err;
-	int fd = popc_sweep_rows_open(c->plan, c->dir, c->rows_pid ? c->rows_pid : (long)getpid(), &err);
+	int fd = open_rows(c, &err);
 	popc_sweep_rows_batch rows;
 	held_runs *held = malloc(sizeof *held);
 	if (fd < 0 || !held ||
@@ -169,7 +197,7 @@ static int make_runs(pool_ctx *c, int slot)
 		fprintf(stderr, "popc sweep: %s\n", fd < 0 || held ? err.msg : "out of memory");
 		atomic_store(&c->sh->trouble, 1);
 		if (fd >= 0)
-			close(fd);
+			close_rows(fd);
 		free(held);
 		return 1;
 	}
@@ -231,7 +259,7 @@ static int make_runs(pool_ctx *c, int slot)
 		sweep_crash_hold(NULL);
 	popc_sweep_rows_batch_free(&rows);
 	free(held);
-	close(fd);
+	close_rows(fd);
 	return popc_cli_stop ? POPC_EXIT_INTERRUPTED : 0;
 }
 

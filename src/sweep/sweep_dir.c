@@ -290,14 +290,15 @@ int popc_sweep_rows_open(const popc_sweep_plan *p, const char *dir, long name_pi
 	 * earlier process of the same pid left (pids repeat across containers,
 	 * Slurm nodes and reboots). Such a file may end in a line cut by a kill,
 	 * which our first row would join and lose, or in a cut header, which
-	 * would make the whole file unreadable. */
+	 * would make the whole file unreadable. Close-on-exec: not inherited by
+	 * the popc that a crash of -j 1's runs starts again (it opens its own). */
 	int fd = -1;
 	for (int n = 0; n < ROWS_NAMES_MAX && fd < 0; n++) {
 		if (n == 0)
 			snprintf(path, sizeof path, "%s/rows/%s.%ld.csv", dir, host, name_pid);
 		else
 			snprintf(path, sizeof path, "%s/rows/%s.%ld.%d.csv", dir, host, name_pid, n);
-		fd = open(path, O_WRONLY | O_CREAT | O_EXCL | O_APPEND, 0666);
+		fd = open(path, O_WRONLY | O_CREAT | O_EXCL | O_APPEND | O_CLOEXEC, 0666);
 		if (fd < 0 && errno != EEXIST)
 			return popc_error_set(err, POPC_ERR_IO, "%s: %s", path, strerror(errno));
 	}
