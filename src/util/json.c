@@ -165,9 +165,16 @@ void popc_json_null(popc_json *j)
 	fputs("null", j->f);
 }
 
-/* Does [s, s + n) follow RFC 8259's number grammar:
- * -? (0 | [1-9][0-9]*) (. [0-9]+)? ([eE] [+-]? [0-9]+)? */
-static int is_json_number(const char *s, size_t n)
+/* Is [s, s + n) a JSON number that reads as a finite double, to be written
+ * as its own text (the same double, bit for bit)? RFC 8259's grammar,
+ *   -? (0 | [1-9][0-9]*) (. [0-9]+)? ([eE] [+-]? [0-9]+)?
+ * decides by itself where the value is surely below 10^308 (< DBL_MAX, so
+ * it cannot round to infinity): fewer integer digits plus exponent than
+ * 309. Beyond that ("1e400", or 400 digits) the text is read to see: a
+ * number that reads as infinity is no JSON number here (readers would turn
+ * it into inf). Reading every cell only to decide this was a third of a
+ * sweep's summary.jsonl (docs/BENCHMARKS.md section 6). */
+static int is_finite_json_number(const char *s, size_t n)
 {
 	size_t i = 0;
 #define DIGIT(k) ((k) < n && s[k] >= '0' && s[k] <= '9')
@@ -175,9 +182,11 @@ static int is_json_number(const char *s, size_t n)
 		i++;
 	if (!DIGIT(i))
 		return 0;
+	size_t int_start = i;
 	if (s[i++] != '0')
 		while (DIGIT(i))
 			i++;
+	long long magnitude = (long long)(i - int_start); /* 10^magnitude bounds |value| */
 	if (i < n && s[i] == '.') {
 		i++; /* not inside DIGIT, which names its argument three times */
 		if (!DIGIT(i))
@@ -187,15 +196,26 @@ static int is_json_number(const char *s, size_t n)
 	}
 	if (i < n && (s[i] == 'e' || s[i] == 'E')) {
 		i++;
+		int negative = i < n && s[i] == '-';
 		if (i < n && (s[i] == '+' || s[i] == '-'))
 			i++;
 		if (!DIGIT(i))
 			return 0;
-		while (DIGIT(i))
+		long long e = 0;
+		while (DIGIT(i)) {
+			if (e < 100000) /* saturated: past it the text is read below */
+				e = e * 10 + (s[i] - '0');
 			i++;
+		}
+		magnitude += negative ? -e : e;
 	}
 #undef DIGIT
-	return i == n;
+	if (i != n)
+		return 0;
+	if (magnitude <= 308)
+		return 1;
+	double v;
+	return popc_parse_double(s, s + n, &v) == n && isfinite(v);
 }
 
 /* One cell as its kind says (json.h). */
@@ -209,12 +229,15 @@ static void put_cell(popc_json *j, popc_json_kind kind, const char *s, size_t n)
 		popc_json_string(j, s, n);
 		return;
 	}
-	double v;
-	int reads = popc_parse_double(s, s + n, &v) == n && isfinite(v);
-	if (reads && is_json_number(s, n)) {
+	if (is_finite_json_number(s, n)) {
 		before_value(j);
 		fwrite(s, 1, n, j->f); /* the text itself: the same double, bit for bit */
-	} else if (reads) {
+		return;
+	}
+	/* another number text ("+1", ".5", "1."): reformatted */
+	double v;
+	int reads = popc_parse_double(s, s + n, &v) == n && isfinite(v);
+	if (reads) {
 		popc_json_number(j, v);
 	} else if (kind == POPC_JSON_AUTO) {
 		popc_json_string(j, s, n);
@@ -365,11 +388,13 @@ static void line_cell(line_out *o, popc_json *j, popc_json_kind kind, const char
 		return;
 	}
 	int text = kind == POPC_JSON_TEXT;
+	if (!text && is_finite_json_number(s, n)) {
+		line_put(o, s, n);
+		return;
+	}
 	double v = 0.0;
 	int reads = !text && popc_parse_double(s, s + n, &v) == n && isfinite(v);
-	if (reads && is_json_number(s, n)) {
-		line_put(o, s, n);
-	} else if (reads) {
+	if (reads) {
 		char b[POPC_DOUBLE_TEXT_MAX + 1];
 		popc_format_double(v, b);
 		line_put(o, b, strlen(b));
