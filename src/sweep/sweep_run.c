@@ -71,6 +71,14 @@ static const char *summary_row(const popc_run_summary *sum, const popc_scene *s,
 	return *spill;
 }
 
+/* snprintf(buf, cap, "%s", text) without stdio's setup (every run) */
+static void copy_text(char *buf, size_t cap, const char *text)
+{
+	size_t n = strnlen(text, cap - 1);
+	memcpy(buf, text, n);
+	buf[n] = '\0';
+}
+
 static int write_scene(const char *path, const popc_scene *s, popc_error *err)
 {
 	char *text;
@@ -150,10 +158,7 @@ int popc_sweep_run_one(const popc_sweep_plan *p, long long i, const char *dir, i
 	popc_axis_destroy(&axis);
 	res->wall_time_s = popc_now_s() - t0;
 	res->exit_status = popc_status_exit_code(st);
-	if (have_sum)
-		snprintf(res->reason, sizeof res->reason, "%s", sum.stop_reason);
-	else
-		snprintf(res->reason, sizeof res->reason, "%s", rerr.msg);
+	copy_text(res->reason, sizeof res->reason, have_sum ? sum.stop_reason : rerr.msg);
 	if (st == POPC_ERR_INTERRUPTED || (stop_flag && *stop_flag && st)) {
 		res->interrupted = 1;
 		return 0;
