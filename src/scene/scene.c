@@ -138,14 +138,11 @@ void popc_scene_defaults(popc_scene *s)
 static const scene_key *find_key(const char *section, const char *key, int *section_known)
 {
 	*section_known = 0;
-	/* the first characters compared before a strcmp: a sweep looks up its
-	 * varied keys twice a run (docs/BENCHMARKS.md section 6), and a strcmp
-	 * per key of the table was most of the look-up */
 	for (size_t i = 0; i < N_KEYS; i++) {
-		if (scene_keys[i].section[0] != section[0] || strcmp(scene_keys[i].section, section) != 0)
+		if (strcmp(scene_keys[i].section, section) != 0)
 			continue;
 		*section_known = 1;
-		if (scene_keys[i].key[0] == key[0] && strcmp(scene_keys[i].key, key) == 0)
+		if (strcmp(scene_keys[i].key, key) == 0)
 			return &scene_keys[i];
 	}
 	return NULL;
