@@ -14,11 +14,11 @@
  * runs is some 3.4 MB) */
 #define READ_FILE_MAX ((size_t)128 << 20)
 
-/* Files from this size on are mapped by popc_sweep_view_file. Reading a
- * 3.4 MB rows file (10,000 runs) into fresh memory cost about 30 ms of CPU
- * on the PVM guest this was measured on (a page fault per 4 kB, and the
- * copy), mapping its page cache pages about 7 ms (docs/BENCHMARKS.md
- * section 6); below this size a read costs little either way. */
+/* Files from this size on are mapped by popc_sweep_view_file: read into
+ * fresh memory, a 3.4 MB rows file (10,000 runs) costs a page fault per
+ * 4 kB and a copy, dear on a VM (a third of a sweep's own CPU per run,
+ * docs/BENCHMARKS.md section 6); mapped, its page cache pages are used as
+ * they are. Below this size a read costs little either way. */
 #define VIEW_MAP_MIN ((size_t)64 << 10)
 
 /* Opens path: 1 and *fd, 0 if it does not exist, or a negative popc_status. */
