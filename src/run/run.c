@@ -2,6 +2,7 @@
 #include "popc/run/run.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "popc/core/controller.h"
@@ -334,29 +335,81 @@ void popc_run_summary_csv_header(FILE *f)
 	fputc('\n', f);
 }
 
-void popc_run_summary_csv_row(const popc_run_summary *sum, const popc_scene *s, FILE *f)
+/* The row being made: bytes past cap counted, not written, as snprintf
+ * counts them. */
+typedef struct row_text {
+	char *buf;
+	size_t cap, len;
+} row_text;
+
+static void put(row_text *t, const char *s, size_t n)
+{
+	if (t->len < t->cap) {
+		size_t room = t->cap - t->len;
+		memcpy(t->buf + t->len, s, n < room ? n : room);
+	}
+	t->len += n;
+}
+
+/* "%lld" of v: its digits, a '-' first when negative. */
+static void put_integer(row_text *t, long long v)
+{
+	char digits[24];
+	size_t k = sizeof digits;
+	unsigned long long m = v < 0 ? 0ULL - (unsigned long long)v : (unsigned long long)v;
+	do
+		digits[--k] = (char)('0' + m % 10);
+	while ((m /= 10) != 0);
+	if (v < 0)
+		digits[--k] = '-';
+	put(t, digits + k, sizeof digits - k);
+}
+
+/* Into a char buffer, not a FILE: a sweep makes this row for every run, and
+ * stdio per cell (fputs, fprintf, fmemopen's overflow) was a tenth of a
+ * sweep's own CPU (docs/BENCHMARKS.md section 6). */
+size_t popc_run_summary_csv_row_text(const popc_run_summary *sum, const popc_scene *s, char *buf,
+				     size_t cap)
 {
 	summary_value v[SUMMARY_N_FIELDS];
 	summary_values(sum, s, v);
+	row_text t = {.buf = buf, .cap = cap, .len = 0};
 	for (int i = 0; i < SUMMARY_N_FIELDS; i++) {
 		if (i > 0)
-			fputc(',', f);
+			put(&t, ",", 1);
 		switch (summary_fields[i].format) {
-		case SUMMARY_TEXT: fputs(v[i].text, f); break;
-		case SUMMARY_INT: fprintf(f, "%lld", v[i].integer); break;
+		case SUMMARY_TEXT: put(&t, v[i].text, strlen(v[i].text)); break;
+		case SUMMARY_INT: put_integer(&t, v[i].integer); break;
 		case SUMMARY_PORT:   /* no true position: an empty cell */
 		case SUMMARY_DEVICE: /* no dissipation: an empty cell */
 		case SUMMARY_REAL: {
 			if (!summary_field_known(sum, i))
 				break;
 			char b[POPC_DOUBLE_TEXT_MAX + 1];
-			popc_format_double(v[i].real, b);
-			fputs(b, f);
+			put(&t, b, popc_format_double(v[i].real, b));
 			break;
 		}
 		}
 	}
-	fputc('\n', f);
+	put(&t, "\n", 1);
+	if (cap > 0)
+		buf[t.len < cap ? t.len : cap - 1] = '\0';
+	return t.len;
+}
+
+void popc_run_summary_csv_row(const popc_run_summary *sum, const popc_scene *s, FILE *f)
+{
+	char text[2048];
+	size_t n = popc_run_summary_csv_row_text(sum, s, text, sizeof text);
+	if (n < sizeof text) {
+		fwrite(text, 1, n, f);
+		return;
+	}
+	/* longer than any row popc makes today (26 cells of at most 32 bytes) */
+	char *big = malloc(n + 1);
+	if (big && popc_run_summary_csv_row_text(sum, s, big, n + 1) == n)
+		fwrite(big, 1, n, f);
+	free(big);
 }
 
 popc_json_kind popc_run_summary_json_kind(const char *name)

@@ -21,21 +21,22 @@
 void popc_sweep_results_free(popc_sweep_results *r)
 {
 	for (int k = 0; k < r->n_texts; k++)
-		free(r->texts[k]);
+		popc_sweep_file_view_free(&r->texts[k]);
 	free(r->texts);
 	free(r->run);
 	memset(r, 0, sizeof *r);
 }
 
-static int keep_text(popc_sweep_results *r, char *text, popc_error *err)
+/* Keeps v (the rows point into it) until the results are freed. */
+static int keep_text(popc_sweep_results *r, popc_sweep_file_view *v, popc_error *err)
 {
-	char **grown = realloc(r->texts, (size_t)(r->n_texts + 1) * sizeof *grown);
+	popc_sweep_file_view *grown = realloc(r->texts, (size_t)(r->n_texts + 1) * sizeof *grown);
 	if (!grown) {
-		free(text);
+		popc_sweep_file_view_free(v);
 		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
 	}
 	r->texts = grown;
-	r->texts[r->n_texts++] = text;
+	r->texts[r->n_texts++] = *v;
 	return 0;
 }
 
@@ -65,16 +66,17 @@ __attribute__((format(printf, 2, 3))) static void note(popc_sweep_results *r, co
 static int load_rows_file(popc_sweep_results *r, const popc_sweep_plan *p, const char *path,
 			  popc_error *err)
 {
-	char *text;
-	size_t len;
-	int st = popc_sweep_read_file(path, &text, &len, err);
+	popc_sweep_file_view view;
+	int st = popc_sweep_view_file(path, &view, err);
 	if (st <= 0)
 		return st;
-	st = keep_text(r, text, err);
+	const char *text = view.text, *end = view.text + view.len;
+	size_t len = view.len;
+	st = keep_text(r, &view, err);
 	if (st)
 		return st;
 	size_t lc = strlen(p->columns);
-	char *body = text + lc;
+	const char *body = text + lc;
 	if (len < lc || memcmp(text, p->columns, lc) != 0) {
 		/* a header cut by a kill: the start of ours, nothing after it */
 		if (len < lc && memcmp(text, p->columns, len) == 0) {
@@ -100,10 +102,15 @@ static int load_rows_file(popc_sweep_results *r, const popc_sweep_plan *p, const
 	const char *reason = NULL;
 	int reason_len = 0;
 	long long reason_id = -1;
-	for (char *line = body; *line;) {
-		char *nl = strchr(line, '\n');
+	/* within [text, end): a mapped file has no NUL after it */
+	for (const char *line = body; line < end;) {
+		const char *nl = memchr(line, '\n', (size_t)(end - line));
 		if (!nl)
 			break; /* an incomplete last line: a writer was stopped mid-write */
+		/* a NUL in a line ends what is read, as when the text was read
+		 * NUL-terminated and searched with strchr */
+		if (memchr(line, '\0', (size_t)(nl - line)))
+			break;
 		int ll = (int)(nl - line);
 		if (line[0] == '#') {
 			/* "# <id> stop = <reason>" */
@@ -126,7 +133,9 @@ static int load_rows_file(popc_sweep_results *r, const popc_sweep_plan *p, const
 			for (int k = 0; k < ll; k++)
 				cells += line[k] == ',';
 			char id[POPC_SWEEP_ID_MAX];
-			size_t il = strcspn(line, ",\n");
+			size_t il = 0;
+			while (il < (size_t)ll && line[il] != ',')
+				il++;
 			long long i = -1;
 			if (il < sizeof id) {
 				memcpy(id, line, il);
@@ -236,7 +245,8 @@ static int load_run_csv(popc_sweep_results *r, const popc_sweep_plan *p, const c
 		return out ? popc_error_set(err, POPC_ERR_INVALID, "%s: %s", path, e.msg)
 			   : popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
 	}
-	st = keep_text(r, out, err);
+	popc_sweep_file_view kept = {.text = out, .len = (size_t)n, .buf = out};
+	st = keep_text(r, &kept, err);
 	if (st)
 		return st;
 	offer(r, i, out, n, ex, NULL, 0);

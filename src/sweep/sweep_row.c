@@ -101,6 +101,7 @@ typedef struct row_input {
 	const char *const *hcell, *const *rcell;
 	const size_t *hlen, *rlen;
 	int n_cells;
+	int *cell_of_column; /* kept header cells by sweep column, or NULL */
 	const popc_chatter_result *chatter; /* NULL: no detector result */
 	double wall_time_s;
 } row_input;
@@ -141,9 +142,14 @@ static int cell_get(const popc_sweep_column *col, const row_input *in, cell_valu
 		return 0;
 	case POPC_SWEEP_CELL_EXIT_STATUS: v->whole = in->exit_status; return 0;
 	case POPC_SWEEP_CELL_RUN_SUMMARY: {
-		int c = find_cell_from(in->hcell, in->hlen, in->n_cells, col->name, *next_run_cell);
+		int *known = in->cell_of_column ? &in->cell_of_column[col - popc_sweep_columns] : NULL;
+		int c = known && *known >= 0
+				? *known
+				: find_cell_from(in->hcell, in->hlen, in->n_cells, col->name, *next_run_cell);
 		if (c >= 0)
 			*next_run_cell = c + 1;
+		if (c >= 0 && known)
+			*known = c;
 		if (c < 0)
 			return popc_error_set(err, POPC_ERR_INVALID, "run summary: no column '%s'",
 					      col->name);
@@ -168,15 +174,66 @@ static int cell_get(const popc_sweep_column *col, const row_input *in, cell_valu
 			      col->name ? col->name : "(axes)");
 }
 
+/* The run summary's header split into cells, kept: every run of a sweep has
+ * the same header (the summary's fields), and splitting it for every row was
+ * a twentieth of a sweep's own CPU. Checked against the header given by its
+ * text (one strcmp), so any other header is split anew; per thread. */
+enum { HEADER_TEXT_MAX = 2048, SWEEP_COLUMNS_MAX = 64 };
+typedef struct header_cells {
+	char text[HEADER_TEXT_MAX];
+	const char *cell[RUN_CSV_MAX_COLUMNS];
+	size_t len[RUN_CSV_MAX_COLUMNS];
+	int n; /* 0: nothing kept */
+	/* the header cell of sweep column c (popc_sweep_columns[c]), found
+	 * by name once: -1 not yet */
+	int cell_of_column[SWEEP_COLUMNS_MAX];
+} header_cells;
+
+/* The cells of header: kept ones when it is the header kept, else split
+ * into (cell, len), and kept when it fits. Returns the count of cells. */
+static int split_header(const char *header, const char *const **cell, const size_t **len,
+			int **cell_of_column, const char **own_cell, size_t *own_len)
+{
+	static _Thread_local header_cells kept;
+	*cell_of_column = NULL;
+	if (kept.n > 0 && strcmp(kept.text, header) == 0) {
+		*cell = kept.cell;
+		*len = kept.len;
+		*cell_of_column = popc_sweep_n_columns <= SWEEP_COLUMNS_MAX ? kept.cell_of_column : NULL;
+		return kept.n;
+	}
+	size_t hl = strlen(header);
+	int n;
+	if (hl < sizeof kept.text) {
+		memcpy(kept.text, header, hl + 1);
+		n = popc_sweep_split_cells(kept.text, kept.cell, kept.len, RUN_CSV_MAX_COLUMNS);
+		kept.n = n <= RUN_CSV_MAX_COLUMNS ? n : 0;
+		for (int c = 0; c < SWEEP_COLUMNS_MAX; c++)
+			kept.cell_of_column[c] = -1;
+		*cell = kept.cell;
+		*len = kept.len;
+		if (kept.n > 0 && popc_sweep_n_columns <= SWEEP_COLUMNS_MAX)
+			*cell_of_column = kept.cell_of_column;
+		return n;
+	}
+	n = popc_sweep_split_cells(header, own_cell, own_len, RUN_CSV_MAX_COLUMNS);
+	*cell = own_cell;
+	*len = own_len;
+	return n;
+}
+
 int popc_sweep_row(const popc_sweep_plan *p, long long i, int exit_status, const char *run_header,
 		   const char *run_row, const popc_chatter_result *chatter, double wall_time_s,
 		   char *buf, size_t cap, popc_error *err)
 {
-	const char *hcell[RUN_CSV_MAX_COLUMNS], *rcell[RUN_CSV_MAX_COLUMNS];
-	size_t hlen[RUN_CSV_MAX_COLUMNS], rlen[RUN_CSV_MAX_COLUMNS];
+	const char *own_hcell[RUN_CSV_MAX_COLUMNS], *rcell[RUN_CSV_MAX_COLUMNS];
+	size_t own_hlen[RUN_CSV_MAX_COLUMNS], rlen[RUN_CSV_MAX_COLUMNS];
+	const char *const *hcell = own_hcell;
+	const size_t *hlen = own_hlen;
+	int *cell_of_column = NULL;
 	int nh = 0, nr = 0;
 	if (run_row) {
-		nh = popc_sweep_split_cells(run_header, hcell, hlen, RUN_CSV_MAX_COLUMNS);
+		nh = split_header(run_header, &hcell, &hlen, &cell_of_column, own_hcell, own_hlen);
 		nr = popc_sweep_split_cells(run_row, rcell, rlen, RUN_CSV_MAX_COLUMNS);
 		if (nh > RUN_CSV_MAX_COLUMNS || nr != nh)
 			return popc_error_set(err, POPC_ERR_INVALID,
@@ -188,7 +245,8 @@ int popc_sweep_row(const popc_sweep_plan *p, long long i, int exit_status, const
 	popc_sweep_run_values(p, i, idx);
 	const row_input in = {.id = id, .exit_status = exit_status, .run_row = run_row,
 			      .hcell = hcell, .rcell = rcell, .hlen = hlen, .rlen = rlen,
-			      .n_cells = nh, .chatter = chatter, .wall_time_s = wall_time_s};
+			      .n_cells = nh, .cell_of_column = cell_of_column, .chatter = chatter,
+			      .wall_time_s = wall_time_s};
 	row_text t = {.buf = buf, .cap = cap, .len = 0};
 	int cells = 0, next_run_cell = 0;
 	for (int c = 0; c < popc_sweep_n_columns; c++) {

@@ -53,36 +53,30 @@ static const char *summary_header(void)
 
 /* The popc run summary row as text, as `popc run --summary` writes it: the
  * sweep row is built from it and the header by column name, like for --list
- * runs. Written into buf (cap bytes) through fmemopen, which allocates no
- * growing buffer (open_memstream's first calloc of 8 kB, twice a run, was a
- * tenth of a 2-tick run's instructions); a row that does not fit goes through
- * open_memstream into *spill (malloc'd, for the caller to free). Returns the
- * text, or NULL when out of memory. */
+ * runs. Made into buf (cap bytes) without stdio (fmemopen and a stdio call
+ * per cell were a tenth of a sweep's own CPU); a row that does not fit goes
+ * into *spill (malloc'd, for the caller to free). Returns the text, or NULL
+ * when out of memory. */
 static const char *summary_row(const popc_run_summary *sum, const popc_scene *s, char *buf,
 			       size_t cap, char **spill)
 {
 	*spill = NULL;
-	FILE *f = fmemopen(buf, cap, "w");
-	if (f) {
-		popc_run_summary_csv_row(sum, s, f);
-		fflush(f);
-		long n = ftell(f);
-		int bad = ferror(f);
-		/* fmemopen "w" keeps a NUL after the text while it fits */
-		if (fclose(f) == 0 && !bad && n >= 0 && (size_t)n + 1 < cap && buf[n] == '\0')
-			return buf;
-	}
-	size_t len;
-	f = open_memstream(spill, &len);
-	if (!f)
+	size_t n = popc_run_summary_csv_row_text(sum, s, buf, cap);
+	if (n < cap)
+		return buf;
+	*spill = malloc(n + 1);
+	if (!*spill)
 		return NULL;
-	popc_run_summary_csv_row(sum, s, f);
-	if (fclose(f) != 0) {
-		free(*spill);
-		*spill = NULL;
-		return NULL;
-	}
+	popc_run_summary_csv_row_text(sum, s, *spill, n + 1);
 	return *spill;
+}
+
+/* snprintf(buf, cap, "%s", text) without stdio's setup (every run) */
+static void copy_text(char *buf, size_t cap, const char *text)
+{
+	size_t n = strnlen(text, cap - 1);
+	memcpy(buf, text, n);
+	buf[n] = '\0';
 }
 
 static int write_scene(const char *path, const popc_scene *s, popc_error *err)
@@ -164,10 +158,7 @@ int popc_sweep_run_one(const popc_sweep_plan *p, long long i, const char *dir, i
 	popc_axis_destroy(&axis);
 	res->wall_time_s = popc_now_s() - t0;
 	res->exit_status = popc_status_exit_code(st);
-	if (have_sum)
-		snprintf(res->reason, sizeof res->reason, "%s", sum.stop_reason);
-	else
-		snprintf(res->reason, sizeof res->reason, "%s", rerr.msg);
+	copy_text(res->reason, sizeof res->reason, have_sum ? sum.stop_reason : rerr.msg);
 	if (st == POPC_ERR_INTERRUPTED || (stop_flag && *stop_flag && st)) {
 		res->interrupted = 1;
 		return 0;

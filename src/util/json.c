@@ -2,6 +2,7 @@
 #include "popc/util/json.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -165,9 +166,16 @@ void popc_json_null(popc_json *j)
 	fputs("null", j->f);
 }
 
-/* Does [s, s + n) follow RFC 8259's number grammar:
- * -? (0 | [1-9][0-9]*) (. [0-9]+)? ([eE] [+-]? [0-9]+)? */
-static int is_json_number(const char *s, size_t n)
+/* Is [s, s + n) a JSON number that reads as a finite double, to be written
+ * as its own text (the same double, bit for bit)? RFC 8259's grammar,
+ *   -? (0 | [1-9][0-9]*) (. [0-9]+)? ([eE] [+-]? [0-9]+)?
+ * decides by itself where the value is surely below 10^308 (< DBL_MAX, so
+ * it cannot round to infinity): fewer integer digits plus exponent than
+ * 309. Beyond that ("1e400", or 400 digits) the text is read to see: a
+ * number that reads as infinity is no JSON number here (readers would turn
+ * it into inf). Reading every cell only to decide this was a third of a
+ * sweep's summary.jsonl (docs/BENCHMARKS.md section 6). */
+static int is_finite_json_number(const char *s, size_t n)
 {
 	size_t i = 0;
 #define DIGIT(k) ((k) < n && s[k] >= '0' && s[k] <= '9')
@@ -175,9 +183,11 @@ static int is_json_number(const char *s, size_t n)
 		i++;
 	if (!DIGIT(i))
 		return 0;
+	size_t int_start = i;
 	if (s[i++] != '0')
 		while (DIGIT(i))
 			i++;
+	long long magnitude = (long long)(i - int_start); /* 10^magnitude bounds |value| */
 	if (i < n && s[i] == '.') {
 		i++; /* not inside DIGIT, which names its argument three times */
 		if (!DIGIT(i))
@@ -187,15 +197,26 @@ static int is_json_number(const char *s, size_t n)
 	}
 	if (i < n && (s[i] == 'e' || s[i] == 'E')) {
 		i++;
+		int negative = i < n && s[i] == '-';
 		if (i < n && (s[i] == '+' || s[i] == '-'))
 			i++;
 		if (!DIGIT(i))
 			return 0;
-		while (DIGIT(i))
+		long long e = 0;
+		while (DIGIT(i)) {
+			if (e < 100000) /* saturated: past it the text is read below */
+				e = e * 10 + (s[i] - '0');
 			i++;
+		}
+		magnitude += negative ? -e : e;
 	}
 #undef DIGIT
-	return i == n;
+	if (i != n)
+		return 0;
+	if (magnitude <= 308)
+		return 1;
+	double v;
+	return popc_parse_double(s, s + n, &v) == n && isfinite(v);
 }
 
 /* One cell as its kind says (json.h). */
@@ -209,12 +230,15 @@ static void put_cell(popc_json *j, popc_json_kind kind, const char *s, size_t n)
 		popc_json_string(j, s, n);
 		return;
 	}
-	double v;
-	int reads = popc_parse_double(s, s + n, &v) == n && isfinite(v);
-	if (reads && is_json_number(s, n)) {
+	if (is_finite_json_number(s, n)) {
 		before_value(j);
 		fwrite(s, 1, n, j->f); /* the text itself: the same double, bit for bit */
-	} else if (reads) {
+		return;
+	}
+	/* another number text ("+1", ".5", "1."): reformatted */
+	double v;
+	int reads = popc_parse_double(s, s + n, &v) == n && isfinite(v);
+	if (reads) {
 		popc_json_number(j, v);
 	} else if (kind == POPC_JSON_AUTO) {
 		popc_json_string(j, s, n);
@@ -293,6 +317,9 @@ void popc_json_csv_object(FILE *f, int n, const char *const *names, const popc_j
 	fputc('\n', f);
 }
 
+/* The keys text: for every name its key as written (the comma before it
+ * but the first, the escaped name, the colon), each after its length (a
+ * uint32_t, copied unaligned): a row copies a key without a strlen. */
 char *popc_json_csv_keys(int n, const char *const *names)
 {
 	char *text = NULL;
@@ -311,7 +338,19 @@ char *popc_json_csv_keys(int n, const char *const *names)
 		free(text);
 		return NULL;
 	}
-	return text;
+	/* the NULs made lengths: each key's NUL goes, its length comes first */
+	char *keys = malloc(len + (size_t)n * (sizeof(uint32_t) - 1) + 1);
+	size_t at = 0;
+	for (size_t k = 0; keys && k < len;) {
+		size_t kl = strlen(text + k);
+		uint32_t l32 = (uint32_t)kl; /* a key is shorter than a row: far below 4 GB */
+		memcpy(keys + at, &l32, sizeof l32);
+		memcpy(keys + at + sizeof l32, text + k, kl);
+		at += sizeof l32 + kl;
+		k += kl + 1;
+	}
+	free(text);
+	return keys;
 }
 
 /* The line of popc_json_csv_object_keyed, made in memory and written with
@@ -365,11 +404,13 @@ static void line_cell(line_out *o, popc_json *j, popc_json_kind kind, const char
 		return;
 	}
 	int text = kind == POPC_JSON_TEXT;
+	if (!text && is_finite_json_number(s, n)) {
+		line_put(o, s, n);
+		return;
+	}
 	double v = 0.0;
 	int reads = !text && popc_parse_double(s, s + n, &v) == n && isfinite(v);
-	if (reads && is_json_number(s, n)) {
-		line_put(o, s, n);
-	} else if (reads) {
+	if (reads) {
 		char b[POPC_DOUBLE_TEXT_MAX + 1];
 		popc_format_double(v, b);
 		line_put(o, b, strlen(b));
@@ -384,6 +425,73 @@ static void line_cell(line_out *o, popc_json *j, popc_json_kind kind, const char
 	}
 }
 
+/* The end of the unquoted cell at s (its ',' or end): a loop, not memchr,
+ * as cells are a few bytes and a call per cell cost more than the search. */
+static const char *unquoted_end(const char *s, const char *end)
+{
+	while (s < end && *s != ',')
+		s++;
+	return s;
+}
+
+/* Past the digits at s (before end), eight at a time where eight are there:
+ * a summary's numbers are mostly digits, 17 of them in a double's text. */
+static const char *skip_digits(const char *s, const char *end)
+{
+	while (end - s >= 8) {
+		uint64_t x;
+		memcpy(&x, s, sizeof x);
+		/* every byte in '0'..'9': high nibble 3, and no carry out of
+		 * the low nibble when 6 is added */
+		const uint64_t ones = UINT64_C(0x0101010101010101);
+		if ((x & (ones * 0xf0)) != ones * 0x30 || ((x + ones * 6) & (ones * 0xf0)) != ones * 0x30)
+			break;
+		s += 8;
+	}
+	while (s < end && *s >= '0' && *s <= '9')
+		s++;
+	return s;
+}
+
+/* The unquoted cell at s as a JSON number in one pass (is_finite_json_number
+ * and unquoted_end read it twice, a byte at a time, which was most of a
+ * sweep's summary.jsonl): its end when the whole cell follows the grammar
+ * and is surely below 10^308 (is_finite_json_number's bound), else NULL
+ * (the cell is then read the slow way, which decides alike). */
+static const char *number_cell_end(const char *s, const char *end)
+{
+	const char *p = s;
+	if (p < end && *p == '-')
+		p++;
+	if (p == end || *p < '0' || *p > '9')
+		return NULL;
+	const char *int_start = p;
+	p = *p == '0' ? p + 1 : skip_digits(p, end);
+	long long magnitude = p - int_start;
+	if (p < end && *p == '.') {
+		const char *f = ++p;
+		p = skip_digits(p, end);
+		if (p == f)
+			return NULL;
+	}
+	if (p < end && (*p == 'e' || *p == 'E')) {
+		p++;
+		int negative = p < end && *p == '-';
+		if (p < end && (*p == '+' || *p == '-'))
+			p++;
+		const char *e = p;
+		long long x = 0;
+		while (p < end && *p >= '0' && *p <= '9' && p - e < 6)
+			x = x * 10 + (*p++ - '0');
+		if (p == e || (p < end && *p >= '0' && *p <= '9'))
+			return NULL; /* no digits, or more than six: the slow way */
+		magnitude += negative ? -x : x;
+	}
+	if ((p < end && *p != ',') || magnitude > 308)
+		return NULL;
+	return p;
+}
+
 void popc_json_csv_object_keyed(FILE *f, int n, const char *keys, const popc_json_kind *kinds,
 				const char *row, size_t len)
 {
@@ -392,21 +500,40 @@ void popc_json_csv_object_keyed(FILE *f, int n, const char *keys, const popc_jso
 	popc_json_init(&j, f);
 	line_out o;
 	o.f = f;
-	o.len = 0;
-	line_put(&o, "{", 1);
+	o.buf[0] = '{';
+	o.len = 1;
 	const char *p = row;
 	int more = 1; /* a line holds one cell at least, even an empty one */
 	char buf[4096];
 	for (int c = 0; c < n; c++) {
-		size_t kl = strlen(keys);
-		line_put(&o, keys, kl); /* its comma included: the value follows directly */
-		keys += kl + 1;
+		uint32_t kl;
+		memcpy(&kl, keys, sizeof kl);
+		line_put(&o, keys + sizeof kl, kl); /* its comma included: the value follows */
+		keys += sizeof kl + kl;
 		if (!more) {
 			line_put(&o, "null", 4);
 			continue;
 		}
+		const char *q;
+		if (kinds[c] != POPC_JSON_TEXT && p < end && *p != ',' &&
+		    (q = number_cell_end(p, end)) != NULL) {
+			/* the common cell: a number, its text as it is */
+			line_put(&o, p, (size_t)(q - p));
+			more = q < end;
+			p = q + more;
+			continue;
+		}
 		size_t cl;
-		const char *cell = next_cell(&p, end, buf, sizeof buf, &cl, &more);
+		const char *cell;
+		if (p < end && *p != '"') {
+			cell = p;
+			p = unquoted_end(p, end);
+			cl = (size_t)(p - cell);
+			more = p < end;
+			p += more;
+		} else {
+			cell = next_cell(&p, end, buf, sizeof buf, &cl, &more);
+		}
 		line_cell(&o, &j, kinds[c], cell, cl);
 	}
 	line_put(&o, "}\n", 2);

@@ -7,6 +7,7 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include <cmocka.h>
 
@@ -502,6 +503,82 @@ static void test_plan_build(void **state)
 	popc_sweep_plan_free(&b);
 }
 
+/* A rows file of n_rows runs' rows (the last one cut, as by a kill), run 1
+ * failed with its reason line before it; a NUL in row nul_at (if >= 0).
+ * Returns the file's size. */
+static size_t write_rows_file(const popc_sweep_plan *p, const char *dir, int n_rows, int nul_at)
+{
+	char path[128];
+	snprintf(path, sizeof path, "%s/rows", dir);
+	assert_int_equal(mkdir(path, 0777), 0);
+	snprintf(path, sizeof path, "%s/rows/test.1.csv", dir);
+	FILE *f = fopen(path, "w");
+	assert_non_null(f);
+	fputs(p->columns, f);
+	for (int i = 0; i < n_rows; i++) {
+		char row[POPC_SWEEP_ROW_MAX], id[POPC_SWEEP_ID_MAX];
+		popc_error err;
+		popc_sweep_run_id(p, i, id);
+		if (i == 1)
+			fprintf(f, "# %s stop = diverged at tick 3\n", id);
+		int n = popc_sweep_row(p, i, i == 1, NULL, NULL, NULL, 0.0, row, sizeof row, &err);
+		assert_true(n > 2);
+		if (i == nul_at)
+			row[2] = '\0';
+		fwrite(row, 1, (size_t)(i == n_rows - 1 ? n / 2 : n), f);
+	}
+	long size = ftell(f);
+	assert_int_equal(fclose(f), 0);
+	return (size_t)size;
+}
+
+/* Rows files read back alike whether mapped (a large one) or read (a small
+ * one): every complete row, the failure's reason, nothing of a cut last
+ * line, nothing from a line with a NUL on. */
+static void test_results_load(void **state)
+{
+	(void)state;
+	const char *vary[] = {"operator.speed=0.01:0.1:3000"};
+	popc_sweep_plan p = make_plan(vary, 1, 0);
+	const struct {
+		int n_rows, nul_at, mapped;
+	} cases[] = {{3000, -1, 1}, {3000, 2500, 1}, {100, -1, 0}, {100, 50, 0}};
+	for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+		char dir[] = "/tmp/popc-test-sweep-results-XXXXXX", cmd[96];
+		assert_non_null(mkdtemp(dir));
+		size_t size = write_rows_file(&p, dir, cases[c].n_rows, cases[c].nul_at);
+		/* mapped from 64 kB on (sweep_files.c) */
+		assert_int_equal(size >= ((size_t)64 << 10), cases[c].mapped);
+		popc_sweep_results r;
+		popc_error err;
+		const char *dirs[] = {dir};
+		assert_int_equal(popc_sweep_results_load(&r, &p, dirs, 1, 0, &err), 0);
+		assert_int_equal(r.n_texts, 1);
+		assert_int_equal(r.texts[0].map != NULL, cases[c].mapped);
+		int end = cases[c].nul_at >= 0 ? cases[c].nul_at : cases[c].n_rows - 1;
+		for (long long i = 0; i < p.n_runs; i++) {
+			const popc_sweep_result_entry *e = &r.run[i];
+			if (i >= end) {
+				assert_null(e->row);
+				continue;
+			}
+			char row[POPC_SWEEP_ROW_MAX];
+			int n = popc_sweep_row(&p, i, i == 1, NULL, NULL, NULL, 0.0, row, sizeof row, &err);
+			assert_int_equal(e->len, n);
+			assert_memory_equal(e->row, row, (size_t)n);
+			assert_int_equal(e->exit_status, i == 1);
+			if (i == 1)
+				assert_true(e->reason_len == 18 && memcmp(e->reason, "diverged at tick 3", 18) == 0);
+			else
+				assert_null(e->reason);
+		}
+		popc_sweep_results_free(&r);
+		snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+		assert_int_equal(system(cmd), 0);
+	}
+	popc_sweep_plan_free(&p);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -510,7 +587,7 @@ int main(void)
 		cmocka_unit_test(test_plan_id),      cmocka_unit_test(test_plan_errors),
 		cmocka_unit_test(test_shards_cover), cmocka_unit_test(test_shard_parse),
 		cmocka_unit_test(test_shard_slurm),  cmocka_unit_test(test_rows),
-		cmocka_unit_test(test_plan_build),
+		cmocka_unit_test(test_plan_build),   cmocka_unit_test(test_results_load),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

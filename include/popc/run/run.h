@@ -53,6 +53,10 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 void popc_run_summary_print(const popc_run_summary *sum, const popc_scene *s, FILE *f);
 void popc_run_summary_csv_header(FILE *f);
 void popc_run_summary_csv_row(const popc_run_summary *sum, const popc_scene *s, FILE *f);
+/* The same row into buf (cap bytes), NUL-terminated when cap > 0; returns
+ * its length, which is >= cap when it did not fit (as snprintf). */
+size_t popc_run_summary_csv_row_text(const popc_run_summary *sum, const popc_scene *s, char *buf,
+				     size_t cap);
 /* The JSON kind of the summary column NAME (RUN_SUMMARY_FIELDS): a string for
  * a TEXT field, a number for INT and REAL; POPC_JSON_AUTO for a name that is
  * not a field (a real axis' columns appended after the run's). */

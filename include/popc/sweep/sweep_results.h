@@ -4,6 +4,7 @@
 #ifndef POPC_SWEEP_RESULTS_H
 #define POPC_SWEEP_RESULTS_H
 
+#include "popc/sweep/sweep_files.h"
 #include "popc/sweep/sweep_plan.h"
 #include "popc/util/error.h"
 
@@ -19,7 +20,7 @@ typedef struct popc_sweep_results {
 	long long n;
 	popc_sweep_result_entry *run;
 	int n_texts;
-	char **texts;              /* loaded files */
+	popc_sweep_file_view *texts; /* loaded files (mapped or read), rows made */
 	int n_notes;               /* rows files read with a note (a cut header) */
 	char note[POPC_ERROR_MSG_MAX]; /* the first note, naming the file */
 } popc_sweep_results;
