@@ -330,19 +330,25 @@ int popc_sweep_results_write(const popc_sweep_results *r, const popc_sweep_plan 
 		free(kinds);
 		return st;
 	}
-	/* 64 kB stdio buffers, not the file system's 4 kB blocks: the two
-	 * summaries of 10,000 runs (about 10 MB) in 150 write()s, not 2,400 (a
-	 * write costs some microseconds of system time on a VM) */
-	enum { SUMMARY_BUFFER = 1 << 16, SUMMARY_BUFFER_RUNS = 1000 };
-	/* (for a large sweep only: a small one's summaries fit in a few
-	 * writes, fewer than the new buffers' page faults) */
-	int big = p->n_runs >= SUMMARY_BUFFER_RUNS;
-	char *out_buf = big ? malloc(SUMMARY_BUFFER) : NULL;
-	char *json_buf = big ? malloc(SUMMARY_BUFFER) : NULL;
+	/* stdio buffers as large as the summaries (to 64 kB), not the file
+	 * system's 4 kB blocks: a write() costs tens of microseconds of system
+	 * time on this VM, and 300 runs' two summaries (about 100 and 230 kB)
+	 * took 80 of them; 10,000 runs' (about 10 MB) take 150, not 2,400. A
+	 * summary of a few kB keeps stdio's own buffer (a new one's page
+	 * faults, 10 to 20 us each here, would cost more than its writes). */
+	enum { SUMMARY_BUFFER = 1 << 16, SMALL_SUMMARY = 1 << 13 };
+	size_t csv_bytes = strlen(p->columns);
+	for (long long i = 0; i < p->n_runs; i++)
+		csv_bytes += r->run[i].row ? (size_t)r->run[i].len : 0;
+	/* a JSON line is about twice its CSV row: the names repeated as keys */
+	size_t out_size = csv_bytes < SUMMARY_BUFFER ? csv_bytes : SUMMARY_BUFFER;
+	size_t json_size = 2 * csv_bytes < SUMMARY_BUFFER ? 2 * csv_bytes : SUMMARY_BUFFER;
+	char *out_buf = out_size > SMALL_SUMMARY ? malloc(out_size) : NULL;
+	char *json_buf = json_size > SMALL_SUMMARY ? malloc(json_size) : NULL;
 	if (out_buf)
-		setvbuf(out.f, out_buf, _IOFBF, SUMMARY_BUFFER);
+		setvbuf(out.f, out_buf, _IOFBF, out_size);
 	if (json_buf)
-		setvbuf(json.f, json_buf, _IOFBF, SUMMARY_BUFFER);
+		setvbuf(json.f, json_buf, _IOFBF, json_size);
 	FILE *f = out.f;
 	fputs(p->columns, f);
 	char reason[640];
