@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/uio.h>
 #include <unistd.h>
 
 #include "popc/sweep/sweep_chatter.h"
@@ -289,6 +290,49 @@ int popc_sweep_results_load(popc_sweep_results *r, const popc_sweep_plan *p,
 	return st;
 }
 
+/* Bytes gathered for writev(): GATHER_MAX pieces a call. */
+enum { GATHER_MAX = 256 };
+typedef struct gather {
+	int fd;
+	int n;
+	int err;                      /* errno of a failed write, 0 none */
+	struct iovec v[GATHER_MAX];
+} gather;
+
+static void gather_flush(gather *g)
+{
+	struct iovec *v = g->v;
+	int n = g->n;
+	g->n = 0;
+	while (n > 0 && !g->err) {
+		ssize_t w = writev(g->fd, v, n);
+		if (w < 0) {
+			if (errno != EINTR)
+				g->err = errno;
+			continue;
+		}
+		/* a short write: on from the first byte not written */
+		while (n > 0 && (size_t)w >= v->iov_len) {
+			w -= (ssize_t)v->iov_len;
+			v++;
+			n--;
+		}
+		if (n > 0) {
+			v->iov_base = (char *)v->iov_base + w;
+			v->iov_len -= (size_t)w;
+		}
+	}
+}
+
+static void gather_add(gather *g, const void *bytes, size_t len)
+{
+	if (len == 0)
+		return;
+	g->v[g->n++] = (struct iovec){.iov_base = (void *)bytes, .iov_len = len};
+	if (g->n == GATHER_MAX)
+		gather_flush(g);
+}
+
 int popc_sweep_results_write(const popc_sweep_results *r, const popc_sweep_plan *p,
 			     const popc_sweep_shard *shard, const char *out_path,
 			     popc_sweep_tally *t, popc_sweep_visit visit, void *user,
@@ -330,27 +374,25 @@ int popc_sweep_results_write(const popc_sweep_results *r, const popc_sweep_plan 
 		free(kinds);
 		return st;
 	}
-	/* stdio buffers as large as the summaries (to 64 kB), not the file
-	 * system's 4 kB blocks: a write() costs tens of microseconds of system
-	 * time on this VM, and 300 runs' two summaries (about 100 and 230 kB)
-	 * took 80 of them; 10,000 runs' (about 10 MB) take 150, not 2,400. A
-	 * summary of a few kB keeps stdio's own buffer (a new one's page
-	 * faults, 10 to 20 us each here, would cost more than its writes). */
+	/* summary.jsonl: a stdio buffer as large as the summary (to 64 kB), not
+	 * the file system's 4 kB blocks: a write() costs tens of microseconds
+	 * of system time on this VM, and 300 runs' summaries (about 100 and
+	 * 230 kB) took 80 of them; 10,000 runs' (about 10 MB) take 150, not
+	 * 2,400. A summary of a few kB keeps stdio's own buffer (a new one's
+	 * page faults, 10 to 20 us each here, would cost more than its writes). */
 	enum { SUMMARY_BUFFER = 1 << 16, SMALL_SUMMARY = 1 << 13 };
 	size_t csv_bytes = strlen(p->columns);
 	for (long long i = 0; i < p->n_runs; i++)
 		csv_bytes += r->run[i].row ? (size_t)r->run[i].len : 0;
 	/* a JSON line is about twice its CSV row: the names repeated as keys */
-	size_t out_size = csv_bytes < SUMMARY_BUFFER ? csv_bytes : SUMMARY_BUFFER;
 	size_t json_size = 2 * csv_bytes < SUMMARY_BUFFER ? 2 * csv_bytes : SUMMARY_BUFFER;
-	char *out_buf = out_size > SMALL_SUMMARY ? malloc(out_size) : NULL;
 	char *json_buf = json_size > SMALL_SUMMARY ? malloc(json_size) : NULL;
-	if (out_buf)
-		setvbuf(out.f, out_buf, _IOFBF, out_size);
 	if (json_buf)
 		setvbuf(json.f, json_buf, _IOFBF, json_size);
-	FILE *f = out.f;
-	fputs(p->columns, f);
+	/* summary.csv: the header and the rows where they are, gathered into
+	 * writev()s: no buffer to fault in, no copy (out.f is never written) */
+	gather g = {.fd = fileno(out.f)};
+	gather_add(&g, p->columns, strlen(p->columns));
 	char reason[640];
 	for (long long i = 0; i < p->n_runs; i++) {
 		if (shard && !popc_sweep_in_shard(shard, i))
@@ -363,7 +405,7 @@ int popc_sweep_results_write(const popc_sweep_results *r, const popc_sweep_plan 
 				visit(user, i, -1, "");
 			continue;
 		}
-		fwrite(e->row, 1, (size_t)e->len, f);
+		gather_add(&g, e->row, (size_t)e->len);
 		popc_json_csv_object_keyed(json.f, n_names, keys, kinds, e->row, (size_t)e->len);
 		if (e->exit_status == 0) {
 			t->ok++;
@@ -376,15 +418,21 @@ int popc_sweep_results_write(const popc_sweep_results *r, const popc_sweep_plan 
 			visit(user, i, e->exit_status, reason);
 		}
 	}
+	gather_flush(&g);
 	free(keys);
 	free(kinds);
-	/* the buffers outlive their streams: freed once both are closed */
+	if (g.err) {
+		popc_atomic_file_abort(&out);
+		popc_atomic_file_abort(&json);
+		free(json_buf);
+		return popc_error_set(err, POPC_ERR_IO, "%s: %s", out_path, strerror(g.err));
+	}
+	/* the buffer outlives its stream: freed once it is closed */
 	st = popc_atomic_file_commit(&out, err);
 	if (st)
 		popc_atomic_file_abort(&json);
 	else
 		st = popc_atomic_file_commit(&json, err);
-	free(out_buf);
 	free(json_buf);
 	return st;
 }
