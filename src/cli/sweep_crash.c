@@ -31,8 +31,14 @@ static struct {
 	char who[32];                 /* "popc sweep" or "popc map" */
 	struct sigaction old[N_FATAL];
 	stack_t old_stack;
-	void *stack;
 } crash = {.in_hand = -1};
+
+/* The handler's stack. SIGSTKSZ is not a constant in glibc 2.34 and later;
+ * 64 kB is more than the handler's frame and a few bytes of text. Static:
+ * its pages are faulted in by a crash only (a malloc'd one cost a page
+ * fault or two a sweep, 10 to 20 us each on the VM of
+ * docs/BENCHMARKS.md). */
+static _Alignas(16) char crash_stack[1 << 16];
 
 /* strsignal's words, which strsignal itself (locale) may not give here */
 static const char *signal_words(int sig)
@@ -160,17 +166,8 @@ int sweep_crash_arm(const popc_sweep_plan *p)
 	while (environ && environ[n_env])
 		n_env++;
 	crash.env = malloc((n_env + 2) * sizeof *crash.env);
-	/* SIGSTKSZ is not a constant in glibc 2.34 and later; 64 kB is more
-	 * than the handler's frame and a few bytes of text */
-	enum { CRASH_STACK = 1 << 16 };
-	crash.stack = malloc(CRASH_STACK);
-	if (!crash.env || !crash.stack) {
-		free(crash.env);
-		free(crash.stack);
-		crash.env = NULL;
-		crash.stack = NULL;
+	if (!crash.env)
 		return -1;
-	}
 	size_t m = 0;
 	static char isolate[] = "POPC_SWEEP_ISOLATE=1";
 	for (size_t k = 0; k < n_env; k++)
@@ -184,7 +181,7 @@ int sweep_crash_arm(const popc_sweep_plan *p)
 	crash.plan = p;
 	crash.in_hand = -1;
 	crash.rows = NULL;
-	stack_t ss = {.ss_sp = crash.stack, .ss_size = CRASH_STACK, .ss_flags = 0};
+	stack_t ss = {.ss_sp = crash_stack, .ss_size = sizeof crash_stack, .ss_flags = 0};
 	sigaltstack(&ss, &crash.old_stack);
 	struct sigaction sa;
 	memset(&sa, 0, sizeof sa);
@@ -214,9 +211,7 @@ void sweep_crash_disarm(void)
 	for (int k = 0; k < N_FATAL; k++)
 		sigaction(fatal_signals[k], &crash.old[k], NULL);
 	sigaltstack(&crash.old_stack, NULL);
-	free(crash.stack);
 	free(crash.env);
-	crash.stack = NULL;
 	crash.env = NULL;
 	crash.rows = NULL;
 	crash.in_hand = -1;
