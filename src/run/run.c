@@ -10,6 +10,7 @@
 #include "popc/core/port_energy.h"
 #include "popc/util/numfmt.h"
 #include "popc/util/clock.h"
+#include "popc/util/text_builder.h"
 #include "popc/scene/from_scene.h"
 
 int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
@@ -335,36 +336,6 @@ void popc_run_summary_csv_header(FILE *f)
 	fputc('\n', f);
 }
 
-/* The row being made: bytes past cap counted, not written, as snprintf
- * counts them. */
-typedef struct row_text {
-	char *buf;
-	size_t cap, len;
-} row_text;
-
-static void put(row_text *t, const char *s, size_t n)
-{
-	if (t->len < t->cap) {
-		size_t room = t->cap - t->len;
-		memcpy(t->buf + t->len, s, n < room ? n : room);
-	}
-	t->len += n;
-}
-
-/* "%lld" of v: its digits, a '-' first when negative. */
-static void put_integer(row_text *t, long long v)
-{
-	char digits[24];
-	size_t k = sizeof digits;
-	unsigned long long m = v < 0 ? 0ULL - (unsigned long long)v : (unsigned long long)v;
-	do
-		digits[--k] = (char)('0' + m % 10);
-	while ((m /= 10) != 0);
-	if (v < 0)
-		digits[--k] = '-';
-	put(t, digits + k, sizeof digits - k);
-}
-
 /* Into a char buffer, not a FILE: a sweep makes this row for every run, and
  * stdio per cell (fputs, fprintf, fmemopen's overflow) was a tenth of a
  * sweep's own CPU (docs/BENCHMARKS.md section 6). */
@@ -373,25 +344,25 @@ size_t popc_run_summary_csv_row_text(const popc_run_summary *sum, const popc_sce
 {
 	summary_value v[SUMMARY_N_FIELDS];
 	summary_values(sum, s, v);
-	row_text t = {.buf = buf, .cap = cap, .len = 0};
+	popc_text_builder t = {.buf = buf, .cap = cap, .len = 0};
 	for (int i = 0; i < SUMMARY_N_FIELDS; i++) {
 		if (i > 0)
-			put(&t, ",", 1);
+			popc_text_put(&t, ",", 1);
 		switch (summary_fields[i].format) {
-		case SUMMARY_TEXT: put(&t, v[i].text, strlen(v[i].text)); break;
-		case SUMMARY_INT: put_integer(&t, v[i].integer); break;
+		case SUMMARY_TEXT: popc_text_put(&t, v[i].text, strlen(v[i].text)); break;
+		case SUMMARY_INT: popc_text_put_integer(&t, v[i].integer); break;
 		case SUMMARY_PORT:   /* no true position: an empty cell */
 		case SUMMARY_DEVICE: /* no dissipation: an empty cell */
 		case SUMMARY_REAL: {
 			if (!summary_field_known(sum, i))
 				break;
 			char b[POPC_DOUBLE_TEXT_MAX + 1];
-			put(&t, b, popc_format_double(v[i].real, b));
+			popc_text_put(&t, b, popc_format_double(v[i].real, b));
 			break;
 		}
 		}
 	}
-	put(&t, "\n", 1);
+	popc_text_put(&t, "\n", 1);
 	if (cap > 0)
 		buf[t.len < cap ? t.len : cap - 1] = '\0';
 	return t.len;

@@ -77,18 +77,26 @@ static int read_fd(int fd, const struct stat *sb, const char *path, char **out, 
 	return 1;
 }
 
+/* open_file, and the file's fstat in *sb (zeros when it cannot be had: the
+ * file is then read to its end, whatever its size). */
+static int open_stat(const char *path, int *fd, struct stat *sb, popc_error *err)
+{
+	int st = open_file(path, fd, err);
+	if (st > 0 && fstat(*fd, sb) != 0)
+		memset(sb, 0, sizeof *sb);
+	return st;
+}
+
 /* Reads a whole (small) file, NUL-terminated. Returns 1, 0 if it does not
  * exist, or a negative popc_status. */
 int popc_sweep_read_file(const char *path, char **out, size_t *out_len, popc_error *err)
 {
 	*out = NULL;
 	int fd;
-	int st = open_file(path, &fd, err);
+	struct stat sb;
+	int st = open_stat(path, &fd, &sb, err);
 	if (st <= 0)
 		return st;
-	struct stat sb = {0};
-	if (fstat(fd, &sb) != 0)
-		memset(&sb, 0, sizeof sb);
 	st = read_fd(fd, &sb, path, out, out_len, err);
 	close(fd);
 	return st;
@@ -98,12 +106,10 @@ int popc_sweep_view_file(const char *path, popc_sweep_file_view *v, popc_error *
 {
 	*v = (popc_sweep_file_view){0};
 	int fd;
-	int st = open_file(path, &fd, err);
+	struct stat sb;
+	int st = open_stat(path, &fd, &sb, err);
 	if (st <= 0)
 		return st;
-	struct stat sb = {0};
-	if (fstat(fd, &sb) != 0)
-		memset(&sb, 0, sizeof sb);
 	size_t size = (size_t)sb.st_size;
 	if (S_ISREG(sb.st_mode) && size >= VIEW_MAP_MIN && size < READ_FILE_MAX) {
 		/* (MAP_POPULATE, every page mapped in one call, measured no

@@ -9,6 +9,7 @@
 
 #include "popc/util/numfmt.h"
 #include "popc/util/parse.h"
+#include "popc/util/text_builder.h"
 
 int popc_sweep_split_cells(const char *line, const char **cell, size_t *len, int max)
 {
@@ -56,39 +57,6 @@ static int find_cell_from(const char *const *cell, const size_t *len, int n, con
 			return c;
 	}
 	return -1;
-}
-
-/* The row being made: bytes past cap are counted, not written (as snprintf
- * counts them), so that a row too long is an error after the walk. The
- * cells are copied, not formatted with snprintf: a row of some 25 cells
- * cost a worker about 27,000 instructions with snprintf per cell, a fifth
- * of a 2-tick run's (docs/BENCHMARKS.md section 6). */
-typedef struct row_text {
-	char *buf;
-	size_t cap, len;
-} row_text;
-
-static void put(row_text *t, const char *s, size_t n)
-{
-	if (t->len < t->cap) {
-		size_t room = t->cap - t->len;
-		memcpy(t->buf + t->len, s, n < room ? n : room);
-	}
-	t->len += n;
-}
-
-/* "%d" of v: its digits, a '-' first when negative. */
-static void put_int(row_text *t, int v)
-{
-	char digits[16];
-	int k = (int)sizeof digits;
-	unsigned long long m = v < 0 ? 0ULL - (unsigned long long)(long long)v : (unsigned long long)v;
-	do
-		digits[--k] = (char)('0' + m % 10);
-	while ((m /= 10) != 0);
-	if (v < 0)
-		digits[--k] = '-';
-	put(t, digits + k, sizeof digits - (size_t)k);
 }
 
 #define RUN_CSV_MAX_COLUMNS 64
@@ -247,21 +215,21 @@ int popc_sweep_row(const popc_sweep_plan *p, long long i, int exit_status, const
 			      .hcell = hcell, .rcell = rcell, .hlen = hlen, .rlen = rlen,
 			      .n_cells = nh, .cell_of_column = cell_of_column, .chatter = chatter,
 			      .wall_time_s = wall_time_s};
-	row_text t = {.buf = buf, .cap = cap, .len = 0};
+	popc_text_builder t = {.buf = buf, .cap = cap, .len = 0};
 	int cells = 0, next_run_cell = 0;
 	for (int c = 0; c < popc_sweep_n_columns; c++) {
 		const popc_sweep_column *col = &popc_sweep_columns[c];
 		if (col->source == POPC_SWEEP_CELL_AXES) {
 			for (int a = 0; a < p->n_axes; a++) {
 				if (cells++)
-					put(&t, ",", 1);
+					popc_text_put(&t, ",", 1);
 				const char *v = p->axes[a].values[idx[a]];
-				put(&t, v, strlen(v));
+				popc_text_put(&t, v, strlen(v));
 			}
 			continue;
 		}
 		if (cells++)
-			put(&t, ",", 1);
+			popc_text_put(&t, ",", 1);
 		if (cell_is_empty(col->empty, &in))
 			continue;
 		cell_value v;
@@ -277,16 +245,16 @@ int popc_sweep_row(const popc_sweep_plan *p, long long i, int exit_status, const
 					      col->name);
 		char real[POPC_DOUBLE_TEXT_MAX + 1];
 		switch (col->format) {
-		case POPC_SWEEP_FORMAT_TEXT: put(&t, v.text, v.len); break;
-		case POPC_SWEEP_FORMAT_INT: put_int(&t, v.whole); break;
+		case POPC_SWEEP_FORMAT_TEXT: popc_text_put(&t, v.text, v.len); break;
+		case POPC_SWEEP_FORMAT_INT: popc_text_put_integer(&t, v.whole); break;
 		case POPC_SWEEP_FORMAT_DOUBLE:
 			popc_format_double(v.kind == POPC_SWEEP_FORMAT_INT ? (double)v.whole : v.real,
 					   real);
-			put(&t, real, strlen(real));
+			popc_text_put(&t, real, strlen(real));
 			break;
 		}
 	}
-	put(&t, "\n", 1);
+	popc_text_put(&t, "\n", 1);
 	size_t len = t.len;
 	if (len >= cap) {
 		if (cap > 0)

@@ -1,0 +1,41 @@
+/* A line of text made in a caller's buffer, as snprintf fills one: bytes
+ * past the capacity are counted, not written, so that a line too long is
+ * found after it is made (len > cap). Made cell by cell by copying: a run's
+ * summary row and a sweep's row are made once a run, where snprintf per cell
+ * cost tens of thousands of instructions a row (docs/BENCHMARKS.md,
+ * section 6). */
+#ifndef POPC_UTIL_TEXT_BUILDER_H
+#define POPC_UTIL_TEXT_BUILDER_H
+
+#include <stddef.h>
+#include <string.h>
+
+typedef struct popc_text_builder {
+	char *buf;
+	size_t cap, len;
+} popc_text_builder;
+
+static inline void popc_text_put(popc_text_builder *t, const char *s, size_t n)
+{
+	if (t->len < t->cap) {
+		size_t room = t->cap - t->len;
+		memcpy(t->buf + t->len, s, n < room ? n : room);
+	}
+	t->len += n;
+}
+
+/* "%lld" of v: its digits, a '-' first when negative. */
+static inline void popc_text_put_integer(popc_text_builder *t, long long v)
+{
+	char digits[24];
+	size_t k = sizeof digits;
+	unsigned long long m = v < 0 ? 0ULL - (unsigned long long)v : (unsigned long long)v;
+	do
+		digits[--k] = (char)('0' + m % 10);
+	while ((m /= 10) != 0);
+	if (v < 0)
+		digits[--k] = '-';
+	popc_text_put(t, digits + k, sizeof digits - k);
+}
+
+#endif
