@@ -42,23 +42,6 @@ static int find_cell(const char *const *cell, const size_t *len, int n, const ch
 	return -1;
 }
 
-/* find_cell from cell `from` on, then from the start: the summary columns
- * come in the run summary's order, so the search from the cell after the last
- * one found mostly takes one comparison. */
-static int find_cell_from(const char *const *cell, const size_t *len, int n, const char *name,
-			  int from)
-{
-	if (n <= 0)
-		return -1;
-	size_t nl = strlen(name);
-	for (int k = 0; k < n; k++) {
-		int c = (from + k) % n;
-		if (len[c] == nl && memcmp(cell[c], name, nl) == 0)
-			return c;
-	}
-	return -1;
-}
-
 #define RUN_CSV_MAX_COLUMNS 64
 
 /* What a row is made from: run i of the plan and what its run gave. */
@@ -98,7 +81,7 @@ static int cell_is_empty(popc_sweep_cell_empty rule, const row_input *in)
 
 /* The value of a one-cell column (every source but the axes). */
 static int cell_get(const popc_sweep_column *col, const row_input *in, cell_value *v,
-		    int *next_run_cell, popc_error *err)
+		    popc_error *err)
 {
 	memset(v, 0, sizeof *v);
 	v->kind = POPC_SWEEP_FORMAT_INT;
@@ -111,11 +94,9 @@ static int cell_get(const popc_sweep_column *col, const row_input *in, cell_valu
 	case POPC_SWEEP_CELL_EXIT_STATUS: v->whole = in->exit_status; return 0;
 	case POPC_SWEEP_CELL_RUN_SUMMARY: {
 		int *known = in->cell_of_column ? &in->cell_of_column[col - popc_sweep_columns] : NULL;
-		int c = known && *known >= 0
-				? *known
-				: find_cell_from(in->hcell, in->hlen, in->n_cells, col->name, *next_run_cell);
-		if (c >= 0)
-			*next_run_cell = c + 1;
+		/* found by name once per header kept (split_header) */
+		int c = known && *known >= 0 ? *known
+					     : find_cell(in->hcell, in->hlen, in->n_cells, col->name);
 		if (c >= 0 && known)
 			*known = c;
 		if (c < 0)
@@ -216,7 +197,7 @@ int popc_sweep_row(const popc_sweep_plan *p, long long i, int exit_status, const
 			      .n_cells = nh, .cell_of_column = cell_of_column, .chatter = chatter,
 			      .wall_time_s = wall_time_s};
 	popc_text_builder t = {.buf = buf, .cap = cap, .len = 0};
-	int cells = 0, next_run_cell = 0;
+	int cells = 0;
 	for (int c = 0; c < popc_sweep_n_columns; c++) {
 		const popc_sweep_column *col = &popc_sweep_columns[c];
 		if (col->source == POPC_SWEEP_CELL_AXES) {
@@ -233,7 +214,7 @@ int popc_sweep_row(const popc_sweep_plan *p, long long i, int exit_status, const
 		if (cell_is_empty(col->empty, &in))
 			continue;
 		cell_value v;
-		int st = cell_get(col, &in, &v, &next_run_cell, err);
+		int st = cell_get(col, &in, &v, err);
 		if (st)
 			return st;
 		/* a format that does not fit the source's value is a mistake in

@@ -166,58 +166,8 @@ void popc_json_null(popc_json *j)
 	fputs("null", j->f);
 }
 
-/* Is [s, s + n) a JSON number that reads as a finite double, to be written
- * as its own text (the same double, bit for bit)? RFC 8259's grammar,
- *   -? (0 | [1-9][0-9]*) (. [0-9]+)? ([eE] [+-]? [0-9]+)?
- * decides by itself where the value is surely below 10^308 (< DBL_MAX, so
- * it cannot round to infinity): fewer integer digits plus exponent than
- * 309. Beyond that ("1e400", or 400 digits) the text is read to see: a
- * number that reads as infinity is no JSON number here (readers would turn
- * it into inf). Reading every cell only to decide this was a third of a
- * sweep's summary.jsonl (docs/BENCHMARKS.md section 6). */
-static int is_finite_json_number(const char *s, size_t n)
-{
-	size_t i = 0;
-#define DIGIT(k) ((k) < n && s[k] >= '0' && s[k] <= '9')
-	if (i < n && s[i] == '-')
-		i++;
-	if (!DIGIT(i))
-		return 0;
-	size_t int_start = i;
-	if (s[i++] != '0')
-		while (DIGIT(i))
-			i++;
-	long long magnitude = (long long)(i - int_start); /* 10^magnitude bounds |value| */
-	if (i < n && s[i] == '.') {
-		i++; /* not inside DIGIT, which names its argument three times */
-		if (!DIGIT(i))
-			return 0;
-		while (DIGIT(i))
-			i++;
-	}
-	if (i < n && (s[i] == 'e' || s[i] == 'E')) {
-		i++;
-		int negative = i < n && s[i] == '-';
-		if (i < n && (s[i] == '+' || s[i] == '-'))
-			i++;
-		if (!DIGIT(i))
-			return 0;
-		long long e = 0;
-		while (DIGIT(i)) {
-			if (e < 100000) /* saturated: past it the text is read below */
-				e = e * 10 + (s[i] - '0');
-			i++;
-		}
-		magnitude += negative ? -e : e;
-	}
-#undef DIGIT
-	if (i != n)
-		return 0;
-	if (magnitude <= 308)
-		return 1;
-	double v;
-	return popc_parse_double(s, s + n, &v) == n && isfinite(v);
-}
+/* (is_finite_json_number: below, with the scanner it shares) */
+static int is_finite_json_number(const char *s, size_t n);
 
 /* One cell as its kind says (json.h). */
 static void put_cell(popc_json *j, popc_json_kind kind, const char *s, size_t n)
@@ -453,12 +403,12 @@ static const char *skip_digits(const char *s, const char *end)
 	return s;
 }
 
-/* The unquoted cell at s as a JSON number in one pass (is_finite_json_number
- * and unquoted_end read it twice, a byte at a time, which was most of a
- * sweep's summary.jsonl): its end when the whole cell follows the grammar
- * and is surely below 10^308 (is_finite_json_number's bound), else NULL
- * (the cell is then read the slow way, which decides alike). */
-static const char *number_cell_end(const char *s, const char *end)
+/* RFC 8259's number grammar from s (before end),
+ *   -? (0 | [1-9][0-9]*) (. [0-9]+)? ([eE] [+-]? [0-9]+)?
+ * in one pass, digits eight at a time: the end of the number, or NULL when
+ * none starts at s. *magnitude bounds it: |value| < 10^*magnitude (integer
+ * digits plus exponent; the exponent saturated at 100000). */
+static const char *scan_json_number(const char *s, const char *end, long long *magnitude)
 {
 	const char *p = s;
 	if (p < end && *p == '-')
@@ -467,7 +417,7 @@ static const char *number_cell_end(const char *s, const char *end)
 		return NULL;
 	const char *int_start = p;
 	p = *p == '0' ? p + 1 : skip_digits(p, end);
-	long long magnitude = p - int_start;
+	*magnitude = p - int_start;
 	if (p < end && *p == '.') {
 		const char *f = ++p;
 		p = skip_digits(p, end);
@@ -481,13 +431,43 @@ static const char *number_cell_end(const char *s, const char *end)
 			p++;
 		const char *e = p;
 		long long x = 0;
-		while (p < end && *p >= '0' && *p <= '9' && p - e < 6)
-			x = x * 10 + (*p++ - '0');
-		if (p == e || (p < end && *p >= '0' && *p <= '9'))
-			return NULL; /* no digits, or more than six: the slow way */
-		magnitude += negative ? -x : x;
+		for (; p < end && *p >= '0' && *p <= '9'; p++)
+			if (x < 100000)
+				x = x * 10 + (*p - '0');
+		if (p == e)
+			return NULL;
+		*magnitude += negative ? -x : x;
 	}
-	if ((p < end && *p != ',') || magnitude > 308)
+	return p;
+}
+
+/* Is [s, s + n) a JSON number that reads as a finite double, to be written
+ * as its own text (the same double, bit for bit)? The grammar decides by
+ * itself where the value is surely below 10^308 (< DBL_MAX, so it cannot
+ * round to infinity). Beyond that ("1e400", or 400 digits) the text is read
+ * to see: a number that reads as infinity is no JSON number here (readers
+ * would turn it into inf). Reading every cell only to decide this was a
+ * third of a sweep's summary.jsonl (docs/BENCHMARKS.md section 6). */
+static int is_finite_json_number(const char *s, size_t n)
+{
+	long long magnitude;
+	if (scan_json_number(s, s + n, &magnitude) != s + n)
+		return 0;
+	if (magnitude <= 308)
+		return 1;
+	double v;
+	return popc_parse_double(s, s + n, &v) == n && isfinite(v);
+}
+
+/* The unquoted cell at s as a JSON number in one pass (is_finite_json_number
+ * and unquoted_end would read it twice): its end when the whole cell follows
+ * the grammar and is surely below 10^308, else NULL (the cell is then read
+ * the slow way, which decides alike). */
+static const char *number_cell_end(const char *s, const char *end)
+{
+	long long magnitude;
+	const char *p = scan_json_number(s, end, &magnitude);
+	if (!p || (p < end && *p != ',') || magnitude > 308)
 		return NULL;
 	return p;
 }
