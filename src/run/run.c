@@ -268,8 +268,8 @@ typedef struct summary_value {
 	double real;
 } summary_value;
 
-static void summary_values(const popc_run_summary *sum, const popc_scene *s,
-			   summary_value v[SUMMARY_N_FIELDS])
+/* Field i's value alone: a sweep row takes some fields, not all. */
+static summary_value summary_value_of(const popc_run_summary *sum, const popc_scene *s, int i)
 {
 	const popc_metrics *m = &sum->metrics;
 #define VALUE_TEXT(e) .text = (e)
@@ -278,9 +278,20 @@ static void summary_values(const popc_run_summary *sum, const popc_scene *s,
 #define VALUE_PORT(e) .real = (e)
 #define VALUE_DEVICE(e) .real = (e)
 #define FIELD_VALUE(ID, name, unit, format, value, meaning)                                         \
-	v[SUMMARY_##ID] = (summary_value){VALUE_##format(value)};
+	case SUMMARY_##ID: return (summary_value){VALUE_##format(value)};
+	switch ((enum summary_field_id)i) {
 	RUN_SUMMARY_FIELDS(FIELD_VALUE)
+	case SUMMARY_N_FIELDS: break;
+	}
 #undef FIELD_VALUE
+	return (summary_value){.text = ""};
+}
+
+static void summary_values(const popc_run_summary *sum, const popc_scene *s,
+			   summary_value v[SUMMARY_N_FIELDS])
+{
+	for (int i = 0; i < SUMMARY_N_FIELDS; i++)
+		v[i] = summary_value_of(sum, s, i);
 }
 
 void popc_run_summary_print(const popc_run_summary *sum, const popc_scene *s, FILE *f)
@@ -336,9 +347,27 @@ void popc_run_summary_csv_header(FILE *f)
 	fputc('\n', f);
 }
 
-/* Into a char buffer, not a FILE: a sweep makes this row for every run, and
- * stdio per cell (fputs, fprintf, fmemopen's overflow) was a tenth of a
- * sweep's own CPU (docs/BENCHMARKS.md section 6). */
+/* Field i's cell of the CSV row, value v, appended to t. */
+static void put_cell(popc_text_builder *t, const popc_run_summary *sum, int i, const summary_value *v)
+{
+	switch (summary_fields[i].format) {
+	case SUMMARY_TEXT: popc_text_put(t, v->text, strlen(v->text)); break;
+	case SUMMARY_INT: popc_text_put_integer(t, v->integer); break;
+	case SUMMARY_PORT:   /* no true position: an empty cell */
+	case SUMMARY_DEVICE: /* no dissipation: an empty cell */
+	case SUMMARY_REAL: {
+		if (!summary_field_known(sum, i))
+			break;
+		char b[POPC_DOUBLE_TEXT_MAX + 1];
+		popc_text_put(t, b, popc_format_double(v->real, b));
+		break;
+	}
+	}
+}
+
+/* Into a char buffer, not a FILE: stdio per cell (fputs, fprintf,
+ * fmemopen's overflow) was a tenth of a sweep's own CPU when a sweep made
+ * its rows from this one (docs/BENCHMARKS.md section 6). */
 size_t popc_run_summary_csv_row_text(const popc_run_summary *sum, const popc_scene *s, char *buf,
 				     size_t cap)
 {
@@ -348,24 +377,29 @@ size_t popc_run_summary_csv_row_text(const popc_run_summary *sum, const popc_sce
 	for (int i = 0; i < SUMMARY_N_FIELDS; i++) {
 		if (i > 0)
 			popc_text_put(&t, ",", 1);
-		switch (summary_fields[i].format) {
-		case SUMMARY_TEXT: popc_text_put(&t, v[i].text, strlen(v[i].text)); break;
-		case SUMMARY_INT: popc_text_put_integer(&t, v[i].integer); break;
-		case SUMMARY_PORT:   /* no true position: an empty cell */
-		case SUMMARY_DEVICE: /* no dissipation: an empty cell */
-		case SUMMARY_REAL: {
-			if (!summary_field_known(sum, i))
-				break;
-			char b[POPC_DOUBLE_TEXT_MAX + 1];
-			popc_text_put(&t, b, popc_format_double(v[i].real, b));
-			break;
-		}
-		}
+		put_cell(&t, sum, i, &v[i]);
 	}
 	popc_text_put(&t, "\n", 1);
 	if (cap > 0)
 		buf[t.len < cap ? t.len : cap - 1] = '\0';
 	return t.len;
+}
+
+int popc_run_summary_field(const char *name)
+{
+	for (int i = 0; i < SUMMARY_N_FIELDS; i++)
+		if (strcmp(summary_fields[i].name, name) == 0)
+			return i;
+	return -1;
+}
+
+void popc_run_summary_put_cell(popc_text_builder *t, const popc_run_summary *sum,
+			       const popc_scene *s, int field)
+{
+	if (field < 0 || field >= SUMMARY_N_FIELDS)
+		return;
+	summary_value v = summary_value_of(sum, s, field);
+	put_cell(t, sum, field, &v);
 }
 
 void popc_run_summary_csv_row(const popc_run_summary *sum, const popc_scene *s, FILE *f)
@@ -385,8 +419,8 @@ void popc_run_summary_csv_row(const popc_run_summary *sum, const popc_scene *s, 
 
 popc_json_kind popc_run_summary_json_kind(const char *name)
 {
-	for (int i = 0; i < SUMMARY_N_FIELDS; i++)
-		if (strcmp(summary_fields[i].name, name) == 0)
-			return summary_fields[i].format == SUMMARY_TEXT ? POPC_JSON_TEXT : POPC_JSON_NUMBER;
-	return POPC_JSON_AUTO;
+	int i = popc_run_summary_field(name);
+	if (i < 0)
+		return POPC_JSON_AUTO;
+	return summary_fields[i].format == SUMMARY_TEXT ? POPC_JSON_TEXT : POPC_JSON_NUMBER;
 }

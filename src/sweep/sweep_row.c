@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "popc/run/run.h"
 #include "popc/util/numfmt.h"
 #include "popc/util/parse.h"
 #include "popc/util/text_builder.h"
@@ -48,7 +49,11 @@ static int find_cell(const char *const *cell, const size_t *len, int n, const ch
 typedef struct row_input {
 	const char *id;
 	int exit_status;
-	const char *run_row;          /* NULL: no run summary */
+	/* the run summary: its CSV text split into cells (run_row, hcell,
+	 * rcell), or the summary itself (sum, scene); neither: none */
+	const char *run_row;
+	const popc_run_summary *sum;
+	const popc_scene *scene;
 	const char *const *hcell, *const *rcell;
 	const size_t *hlen, *rlen;
 	int n_cells;
@@ -70,7 +75,7 @@ static int cell_is_empty(popc_sweep_cell_empty rule, const row_input *in)
 {
 	switch (rule) {
 	case POPC_SWEEP_EMPTY_NEVER: return 0;
-	case POPC_SWEEP_EMPTY_WITHOUT_SUMMARY: return !in->run_row;
+	case POPC_SWEEP_EMPTY_WITHOUT_SUMMARY: return !in->run_row && !in->sum;
 	case POPC_SWEEP_EMPTY_CHATTER_UNCHECKED:
 		return !(in->chatter && popc_chatter_checked(in->chatter));
 	case POPC_SWEEP_EMPTY_LC_UNCHECKED:
@@ -171,6 +176,95 @@ static int split_header(const char *header, const char *const **cell, const size
 	return n;
 }
 
+/* The summary field of sweep column c (a RUN_SUMMARY column), found by name
+ * once per thread; -1: the summary has no such field. */
+static int summary_field_of_column(int c)
+{
+	static _Thread_local signed char field[SWEEP_COLUMNS_MAX];
+	static _Thread_local int known;
+	if (popc_sweep_n_columns > SWEEP_COLUMNS_MAX)
+		return popc_run_summary_field(popc_sweep_columns[c].name);
+	if (!known) {
+		for (int k = 0; k < popc_sweep_n_columns; k++)
+			field[k] = (signed char)(popc_sweep_columns[k].source == POPC_SWEEP_CELL_RUN_SUMMARY
+							 ? popc_run_summary_field(popc_sweep_columns[k].name)
+							 : -1);
+		known = 1;
+	}
+	return field[c];
+}
+
+/* The row of in's run (in->id is set here) into buf, by the column table. */
+static int make_row(const popc_sweep_plan *p, long long i, row_input *in, char *buf, size_t cap,
+		    popc_error *err)
+{
+	char id[POPC_SWEEP_ID_MAX];
+	popc_sweep_run_id(p, i, id);
+	in->id = id;
+	int idx[64];
+	popc_sweep_run_values(p, i, idx);
+	popc_text_builder t = {.buf = buf, .cap = cap, .len = 0};
+	int cells = 0;
+	for (int c = 0; c < popc_sweep_n_columns; c++) {
+		const popc_sweep_column *col = &popc_sweep_columns[c];
+		if (col->source == POPC_SWEEP_CELL_AXES) {
+			for (int a = 0; a < p->n_axes; a++) {
+				if (cells++)
+					popc_text_put(&t, ",", 1);
+				const char *v = p->axes[a].values[idx[a]];
+				popc_text_put(&t, v, strlen(v));
+			}
+			continue;
+		}
+		if (cells++)
+			popc_text_put(&t, ",", 1);
+		if (cell_is_empty(col->empty, in))
+			continue;
+		if (col->source == POPC_SWEEP_CELL_RUN_SUMMARY && in->sum) {
+			/* the summary's own cell text, not its whole row made
+			 * and split again */
+			int f = summary_field_of_column(c);
+			if (f < 0)
+				return popc_error_set(err, POPC_ERR_INVALID, "run summary: no column '%s'",
+						      col->name);
+			popc_run_summary_put_cell(&t, in->sum, in->scene, f);
+			continue;
+		}
+		cell_value v;
+		int st = cell_get(col, in, &v, err);
+		if (st)
+			return st;
+		/* a format that does not fit the source's value is a mistake in
+		 * the table, not a cell to guess */
+		if (v.kind != col->format && !(v.kind == POPC_SWEEP_FORMAT_INT &&
+					       col->format == POPC_SWEEP_FORMAT_DOUBLE))
+			return popc_error_set(err, POPC_ERR_INVALID,
+					      "summary column %s: its format does not fit its source",
+					      col->name);
+		char real[POPC_DOUBLE_TEXT_MAX + 1];
+		switch (col->format) {
+		case POPC_SWEEP_FORMAT_TEXT: popc_text_put(&t, v.text, v.len); break;
+		case POPC_SWEEP_FORMAT_INT: popc_text_put_integer(&t, v.whole); break;
+		case POPC_SWEEP_FORMAT_DOUBLE:
+			popc_text_put(&t, real,
+				      popc_format_double(v.kind == POPC_SWEEP_FORMAT_INT ? (double)v.whole
+											 : v.real,
+							 real));
+			break;
+		}
+	}
+	popc_text_put(&t, "\n", 1);
+	size_t len = t.len;
+	if (len >= cap) {
+		if (cap > 0)
+			buf[cap - 1] = '\0'; /* as snprintf leaves it */
+		return popc_error_set(err, POPC_ERR_INVALID, "summary row of run %s longer than %zu bytes",
+				      id, cap);
+	}
+	buf[len] = '\0';
+	return (int)len;
+}
+
 int popc_sweep_row(const popc_sweep_plan *p, long long i, int exit_status, const char *run_header,
 		   const char *run_row, const popc_chatter_result *chatter, double wall_time_s,
 		   char *buf, size_t cap, popc_error *err)
@@ -188,63 +282,21 @@ int popc_sweep_row(const popc_sweep_plan *p, long long i, int exit_status, const
 			return popc_error_set(err, POPC_ERR_INVALID,
 					      "run summary: %d cells in the row, %d in the header", nr, nh);
 	}
-	char id[POPC_SWEEP_ID_MAX];
-	popc_sweep_run_id(p, i, id);
-	int idx[64];
-	popc_sweep_run_values(p, i, idx);
-	const row_input in = {.id = id, .exit_status = exit_status, .run_row = run_row,
-			      .hcell = hcell, .rcell = rcell, .hlen = hlen, .rlen = rlen,
-			      .n_cells = nh, .cell_of_column = cell_of_column, .chatter = chatter,
-			      .wall_time_s = wall_time_s};
-	popc_text_builder t = {.buf = buf, .cap = cap, .len = 0};
-	int cells = 0;
-	for (int c = 0; c < popc_sweep_n_columns; c++) {
-		const popc_sweep_column *col = &popc_sweep_columns[c];
-		if (col->source == POPC_SWEEP_CELL_AXES) {
-			for (int a = 0; a < p->n_axes; a++) {
-				if (cells++)
-					popc_text_put(&t, ",", 1);
-				const char *v = p->axes[a].values[idx[a]];
-				popc_text_put(&t, v, strlen(v));
-			}
-			continue;
-		}
-		if (cells++)
-			popc_text_put(&t, ",", 1);
-		if (cell_is_empty(col->empty, &in))
-			continue;
-		cell_value v;
-		int st = cell_get(col, &in, &v, err);
-		if (st)
-			return st;
-		/* a format that does not fit the source's value is a mistake in
-		 * the table, not a cell to guess */
-		if (v.kind != col->format && !(v.kind == POPC_SWEEP_FORMAT_INT &&
-					       col->format == POPC_SWEEP_FORMAT_DOUBLE))
-			return popc_error_set(err, POPC_ERR_INVALID,
-					      "summary column %s: its format does not fit its source",
-					      col->name);
-		char real[POPC_DOUBLE_TEXT_MAX + 1];
-		switch (col->format) {
-		case POPC_SWEEP_FORMAT_TEXT: popc_text_put(&t, v.text, v.len); break;
-		case POPC_SWEEP_FORMAT_INT: popc_text_put_integer(&t, v.whole); break;
-		case POPC_SWEEP_FORMAT_DOUBLE:
-			popc_format_double(v.kind == POPC_SWEEP_FORMAT_INT ? (double)v.whole : v.real,
-					   real);
-			popc_text_put(&t, real, strlen(real));
-			break;
-		}
-	}
-	popc_text_put(&t, "\n", 1);
-	size_t len = t.len;
-	if (len >= cap) {
-		if (cap > 0)
-			buf[cap - 1] = '\0'; /* as snprintf leaves it */
-		return popc_error_set(err, POPC_ERR_INVALID, "summary row of run %s longer than %zu bytes",
-				      id, cap);
-	}
-	buf[len] = '\0';
-	return (int)len;
+	row_input in = {.exit_status = exit_status, .run_row = run_row, .hcell = hcell,
+			.rcell = rcell, .hlen = hlen, .rlen = rlen, .n_cells = nh,
+			.cell_of_column = cell_of_column, .chatter = chatter,
+			.wall_time_s = wall_time_s};
+	return make_row(p, i, &in, buf, cap, err);
+}
+
+int popc_sweep_row_of_run(const popc_sweep_plan *p, long long i, int exit_status,
+			  const popc_run_summary *sum, const popc_scene *s,
+			  const popc_chatter_result *chatter, double wall_time_s, char *buf, size_t cap,
+			  popc_error *err)
+{
+	row_input in = {.exit_status = exit_status, .sum = sum, .scene = s, .chatter = chatter,
+			.wall_time_s = wall_time_s};
+	return make_row(p, i, &in, buf, cap, err);
 }
 
 int popc_sweep_row_exit_status(const popc_sweep_plan *p, const char *row)

@@ -29,48 +29,6 @@ static void feed_chatter(void *user, const popc_tick *tick)
 	popc_chatter_add(user, tick);
 }
 
-/* The popc run summary header as text, as `popc run --summary` writes it:
- * the same for every run (it depends on no summary), so made once per
- * process and kept (a worker makes thousands of rows from it). */
-static const char *summary_header(void)
-{
-	static char *header;
-	if (header)
-		return header;
-	size_t len;
-	char *text = NULL;
-	FILE *f = open_memstream(&text, &len);
-	if (!f)
-		return NULL;
-	popc_run_summary_csv_header(f);
-	if (fclose(f) != 0) {
-		free(text);
-		return NULL;
-	}
-	header = text;
-	return header;
-}
-
-/* The popc run summary row as text, as `popc run --summary` writes it: the
- * sweep row is built from it and the header by column name, like for --list
- * runs. Made into buf (cap bytes) without stdio (fmemopen and a stdio call
- * per cell were a tenth of a sweep's own CPU); a row that does not fit goes
- * into *spill (malloc'd, for the caller to free). Returns the text, or NULL
- * when out of memory. */
-static const char *summary_row(const popc_run_summary *sum, const popc_scene *s, char *buf,
-			       size_t cap, char **spill)
-{
-	*spill = NULL;
-	size_t n = popc_run_summary_csv_row_text(sum, s, buf, cap);
-	if (n < cap)
-		return buf;
-	*spill = malloc(n + 1);
-	if (!*spill)
-		return NULL;
-	popc_run_summary_csv_row_text(sum, s, *spill, n + 1);
-	return *spill;
-}
-
 /* snprintf(buf, cap, "%s", text) without stdio's setup (every run) */
 static void copy_text(char *buf, size_t cap, const char *text)
 {
@@ -164,18 +122,9 @@ int popc_sweep_run_one(const popc_sweep_plan *p, long long i, const char *dir, i
 		return 0;
 	}
 
-	const char *header = NULL, *run_row = NULL;
-	char run_row_buf[POPC_SWEEP_ROW_MAX], *spill = NULL;
-	if (have_sum) {
-		header = summary_header();
-		run_row = header ? summary_row(&sum, &s, run_row_buf, sizeof run_row_buf, &spill) : NULL;
-		if (!run_row)
-			return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
-	}
 	char row[POPC_SWEEP_ROW_MAX];
-	int n = popc_sweep_row(p, i, res->exit_status, header, run_row, have_chat ? &chat : NULL,
-			       res->wall_time_s, row, sizeof row, err);
-	free(spill);
+	int n = popc_sweep_row_of_run(p, i, res->exit_status, have_sum ? &sum : NULL, &s,
+				      have_chat ? &chat : NULL, res->wall_time_s, row, sizeof row, err);
 	if (n < 0)
 		return n;
 	/* the sweep's record first: a run whose row is in the rows file is

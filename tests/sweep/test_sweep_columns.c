@@ -168,6 +168,89 @@ static void test_rows_have_header_cells(void **state)
 	popc_sweep_plan_free(&p);
 }
 
+/* The row a sweep makes from a run's summary in its own process
+ * (popc_sweep_row_of_run) is, byte for byte, the row made from the text that
+ * `popc run --summary` writes for it (popc_sweep_row, as for --list runs):
+ * with and without the true port energy and the device port's, awkward
+ * numbers (subnormal, negative zero, the largest double, integers past
+ * 2^53), with and without a detector verdict, and without a summary. */
+static void test_row_of_run_is_row_of_text(void **state)
+{
+	(void)state;
+	const char *vary[] = {"operator.speed=0.01,0.02,0.03", "controller.variant=none,improved"};
+	popc_sweep_plan p = make_plan(vary, 2);
+	char *header = NULL;
+	size_t hl = 0;
+	FILE *f = open_memstream(&header, &hl);
+	assert_non_null(f);
+	popc_run_summary_csv_header(f);
+	assert_int_equal(fclose(f), 0);
+	popc_scene s;
+	popc_error err;
+	assert_int_equal(popc_sweep_run_scene(&p, 3, &s, &err), 0);
+	popc_chatter_result chat;
+	memset(&chat, 0, sizeof chat);
+	chat.windows = 491;
+	chat.window_ticks = 100;
+	chat.lc_ticks = 2001;
+	chat.lc_min_ticks = 1000;
+	chat.chatter_s = 0.125;
+	chat.n_intervals = 3;
+	const double awkward[] = {0.0, -0.0, 4.9406564584124654e-324, 1.7976931348623157e308,
+				  -2.5e-7, 9007199254740993.0, 0.1, 1e22, -123.456};
+	for (int k = 0; k < 12; k++) {
+		popc_run_summary sum;
+		memset(&sum, 0, sizeof sum);
+		double a = awkward[k % 9], b = awkward[(k + 4) % 9];
+		sum.ticks = 5001 + k;
+		sum.sim_time_s = 5.0;
+		sum.wall_time_s = k % 3 ? 0.0123 : 0.0;
+		sum.integrator = s.integrator;
+		sum.substeps = k;
+		sum.integrator_error_m = b;
+		sum.metrics.pc_energy_J = a;
+		sum.metrics.period_s = 0.001;
+		sum.metrics.all.ticks = 5001;
+		sum.metrics.all.active_ticks = k * 37;
+		sum.metrics.all.pc_max_N = b;
+		sum.metrics.all.contact_ticks = 100 + k;
+		sum.metrics.all.vsign_changes = 7 * k;
+		sum.metrics.w_minus_eref_min_J = b;
+		sum.metrics.w_minus_eref_end_J = a;
+		sum.metrics.fc_pen_sum_Nm = k % 5 ? 3.25 * k : 0.0;
+		sum.metrics.pen_sq_sum_m2 = k % 5 ? 1e-6 * (k + 1) : 0.0;
+		sum.has_port_energy = k % 2;
+		sum.port_energy_J = a;
+		sum.port_energy_min_J = b;
+		sum.po_error_end_J = b;
+		sum.po_error_max_J = a;
+		sum.has_device_energy = (k / 2) % 2;
+		sum.device_energy_J = b;
+		sum.device_energy_min_J = a;
+		sum.status = k % 4 == 3 ? -6 : 0;
+		char run_row[POPC_SWEEP_ROW_MAX], text_row[POPC_SWEEP_ROW_MAX], own_row[POPC_SWEEP_ROW_MAX];
+		assert_true(popc_run_summary_csv_row_text(&sum, &s, run_row, sizeof run_row) <
+			    sizeof run_row);
+		const popc_chatter_result *c = k % 3 == 2 ? NULL : &chat;
+		int n1 = popc_sweep_row(&p, 3, sum.status ? 6 : 0, header, run_row, c, 0.5, text_row,
+					sizeof text_row, &err);
+		int n2 = popc_sweep_row_of_run(&p, 3, sum.status ? 6 : 0, &sum, &s, c, 0.5, own_row,
+					       sizeof own_row, &err);
+		assert_true(n1 > 0);
+		assert_int_equal(n1, n2);
+		assert_string_equal(text_row, own_row);
+	}
+	/* no summary: the same empty cells */
+	char text_row[POPC_SWEEP_ROW_MAX], own_row[POPC_SWEEP_ROW_MAX];
+	int n1 = popc_sweep_row(&p, 4, 1, NULL, NULL, NULL, 0.25, text_row, sizeof text_row, &err);
+	int n2 = popc_sweep_row_of_run(&p, 4, 1, NULL, &s, NULL, 0.25, own_row, sizeof own_row, &err);
+	assert_true(n1 > 0);
+	assert_int_equal(n1, n2);
+	assert_string_equal(text_row, own_row);
+	free(header);
+	popc_sweep_plan_free(&p);
+}
+
 /* A popc run summary's cells read back by name. */
 static void test_run_csv_cells(void **state)
 {
@@ -191,6 +274,7 @@ int main(void)
 		cmocka_unit_test(test_metrics_in_run_summary),
 		cmocka_unit_test(test_rows_have_header_cells),
 		cmocka_unit_test(test_run_csv_cells),
+		cmocka_unit_test(test_row_of_run_is_row_of_text),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

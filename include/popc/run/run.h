@@ -10,6 +10,7 @@
 #include "popc/core/metrics.h"
 #include "popc/scene/scene.h"
 #include "popc/util/json.h"
+#include "popc/util/text_builder.h"
 
 typedef struct popc_run_summary {
 	double sim_time_s, wall_time_s;
@@ -57,6 +58,14 @@ void popc_run_summary_csv_row(const popc_run_summary *sum, const popc_scene *s, 
  * its length, which is >= cap when it did not fit (as snprintf). */
 size_t popc_run_summary_csv_row_text(const popc_run_summary *sum, const popc_scene *s, char *buf,
 				     size_t cap);
+/* The summary's field NAME (a column of its CSV row): its index, or -1 when
+ * no field has that name. */
+int popc_run_summary_field(const char *name);
+/* Appends field FIELD's cell (an index from popc_run_summary_field) to t,
+ * the bytes popc_run_summary_csv_row_text writes for it: a sweep makes its
+ * row from the fields it takes without the text of the whole row. */
+void popc_run_summary_put_cell(popc_text_builder *t, const popc_run_summary *sum,
+			       const popc_scene *s, int field);
 /* The JSON kind of the summary column NAME (RUN_SUMMARY_FIELDS): a string for
  * a TEXT field, a number for INT and REAL; POPC_JSON_AUTO for a name that is
  * not a field (a real axis' columns appended after the run's). */

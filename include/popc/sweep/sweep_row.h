@@ -1,15 +1,19 @@
 /* A run's summary row (src/sweep/sweep_row.c): built from a `popc run
  * --summary` CSV row by the column table (sweep_columns.h), and read back.
  *
- * The sweep's in-process runs and runs made by `popc run` command lines
- * (--list, GNU parallel) go through the same function, so both give the same
- * bytes; only wall_time_s, the last column, differs from one run to the next. */
+ * The sweep's in-process runs (popc_sweep_row_of_run, from the run's summary)
+ * and runs made by `popc run` command lines (--list, GNU parallel;
+ * popc_sweep_row, from the run's summary.csv text) give the same bytes: both
+ * walk the same column table, and a run summary cell is the same function's
+ * text either way (popc_run_summary_put_cell, behind popc run's CSV row too);
+ * only wall_time_s, the last column, differs from one run to the next. */
 #ifndef POPC_SWEEP_ROW_H
 #define POPC_SWEEP_ROW_H
 
 #include <stddef.h>
 
 #include "popc/core/chatter.h"
+#include "popc/run/run.h"
 #include "popc/sweep/sweep_columns.h"
 #include "popc/sweep/sweep_plan.h"
 #include "popc/util/error.h"
@@ -26,6 +30,13 @@
 int popc_sweep_row(const popc_sweep_plan *p, long long i, int exit_status, const char *run_header,
 		   const char *run_row, const popc_chatter_result *chatter, double wall_time_s,
 		   char *buf, size_t cap, popc_error *err);
+
+/* The same row from the run's summary itself (NULL: none; s the run's
+ * scene), without its CSV text: the row a sweep makes in its own process. */
+int popc_sweep_row_of_run(const popc_sweep_plan *p, long long i, int exit_status,
+			  const popc_run_summary *sum, const popc_scene *s,
+			  const popc_chatter_result *chatter, double wall_time_s, char *buf, size_t cap,
+			  popc_error *err);
 
 /* Reads the exit_status cell of a sweep row; -1 if the row is malformed. */
 int popc_sweep_row_exit_status(const popc_sweep_plan *p, const char *row);
