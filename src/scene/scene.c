@@ -334,28 +334,20 @@ static void set_who(char *who, size_t cap, const char *option, const char *sec, 
 		 option ? "" : ".", option ? "" : name);
 }
 
-/* popc_scene_set and popc_scene_set_option: option NULL for --set */
-static int scene_set(popc_scene *s, const char *section, const char *key, const char *value,
-		     const char *option, popc_error *err)
+/* The rest of scene_set once key k is found (sec and name: its names as
+ * given, trimmed, for messages). */
+static int set_found(popc_scene *s, const scene_key *k, const char *sec, const char *name,
+		     const char *value, const char *option, popc_error *err)
 {
-	/* blanks around a name or value count as in a file: " 5" and "5 " are 5 */
-	char sec[64], name[64], val[POPC_PATH_MAX];
-	if (trimmed(section, strlen(section), sec, sizeof sec) ||
-	    trimmed(key, strlen(key), name, sizeof name))
-		return popc_error_set(err, POPC_ERR_INVALID, "--set %s.%s: name too long", section, key);
 	/* who is named in a message only: formatted when one may follow (a
 	 * sweep sets its varied keys for every run, and this snprintf was a
 	 * tenth of a sweep's own instructions, docs/BENCHMARKS.md section 6) */
-	char who[200];
+	char who[200], val[POPC_PATH_MAX];
 	if (trimmed(value, strlen(value), val, sizeof val)) {
 		set_who(who, sizeof who, option, sec, name);
 		return popc_error_set(err, POPC_ERR_INVALID, "%s: value longer than %d characters", who,
 				      POPC_PATH_MAX - 1);
 	}
-	int section_known;
-	const scene_key *k = find_key(sec, name, &section_known);
-	if (!k)
-		return unknown_key(sec, name, section_known, "--set: ", err);
 	int st = set_key(s, k, val, "--set ", option, err);
 	if (is_path_key(k))
 		set_who(who, sizeof who, option, sec, name);
@@ -368,6 +360,48 @@ static int scene_set(popc_scene *s, const char *section, const char *key, const 
 				    "%s: the path from the working directory, %s, %s", who,
 				    (char *)s + k->offset, why);
 	return st;
+}
+
+/* popc_scene_set and popc_scene_set_option: option NULL for --set */
+static int scene_set(popc_scene *s, const char *section, const char *key, const char *value,
+		     const char *option, popc_error *err)
+{
+	/* blanks around a name or value count as in a file: " 5" and "5 " are 5 */
+	char sec[64], name[64];
+	if (trimmed(section, strlen(section), sec, sizeof sec) ||
+	    trimmed(key, strlen(key), name, sizeof name))
+		return popc_error_set(err, POPC_ERR_INVALID, "--set %s.%s: name too long", section, key);
+	/* a value too long is said before an unknown key */
+	char who[200], val[POPC_PATH_MAX];
+	if (trimmed(value, strlen(value), val, sizeof val)) {
+		set_who(who, sizeof who, option, sec, name);
+		return popc_error_set(err, POPC_ERR_INVALID, "%s: value longer than %d characters", who,
+				      POPC_PATH_MAX - 1);
+	}
+	int section_known;
+	const scene_key *k = find_key(sec, name, &section_known);
+	if (!k)
+		return unknown_key(sec, name, section_known, "--set: ", err);
+	return set_found(s, k, sec, name, val, option, err);
+}
+
+int popc_scene_key_index(const char *section, const char *key)
+{
+	char sec[64], name[64];
+	if (trimmed(section, strlen(section), sec, sizeof sec) ||
+	    trimmed(key, strlen(key), name, sizeof name))
+		return -1;
+	int section_known;
+	const scene_key *k = find_key(sec, name, &section_known);
+	return k ? (int)(k - scene_keys) : -1;
+}
+
+int popc_scene_set_index(popc_scene *s, int index, const char *value, popc_error *err)
+{
+	if (index < 0 || (size_t)index >= N_KEYS)
+		return popc_error_set(err, POPC_ERR_INVALID, "scene key index %d: no such key", index);
+	const scene_key *k = &scene_keys[index];
+	return set_found(s, k, k->section, k->key, value, NULL, err);
 }
 
 int popc_scene_set(popc_scene *s, const char *section, const char *key, const char *value,

@@ -255,7 +255,7 @@ int popc_sweep_run_scene(const popc_sweep_plan *p, long long i, popc_scene *s, p
 	long long rest = i;
 	for (int a = p->n_axes - 1; a >= 0; a--) {
 		const popc_sweep_axis *ax = &p->axes[a];
-		int st = popc_scene_set(s, ax->section, ax->key, ax->values[rest % ax->n_values], err);
+		int st = popc_scene_set_index(s, p->axis_key[a], ax->values[rest % ax->n_values], err);
 		if (st)
 			return st;
 		rest /= ax->n_values;
@@ -480,6 +480,11 @@ int popc_sweep_plan_init(popc_sweep_plan *p, const popc_scene *base, popc_sweep_
 		st = check_same_values(base, ax, err);
 		if (st)
 			return st;
+		/* found once, set for every run (popc_sweep_run_scene) */
+		p->axis_key[a] = popc_scene_key_index(ax->section, ax->key);
+		if (p->axis_key[a] < 0)
+			return popc_error_set(err, POPC_ERR_INVALID, "--vary %s.%s: no such scene key",
+					      ax->section, ax->key);
 		if (p->n_runs > POPC_SWEEP_RUNS_MAX / ax->n_values)
 			return popc_error_set(err, POPC_ERR_INVALID,
 					      "the sweep has more than %lld runs: split it",

@@ -53,7 +53,11 @@ int popc_sweep_run_one(const popc_sweep_plan *p, long long i, const char *dir, i
 		       popc_sweep_rows_batch *rows, volatile sig_atomic_t *stop_flag,
 		       popc_sweep_result *res, popc_error *err)
 {
-	memset(res, 0, sizeof *res);
+	/* not memset: the reason (600 bytes) is written for a failed run only,
+	 * so a worker's held results touch a page, not five */
+	res->exit_status = res->interrupted = res->recorded = 0;
+	res->wall_time_s = 0.0;
+	res->reason[0] = '\0';
 	double t0 = popc_now_s();
 	char rdir[POPC_PATH_MAX], path[POPC_PATH_MAX + 32];
 	/* summaries only: no directory per run (a mkdir costs about as much
@@ -116,7 +120,10 @@ int popc_sweep_run_one(const popc_sweep_plan *p, long long i, const char *dir, i
 	popc_axis_destroy(&axis);
 	res->wall_time_s = popc_now_s() - t0;
 	res->exit_status = popc_status_exit_code(st);
-	copy_text(res->reason, sizeof res->reason, have_sum ? sum.stop_reason : rerr.msg);
+	/* the reason a failed run stopped (said, and put before its row);
+	 * a run that ended well has none to keep */
+	if (res->exit_status != 0)
+		copy_text(res->reason, sizeof res->reason, have_sum ? sum.stop_reason : rerr.msg);
 	if (st == POPC_ERR_INTERRUPTED || (stop_flag && *stop_flag && st)) {
 		res->interrupted = 1;
 		return 0;

@@ -401,6 +401,47 @@ static void test_set_paths_absolute(void **state)
 	assert_int_equal(popc_scene_set(&s, "operator", "table", "/a;b.csv", &err), 0);
 }
 
+/* A key found once and set by its index (a sweep's varied keys) gives the
+ * scene, the status and the message popc_scene_set gives. */
+static void test_set_index_is_set(void **state)
+{
+	(void)state;
+	const struct {
+		const char *section, *key, *value;
+	} cases[] = {
+		{"operator", "speed", "0.05"},     {"operator", "speed", " 0.07 "},
+		{"operator", "speed", "-1"},       {"operator", "speed", "fast"},
+		{"controller", "variant", "hold"}, {"controller", "variant", "sideways"},
+		{"run", "duration", "1e999"},      {"environment", "stiffness", "2.5e4"},
+		{"encoder", "resolution", "0"},    {"run", "rate", "1000.5"},
+	};
+	for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+		popc_scene a, b;
+		popc_scene_defaults(&a);
+		popc_scene_defaults(&b);
+		popc_error ea, eb;
+		memset(&ea, 0, sizeof ea);
+		memset(&eb, 0, sizeof eb);
+		int k = popc_scene_key_index(cases[c].section, cases[c].key);
+		assert_true(k >= 0);
+		assert_int_equal(popc_scene_key_index(" operator ", " speed "),
+				 popc_scene_key_index("operator", "speed"));
+		int sa = popc_scene_set(&a, cases[c].section, cases[c].key, cases[c].value, &ea);
+		int sb = popc_scene_set_index(&b, k, cases[c].value, &eb);
+		assert_int_equal(sa, sb);
+		if (sa)
+			assert_string_equal(ea.msg, eb.msg);
+		assert_memory_equal(&a, &b, sizeof a);
+	}
+	assert_int_equal(popc_scene_key_index("operator", "sped"), -1);
+	assert_int_equal(popc_scene_key_index("plant", "speed"), -1);
+	popc_scene s;
+	popc_error e;
+	popc_scene_defaults(&s);
+	assert_int_not_equal(popc_scene_set_index(&s, -1, "1", &e), 0);
+	assert_int_not_equal(popc_scene_set_index(&s, 100000, "1", &e), 0);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -413,6 +454,7 @@ int main(void)
 		cmocka_unit_test(test_cross_key_validation),
 		cmocka_unit_test(test_dump_round_trip),
 		cmocka_unit_test(test_set_paths_absolute),
+		cmocka_unit_test(test_set_index_is_set),
 	};
 	return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -95,6 +95,14 @@ int popc_scene_set(popc_scene *s, const char *section, const char *key, const ch
 int popc_scene_set_option(popc_scene *s, const char *option, const char *section, const char *key,
 			  const char *value, popc_error *err);
 
+/* A key set many times (a sweep's varied keys, for every run) is found once:
+ * popc_scene_key_index gives section.key's place in the key table (-1: no
+ * such key; popc_scene_set says why), and popc_scene_set_index sets it as
+ * popc_scene_set(s, section, key, value, err) would: the same checks, the
+ * same messages, the same scene. */
+int popc_scene_key_index(const char *section, const char *key);
+int popc_scene_set_index(popc_scene *s, int index, const char *value, popc_error *err);
+
 /* 1 when section.key names a file (operator.table, axis.map), else 0. */
 int popc_scene_key_is_path(const char *section, const char *key);
 

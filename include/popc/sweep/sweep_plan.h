@@ -42,6 +42,7 @@ typedef struct popc_sweep_plan {
 	popc_scene base;                 /* the resolved base scene */
 	int n_axes;
 	popc_sweep_axis *axes;
+	int axis_key[64];                /* axes[a]'s scene key (popc_scene_key_index) */
 	long long n_runs;
 	int id_width;
 	uint64_t plan_id;                /* FNV-1a of base scene text, axes and columns */

@@ -15,7 +15,7 @@ typedef struct popc_sweep_result {
 				   * batch for it (even when the run's own
 				   * summary.csv could not be written) */
 	double wall_time_s;       /* scene, axis, run and log, without the summary */
-	char reason[POPC_ERROR_MSG_MAX + 64];
+	char reason[POPC_ERROR_MSG_MAX + 64]; /* why a failed run stopped; "" for one that succeeded */
 } popc_sweep_result;
 
 /* Runs run i of the plan on the simulated axis in this process and adds
