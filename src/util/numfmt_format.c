@@ -765,11 +765,20 @@ static inline void write_digits(char *out, uint64_t f, int n)
 	}
 }
 
-/* Lays out f * 10^e (f > 0, at most 17 digits) in %g style; see the top comment. */
+/* Lays out f * 10^e (f > 0, at most 17 digits) in %g style; see the top
+ * comment. buf holds POPC_DOUBLE_TEXT_MAX + 1 = 33 bytes (numfmt.h), and the
+ * text is at most 24: every copy below has a fixed size that stays inside
+ * those 33 bytes (the bound is noted at each), so the compiler makes each a
+ * move or two instead of a call to memcpy with a length (three or four calls
+ * a number were a third of this function's time). Bytes past the NUL are
+ * left as they fall. */
 static size_t write_decimal(char *buf, int neg, uint64_t f, int e)
 {
 	char *p = buf;
-	char digits[20];
+	/* n digits in digits[0..n); zeros after them, as the copies below
+	 * read up to 32 bytes */
+	char digits[32];
+	memset(digits, '0', sizeof digits);
 
 	/* The shortest decimal is the one without trailing zeros. */
 	if (f % 100000000 == 0) {
@@ -784,36 +793,40 @@ static size_t write_decimal(char *buf, int neg, uint64_t f, int e)
 	write_digits(digits, f, n);
 	int x = e + n - 1; /* v = d.ddd * 10^x */
 
-	if (neg)
-		*p++ = '-';
+	*p = '-';
+	p += neg; /* p <= buf + 1 */
 	if (x >= -4 && x < 17) {
 		if (x < 0) {
-			/* 0.000ddd */
-			memcpy(p, "0.0000", (size_t)(1 - x));
-			p += 1 - x;
-			memcpy(p, digits, (size_t)n);
-			p += n;
+			/* 0.000ddd: 1 - x <= 5, so p + 5 + 17 <= buf + 23 */
+			memcpy(p, "0.0000", 6);
+			memcpy(p + 1 - x, digits, 17);
+			p += 1 - x + n;
 		} else if (x >= n - 1) {
-			/* ddd000: an integer */
-			memcpy(p, digits, (size_t)n);
-			p += n;
-			memset(p, '0', (size_t)(x - n + 1));
-			p += x - n + 1;
-		} else {
-			/* dd.ddd */
-			memcpy(p, digits, (size_t)(x + 1));
+			/* ddd000, an integer: n <= x + 1 <= 17 digits, zeros to
+			 * x + 1 (p + 17 <= buf + 18; with zeros, n <= 16 and
+			 * p + n + 16 <= buf + 33) */
+			memcpy(p, digits, 17);
+			if (n <= 16)
+				memset(p + n, '0', 16);
 			p += x + 1;
-			*p++ = '.';
-			memcpy(p, digits + x + 1, (size_t)(n - x - 1));
-			p += n - x - 1;
+		} else {
+			/* dd.ddd, 0 <= x < n - 1 <= 16: the first x + 1 digits,
+			 * the point, the other n - x - 1 (p + 16 <= buf + 17; for
+			 * x <= 14, p + x + 2 + 16 <= buf + 33; for x = 15, one digit) */
+			memcpy(p, digits, 16);
+			p[x + 1] = '.';
+			if (x <= 14)
+				memcpy(p + x + 2, digits + x + 1, 16);
+			else
+				p[x + 2] = digits[x + 1];
+			p += n + 1;
 		}
 	} else {
-		*p++ = digits[0];
-		if (n > 1) {
-			*p++ = '.';
-			memcpy(p, digits + 1, (size_t)(n - 1));
-			p += n - 1;
-		}
+		/* d.ddde+XX: p + 2 + 16 <= buf + 19, then at most 5 more */
+		p[0] = digits[0];
+		p[1] = '.';
+		memcpy(p + 2, digits + 1, 16);
+		p += n > 1 ? n + 1 : 1;
 		*p++ = 'e';
 		if (x < 0) {
 			*p++ = '-';
