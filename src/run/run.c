@@ -358,8 +358,7 @@ static void put_cell(popc_text_builder *t, const popc_run_summary *sum, int i, c
 	case SUMMARY_REAL: {
 		if (!summary_field_known(sum, i))
 			break;
-		char b[POPC_DOUBLE_TEXT_MAX + 1];
-		popc_text_put(t, b, popc_format_double(v->real, b));
+		popc_text_put_double(t, v->real);
 		break;
 	}
 	}

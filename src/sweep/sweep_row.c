@@ -241,15 +241,11 @@ static int make_row(const popc_sweep_plan *p, long long i, row_input *in, char *
 			return popc_error_set(err, POPC_ERR_INVALID,
 					      "summary column %s: its format does not fit its source",
 					      col->name);
-		char real[POPC_DOUBLE_TEXT_MAX + 1];
 		switch (col->format) {
 		case POPC_SWEEP_FORMAT_TEXT: popc_text_put(&t, v.text, v.len); break;
 		case POPC_SWEEP_FORMAT_INT: popc_text_put_integer(&t, v.whole); break;
 		case POPC_SWEEP_FORMAT_DOUBLE:
-			popc_text_put(&t, real,
-				      popc_format_double(v.kind == POPC_SWEEP_FORMAT_INT ? (double)v.whole
-											 : v.real,
-							 real));
+			popc_text_put_double(&t, v.kind == POPC_SWEEP_FORMAT_INT ? (double)v.whole : v.real);
 			break;
 		}
 	}

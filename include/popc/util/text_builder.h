@@ -10,6 +10,8 @@
 #include <stddef.h>
 #include <string.h>
 
+#include "popc/util/numfmt.h"
+
 typedef struct popc_text_builder {
 	char *buf;
 	size_t cap, len;
@@ -36,6 +38,19 @@ static inline void popc_text_put_integer(popc_text_builder *t, long long v)
 	if (v < 0)
 		digits[--k] = '-';
 	popc_text_put(t, digits + k, sizeof digits - k);
+}
+
+/* popc_format_double's text of v, formatted in place when the buffer has
+ * the room the formatter may use (POPC_DOUBLE_TEXT_MAX + 1 bytes), so
+ * that a number is not copied a second time. */
+static inline void popc_text_put_double(popc_text_builder *t, double v)
+{
+	if (t->len <= t->cap && t->cap - t->len >= POPC_DOUBLE_TEXT_MAX + 1) {
+		t->len += popc_format_double(v, t->buf + t->len);
+		return;
+	}
+	char b[POPC_DOUBLE_TEXT_MAX + 1];
+	popc_text_put(t, b, popc_format_double(v, b));
 }
 
 #endif
