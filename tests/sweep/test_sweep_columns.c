@@ -32,6 +32,33 @@ static popc_sweep_plan make_plan(const char *const *vary, int n_axes)
 	return p;
 }
 
+/* popc run's summary header as its text (malloc'd). */
+static char *run_summary_header(void)
+{
+	char *header = NULL;
+	size_t len = 0;
+	FILE *f = open_memstream(&header, &len);
+	assert_non_null(f);
+	popc_run_summary_csv_header(f);
+	assert_int_equal(fclose(f), 0);
+	return header;
+}
+
+/* A detector verdict of a 5001-tick run at 1 kHz: every window full, the
+ * last limit-cycle window too. */
+static popc_chatter_result checked_chatter(double chatter_s, int n_intervals)
+{
+	popc_chatter_result c;
+	memset(&c, 0, sizeof c);
+	c.windows = 491;
+	c.window_ticks = 100;
+	c.lc_ticks = 2001;
+	c.lc_min_ticks = 1000;
+	c.chatter_s = chatter_s;
+	c.n_intervals = n_intervals;
+	return c;
+}
+
 static int count_cells(const char *line)
 {
 	int n = 1;
@@ -98,12 +125,7 @@ static void test_header_follows_table(void **state)
 static void test_metrics_in_run_summary(void **state)
 {
 	(void)state;
-	char *header = NULL;
-	size_t len = 0;
-	FILE *f = open_memstream(&header, &len);
-	assert_non_null(f);
-	popc_run_summary_csv_header(f);
-	assert_int_equal(fclose(f), 0);
+	char *header = run_summary_header();
 	int n_metrics = 0;
 	for (int c = 0; c < popc_sweep_n_columns; c++) {
 		const popc_sweep_column *col = &popc_sweep_columns[c];
@@ -138,14 +160,7 @@ static void test_rows_have_header_cells(void **state)
 			     "po_error_end,po_error_max,device_energy_end,device_energy_min\n";
 	const char *row = "0,1.5,5,0.25,-0.001,-2e-05,3,12.5,1.25,13,0,1000,5001,0.002,1e-3,-4e-4,-2e-5,"
 			  "3e-5,2e-3,-1e-7\n";
-	popc_chatter_result full, none;
-	memset(&full, 0, sizeof full);
-	full.windows = 491;
-	full.window_ticks = 100;
-	full.lc_ticks = 2001;
-	full.lc_min_ticks = 1000;
-	full.chatter_s = 0.125;
-	none = full;
+	popc_chatter_result full = checked_chatter(0.125, 0), none = full;
 	none.windows = 0;
 	none.lc_ticks = 0;
 	const struct {
@@ -179,23 +194,11 @@ static void test_row_of_run_is_row_of_text(void **state)
 	(void)state;
 	const char *vary[] = {"operator.speed=0.01,0.02,0.03", "controller.variant=none,improved"};
 	popc_sweep_plan p = make_plan(vary, 2);
-	char *header = NULL;
-	size_t hl = 0;
-	FILE *f = open_memstream(&header, &hl);
-	assert_non_null(f);
-	popc_run_summary_csv_header(f);
-	assert_int_equal(fclose(f), 0);
+	char *header = run_summary_header();
 	popc_scene s;
 	popc_error err;
 	assert_int_equal(popc_sweep_run_scene(&p, 3, &s, &err), 0);
-	popc_chatter_result chat;
-	memset(&chat, 0, sizeof chat);
-	chat.windows = 491;
-	chat.window_ticks = 100;
-	chat.lc_ticks = 2001;
-	chat.lc_min_ticks = 1000;
-	chat.chatter_s = 0.125;
-	chat.n_intervals = 3;
+	popc_chatter_result chat = checked_chatter(0.125, 3);
 	const double awkward[] = {0.0, -0.0, 4.9406564584124654e-324, 1.7976931348623157e308,
 				  -2.5e-7, 9007199254740993.0, 0.1, 1e22, -123.456};
 	for (int k = 0; k < 12; k++) {
