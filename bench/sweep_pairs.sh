@@ -20,11 +20,8 @@ set -eu
 [ $# -ge 5 ] || { echo "usage: $0 SCENE SPEEDS PAIRS REFERENCE POPC..." >&2; exit 2; }
 scene=$1 speeds=$2 pairs=$3 reference=$4
 shift 4
-out=$(mktemp -d)
-trap 'rm -rf "$out"' EXIT
-cpu() { perf stat -x, -e task-clock "$@" 2>&1 >/dev/null | awk -F, '/task-clock/ {print $1}'; }
-vary="--vary operator.speed=0.01:0.1:$speeds --vary controller.variant=none,ref-energy,ignore,hold,improved"
-contact="--set run.duration=0.02 --set operator.x0=0.005 --set operator.t0=0"
+# shellcheck source=bench/sweep_common.sh
+. "$(dirname "$0")/sweep_common.sh"
 r=0
 while [ $r -lt "$pairs" ]; do
 	r=$((r + 1))
