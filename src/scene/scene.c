@@ -334,20 +334,37 @@ static void set_who(char *who, size_t cap, const char *option, const char *sec, 
 		 option ? "" : ".", option ? "" : name);
 }
 
-/* The rest of scene_set once key k is found (sec and name: its names as
- * given, trimmed, for messages). */
+/* section and key without the blanks around them into sec and name (64
+ * bytes each); -1 when one is too long */
+static int trimmed_names(const char *section, const char *key, char *sec, char *name)
+{
+	return trimmed(section, strlen(section), sec, 64) || trimmed(key, strlen(key), name, 64)
+		       ? -1
+		       : 0;
+}
+
+/* value without the blanks around it into val (POPC_PATH_MAX bytes), or the
+ * message that it is too long, naming sec.name (or option) */
+static int trimmed_value(const char *value, char *val, const char *option, const char *sec,
+			 const char *name, popc_error *err)
+{
+	if (!trimmed(value, strlen(value), val, POPC_PATH_MAX))
+		return 0;
+	char who[200];
+	set_who(who, sizeof who, option, sec, name);
+	return popc_error_set(err, POPC_ERR_INVALID, "%s: value longer than %d characters", who,
+			      POPC_PATH_MAX - 1);
+}
+
+/* The rest of scene_set once key k is found and the value trimmed (val; sec
+ * and name: the key's names as given, trimmed, for messages). */
 static int set_found(popc_scene *s, const scene_key *k, const char *sec, const char *name,
-		     const char *value, const char *option, popc_error *err)
+		     const char *val, const char *option, popc_error *err)
 {
 	/* who is named in a message only: formatted when one may follow (a
 	 * sweep sets its varied keys for every run, and this snprintf was a
 	 * tenth of a sweep's own instructions, docs/BENCHMARKS.md section 6) */
-	char who[200], val[POPC_PATH_MAX];
-	if (trimmed(value, strlen(value), val, sizeof val)) {
-		set_who(who, sizeof who, option, sec, name);
-		return popc_error_set(err, POPC_ERR_INVALID, "%s: value longer than %d characters", who,
-				      POPC_PATH_MAX - 1);
-	}
+	char who[200];
 	int st = set_key(s, k, val, "--set ", option, err);
 	if (is_path_key(k))
 		set_who(who, sizeof who, option, sec, name);
@@ -368,16 +385,13 @@ static int scene_set(popc_scene *s, const char *section, const char *key, const 
 {
 	/* blanks around a name or value count as in a file: " 5" and "5 " are 5 */
 	char sec[64], name[64];
-	if (trimmed(section, strlen(section), sec, sizeof sec) ||
-	    trimmed(key, strlen(key), name, sizeof name))
+	if (trimmed_names(section, key, sec, name))
 		return popc_error_set(err, POPC_ERR_INVALID, "--set %s.%s: name too long", section, key);
 	/* a value too long is said before an unknown key */
-	char who[200], val[POPC_PATH_MAX];
-	if (trimmed(value, strlen(value), val, sizeof val)) {
-		set_who(who, sizeof who, option, sec, name);
-		return popc_error_set(err, POPC_ERR_INVALID, "%s: value longer than %d characters", who,
-				      POPC_PATH_MAX - 1);
-	}
+	char val[POPC_PATH_MAX];
+	int st = trimmed_value(value, val, option, sec, name, err);
+	if (st)
+		return st;
 	int section_known;
 	const scene_key *k = find_key(sec, name, &section_known);
 	if (!k)
@@ -388,8 +402,7 @@ static int scene_set(popc_scene *s, const char *section, const char *key, const 
 int popc_scene_key_index(const char *section, const char *key)
 {
 	char sec[64], name[64];
-	if (trimmed(section, strlen(section), sec, sizeof sec) ||
-	    trimmed(key, strlen(key), name, sizeof name))
+	if (trimmed_names(section, key, sec, name))
 		return -1;
 	int section_known;
 	const scene_key *k = find_key(sec, name, &section_known);
@@ -401,7 +414,9 @@ int popc_scene_set_index(popc_scene *s, int index, const char *value, popc_error
 	if (index < 0 || (size_t)index >= N_KEYS)
 		return popc_error_set(err, POPC_ERR_INVALID, "scene key index %d: no such key", index);
 	const scene_key *k = &scene_keys[index];
-	return set_found(s, k, k->section, k->key, value, NULL, err);
+	char val[POPC_PATH_MAX];
+	int st = trimmed_value(value, val, NULL, k->section, k->key, err);
+	return st ? st : set_found(s, k, k->section, k->key, val, NULL, err);
 }
 
 int popc_scene_set(popc_scene *s, const char *section, const char *key, const char *value,

@@ -437,7 +437,7 @@ static int check_table(table_check *tc, const popc_scene *s, popc_error *err)
 
 void popc_sweep_run_describe(const popc_sweep_plan *p, long long i, char *buf, size_t cap)
 {
-	int idx[64];
+	int idx[POPC_SWEEP_AXES_MAX];
 	popc_sweep_run_values(p, i, idx);
 	size_t len = 0;
 	buf[0] = '\0';
@@ -454,8 +454,9 @@ int popc_sweep_plan_init(popc_sweep_plan *p, const popc_scene *base, popc_sweep_
 	p->base = *base;
 	p->axes = axes;
 	p->n_axes = n_axes;
-	if (n_axes > 64)
-		return popc_error_set(err, POPC_ERR_INVALID, "more than 64 --vary axes");
+	if (n_axes > POPC_SWEEP_AXES_MAX)
+		return popc_error_set(err, POPC_ERR_INVALID, "more than %d --vary axes",
+				      POPC_SWEEP_AXES_MAX);
 	p->n_runs = 1;
 	int st = 0;
 	for (int a = 0; a < n_axes; a++) {

@@ -201,7 +201,7 @@ static int make_row(const popc_sweep_plan *p, long long i, row_input *in, char *
 	char id[POPC_SWEEP_ID_MAX];
 	popc_sweep_run_id(p, i, id);
 	in->id = id;
-	int idx[64];
+	int idx[POPC_SWEEP_AXES_MAX];
 	popc_sweep_run_values(p, i, idx);
 	popc_text_builder t = {.buf = buf, .cap = cap, .len = 0};
 	int cells = 0;

@@ -775,8 +775,8 @@ static inline void write_digits(char *out, uint64_t f, int n)
 static size_t write_decimal(char *buf, int neg, uint64_t f, int e)
 {
 	char *p = buf;
-	/* n digits in digits[0..n); zeros after them, as the copies below
-	 * read up to 32 bytes */
+	/* n digits in digits[0..n), '0's after them: the copies below read up
+	 * to 32 bytes, and an integer's trailing zeros come with its digits */
 	char digits[32];
 	memset(digits, '0', sizeof digits);
 
@@ -802,12 +802,10 @@ static size_t write_decimal(char *buf, int neg, uint64_t f, int e)
 			memcpy(p + 1 - x, digits, 17);
 			p += 1 - x + n;
 		} else if (x >= n - 1) {
-			/* ddd000, an integer: n <= x + 1 <= 17 digits, zeros to
-			 * x + 1 (p + 17 <= buf + 18; with zeros, n <= 16 and
-			 * p + n + 16 <= buf + 33) */
+			/* ddd000, an integer: its n digits and then zeros to
+			 * x + 1 <= 17 characters, all from digits (p + 17 <=
+			 * buf + 18) */
 			memcpy(p, digits, 17);
-			if (n <= 16)
-				memset(p + n, '0', 16);
 			p += x + 1;
 		} else {
 			/* dd.ddd, 0 <= x < n - 1 <= 16: the first x + 1 digits,

@@ -424,8 +424,6 @@ static void test_set_index_is_set(void **state)
 		memset(&eb, 0, sizeof eb);
 		int k = popc_scene_key_index(cases[c].section, cases[c].key);
 		assert_true(k >= 0);
-		assert_int_equal(popc_scene_key_index(" operator ", " speed "),
-				 popc_scene_key_index("operator", "speed"));
 		int sa = popc_scene_set(&a, cases[c].section, cases[c].key, cases[c].value, &ea);
 		int sb = popc_scene_set_index(&b, k, cases[c].value, &eb);
 		assert_int_equal(sa, sb);
@@ -433,6 +431,9 @@ static void test_set_index_is_set(void **state)
 			assert_string_equal(ea.msg, eb.msg);
 		assert_memory_equal(&a, &b, sizeof a);
 	}
+	/* names trimmed as popc_scene_set trims them */
+	assert_int_equal(popc_scene_key_index(" operator ", " speed "),
+			 popc_scene_key_index("operator", "speed"));
 	assert_int_equal(popc_scene_key_index("operator", "sped"), -1);
 	assert_int_equal(popc_scene_key_index("plant", "speed"), -1);
 	popc_scene s;

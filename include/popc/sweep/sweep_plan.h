@@ -38,11 +38,14 @@ typedef struct popc_sweep_axis {
 	char **values;                       /* text applied with popc_scene_set */
 } popc_sweep_axis;
 
+/* The most --vary axes a plan takes. */
+#define POPC_SWEEP_AXES_MAX 64
+
 typedef struct popc_sweep_plan {
 	popc_scene base;                 /* the resolved base scene */
 	int n_axes;
 	popc_sweep_axis *axes;
-	int axis_key[64];                /* axes[a]'s scene key (popc_scene_key_index) */
+	int axis_key[POPC_SWEEP_AXES_MAX]; /* axes[a]'s scene key (popc_scene_key_index) */
 	long long n_runs;
 	int id_width;
 	uint64_t plan_id;                /* FNV-1a of base scene text, axes and columns */
