@@ -19,6 +19,7 @@
 #include "cli.h"
 #include "map_figure.h"
 #include "popc/sweep/sweep_dir.h"
+#include "popc/sweep/sweep_lock.h"
 #include "popc/sweep/sweep_map.h"
 #include "popc/sweep/sweep_plan.h"
 #include "popc/sweep/sweep_results.h"
@@ -408,7 +409,11 @@ static int map_main(const map_args *a)
 	popc_error err;
 	popc_sweep_plan plan;
 	memset(&plan, 0, sizeof plan);
-	int st = make_plan(a, &plan, &err);
+	/* an unusable -o is bad usage, said before any work (as popc sweep) */
+	int st = popc_sweep_output_dir_check("-o", a->dir, &err);
+	if (st)
+		return popc_cli_fail("map", st, &err);
+	st = make_plan(a, &plan, &err);
 	if (st) {
 		popc_sweep_plan_free(&plan);
 		return popc_cli_fail("map", st, &err);
@@ -423,7 +428,7 @@ static int map_main(const map_args *a)
 	char *r = realpath(plan.base.source, NULL);
 	snprintf(scene_abs, sizeof scene_abs, "%s", r ? r : plan.base.source);
 	free(r);
-	st = popc_sweep_dir_prepare(&plan, a->dir, scene_abs, a->allow_other_build, &err);
+	st = popc_sweep_dir_open(&plan, a->dir, scene_abs, a->allow_other_build, &shard, &err);
 	if (st < 0) {
 		popc_sweep_plan_free(&plan);
 		return popc_cli_fail("map", st, &err);

@@ -19,6 +19,7 @@
 
 #include "cli.h"
 #include "popc/sweep/sweep_dir.h"
+#include "popc/sweep/sweep_lock.h"
 #include "popc/sweep/sweep_plan.h"
 #include "popc/sweep/sweep_results.h"
 #include "popc/util/atomic_file.h"
@@ -174,10 +175,12 @@ static int cmd_merge(int argc, char **argv)
 	}
 	const char *const *dirs = (const char *const *)argv + optind;
 	int n_dirs = argc - optind;
+	popc_error err;
+	if (out && popc_sweep_output_dir_check("-o", out, &err) != 0)
+		return popc_cli_fail("sweep merge", POPC_ERR_INVALID, &err);
 	if (!out)
 		out = dirs[0];
 	popc_sweep_plan plan;
-	popc_error err;
 	if (popc_sweep_plan_from_dir(&plan, dirs[0], &err) != 0)
 		return popc_cli_fail("sweep merge", POPC_ERR_INVALID, &err);
 	/* the other builds among the directories, noted in the output's plan */
@@ -309,8 +312,13 @@ static int sweep_main(const sweep_args *a)
 	 * and every run's scene is validated, naming the run. */
 	popc_scene base;
 	popc_error err;
+	/* an -o that cannot be a directory of files is bad usage, said before
+	 * anything is read or made */
+	int st = popc_sweep_output_dir_check("-o", a->dir, &err);
+	if (st)
+		return popc_cli_fail("sweep", st, &err);
 	popc_scene_defaults(&base);
-	int st = popc_scene_load(&base, a->scene_path, &err);
+	st = popc_scene_load(&base, a->scene_path, &err);
 	for (int m = 0; m < a->n_sets && !st; m++)
 		st = popc_scene_set_assignment(&base, a->sets[m], &err);
 	if (st)
@@ -352,7 +360,7 @@ static int sweep_main(const sweep_args *a)
 	}
 	char scene_abs[PATH_MAX], dir_abs[PATH_MAX];
 	abs_path(base.source, scene_abs, sizeof scene_abs); /* an installed scene's, when found by name */
-	st = popc_sweep_dir_prepare(&plan, a->dir, scene_abs, a->allow_other_build, &err);
+	st = popc_sweep_dir_open(&plan, a->dir, scene_abs, a->allow_other_build, &shard, &err);
 	if (st < 0) {
 		popc_sweep_plan_free(&plan);
 		return popc_cli_fail("sweep", st, &err);

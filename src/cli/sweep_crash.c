@@ -1,7 +1,7 @@
 /* A crash among -j 1's runs (sweep_crash.h).
  *
  * The handler calls only what is async-signal-safe: write, sigprocmask,
- * execve, sigaction, raise, and this file's own copying of bytes. Everything
+ * fcntl, execve, sigaction, raise, and this file's own copying of bytes. Everything
  * it needs (the program's path, the environment with POPC_SWEEP_ISOLATE=1,
  * the prefix of its message) is made when it is armed. */
 #define _DEFAULT_SOURCE /* readlink, sigaltstack, environ */
@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include "cli.h"
+#include "popc/sweep/sweep_lock.h"
 
 extern char **environ;
 
@@ -27,7 +28,9 @@ static struct {
 	popc_sweep_rows_batch *volatile rows;
 	volatile long long in_hand;
 	char exe[PATH_MAX];
-	char **env;                   /* environ, POPC_SWEEP_ISOLATE=1 last */
+	char **env;                   /* environ, POPC_SWEEP_ISOLATE=1 and the
+				       * lock's descriptors last */
+	char lock_fds[64];            /* POPC_SWEEP_LOCK_FDS=..., "" none */
 	char who[32];                 /* "popc sweep" or "popc map" */
 	struct sigaction old[N_FATAL];
 	stack_t old_stack;
@@ -133,6 +136,9 @@ static void on_crash(int sig, siginfo_t *si, void *context)
 	sigemptyset(&set);
 	sigaddset(&set, sig);
 	sigprocmask(SIG_UNBLOCK, &set, NULL);
+	/* the sweep directory's lock goes on with the popc started: it is
+	 * never free between the two, so no other sweep can start there */
+	popc_sweep_lock_keep_across_exec();
 	execve(crash.exe, popc_cli_argv, crash.env);
 	/* not started: end as the signal would have ended us */
 	t.len = 0;
@@ -165,15 +171,20 @@ int sweep_crash_arm(const popc_sweep_plan *p)
 	size_t n_env = 0;
 	while (environ && environ[n_env])
 		n_env++;
-	crash.env = malloc((n_env + 2) * sizeof *crash.env);
+	crash.env = malloc((n_env + 3) * sizeof *crash.env);
 	if (!crash.env)
 		return -1;
 	size_t m = 0;
 	static char isolate[] = "POPC_SWEEP_ISOLATE=1";
+	size_t lock_len = strlen(POPC_SWEEP_LOCK_FDS_ENV "=");
 	for (size_t k = 0; k < n_env; k++)
-		if (strncmp(environ[k], "POPC_SWEEP_ISOLATE=", 19) != 0)
+		if (strncmp(environ[k], "POPC_SWEEP_ISOLATE=", 19) != 0 &&
+		    strncmp(environ[k], POPC_SWEEP_LOCK_FDS_ENV "=", lock_len) != 0)
 			crash.env[m++] = environ[k];
 	crash.env[m++] = isolate;
+	popc_sweep_lock_exec_entry(crash.lock_fds, sizeof crash.lock_fds);
+	if (crash.lock_fds[0])
+		crash.env[m++] = crash.lock_fds;
 	crash.env[m] = NULL;
 	const char *verb = popc_cli_argv[1] && strcmp(popc_cli_argv[1], "map") == 0 ? "map" : "sweep";
 	strcpy(crash.who, "popc ");

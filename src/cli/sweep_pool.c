@@ -39,6 +39,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/mman.h>
+#include <sys/prctl.h>
 #include <sys/types.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -278,6 +279,7 @@ static int spawn_worker(pool_ctx *c, int slot)
 	atomic_store(&c->sh->current[slot], -1);
 	fflush(stdout);
 	fflush(stderr);
+	pid_t parent = getpid();
 	pid_t pid = fork();
 	if (pid < 0) {
 		close(life[0]);
@@ -285,6 +287,14 @@ static int spawn_worker(pool_ctx *c, int slot)
 		return -1;
 	}
 	if (pid == 0) {
+		/* a worker ends with the sweep: killed (SIGKILL cannot be
+		 * caught), the sweep would leave its workers making runs and
+		 * holding the directory's lock. SIGTERM, as a signal to the
+		 * worker alone: the run in hand stops at its next tick,
+		 * unrecorded, the rows held are written. The parent may have
+		 * died before the prctl: then this worker is already an orphan */
+		if (prctl(PR_SET_PDEATHSIG, SIGTERM) != 0 || getppid() != parent)
+			_exit(POPC_EXIT_INTERRUPTED);
 		/* a sibling's life pipe must see EOF when the sibling dies */
 		for (int k = 0; k < c->n_workers; k++)
 			if (c->w[k].life_fd >= 0)

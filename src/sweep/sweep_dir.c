@@ -14,6 +14,7 @@
 
 #include "popc/sweep/sweep_columns.h"
 #include "popc/sweep/sweep_files.h"
+#include "popc/sweep/sweep_lock.h"
 #include "popc/util/atomic_file.h"
 #include "popc/util/parse.h"
 
@@ -148,6 +149,22 @@ int popc_sweep_dir_prepare(const popc_sweep_plan *p, const char *dir, const char
 	st = popc_write_file_atomic(path, text, len, err);
 	free(text);
 	return st;
+}
+
+int popc_sweep_dir_open(const popc_sweep_plan *p, const char *dir, const char *scene_path,
+			int allow_other_build, const popc_sweep_shard *shard, popc_error *err)
+{
+	/* nothing has run yet: a directory that cannot be made is an unusable
+	 * -o (exit 2), as popc_sweep_output_dir_check would have said */
+	int st = popc_mkdir_p(dir, err);
+	if (st)
+		return st == POPC_ERR_NOMEM ? st : POPC_ERR_INVALID;
+	/* the lock before the plan is read or written: two sweeps started at
+	 * once must not both find the directory free and both write it */
+	st = popc_sweep_lock_take(dir, shard, err);
+	if (st)
+		return st;
+	return popc_sweep_dir_prepare(p, dir, scene_path, allow_other_build, err);
 }
 
 int popc_sweep_plan_from_dir(popc_sweep_plan *p, const char *dir, popc_error *err)

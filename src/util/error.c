@@ -24,6 +24,7 @@ int popc_status_exit_code(int status)
 	case POPC_ERR_INTERRUPTED: return POPC_EXIT_INTERRUPTED;
 	case POPC_ERR_NUMERIC: return POPC_EXIT_UNSTABLE;
 	case POPC_ERR_DIVERGED: return POPC_EXIT_UNSTABLE;
+	case POPC_ERR_BUSY: return POPC_EXIT_BUSY;
 	default: return POPC_EXIT_RUN_FAILED;
 	}
 }

@@ -71,8 +71,9 @@ check "  says so" err_has "--program applies to --list only"
 expect_exit 2 "an empty -o" "$POPC" sweep "$SCENE" "${VARY[@]}" -o ''
 check "  says so" err_has "-o '': give a directory name"
 touch "$T/afile"
-expect_exit 1 "-o names a file" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/afile"
-check "  says what could not be made" err_has "cannot create directory $T/afile/runs: Not a directory (is -o a file?)"
+expect_exit 2 "-o names a file: bad usage, before any work" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/afile"
+check "  says so" err_has "-o $T/afile: $T/afile is a file, not a directory"
+check "  the file is left as it was" test ! -s "$T/afile"
 expect_exit 2 "a sweep over a real axis" "$POPC" sweep "$SCENE" --set "axis.map=$SRC/data/drives/generic.ini" --set axis.connect=tcp:127.0.0.1:1 --vary axis.kind=sim,modbus -o "$T/bad"
 check "  names the run; nothing ran" err_has "run 0001 (axis.kind=modbus): axis.kind = modbus: a sweep runs the simulated axis only"
 expect_exit 2 "bad --shard: past N" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/bad" --shard 3/2

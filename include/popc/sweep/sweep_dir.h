@@ -48,6 +48,14 @@
 int popc_sweep_dir_prepare(const popc_sweep_plan *p, const char *dir, const char *scene_path,
 			   int allow_other_build, popc_error *err);
 
+/* What a sweep or map does with its directory before any run: makes DIR,
+ * takes its lock for the runs of shard (sweep_lock.h: POPC_ERR_BUSY when
+ * another popc holds it), then popc_sweep_dir_prepare. A DIR that cannot be
+ * made or locked (read-only) is POPC_ERR_INVALID: nothing ran. The lock is
+ * held until the process (and every worker it forks) ends. */
+int popc_sweep_dir_open(const popc_sweep_plan *p, const char *dir, const char *scene_path,
+			int allow_other_build, const popc_sweep_shard *shard, popc_error *err);
+
 /* Records in DIR/sweep.plan that p's popc version and build added results
  * to the sweep ("also_built_by = popc V (build B)", once per build), unless
  * the plan was made by that build. */

@@ -15,6 +15,7 @@ enum popc_exit {
 	POPC_EXIT_COMM_LOST = 4,   /* communication with the axis lost */
 	POPC_EXIT_INTERRUPTED = 5, /* stopped by SIGINT/TERM/HUP/QUIT, safe state reached */
 	POPC_EXIT_UNSTABLE = 6,    /* the simulation went unstable (integrator or closed loop) */
+	POPC_EXIT_BUSY = 7,        /* the sweep directory is in use by another popc (sweep, map) */
 };
 
 typedef enum popc_status {
@@ -27,6 +28,7 @@ typedef enum popc_status {
 	POPC_ERR_SAFETY = -6,   /* safety supervisor stop */
 	POPC_ERR_INTERRUPTED = -7,
 	POPC_ERR_DIVERGED = -8, /* the simulated closed loop diverged (the physics, not the integrator) */
+	POPC_ERR_BUSY = -9,     /* a resource another process holds (a sweep directory's lock) */
 } popc_status;
 
 #define POPC_ERROR_MSG_MAX 512
