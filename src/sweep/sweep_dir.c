@@ -20,6 +20,67 @@
 
 /* ---- the plan file ---------------------------------------------------------- */
 
+/* The plan's last line, "digest = <16 hex digits>": FNV-1a 64 of every byte
+ * before it. A plan read back is what popc wrote (an edited vary line would
+ * resume a sweep whose summary disagrees with its plan); not a defence
+ * against someone who recomputes it, a check against edits and damage. */
+#define PLAN_DIGEST_KEY "digest = "
+
+static uint64_t plan_digest(const char *text, size_t len)
+{
+	return popc_sweep_fnv1a(POPC_SWEEP_FNV_OFFSET, text, len);
+}
+
+/* The start of the digest line of text (its last line), or len if none. */
+static size_t digest_line_at(const char *text, size_t len)
+{
+	size_t end = len;
+	if (end > 0 && text[end - 1] == '\n')
+		end--;
+	size_t start = end;
+	while (start > 0 && text[start - 1] != '\n')
+		start--;
+	size_t kl = strlen(PLAN_DIGEST_KEY);
+	return end - start > kl && strncmp(text + start, PLAN_DIGEST_KEY, kl) == 0 ? start : len;
+}
+
+/* Appends the digest line to text[0..len) (room for PLAN_DIGEST_LINE_MAX
+ * more bytes); returns the new length. */
+enum { PLAN_DIGEST_LINE_MAX = 32 };
+static size_t append_digest(char *text, size_t len)
+{
+	uint64_t h = plan_digest(text, len);
+	return len + (size_t)snprintf(text + len, PLAN_DIGEST_LINE_MAX, PLAN_DIGEST_KEY "%016" PRIx64 "\n",
+				      h);
+}
+
+/* Checks a plan's digest line against its text; a plan without one (written
+ * by popc before digests) passes, its vary lines checked against the plan
+ * resumed (popc_sweep_dir_prepare). */
+static int check_digest(const char *path, const char *text, size_t len, popc_error *err)
+{
+	size_t at = digest_line_at(text, len);
+	if (at == len)
+		return 0;
+	int lineno = 1;
+	for (size_t k = 0; k < at; k++)
+		lineno += text[k] == '\n';
+	const char *v = text + at + strlen(PLAN_DIGEST_KEY);
+	const char *e = memchr(v, '\n', len - (size_t)(v - text));
+	uint64_t stored;
+	if (popc_parse_u64_span(v, e ? e : text + len, UINT64_MAX, POPC_PARSE_BASE16, &stored) != 0)
+		return popc_error_set(err, POPC_ERR_INVALID, "%s:%d: digest: 16 hexadecimal digits",
+				      path, lineno);
+	if (stored != plan_digest(text, at))
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s:%d: the digest does not match the plan's lines above it: the "
+				      "plan was edited or damaged after popc wrote it, and its runs and "
+				      "rows can no longer be trusted to agree. Run the sweep into a new "
+				      "-o DIR (or restore the plan)",
+				      path, lineno);
+	return 0;
+}
+
 /* Adds "also_built_by = popc V (build B)" to DIR/sweep.plan, unless the plan
  * names that build already (as its maker or in such a line). */
 int popc_sweep_dir_note_build(const popc_sweep_plan *p, const char *dir, popc_error *err)
@@ -49,16 +110,20 @@ int popc_sweep_dir_note_build(const popc_sweep_plan *p, const char *dir, popc_er
 		free(text);
 		return 0;
 	}
-	char *grown = realloc(text, len + (size_t)n + 2);
+	char *grown = realloc(text, len + (size_t)n + 2 + PLAN_DIGEST_LINE_MAX);
 	if (!grown) {
 		free(text);
 		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
 	}
 	text = grown;
+	/* the line goes before the digest, which then covers it too (a plan
+	 * without a digest, from popc before them, gets one) */
+	len = digest_line_at(text, len);
 	if (len && text[len - 1] != '\n')
 		text[len++] = '\n';
 	memcpy(text + len, line, (size_t)n + 1);
-	st = popc_write_file_atomic(path, text, len + (size_t)n, err);
+	len = append_digest(text, len + (size_t)n);
+	st = popc_write_file_atomic(path, text, len, err);
 	free(text);
 	return st;
 }
@@ -70,6 +135,14 @@ int popc_sweep_dir_prepare(const popc_sweep_plan *p, const char *dir, const char
 	int st = popc_mkdir_p(dir, err);
 	if (st)
 		return st;
+	struct stat sb;
+	snprintf(path, sizeof path, "%s/sweep.plan", dir);
+	int have_plan = lstat(path, &sb) == 0;
+	if (have_plan && !S_ISREG(sb.st_mode))
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: not a plan file (a %s stands there): is %s a popc sweep "
+				      "directory? Choose another -o DIR",
+				      path, S_ISDIR(sb.st_mode) ? "directory" : "non-regular file", dir);
 	static const char *const sub[] = {"runs", "rows"};
 	for (size_t k = 0; k < 2; k++) {
 		snprintf(path, sizeof path, "%s/%s", dir, sub[k]);
@@ -81,13 +154,36 @@ int popc_sweep_dir_prepare(const popc_sweep_plan *p, const char *dir, const char
 	}
 
 	snprintf(path, sizeof path, "%s/sweep.plan", dir);
-	struct stat sb;
-	if (stat(path, &sb) == 0) {
+	if (have_plan) {
 		popc_sweep_plan old;
 		st = popc_sweep_plan_from_dir(&old, dir, err);
 		if (st)
 			return st;
 		uint64_t old_id = old.plan_id;
+		/* the plan id is a hash the plan file stores, not one of its
+		 * lines: a vary line edited (in a plan without a digest) would
+		 * keep it, and the runs made now would disagree with the plan */
+		for (int a = 0; a < old.n_axes && a < p->n_axes && old_id == p->plan_id; a++)
+			if (strcmp(old.axes[a].section, p->axes[a].section) != 0 ||
+			    strcmp(old.axes[a].key, p->axes[a].key) != 0 ||
+			    strcmp(old.axes[a].spec, p->axes[a].spec) != 0) {
+				st = popc_error_set(err, POPC_ERR_INVALID,
+						    "%s: vary = %s.%s=%s, but this sweep's --vary %d is "
+						    "%s.%s=%s under the same plan id: the plan was "
+						    "edited; choose another -o DIR",
+						    path, old.axes[a].section, old.axes[a].key,
+						    old.axes[a].spec, a + 1, p->axes[a].section,
+						    p->axes[a].key, p->axes[a].spec);
+				popc_sweep_plan_free(&old);
+				return st;
+			}
+		if (old.n_axes != p->n_axes && old_id == p->plan_id) {
+			popc_sweep_plan_free(&old);
+			return popc_error_set(err, POPC_ERR_INVALID,
+					      "%s: %d vary lines, this sweep has %d under the same plan "
+					      "id: the plan was edited; choose another -o DIR",
+					      path, old.n_axes, p->n_axes);
+		}
 		int same_build = popc_sweep_plan_same_build(&old, p);
 		char old_build[POPC_SWEEP_BUILD_MAX + 96], this_build[POPC_SWEEP_BUILD_MAX + 96];
 		popc_sweep_plan_describe_build(&old, old_build, sizeof old_build);
@@ -127,10 +223,12 @@ int popc_sweep_dir_prepare(const popc_sweep_plan *p, const char *dir, const char
 	for (int a = 0; a < p->n_axes; a++)
 		fprintf(f, "vary = %s.%s=%s\n", p->axes[a].section, p->axes[a].key, p->axes[a].spec);
 	fprintf(f, "columns = %s", p->columns);
+	fprintf(f, "%*s", PLAN_DIGEST_LINE_MAX, ""); /* room for the digest line */
 	if (fclose(f) != 0) {
 		free(text);
 		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
 	}
+	len = append_digest(text, len - PLAN_DIGEST_LINE_MAX);
 	st = popc_write_file_atomic(path, text, len, err);
 	free(text);
 	if (st)
@@ -172,6 +270,12 @@ int popc_sweep_plan_from_dir(popc_sweep_plan *p, const char *dir, popc_error *er
 	memset(p, 0, sizeof *p);
 	char path[POPC_PATH_MAX + 32];
 	snprintf(path, sizeof path, "%s/sweep.plan", dir);
+	struct stat sb;
+	if (stat(path, &sb) == 0 && !S_ISREG(sb.st_mode))
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: not a plan file (a %s stands there): is %s a popc sweep "
+				      "directory?",
+				      path, S_ISDIR(sb.st_mode) ? "directory" : "non-regular file", dir);
 	char *text;
 	size_t len;
 	int st = popc_sweep_read_file(path, &text, &len, err);
@@ -180,6 +284,10 @@ int popc_sweep_plan_from_dir(popc_sweep_plan *p, const char *dir, popc_error *er
 				      path, dir);
 	if (st < 0)
 		return st;
+	if ((st = check_digest(path, text, len, err)) != 0) {
+		free(text);
+		return st;
+	}
 	popc_sweep_axis *axes = NULL;
 	int n_axes = 0, have_id = 0, format = 0;
 	long long runs = -1;

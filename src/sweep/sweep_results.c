@@ -100,6 +100,9 @@ static int load_rows_file(popc_sweep_results *r, const popc_sweep_plan *p, const
 		body = text + k + lc;
 	}
 	int want_cells = popc_sweep_columns_count(p->n_axes);
+	long lineno = 1; /* of the line at body */
+	for (const char *c = text; c < body; c++)
+		lineno += *c == '\n';
 	const char *reason = NULL;
 	int reason_len = 0;
 	long long reason_id = -1;
@@ -144,6 +147,13 @@ static int load_rows_file(popc_sweep_results *r, const popc_sweep_plan *p, const
 				i = popc_sweep_id_parse(p, id);
 			}
 			int ex = cells == want_cells && i >= 0 ? popc_sweep_row_exit_status(p, line) : -1;
+			/* a whole row of a run (a line of another shape is what a
+			 * kill cut, skipped): what it holds must be what a run can
+			 * have made, or the file was edited */
+			popc_error e;
+			if (ex >= 0 && popc_sweep_row_check(p, i, line, (size_t)ll, &e) != 0)
+				return popc_error_set(err, POPC_ERR_INVALID, "%s:%ld: run %s: %s", path, lineno,
+						      id, e.msg);
 			if (ex >= 0) {
 				int has_reason = reason_id == i;
 				offer(r, i, line, ll + 1, ex, has_reason ? reason : NULL,
@@ -152,6 +162,7 @@ static int load_rows_file(popc_sweep_results *r, const popc_sweep_plan *p, const
 			reason_id = -1;
 		}
 		line = nl + 1;
+		lineno++;
 	}
 	return 0;
 }
@@ -228,6 +239,9 @@ static int load_run_csv(popc_sweep_results *r, const popc_sweep_plan *p, const c
 	}
 	text[end] = '\0';
 	const char *row = text + start;
+	long row_line = 1;
+	for (const char *c = text; c < row; c++)
+		row_line += *c == '\n';
 	double wall = popc_sweep_run_csv_wall_time_s(text, row);
 	int ex = popc_status_exit_code(status);
 	/* the chatter columns: from the run's log, as the in-process run
@@ -245,6 +259,12 @@ static int load_run_csv(popc_sweep_results *r, const popc_sweep_plan *p, const c
 		free(out);
 		return out ? popc_error_set(err, POPC_ERR_INVALID, "%s: %s", path, e.msg)
 			   : popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+	}
+	/* the run summary's cells, as the run wrote them (or an edit) */
+	if (popc_sweep_row_check(p, i, out, (size_t)n - 1, &e) != 0) {
+		free(out);
+		strcpy(path + strlen(path) - strlen("log.csv"), "run.csv");
+		return popc_error_set(err, POPC_ERR_INVALID, "%s:%ld: %s", path, row_line, e.msg);
 	}
 	popc_sweep_file_view kept = {.text = out, .len = (size_t)n, .buf = out};
 	st = keep_text(r, &kept, err);

@@ -295,6 +295,49 @@ int popc_sweep_row_of_run(const popc_sweep_plan *p, long long i, int exit_status
 	return make_row(p, i, &in, buf, cap, err);
 }
 
+int popc_sweep_row_check(const popc_sweep_plan *p, long long i, const char *row, size_t len,
+			 popc_error *err)
+{
+	int idx[POPC_SWEEP_AXES_MAX];
+	popc_sweep_run_values(p, i, idx);
+	const char *cell = row, *end = row + len;
+	int c = 0;
+	for (int k = 0; k < popc_sweep_n_columns; k++) {
+		const popc_sweep_column *col = &popc_sweep_columns[k];
+		int n = col->source == POPC_SWEEP_CELL_AXES ? p->n_axes : 1;
+		for (int a = 0; a < n; a++, c++) {
+			if (cell > end)
+				return popc_error_set(err, POPC_ERR_INVALID, "%d cells, a row has %d", c,
+						      popc_sweep_columns_count(p->n_axes));
+			const char *stop = memchr(cell, ',', (size_t)(end - cell));
+			if (!stop)
+				stop = end;
+			size_t cl = (size_t)(stop - cell);
+			if (col->source == POPC_SWEEP_CELL_AXES) {
+				const char *v = p->axes[a].values[idx[a]];
+				if (strlen(v) != cl || memcmp(v, cell, cl) != 0)
+					return popc_error_set(err, POPC_ERR_INVALID,
+							      "column %s.%s: '%.*s', but the plan's value "
+							      "of this run is '%s'",
+							      p->axes[a].section, p->axes[a].key,
+							      (int)(cl > 64 ? 64 : cl), cell, v);
+			} else if (col->source != POPC_SWEEP_CELL_RUN_ID && cl > 0) {
+				double v;
+				if (popc_parse_double_exact(cell, stop, &v) != POPC_PARSE_OK)
+					return popc_error_set(err, POPC_ERR_INVALID,
+							      "column %s: '%.*s' is not a finite number "
+							      "(decimal, no nan or inf)",
+							      col->name, (int)(cl > 64 ? 64 : cl), cell);
+			}
+			cell = stop + 1;
+		}
+	}
+	if (cell <= end)
+		return popc_error_set(err, POPC_ERR_INVALID, "more cells than a row's %d",
+				      popc_sweep_columns_count(p->n_axes));
+	return 0;
+}
+
 int popc_sweep_row_exit_status(const popc_sweep_plan *p, const char *row)
 {
 	/* cell c found by its commas, the row not split: the parent reads

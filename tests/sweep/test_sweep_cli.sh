@@ -266,8 +266,22 @@ BUILD_ID=$("$POPC" --version | sed -n 's/^popc \([^ ]*\) (build \(.*\))$/\2/p')
 check "popc --version names version and build ('$VERSION', '$BUILD_ID')" test -n "$VERSION" -a -n "$BUILD_ID"
 check "  the plan records the version" grep -qx "popc_version = $VERSION" "$T/s/sweep.plan"
 check "  the plan records the build" grep -qx "popc_build = $BUILD_ID" "$T/s/sweep.plan"
+# resign PLAN: the plan's digest line made again after an edit, as the popc
+# that made such a plan wrote it (FNV-1a 64 of the lines above it)
+resign() { python3 - "$1" <<'PY'
+import sys
+p = sys.argv[1]
+lines = open(p, 'rb').read().split(b'\n')
+body = b''.join(l + b'\n' for l in lines if l and not l.startswith(b'digest = '))
+h = 0xcbf29ce484222325
+for b in body:
+    h = ((h ^ b) * 0x100000001b3) & 0xffffffffffffffff
+open(p, 'wb').write(body + b'digest = %016x\n' % h)
+PY
+}
 cp -r "$T/s" "$T/ob"
 sed -i 's/^popc_build = .*/popc_build = other-build-1/' "$T/ob/sweep.plan"
+resign "$T/ob/sweep.plan"
 expect_exit 2 "resume of a sweep another build made" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/ob"
 check "  names both builds" err_has "this sweep was made by popc $VERSION (build other-build-1); this is popc $VERSION (build $BUILD_ID)"
 check "  says how to go on" err_has "--allow-other-build"
@@ -281,12 +295,14 @@ check "  the second build noted once" test "$(grep -c also_built_by "$T/ob/sweep
 expect_exit 0 "the same build resumes without the option" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/s" -q
 # a plan of a popc before build ids (no popc_version, popc_build lines)
 cp -r "$T/s" "$T/old"
-sed -i '/^popc_version = /d; /^popc_build = /d' "$T/old/sweep.plan"
+# (nor a digest, which came later still)
+sed -i '/^popc_version = /d; /^popc_build = /d; /^digest = /d' "$T/old/sweep.plan"
 expect_exit 2 "resume of a plan that records no build" "$POPC" sweep "$SCENE" "${VARY[@]}" -o "$T/old"
 check "  says so" err_has "made by a popc that recorded no version or build (before build ids)"
 # merge: shards of two builds
 cp -r "$T/sh2" "$T/sh2o"
 sed -i 's/^popc_build = .*/popc_build = other-build-2/' "$T/sh2o/sweep.plan"
+resign "$T/sh2o/sweep.plan"
 expect_exit 2 "merge of shards of two builds" "$POPC" sweep merge "$T/sh1" "$T/sh2o" "$T/sh3" -o "$T/mo"
 check "  names both builds" err_has "$T/sh1 was made by popc $VERSION (build $BUILD_ID), $T/sh2o by popc $VERSION (build other-build-2)"
 check "  nothing written" test ! -e "$T/mo"

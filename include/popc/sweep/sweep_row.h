@@ -38,6 +38,15 @@ int popc_sweep_row_of_run(const popc_sweep_plan *p, long long i, int exit_status
 			  const popc_chatter_result *chatter, double wall_time_s, char *buf, size_t cap,
 			  popc_error *err);
 
+/* Checks run i's row as read back from a file (a rows file, a --list run's
+ * run.csv made into a row): [row, row + len) without its line end. Its axis
+ * cells must be run i's values in the plan, every other cell but the id
+ * empty or a number of popc's grammar (popc/util/parse.h: no nan, inf, hex
+ * or junk), so that an edited file cannot put into summary.csv what no run
+ * made. Returns 0, or POPC_ERR_INVALID naming the column and the cell. */
+int popc_sweep_row_check(const popc_sweep_plan *p, long long i, const char *row, size_t len,
+			 popc_error *err);
+
 /* Reads the exit_status cell of a sweep row; -1 if the row is malformed. */
 int popc_sweep_row_exit_status(const popc_sweep_plan *p, const char *row);
 
