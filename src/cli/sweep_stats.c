@@ -113,31 +113,68 @@ static int cmp_double(const void *a, const void *b)
 	return (x > y) - (x < y);
 }
 
-/* q(p) of sorted x[0..n-1]: rank h = (n - 1) p, interpolated linearly. */
+/* q(p) of sorted x[0..n-1]: rank h = (n - 1) p, interpolated linearly.
+ * x[lo] + f (x[lo+1] - x[lo]) overflows when the two lie more than the
+ * largest double apart (1.7e308 and -1.7e308: inf, and 0 times it at f = 0
+ * is nan); then the weighted mean (1 - f) x[lo] + f x[lo+1], whose terms
+ * and sum are bounded by the larger magnitude, is taken instead. Every other
+ * case keeps the first form, bit for bit as before. */
 static double quantile(const double *x, int n, double p)
 {
 	double h = (n - 1) * p;
 	int lo = (int)floor(h);
 	if (lo >= n - 1)
 		return x[n - 1];
-	return x[lo] + (h - lo) * (x[lo + 1] - x[lo]);
+	double f = h - lo, d = x[lo + 1] - x[lo];
+	if (f == 0.0)
+		return x[lo];
+	if (isfinite(d))
+		return x[lo] + f * d;
+	return (1.0 - f) * x[lo] + f * x[lo + 1];
 }
 
+/* Splits a NAME,NAME... option in place; an empty item (',,', a ',' at
+ * either end) or a name given twice is refused, naming it. */
 static int split_list(char *text, char **out, int max, const char *opt)
 {
 	int n = 0;
-	for (char *tok = strtok(text, ","); tok; tok = strtok(NULL, ",")) {
+	char *all = strdup(text);
+	for (char *tok = text, *next; tok; tok = next) {
+		next = strchr(tok, ',');
+		if (next)
+			*next++ = '\0';
+		if (!tok[0]) {
+			fprintf(stderr, "popc sweep stats: %s %s: item %d is empty\n", opt,
+				all ? all : "", n + 1);
+			free(all);
+			return -1;
+		}
+		for (int k = 0; k < n; k++)
+			if (strcmp(out[k], tok) == 0) {
+				fprintf(stderr, "popc sweep stats: %s %s: '%s' given twice (items %d and "
+						"%d)\n", opt, all ? all : "", tok, k + 1, n + 1);
+				free(all);
+				return -1;
+			}
 		if (n == max) {
 			fprintf(stderr, "popc sweep stats: %s: at most %d names\n", opt, max);
+			free(all);
 			return -1;
 		}
 		out[n++] = tok;
 	}
-	if (n == 0) {
-		fprintf(stderr, "popc sweep stats: %s: give at least one name\n", opt);
-		return -1;
-	}
+	free(all);
 	return n;
+}
+
+/* A group's value in a markdown table cell: '|' would end the cell. */
+static void put_markdown_cell(const char *v)
+{
+	for (; *v; v++) {
+		if (*v == '|' || *v == '\\')
+			putchar('\\');
+		putchar(*v);
+	}
 }
 
 static void put_number(double v, int shortest)
@@ -240,10 +277,16 @@ int popc_cmd_sweep_stats(int argc, char **argv)
 			if (strcmp(cells[j], metric[i]) == 0)
 				m_col[i] = j;
 	}
+	if (status_col < 0) {
+		fprintf(stderr, "popc sweep stats: %s: no exit_status column: not a sweep summary\n",
+			path);
+		goto out;
+	}
 	for (int i = 0; i < n_by; i++)
-		if (by_col[i] < 0) {
-			fprintf(stderr, "popc sweep stats: --by %s: %s has no such column (the varied "
-					"keys are its columns between 'run' and 'exit_status')\n", by[i], path);
+		if (by_col[i] < 0 || by_col[i] == 0 || by_col[i] >= status_col) {
+			fprintf(stderr, "popc sweep stats: --by %s: %s %s (the varied keys are its "
+					"columns between 'run' and 'exit_status')\n", by[i], path,
+				by_col[i] < 0 ? "has no such column" : "names no varied key there");
 			goto out;
 		}
 	for (int i = 0; i < n_m; i++)
@@ -252,11 +295,6 @@ int popc_cmd_sweep_stats(int argc, char **argv)
 				metric[i], path);
 			goto out;
 		}
-	if (status_col < 0) {
-		fprintf(stderr, "popc sweep stats: %s: no exit_status column: not a sweep summary\n",
-			path);
-		goto out;
-	}
 	while (getline(&line, &cap, f) >= 0) {
 		lineno++;
 		int n = split_csv(line, cells, MAX_CELLS);
@@ -346,8 +384,13 @@ int popc_cmd_sweep_stats(int argc, char **argv)
 		}
 		if (format == 2)
 			printf("| ");
-		for (int i = 0; i < n_by; i++)
-			printf("%s%s", kv[i], format == 1 ? "," : format == 2 ? " | " : "  ");
+		for (int i = 0; i < n_by; i++) {
+			if (format == 2)
+				put_markdown_cell(kv[i]);
+			else
+				fputs(kv[i], stdout);
+			fputs(format == 1 ? "," : format == 2 ? " | " : "  ", stdout);
+		}
 		if (format != 1)
 			printf("%d", gr->n_runs);
 		for (int i = 0; i < n_m; i++) {

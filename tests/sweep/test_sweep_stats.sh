@@ -64,4 +64,44 @@ refuse "a --by column the summary lacks" "no such column" "$W/fake" --by operato
 refuse "a metric that is not one" "not a metric column" "$W/fake" --by controller.variant --metrics wall_time_s
 refuse "no summary" "summary.csv" "$W/none" --by controller.variant
 refuse "a bad format" "text, csv or markdown" "$W/fake" --by controller.variant --format xml
+# --by names varied keys only (the columns between run and exit_status),
+# each once, no empty item (issue 28: all of these were accepted)
+refuse "--by a metric" "--by pc_rms_late: $W/fake/summary.csv names no varied key there" "$W/fake" --metrics pc_rms_late --by pc_rms_late
+refuse "--by run" "--by run: $W/fake/summary.csv names no varied key there" "$W/fake" --metrics pc_rms_late --by run
+refuse "--by exit_status" "--by exit_status: $W/fake/summary.csv names no varied key there" "$W/fake" --metrics pc_rms_late --by exit_status
+refuse "--by a key twice" "--by controller.variant,controller.variant: 'controller.variant' given twice (items 1 and 2)" "$W/fake" --metrics pc_rms_late --by controller.variant,controller.variant
+refuse "--by an empty item" "--by controller.variant,: item 2 is empty" "$W/fake" --metrics pc_rms_late --by controller.variant,
+refuse "--by an empty item inside" "--by ,controller.variant: item 1 is empty" "$W/fake" --metrics pc_rms_late --by ,controller.variant
+refuse "--metrics an empty item" "--metrics pc_rms_late,,chatter_s: item 2 is empty" "$W/fake" --by controller.variant --metrics pc_rms_late,,chatter_s
+
+# values at the ends of the doubles: the interpolation between 1.7e308 and
+# -1.7e308 overflowed (a median of inf, a min of nan); the median of the two
+# is their mean, 0, and min and max are the values themselves; a quartile
+# is the weighted mean 0.75 (-1.7e308) + 0.25 (1.7e308), -8.5e307 within
+# its rounding (an ulp below)
+mkdir -p "$W/big"
+cat >"$W/big/summary.csv" <<'CSV'
+run,controller.variant,exit_status,pc_rms_late,wall_time_s
+0000,a,0,1.7e308,1
+0001,a,0,-1.7e308,1
+0002,b,0,1.7e308,1
+0003,b,0,1.7e308,1
+0004,b,0,-1.7e308,1
+CSV
+"$POPC" sweep stats "$W/big" --by controller.variant --metrics pc_rms_late --format csv >"$W/out" 2>"$W/err" ||
+	fail "stats at the ends of the doubles: $(cat "$W/err")"
+want='controller.variant,metric,n,median,min,q1,q3,max
+a,pc_rms_late,2,0,-1.7e+308,-8.499999999999999e+307,8.499999999999999e+307,1.7e+308
+b,pc_rms_late,3,1.7e+308,-1.7e+308,0,1.7e+308,1.7e+308'
+[ "$(cat "$W/out")" = "$want" ] && ok "1.7e308 and -1.7e308: finite median, min, quartiles" ||
+	fail "at the ends of the doubles: $(cat "$W/out")"
+
+# markdown: a '|' in a value is escaped, so the row keeps its cells
+mkdir -p "$W/pipe"
+printf 'run,operator.table,exit_status,pc_rms_late,wall_time_s\n0000,a|b.csv,0,1,1\n' >"$W/pipe/summary.csv"
+"$POPC" sweep stats "$W/pipe" --by operator.table --metrics pc_rms_late --format markdown >"$W/out" 2>"$W/err" ||
+	fail "markdown with a '|': $(cat "$W/err")"
+grep -qxF '| a\|b.csv | 1 | 1 [1, 1] |' "$W/out" && ok "markdown: '|' in a value escaped" ||
+	fail "markdown: $(cat "$W/out")"
+
 [ "$FAILS" -eq 0 ] || { echo "$FAILS failure(s)" >&2; exit 1; }
