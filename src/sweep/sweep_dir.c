@@ -276,12 +276,20 @@ int popc_sweep_plan_from_dir(popc_sweep_plan *p, const char *dir, popc_error *er
 				      "%s: not a plan file (a %s stands there): is %s a popc sweep "
 				      "directory?",
 				      path, S_ISDIR(sb.st_mode) ? "directory" : "non-regular file", dir);
+	if (stat(path, &sb) != 0 && errno == ENOENT)
+		return popc_error_set(err, POPC_ERR_INVALID, "%s: no such file: is %s a popc sweep directory?",
+				      path, dir);
+	return popc_sweep_plan_read(p, path, err);
+}
+
+int popc_sweep_plan_read(popc_sweep_plan *p, const char *path, popc_error *err)
+{
+	memset(p, 0, sizeof *p);
 	char *text;
 	size_t len;
 	int st = popc_sweep_read_file(path, &text, &len, err);
 	if (st == 0)
-		return popc_error_set(err, POPC_ERR_INVALID, "%s: no such file: is %s a popc sweep directory?",
-				      path, dir);
+		return popc_error_set(err, POPC_ERR_INVALID, "%s: no such file", path);
 	if (st < 0)
 		return st;
 	if ((st = check_digest(path, text, len, err)) != 0) {

@@ -292,6 +292,20 @@ static int load_run_dirs(popc_sweep_results *r, const popc_sweep_plan *p, const 
 	return st;
 }
 
+int popc_sweep_results_load_rows(popc_sweep_results *r, const popc_sweep_plan *p, const char *path,
+				 popc_error *err)
+{
+	memset(r, 0, sizeof *r);
+	r->n = p->n_runs;
+	r->run = calloc((size_t)p->n_runs, sizeof *r->run);
+	if (!r->run)
+		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+	int st = load_rows_file(r, p, path, err);
+	if (st)
+		popc_sweep_results_free(r);
+	return st;
+}
+
 int popc_sweep_results_load(popc_sweep_results *r, const popc_sweep_plan *p,
 			    const char *const *dirs, int n_dirs, int check_run_csv, popc_error *err)
 {

@@ -64,6 +64,10 @@ int popc_sweep_dir_note_build(const popc_sweep_plan *p, const char *dir, popc_er
 /* A plan rebuilt from a sweep directory's plan file (no scene needed): rows
  * can be read and converted, runs cannot be made. */
 int popc_sweep_plan_from_dir(popc_sweep_plan *p, const char *dir, popc_error *err);
+/* The same from a plan file's path (DIR/sweep.plan; the fuzz harness's
+ * memory file): its digest checked, its lines parsed; errors name path and,
+ * for a line, path:line. */
+int popc_sweep_plan_read(popc_sweep_plan *p, const char *path, popc_error *err);
 
 /* Path of run i's directory (DIR/runs/<id>) into buf. */
 int popc_sweep_run_dir(const popc_sweep_plan *p, const char *dir, long long i, char *buf,

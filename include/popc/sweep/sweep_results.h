@@ -34,6 +34,10 @@ typedef struct popc_sweep_results {
 int popc_sweep_results_load(popc_sweep_results *r, const popc_sweep_plan *p,
 			    const char *const *dirs, int n_dirs, int check_run_csv, popc_error *err);
 void popc_sweep_results_free(popc_sweep_results *r);
+/* The results of one rows file, read as popc_sweep_results_load reads each
+ * (the fuzz harness): every whole row checked (popc_sweep_row_check). */
+int popc_sweep_results_load_rows(popc_sweep_results *r, const popc_sweep_plan *p, const char *path,
+				 popc_error *err);
 
 typedef struct popc_sweep_tally {
 	long long planned, ok, failed, missing;
