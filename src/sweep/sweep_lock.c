@@ -2,6 +2,7 @@
 #define _DEFAULT_SOURCE /* flock */
 #include "popc/sweep/sweep_lock.h"
 
+#include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <stdio.h>
@@ -182,6 +183,43 @@ static int inherited(const char *path, int which)
 	return (int)fd;
 }
 
+/* Shards of another count than `count` that run in dir: their lock files
+ * (sweep-shard-I-of-M.lock, M != count) still held. Called under
+ * DIR/sweep-shards.lock, so that no shard takes its lock meanwhile. Returns
+ * 0, or POPC_ERR_BUSY naming the first one found. */
+static int other_counts(const char *dir, long long count, popc_error *err)
+{
+	DIR *d = opendir(dir);
+	if (!d)
+		return popc_error_set(err, POPC_ERR_IO, "%s: %s", dir, strerror(errno));
+	int st = 0;
+	for (struct dirent *e; !st && (e = readdir(d)) != NULL;) {
+		long long i, m;
+		int used = 0;
+		if (sscanf(e->d_name, "sweep-shard-%lld-of-%lld.lock%n", &i, &m, &used) != 2 ||
+		    e->d_name[used] != '\0' || m == count)
+			continue;
+		char path[POPC_PATH_MAX + 300];
+		snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+		int fd = open(path, O_RDONLY | O_CLOEXEC);
+		if (fd < 0)
+			continue;
+		/* a shard holds its file alone: a shared lock is refused while
+		 * it runs, and taken (then dropped) once it has ended */
+		if (try_flock(fd, LOCK_SH) == 1) {
+			char what[POPC_PATH_MAX + 160];
+			snprintf(what, sizeof what,
+				 "%s (shard %lld/%lld runs there; this is a shard of %lld: the shards "
+				 "of one sweep have one count, or they overlap)",
+				 dir, i, m, count);
+			st = busy(path, what, err);
+		}
+		close(fd);
+	}
+	closedir(d);
+	return st;
+}
+
 int popc_sweep_lock_take(const char *dir, const popc_sweep_shard *shard, popc_error *err)
 {
 	char path[POPC_PATH_MAX + 64];
@@ -216,9 +254,38 @@ int popc_sweep_lock_take(const char *dir, const popc_sweep_shard *shard, popc_er
 		snprintf(spath, sizeof spath, "%s/sweep-shard-%lld-of-%lld.lock", dir, shard->index + 1,
 			 shard->count);
 		shard_fd = inherited(spath, 1);
-		if (shard_fd < 0 && (shard_fd = open_lock(spath, err)) < 0) {
-			close(fd);
-			return shard_fd;
+		if (shard_fd < 0) {
+			/* the check of the other counts and the taking of ours as
+			 * one step: two shards of different counts started at once
+			 * must not both find the other absent. Held for a directory
+			 * listing only, so waited for */
+			char mpath[POPC_PATH_MAX + 64];
+			snprintf(mpath, sizeof mpath, "%s/sweep-shards.lock", dir);
+			int mfd = open_lock(mpath, err);
+			if (mfd < 0) {
+				close(fd);
+				return mfd;
+			}
+			while (flock(mfd, LOCK_EX) != 0 && errno == EINTR)
+				;
+			int st = other_counts(dir, shard->count, err);
+			if (!st && (shard_fd = open_lock(spath, err)) < 0)
+				st = shard_fd;
+			if (!st && (r = try_flock(shard_fd, LOCK_EX)) != 0) {
+				int e = errno;
+				close(shard_fd);
+				char what[POPC_PATH_MAX + 64];
+				snprintf(what, sizeof what, "shard %lld/%lld of %s", shard->index + 1,
+					 shard->count, dir);
+				st = r > 0 ? busy(spath, what, err)
+					   : popc_error_set(err, POPC_ERR_IO, "%s: flock: %s", spath,
+							    strerror(e));
+			}
+			close(mfd);
+			if (st) {
+				close(fd);
+				return st;
+			}
 		}
 		r = try_flock(shard_fd, LOCK_EX);
 		if (r != 0) {

@@ -113,6 +113,8 @@ expect_exit 0 "  shard 2/2 into the same directory meanwhile" mid "$POPC" sweep 
 expect_exit 7 "  shard 1/2 again meanwhile" mid "$POPC" sweep "$SCENE" "${MID[@]}" -o "$T/sh" --shard 1/2
 check "  names the shard's lock" err_has "$T/sh/sweep-shard-1-of-2.lock: shard 1/2 of $T/sh is in use"
 expect_exit 7 "  the whole sweep meanwhile" mid "$POPC" sweep "$SCENE" "${MID[@]}" -o "$T/sh"
+expect_exit 7 "  shard 2/3 (another count: it would overlap) meanwhile" mid "$POPC" sweep "$SCENE" "${MID[@]}" -o "$T/sh" --shard 2/3
+check "  names the running shard" err_has "$T/sh/sweep-shard-1-of-2.lock: $T/sh (shard 1/2 runs there; this is a shard of 3"
 go
 check "  shard 1/2 completes (exit $rc)" test "$rc" -eq 0
 expect_exit 0 "  merge" "$POPC" sweep merge "$T/sh"

@@ -9,7 +9,8 @@
  * descriptor) have ended, however they end (SIGKILL included). A shard I/N
  * holds it shared and DIR/sweep-shard-I-of-N.lock exclusively, so that the
  * shards of one sweep (a Slurm array into one DIR) run side by side and the
- * same shard twice does not. The holder writes its pid into the lock file,
+ * same shard twice does not; nor do shards of two counts, which overlap (a
+ * shard looks for the others' files under DIR/sweep-shards.lock). The holder writes its pid into the lock file,
  * which a refused sweep names. Readers (merge, stats) take no lock: they
  * read whole rows (sweep_results.c) and a whole summary.csv (renamed into
  * place).
