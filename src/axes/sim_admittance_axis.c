@@ -28,6 +28,8 @@ typedef struct adm_axis {
 	double x_cmd_m;            /* the position command at the current tick */
 	double period_s, delta_m, tol_s, diverged_m;
 	long long k;               /* index of the current tick */
+	int exact;                 /* the exact method: adm_exchange's fast path */
+	popc_intent_segment seg;   /* the intent segment of the current tick (fast path) */
 } adm_axis;
 
 static int adm_start(popc_axis *a, popc_error *err)
@@ -88,6 +90,15 @@ static int adm_exchange(popc_axis *a, double v_c_mps, popc_axis_sample *next_out
 	const double tk = (double)s->k * s->period_s, t_end = (double)(s->k + 1) * s->period_s;
 	double t = tk;
 	popc_plant_input hand, u;
+	/* the hot path (sim_axis.c's): no breakpoint in the period, the exact
+	 * step inline */
+	if (s->exact && popc_intent_period_input(&s->intent, &s->seg, tk, t_end, s->tol_s, &hand)) {
+		popc_admittance_plant_input(&s->plant, &hand, s->x_cmd_m, v_c_mps, 0.0, &u);
+		popc_plant_step_exact(&s->plant.plant.full, &s->st, &u);
+		s->k++;
+		s->x_cmd_m += v_c_mps * s->period_s;
+		return fill_sample(s, &hand, &u, s->period_s, next_out, err);
+	}
 	int whole = 1;
 	for (;;) {
 		double next;
@@ -113,7 +124,7 @@ static int adm_exchange(popc_axis *a, double v_c_mps, popc_axis_sample *next_out
 	s->k++;
 	/* the command of the next tick starts where this one's ramp ended */
 	s->x_cmd_m += v_c_mps * s->period_s;
-	return fill_sample(s, &hand, &u, t_end - t, next_out, err);
+	return fill_sample(s, &hand, &u, whole ? s->period_s : t_end - t, next_out, err);
 }
 
 static int adm_stop(popc_axis *a, popc_error *err)
@@ -173,6 +184,8 @@ int popc_sim_admittance_axis_create(popc_axis **out, const popc_scene *sc, popc_
 		free(a);
 		return st;
 	}
+	s->exact = pc.method == POPC_INTEGRATOR_EXACT;
+	s->seg.t_lo_s = s->seg.t_next_s = 0.0; /* empty: looked up on the first step */
 	popc_force_sensor_init(&s->sensor, sc->adm_force_resolution_N, sc->adm_force_noise_N,
 			       (uint64_t)sc->adm_force_noise_seed);
 	a->ops = &adm_ops;

@@ -328,9 +328,9 @@ void popc_run_summary_print(const popc_run_summary *sum, const popc_scene *s, FI
 		v[SUMMARY_VSIGN_RATE].real);
 	if (sum->has_admittance)
 		fprintf(f, "  parallel PC active %.4g %% of ticks; v_pc RMS %.4g m/s, max %.4g m/s; late half "
-			"RMS %.4g m/s; chatter %.4g s\n",
+			"RMS %.4g m/s\n",
 			100.0 * sum->adm_active, sum->adm_v_pc_rms_mps, sum->adm_v_pc_max_mps,
-			sum->adm_v_pc_rms_late_mps, sum->adm_chatter_s);
+			sum->adm_v_pc_rms_late_mps);
 	if (sum->has_port_energy)
 		fprintf(f, "  true port energy E_port: final %.4g J; observer error W - E_port: final %.4g J, "
 			"largest |.| %.4g J\n",

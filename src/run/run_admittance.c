@@ -9,7 +9,6 @@
 #include <string.h>
 
 #include "popc/core/admittance.h"
-#include "popc/core/chatter.h"
 #include "popc/core/encoder.h"
 #include "popc/core/sum_squares.h"
 #include "popc/scene/from_scene.h"
@@ -53,15 +52,6 @@ int popc_run_admittance(const popc_scene *s, popc_axis *axis, const popc_run_opt
 	popc_admittance_config_from_scene(&acfg, s);
 	popc_admittance_controller ctl;
 	popc_metrics_init(&sum->metrics, &acfg.env, T, 0.5 * s->duration_s);
-	/* the PC chatter detector on v_pc, its thresholds shares of the bound */
-	popc_chatter *det = malloc(sizeof *det);
-	if (!det)
-		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
-	popc_chatter_config ccfg;
-	popc_chatter_config_defaults(&ccfg);
-	ccfg.resolution_m = s->enc_resolution_m;
-	ccfg.pc_bound_N = s->adm_pc_velocity_bound_mps;
-	int det_ok = popc_chatter_init(det, &ccfg, T, &acfg.env, NULL) == 0;
 	adm_stats stats;
 	memset(&stats, 0, sizeof stats);
 
@@ -85,8 +75,7 @@ int popc_run_admittance(const popc_scene *s, popc_axis *axis, const popc_run_opt
 			why = "signal";
 			break;
 		}
-		popc_log_row row;
-		memset(&row, 0, sizeof row);
+		popc_log_row row; /* every cell an admittance log has is set below */
 		popc_admittance_step(&ctl, smp.force_count, &row.adm);
 		/* the columns every log has, in their admittance meaning
 		 * (docs/ADMITTANCE.md, "The log"): v the velocity command, f_e the
@@ -97,19 +86,23 @@ int popc_run_admittance(const popc_scene *s, popc_axis *axis, const popc_run_opt
 		row.tick.x_m = popc_encoder_position(smp.count, s->enc_resolution_m);
 		row.tick.v_mps = row.adm.v_c_mps;
 		row.tick.f_e_N = row.adm.f_env_N;
+		row.tick.f_pc_N = 0.0;
+		row.tick.f_c_N = 0.0;
+		row.tick.E_ref_J = 0.0;
 		row.tick.W_J = row.adm.W_J;
 		row.tick.flags = row.adm.flags;
 		row.x_true_m = smp.x_true_m;
 		row.x_cmd_m = smp.x_cmd_m;
 		popc_metrics_add(&sum->metrics, &row.tick);
 		stats_add(&stats, row.adm.v_pc_mps, row.tick.t_s >= sum->metrics.late_from_s);
-		if (det_ok || (opt && opt->on_tick)) {
+		if (opt && opt->on_tick) {
+			/* a streaming analysis (the chatter detector of a sweep or a
+			 * test) sees the PC's output v_pc in the place of f_pc: the
+			 * detector's thresholds are shares of the PC's bound, which
+			 * the caller gives as admittance.pc_velocity_bound */
 			popc_tick pc = row.tick;
-			pc.f_pc_N = row.adm.v_pc_mps; /* the PC's output, for the detector */
-			if (det_ok)
-				popc_chatter_add(det, &pc);
-			if (opt && opt->on_tick)
-				opt->on_tick(opt->tick_user, &pc);
+			pc.f_pc_N = row.adm.v_pc_mps;
+			opt->on_tick(opt->tick_user, &pc);
 		}
 		if (log && (st = popc_log_write_row(log, &row, err)) != 0) {
 			why = "log write failed";
@@ -139,12 +132,6 @@ int popc_run_admittance(const popc_scene *s, popc_axis *axis, const popc_run_opt
 	sum->adm_v_pc_rms_late_mps =
 		stats.ticks_late ? popc_sum_squares_rms(&stats.sq_late, (double)stats.ticks_late) : 0.0;
 	sum->adm_v_pc_max_mps = stats.max_mps;
-	if (det_ok) {
-		popc_chatter_result res;
-		popc_chatter_finish(det, &res);
-		sum->adm_chatter_s = res.chatter_s;
-	}
-	free(det);
 	if (st && err)
 		snprintf(sum->stop_reason, sizeof sum->stop_reason, "%s: %s", why, err->msg);
 	else

@@ -33,12 +33,10 @@ typedef struct popc_run_summary {
 	int has_device_energy;
 	double device_energy_J, device_energy_min_J;
 	/* admittance causality (has_admittance): the parallel PC's velocity
-	 * v_pc over the run and its second half, and the PC chatter detector's
-	 * verdict on it (chatter.h fed v_pc for f_pc and the velocity bound for
-	 * the PC bound: its thresholds are shares of the bound) */
+	 * v_pc over the run and its second half (the chatter detector sees it
+	 * through on_tick: run_admittance.c) */
 	int has_admittance;
 	double adm_active, adm_v_pc_rms_mps, adm_v_pc_max_mps, adm_v_pc_rms_late_mps;
-	double adm_chatter_s;         /* time in chatter intervals */
 	int status;                   /* 0 or the popc_status that stopped the run */
 	char stop_reason[POPC_ERROR_MSG_MAX + 64];
 } popc_run_summary;
