@@ -215,8 +215,11 @@ typedef struct ana_row {
 	int pc_force_known, w_known;       /* the ana_log's has_pc_force, has_w */
 	long long line;                    /* the row's line in the file, for messages */
 	double extra[ANA_MAX_EXTRA];       /* ana_input_options.extra_name's cells; NAN: absent */
-	int has_adm;                       /* an admittance log: adm's n, f, v_ve, v_pc read */
-	popc_admittance_tick adm;
+	/* an admittance log (has_adm): the force count and reading, the VE's
+	 * and the PC's velocities (docs/ADMITTANCE.md) */
+	int has_adm;
+	long long adm_n;
+	double adm_f_N, adm_v_ve_mps, adm_v_pc_mps;
 } ana_row;
 
 /* Opens a log: reader, scene (defaults, header, --set; validated), columns.

@@ -164,8 +164,8 @@ static int energy_admittance(ana_log *l, const char *path, ana_format fmt, int c
 	int st;
 	while ((st = ana_log_next(l, &row, &err)) == 1) {
 		popc_admittance_observation ob;
-		popc_admittance_observer_update(&o, row.adm.n, row.adm.f_N, row.adm.v_ve_mps, T, &ob);
-		popc_admittance_observer_commit(&o, row.adm.f_N, row.adm.v_pc_mps, T);
+		popc_admittance_observer_update(&o, row.adm_n, row.adm_f_N, row.adm_v_ve_mps, T, &ob);
+		popc_admittance_observer_commit(&o, row.adm_f_N, row.adm_v_pc_mps, T);
 		if (!isfinite(o.W_J)) {
 			st = popc_error_set(&err, POPC_ERR_INVALID,
 					    "%s:%lld: the admittance W overflows a double here", path,

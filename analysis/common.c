@@ -743,10 +743,10 @@ int ana_log_next(ana_log *l, ana_row *out, popc_error *err)
 	/* an admittance log's own cells (docs/ADMITTANCE.md), for energy */
 	if (l->c_f_count >= 0 && l->c_f_meas >= 0 && l->c_v_ve >= 0 && l->c_v_pc >= 0) {
 		out->has_adm = 1;
-		out->adm.n = (long long)row[l->c_f_count];
-		out->adm.f_N = row[l->c_f_meas];
-		out->adm.v_ve_mps = row[l->c_v_ve];
-		out->adm.v_pc_mps = row[l->c_v_pc];
+		out->adm_n = (long long)row[l->c_f_count];
+		out->adm_f_N = row[l->c_f_meas];
+		out->adm_v_ve_mps = row[l->c_v_ve];
+		out->adm_v_pc_mps = row[l->c_v_pc];
 	}
 	out->E_ref_logged_J = l->c_E_ref >= 0 ? row[l->c_E_ref] : (double)NAN;
 	if (l->c_W >= 0 && l->c_E_ref >= 0) {
