@@ -139,6 +139,75 @@ static void step(energy_state *s, const ana_log *l, const ana_row *row)
 	popc_observer_commit(&s->obs, &ob, t->f_e_N, t->f_c_N);
 }
 
+/* An admittance log (docs/ADMITTANCE.md): W recomputed from the force count
+ * and reading, the VE's velocity and the PC's with the observer that ran
+ * online (popc_admittance_observer_*, the same code), each row's W against
+ * the logged one bit for bit. Takes over l (closes it). */
+static int energy_admittance(ana_log *l, const char *path, ana_format fmt, int check,
+			     int *check_failed)
+{
+	popc_error err;
+	if (l->c_f_count < 0 || l->c_f_meas < 0 || l->c_v_ve < 0 || l->c_v_pc < 0 || l->c_W < 0) {
+		ana_log_close(l);
+		fprintf(stderr,
+			"popc-analyze energy: %s: device.causality = admittance needs the columns "
+			"f_count, f_meas, v_ve, v_pc and W\n",
+			path);
+		return 2;
+	}
+	popc_admittance_observer o;
+	popc_admittance_observer_init(&o, l->scene.adm_variant);
+	const double T = l->period_s;
+	long long rows = 0, mismatches = 0;
+	double max_dW = 0.0, W_min = 0.0;
+	ana_row row;
+	int st;
+	while ((st = ana_log_next(l, &row, &err)) == 1) {
+		popc_admittance_observation ob;
+		popc_admittance_observer_update(&o, row.adm_n, row.adm_f_N, row.adm_v_ve_mps, T, &ob);
+		popc_admittance_observer_commit(&o, row.adm_f_N, row.adm_v_pc_mps, T);
+		if (!isfinite(o.W_J)) {
+			st = popc_error_set(&err, POPC_ERR_INVALID,
+					    "%s:%lld: the admittance W overflows a double here", path,
+					    row.line);
+			break;
+		}
+		if (o.W_J < W_min)
+			W_min = o.W_J;
+		double dW = fabs(o.W_J - row.W_logged_J);
+		if (dW > max_dW)
+			max_dW = dW;
+		if (!same_bits(o.W_J, row.W_logged_J))
+			mismatches++;
+		rows++;
+	}
+	char lname[sizeof l->name];
+	snprintf(lname, sizeof lname, "%s", l->name);
+	ana_log_close(l);
+	if (st < 0)
+		return ana_fail("energy", st, &err);
+	char name[64];
+	snprintf(name, sizeof name, "online=%s", popc_admittance_variant_name(o.variant));
+	if (fmt == ANA_CSV) {
+		ana_put_csv_text(stdout, lname);
+		printf(",%s,%lld,", name, rows);
+		ana_put_double(stdout, o.W_J);
+		fputs(",0.0,", stdout);
+		ana_put_double(stdout, o.W_J);
+		putchar(',');
+		ana_put_double(stdout, W_min);
+		putchar(',');
+		ana_put_double(stdout, max_dW);
+		printf(",0.0,%lld\n", mismatches);
+	} else {
+		printf("%-24s %-20s W_end %11.4e  min %11.4e  max|dW| %.3g  rows differing %lld\n",
+		       lname, name, o.W_J, W_min, max_dW, mismatches);
+	}
+	if (check && mismatches)
+		*check_failed = 1;
+	return 0;
+}
+
 static int energy_one(const char *path, const ana_input_options *in, const int *want_in,
 		      int n_want_in, int observers_given, ana_format fmt, const char *out_path,
 		      int check, int *check_failed)
@@ -148,6 +217,13 @@ static int energy_one(const char *path, const ana_input_options *in, const int *
 	int st = ana_log_open(&l, path, in, &err);
 	if (st)
 		return ana_fail("energy", st, &err);
+	if (l.scene.causality == POPC_CAUSALITY_ADMITTANCE) {
+		if (out_path || observers_given)
+			fprintf(stderr, "popc-analyze energy: note: %s: an admittance log: the online "
+					"observer only, no -o (docs/ADMITTANCE.md)\n",
+				path);
+		return energy_admittance(&l, path, fmt, check, check_failed);
+	}
 	int want[DEF_COUNT], n_want = 0;
 	const int uneven = in->allow_uneven && l.period_from_time; /* steps not checked */
 	if (uneven && l.c_f_e < 0 && l.c_v < 0 && l.env.damping_Nspm != 0.0) {

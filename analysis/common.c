@@ -740,6 +740,14 @@ int ana_log_next(ana_log *l, ana_row *out, popc_error *err)
 		t->f_pc_N = l->c_f_c >= 0 ? row[l->c_f_c] - t->f_e_N : 0.0;
 	t->f_c_N = l->c_f_c >= 0 ? row[l->c_f_c] : t->f_e_N + t->f_pc_N;
 	out->W_logged_J = l->c_W >= 0 ? row[l->c_W] : (double)NAN;
+	/* an admittance log's own cells (docs/ADMITTANCE.md), for energy */
+	if (l->c_f_count >= 0 && l->c_f_meas >= 0 && l->c_v_ve >= 0 && l->c_v_pc >= 0) {
+		out->has_adm = 1;
+		out->adm_n = (long long)row[l->c_f_count];
+		out->adm_f_N = row[l->c_f_meas];
+		out->adm_v_ve_mps = row[l->c_v_ve];
+		out->adm_v_pc_mps = row[l->c_v_pc];
+	}
 	out->E_ref_logged_J = l->c_E_ref >= 0 ? row[l->c_E_ref] : (double)NAN;
 	if (l->c_W >= 0 && l->c_E_ref >= 0) {
 		t->W_J = row[l->c_W];

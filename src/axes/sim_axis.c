@@ -648,6 +648,8 @@ static int sim_kind_create(popc_axis **out, const popc_scene *s,
 			   const popc_axis_create_options *opt, popc_error *err)
 {
 	(void)opt; /* pacing and notes are a real axis' */
+	if (s->causality == POPC_CAUSALITY_ADMITTANCE)
+		return popc_sim_admittance_axis_create(out, s, err);
 	return popc_sim_axis_create(out, s, err);
 }
 

@@ -10,6 +10,7 @@
 #include "bench_floor.h"
 #include "cli.h"
 #include "popc/core/plant.h"
+#include "popc/run/run.h"
 #include "popc/scene/from_scene.h"
 
 /* Plant step alone, ns per control period (constant input). */
@@ -43,8 +44,69 @@ static double plant_ns(const popc_scene *s0, popc_integrator m, int substeps, co
 	return best;
 }
 
+/* One closed-loop run of s through the axis factory (either causality), no
+ * log: this thread's CPU time and the ticks run. */
+static int causality_run(const popc_scene *s, double *cpu_s, long long *ticks, popc_error *err)
+{
+	popc_axis *ax;
+	int st = popc_axis_create(&ax, s, NULL, err);
+	if (st)
+		return st;
+	if (ax->ops->set_shadow)
+		ax->ops->set_shadow(ax, 0);
+	popc_run_summary sum;
+	double c0 = popc_thread_cpu_s();
+	st = popc_run(s, ax, NULL, &sum, err);
+	*cpu_s += popc_thread_cpu_s() - c0;
+	*ticks += sum.ticks;
+	popc_axis_destroy(&ax);
+	return st && sum.ticks < 2 ? st : 0;
+}
+
+/* An admittance scene: its loop side by side with the same scene in
+ * impedance causality (the same plant keys, controller.variant's PC on the
+ * wall of [environment]), the two alternated within each repeat so that a
+ * change of the machine's load reaches both; the fastest of each. */
+static int bench_loop_admittance(const popc_scene *s0, const bench_opts *o)
+{
+	popc_error err;
+	popc_scene adm = *s0, imp = *s0;
+	if (adm.duration_s < 100)
+		adm.duration_s = imp.duration_s = 100;
+	imp.causality = POPC_CAUSALITY_IMPEDANCE;
+	double best_adm = (double)INFINITY, best_imp = (double)INFINITY;
+	for (int r = 0; r < o->repeats; r++) {
+		double ca = 0.0, ci = 0.0;
+		long long ta = 0, ti = 0;
+		int st = 0;
+		do {
+			st = causality_run(&adm, &ca, &ta, &err);
+			if (!st)
+				st = causality_run(&imp, &ci, &ti, &err);
+		} while (!st && (ca < o->min_time_s || ci < o->min_time_s));
+		if (st)
+			return popc_cli_fail("bench", st, &err);
+		best_adm = fmin(best_adm, 1e9 * ca / (double)ta);
+		best_imp = fmin(best_imp, 1e9 * ci / (double)ti);
+	}
+	if (o->csv) {
+		puts("what,admittance,impedance,ratio");
+		printf("loop_ns_per_tick,%.6g,%.6g,%.4g\n", best_adm, best_imp, best_adm / best_imp);
+		return 0;
+	}
+	printf("popc bench loop: %s, admittance against the same scene in impedance causality,\n"
+	       "no log, one core, this thread's CPU time, alternated, fastest of %d\n",
+	       s0->source[0] ? s0->source : "scene", o->repeats);
+	printf("%-34s %14s %16s %8s\n", "", "admittance", "impedance", "ratio");
+	printf("%-34s %14.2f %16.2f %8.2f\n", "control loop, ns per tick", best_adm, best_imp,
+	       best_adm / best_imp);
+	return 0;
+}
+
 int bench_loop(const popc_scene *s0, const bench_opts *o)
 {
+	if (s0->causality == POPC_CAUSALITY_ADMITTANCE)
+		return bench_loop_admittance(s0, o);
 	popc_error err;
 	popc_scene s = *s0;
 	/* long enough that start-up is noise; the summary's ns per tick */

@@ -1,6 +1,7 @@
 /* PO/PC variants (controller.h; DESIGN section 4; seed eq. 3 and Table I). */
 #include "popc/core/controller.h"
 #include "popc/core/compensated.h"
+#include "popc/core/port.h"
 
 #include <math.h>
 #include <string.h>
@@ -73,7 +74,7 @@ static inline void observer_update(popc_observer *o, double x_m, long long count
 		/* seed eq. 2 with the estimated velocity: dW = f_c(k-1) v(k) T */
 		double dxv = v_mps * period_s;
 		obs->dx_m = dxv;
-		o->W_J = popc_compensated_add(&o->W_sum_J, &o->W_comp_J, o->f_c_prev_N * dxv);
+		o->W_J = popc_port_observe(&o->W_sum_J, &o->W_comp_J, o->f_c_prev_N, dxv);
 	} else if (uses_ignore(o->variant) && dcount != 0 && dcount == -o->prev_dcount &&
 		   (dcount == 1 || dcount == -1)) {
 		/* Table I: one-count reversal: W(k) = W(k-1) - Prev_fc Prev_dx */
@@ -81,9 +82,10 @@ static inline void observer_update(popc_observer *o, double x_m, long long count
 		o->W_J = popc_compensated_add(&o->W_sum_J, &o->W_comp_J, -(o->prev_fc_N * o->prev_dx_m));
 		obs->flags |= POPC_FLAG_IGNORE;
 	} else {
-		/* seed eq. 3: W(k) = W(k-1) + f_c(k-1) dx(k) */
+		/* seed eq. 3: W(k) = W(k-1) + f_c(k-1) dx(k), the port's effort
+		 * (held force) times its flow increment (port.h) */
 		obs->dx_m = dx;
-		o->W_J = popc_compensated_add(&o->W_sum_J, &o->W_comp_J, o->f_c_prev_N * dx);
+		o->W_J = popc_port_observe(&o->W_sum_J, &o->W_comp_J, o->f_c_prev_N, dx);
 	}
 	o->x_prev_m = x_m;
 	o->count_prev = count;
@@ -135,12 +137,11 @@ void popc_controller_init(popc_controller *c, const popc_controller_config *cfg)
 }
 
 /* f_pc = (E_ref - W) / dx when the PO is below its threshold; never divides by
- * a zero displacement. */
+ * a zero displacement: the series PC, the port's correction (port.h) in
+ * impedance causality. */
 static double pc_force(double W, double threshold, double dx)
 {
-	if (W < threshold && dx != 0.0)
-		return (threshold - W) / dx;
-	return 0.0;
+	return popc_port_pc(W, threshold, dx);
 }
 
 /* pc-off-reversals (seed Sec. VI: "turn off the PC when the velocity sign

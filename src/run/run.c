@@ -13,9 +13,13 @@
 #include "popc/util/text_builder.h"
 #include "popc/scene/from_scene.h"
 
+#include "run_admittance.h"
+
 int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 	     popc_run_summary *sum, popc_error *err)
 {
+	if (s->causality == POPC_CAUSALITY_ADMITTANCE)
+		return popc_run_admittance(s, axis, opt, sum, err);
 	memset(sum, 0, sizeof *sum);
 	const double T = popc_scene_period_s(s);
 	const long long n_ticks = popc_scene_ticks(s) + 1; /* t = 0, T, ..., duration */
@@ -187,7 +191,7 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
  * DEVICE (REAL where the axis gave the plant's dissipation at every tick,
  * sum->has_device_energy; an empty cell otherwise). */
 #define RUN_SUMMARY_FIELDS(FIELD)                                                                   \
-	FIELD(VARIANT, variant, "", TEXT, popc_variant_name(s->variant), "controller variant")     \
+	FIELD(VARIANT, variant, "", TEXT, popc_run_variant_name(s), "controller variant")          \
 	FIELD(INTEGRATOR, integrator, "", TEXT, popc_integrator_name(sum->integrator),              \
 	      "plant integrator")                                                                   \
 	FIELD(SUBSTEPS, substeps, "", INT, sum->substeps, "integrator substeps per tick")           \
@@ -294,6 +298,12 @@ static void summary_values(const popc_run_summary *sum, const popc_scene *s,
 		v[i] = summary_value_of(sum, s, i);
 }
 
+const char *popc_run_variant_name(const popc_scene *s)
+{
+	return s->causality == POPC_CAUSALITY_ADMITTANCE ? popc_admittance_variant_name(s->adm_variant)
+							 : popc_variant_name(s->variant);
+}
+
 void popc_run_summary_print(const popc_run_summary *sum, const popc_scene *s, FILE *f)
 {
 	summary_value v[SUMMARY_N_FIELDS];
@@ -316,6 +326,11 @@ void popc_run_summary_print(const popc_run_summary *sum, const popc_scene *s, FI
 	fprintf(f, "  W - E_ref: final %.4g J, minimum %.4g J; velocity sign changes in contact %.4g /s\n",
 		v[SUMMARY_W_MINUS_EREF_END].real, v[SUMMARY_W_MINUS_EREF_MIN].real,
 		v[SUMMARY_VSIGN_RATE].real);
+	if (sum->has_admittance)
+		fprintf(f, "  parallel PC active %.4g %% of ticks; v_pc RMS %.4g m/s, max %.4g m/s; late half "
+			"RMS %.4g m/s\n",
+			100.0 * sum->adm_active, sum->adm_v_pc_rms_mps, sum->adm_v_pc_max_mps,
+			sum->adm_v_pc_rms_late_mps);
 	if (sum->has_port_energy)
 		fprintf(f, "  true port energy E_port: final %.4g J; observer error W - E_port: final %.4g J, "
 			"largest |.| %.4g J\n",

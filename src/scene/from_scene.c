@@ -56,6 +56,38 @@ void popc_controller_config_from_scene(popc_controller_config *c, const popc_sce
 	popc_environment_from_scene(&c->env, s);
 }
 
+void popc_admittance_config_from_scene(popc_admittance_config *c, const popc_scene *s)
+{
+	memset(c, 0, sizeof *c);
+	c->variant = s->adm_variant;
+	c->period_s = popc_scene_period_s(s);
+	c->force_resolution_N = s->adm_force_resolution_N;
+	c->virtual_mass_kg = s->adm_virtual_mass_kg;
+	c->virtual_damping_Nspm = s->adm_virtual_damping_Nspm;
+	c->pc_velocity_bound_mps = s->adm_pc_velocity_bound_mps;
+	popc_environment_from_scene(&c->env, s);
+}
+
+void popc_admittance_plant_config_from_scene(popc_admittance_plant_config *c, const popc_scene *s,
+					     double x_origin_m)
+{
+	memset(c, 0, sizeof *c);
+	c->hand_mass_kg = s->op_mass_kg;
+	c->hand_damping_Nspm = s->op_damping_Nspm;
+	c->hand_stiffness_Npm = s->op_stiffness_Npm;
+	c->dev_mass_kg = s->dev_mass_kg;
+	c->dev_damping_Nspm = s->dev_damping_Nspm;
+	c->dev_stiffness_Npm = s->dev_stiffness_Npm;
+	c->servo = s->adm_servo;
+	c->servo_stiffness_Npm = s->adm_servo_stiffness_Npm;
+	c->servo_damping_Nspm = s->adm_servo_damping_Nspm;
+	c->omega_radps = s->intent == POPC_INTENT_SINE ? POPC_TWO_PI * s->op_frequency_Hz : 0.0;
+	c->method = s->integrator;
+	c->substeps = s->substeps;
+	c->period_s = popc_scene_period_s(s);
+	c->x_origin_m = x_origin_m;
+}
+
 static const char *skip_blanks(const char *p)
 {
 	while (*p == ' ' || *p == '\t')

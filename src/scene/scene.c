@@ -32,16 +32,21 @@ typedef struct scene_key {
 	const char *def;          /* the default, as a scene file spells it (set_key reads it) */
 	int declared_only;        /* physics modelled only when declared: written (resolved
 				   * scene, log header) only when not 0, so that a scene
-				   * without it keeps its bytes */
+				   * without it keeps its bytes; ADMITTANCE_ONLY: only in a
+				   * scene with device.causality = admittance */
 } scene_key;
 
 static const char *const axis_names[] = {"sim", "modbus", NULL};
+
+#define ADMITTANCE_ONLY 2
 
 #define OFF(field) offsetof(popc_scene, field)
 #define NUM(sec, k, field, def, lo, hi, open, unit, help) \
 	{sec, k, KEY_DOUBLE, OFF(field), lo, hi, open, unit, NULL, help, def, 0}
 #define NUM_DECLARED(sec, k, field, lo, hi, unit, help) \
 	{sec, k, KEY_DOUBLE, OFF(field), lo, hi, 0, unit, NULL, help, "0", 1}
+#define NUM_ADM(k, field, def, lo, hi, open, unit, help) \
+	{"admittance", k, KEY_DOUBLE, OFF(field), lo, hi, open, unit, NULL, help, def, ADMITTANCE_ONLY}
 
 static const scene_key scene_keys[] = {
 	NUM("run", "duration", duration_s, "5", 0, 1e7, 1, "s", "simulated time"),
@@ -75,6 +80,9 @@ static const scene_key scene_keys[] = {
 		     "Coulomb friction F_c: -F_c sign(v) while sliding (0: none)"),
 	NUM_DECLARED("device", "stiction", dev_stiction_N, 0, 1e6, "N",
 		     "static friction F_s >= F_c: at v = 0 stuck while |net force| <= F_s (0: = F_c)"),
+	{"device", "causality", KEY_ENUM, OFF(causality), 0, 0, 0, "", popc_causality_names,
+	 "impedance (motion in, force out) or admittance (force in, motion out; [admittance], "
+	 "docs/ADMITTANCE.md)", "impedance", 1},
 
 	{"environment", "kind", KEY_ENUM, OFF(env_kind), 0, 0, 0, "", popc_environment_kind_names,
 	 "unilateral wall or bilateral spring", "wall", 0},
@@ -103,6 +111,28 @@ static const scene_key scene_keys[] = {
 	    "windowed-po: no PC below this measured speed |dx| / T"),
 	NUM("controller", "po_damping_max", po_damping_max_Nspm, "8", 0, 1e9, 0, "N s/m",
 	    "windowed-po: bound on the PC's damping |f_pc| / |v|"),
+
+	{"admittance", "variant", KEY_ENUM, OFF(adm_variant), 0, 0, 0, "",
+	 popc_admittance_variant_names, "parallel PC variant (docs/ADMITTANCE.md)", "parallel-pc",
+	 ADMITTANCE_ONLY},
+	NUM_ADM("virtual_mass", adm_virtual_mass_kg, "0.5", 0, 1e3, 0, "kg",
+		"VE mass m_v (0: a damper, then virtual_damping > 0)"),
+	NUM_ADM("virtual_damping", adm_virtual_damping_Nspm, "2", 0, 1e6, 0, "N s/m", "VE damping b_v"),
+	NUM_ADM("pc_velocity_bound", adm_pc_velocity_bound_mps, "0.5", 0, 1e3, 1, "m/s",
+		"bound on the parallel PC's |v_pc|"),
+	{"admittance", "servo", KEY_ENUM, OFF(adm_servo), 0, 0, 0, "", popc_servo_kind_names,
+	 "the device's inner loop: position (K_p, K_v) or velocity (K_v) servo", "position",
+	 ADMITTANCE_ONLY},
+	NUM_ADM("servo_stiffness", adm_servo_stiffness_Npm, "3000", 0, 1e9, 0, "N/m",
+		"position servo gain K_p"),
+	NUM_ADM("servo_damping", adm_servo_damping_Nspm, "40", 0, 1e6, 0, "N s/m",
+		"servo velocity gain K_v"),
+	NUM_ADM("force_resolution", adm_force_resolution_N, "0.01", 0, 1e3, 1, "N",
+		"force sensor resolution r, N per count: f = r round(f_s / r)"),
+	NUM_ADM("force_noise", adm_force_noise_N, "0", 0, 1e3, 0, "N",
+		"standard deviation of the sensor's Gaussian noise (0: none)"),
+	{"admittance", "force_noise_seed", KEY_INT, OFF(adm_force_noise_seed), 0, 2147483647.0, 0, "",
+	 NULL, "seed of the sensor noise (splitmix64)", "1", ADMITTANCE_ONLY},
 
 	{"integrator", "method", KEY_ENUM, OFF(integrator), 0, 0, 0, "", popc_integrator_names,
 	 "plant integration", "exact", 0},
@@ -299,7 +329,7 @@ static int unknown_key(const char *section, const char *key, int section_known, 
 	if (!section_known)
 		return popc_error_set(err, POPC_ERR_INVALID,
 				      "%sunknown section [%s]; sections are run, operator, device, "
-				      "environment, encoder, controller, integrator, axis",
+				      "environment, encoder, controller, admittance, integrator, axis",
 				      where, section);
 	char keys[512];
 	size_t len = 0;
@@ -662,6 +692,45 @@ int popc_scene_load(popc_scene *s, const char *path, popc_error *err)
 	return 0;
 }
 
+/* What an admittance scene needs (docs/ADMITTANCE.md): a VE that moves (a
+ * mass, or a damper when massless), a servo that holds the device, and only
+ * what this phase models: the simulated axis, no loop delay, no friction. */
+static int validate_admittance(const popc_scene *s, const char *src, popc_error *err)
+{
+	if (s->adm_virtual_mass_kg == 0.0 && s->adm_virtual_damping_Nspm == 0.0)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: admittance.virtual_mass = 0 kg needs admittance.virtual_damping "
+				      "> 0 N s/m (a massless VE is a damper, v = f / b_v); allowed "
+				      "virtual_mass > 0, or virtual_damping > 0",
+				      src);
+	if (s->adm_servo == POPC_SERVO_POSITION && !(s->adm_servo_stiffness_Npm > 0.0))
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: admittance.servo = position needs admittance.servo_stiffness "
+				      "> 0 N/m (K_p; or admittance.servo = velocity)",
+				      src);
+	if (!(s->adm_servo_damping_Nspm > 0.0) && s->adm_servo == POPC_SERVO_VELOCITY)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: admittance.servo = velocity needs admittance.servo_damping > 0 "
+				      "N s/m (K_v)",
+				      src);
+	if (strcmp(s->axis, "sim") != 0)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: device.causality = admittance needs axis.kind = sim (a drive in "
+				      "position or velocity mode over Modbus is not supported yet)",
+				      src);
+	if (s->delay_ticks != 0)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: device.causality = admittance needs run.delay_ticks = 0 (a "
+				      "delayed velocity command is not modelled yet)",
+				      src);
+	if (s->dev_coulomb_N != 0.0 || s->dev_stiction_N != 0.0)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: device.causality = admittance needs device.coulomb = 0 and "
+				      "device.stiction = 0 (the force sensor model has no friction yet)",
+				      src);
+	return 0;
+}
+
 int popc_scene_validate(const popc_scene *s, popc_error *err)
 {
 	const char *src = s->source[0] ? s->source : "scene";
@@ -697,6 +766,11 @@ int popc_scene_validate(const popc_scene *s, popc_error *err)
 				      "device.stiction >= device.coulomb, or 0 (static friction equal to "
 				      "the Coulomb friction)",
 				      src, s->dev_stiction_N, s->dev_coulomb_N);
+	if (s->causality == POPC_CAUSALITY_ADMITTANCE) {
+		int st = validate_admittance(s, src, err);
+		if (st)
+			return st;
+	}
 	if (strcmp(s->axis, "modbus") == 0 && (!s->axis_map[0] || !s->axis_connect[0]))
 		return popc_error_set(err, POPC_ERR_INVALID,
 				      "%s: axis.kind = modbus needs axis.map and axis.connect", src);
@@ -722,18 +796,35 @@ int popc_scene_validate(const popc_scene *s, popc_error *err)
 
 /* ---- output ------------------------------------------------------------- */
 
+/* Whether the resolved scene writes key k: a declared-only key when it is not
+ * 0 (a number) or not its first name (an enum), an admittance key in an
+ * admittance scene only; every other key always. */
+static int key_written(const popc_scene *s, const scene_key *k)
+{
+	const char *field = (const char *)s + k->offset;
+	if (k->declared_only == ADMITTANCE_ONLY)
+		return s->causality == POPC_CAUSALITY_ADMITTANCE;
+	if (k->declared_only && k->type == KEY_ENUM)
+		return *(const int *)(const void *)field != 0;
+	if (k->declared_only)
+		return *(const double *)(const void *)field != 0.0;
+	return 1;
+}
+
 void popc_scene_write(const popc_scene *s, FILE *f, const char *prefix)
 {
 	const char *section = "";
 	for (size_t i = 0; i < N_KEYS; i++) {
 		const scene_key *k = &scene_keys[i];
+		const char *field = (const char *)s + k->offset;
+		if (!key_written(s, k))
+			continue;
+		/* a section's name before its first written key: [admittance] is
+		 * left out whole from an impedance scene */
 		if (strcmp(section, k->section) != 0) {
 			section = k->section;
 			fprintf(f, "%s[%s]\n", prefix, section);
 		}
-		const char *field = (const char *)s + k->offset;
-		if (k->declared_only && *(const double *)(const void *)field == 0.0)
-			continue;
 		switch (k->type) {
 		case KEY_DOUBLE: {
 			char num[POPC_DOUBLE_TEXT_MAX + 1];

@@ -45,8 +45,15 @@ case_run() { # name, popc run arguments...
 }
 
 variants="none po-pc ref-energy filtered-velocity ignore hold improved pc-off-reversals energy-bounding windowed-po"
+adm_variants="none parallel-pc parallel-ignore parallel-hold parallel-improved"
 for scene in "$SRC"/data/scenes/*.ini; do
 	s=$(basename "$scene" .ini)
+	if grep -q '^causality *= *admittance' "$scene"; then # docs/ADMITTANCE.md
+		for v in $adm_variants; do
+			case_run "$s.$v" "$scene" --set admittance.variant="$v"
+		done
+		continue
+	fi
 	for v in $variants; do
 		case_run "$s.$v" "$scene" --variant "$v"
 	done

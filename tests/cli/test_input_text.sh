@@ -23,7 +23,7 @@ printf '[run]\r\nduration = 0.01\r\n' > "$T/crlf.ini"
 expect_exit 0 "a CRLF scene still runs" "$POPC" run "$T/crlf.ini" -q
 printf '[run]\nduration = 0.01\n[contoller]\n[controller]\nvariant = none\n' > "$T/empty.ini"
 expect_exit 2 "an unknown section without keys (a misspelt [controller])" "$POPC" run "$T/empty.ini"
-check "  named at its line, as one with keys" err_has "popc run: $T/empty.ini:3: unknown section [contoller]; sections are run, operator, device, environment, encoder, controller, integrator, axis"
+check "  named at its line, as one with keys" err_has "popc run: $T/empty.ini:3: unknown section [contoller]; sections are run, operator, device, environment, encoder, controller, admittance, integrator, axis"
 printf '[run]\nduration = 0.01\n[nosuch]\n' > "$T/empty2.ini"
 expect_exit 2 "an unknown section alone at the end" "$POPC" scene show "$T/empty2.ini"
 check "  named" err_has "$T/empty2.ini:3: unknown section [nosuch]"

@@ -60,7 +60,7 @@ static int same_bits(double a, double b)
 /* The column sets an axis can log: every combination of the fill bits. */
 static const unsigned column_sets[] = {
 	POPC_LOG_COL_ALWAYS, POPC_LOG_COL_X_TRUE, POPC_LOG_COL_TIMING,
-	POPC_LOG_COL_X_TRUE | POPC_LOG_COL_TIMING,
+	POPC_LOG_COL_X_TRUE | POPC_LOG_COL_TIMING, POPC_LOG_COL_ADMITTANCE,
 };
 enum { N_SETS = sizeof column_sets / sizeof column_sets[0] };
 
@@ -96,7 +96,8 @@ static void test_column_table(void **state)
 			fail_msg("column %s: a number without a unit", c->name);
 		assert_non_null(c->meaning);
 		assert_true(strlen(c->meaning) > 5);
-		assert_true((c->fill & ~(unsigned)(POPC_LOG_COL_X_TRUE | POPC_LOG_COL_TIMING)) == 0);
+		assert_true((c->fill & ~(unsigned)(POPC_LOG_COL_X_TRUE | POPC_LOG_COL_TIMING |
+					     POPC_LOG_COL_ADMITTANCE)) == 0);
 		/* set then get: the same value, and no other column moved */
 		popc_log_row row;
 		memset(&row, 0, sizeof row);
@@ -125,6 +126,7 @@ static void test_column_names_line(void **state)
 		"t,x,count,x_true,v,f_e,f_pc,f_c,W,E_ref,flags,E_port",
 		"t,x,count,v,f_e,f_pc,f_c,W,E_ref,flags,dt,rtt",
 		"t,x,count,x_true,v,f_e,f_pc,f_c,W,E_ref,flags,E_port,dt,rtt",
+		"t,x,count,v,f_e,f_pc,f_c,W,E_ref,flags,f_count,f_meas,x_cmd,v_ve,v_pc",
 	};
 	for (int k = 0; k < N_SETS; k++) {
 		const unsigned set = column_sets[k];

@@ -5,7 +5,8 @@
  *
  * The runner calls sample() once for tick 0, then exchange() once per tick:
  * it applies the command f_c(k) for the coming period and returns the sample
- * of tick k+1. stop() brings the axis to a safe state (zero force, drive
+ * of tick k+1. An admittance-type axis (device.causality = admittance) takes
+ * the velocity command v_c(k), m/s, in the same place. stop() brings the axis to a safe state (zero force, drive
  * disabled) and is called on every way out. */
 #ifndef POPC_AXIS_H
 #define POPC_AXIS_H
@@ -26,6 +27,11 @@ typedef struct popc_axis_sample {
 	double dissipated_J;
 	double dt_s;          /* measured period before this sample (0 for a simulated axis) */
 	double rtt_s;         /* transaction time of the exchange (0 for a simulated axis) */
+	/* an admittance-type axis (POPC_LOG_COL_ADMITTANCE in its log_columns):
+	 * the force sensor's count, and the position command the servo tracks
+	 * from this tick on (docs/ADMITTANCE.md) */
+	long long force_count;
+	double x_cmd_m;
 } popc_axis_sample;
 
 typedef struct popc_axis popc_axis;

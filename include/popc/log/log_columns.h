@@ -12,7 +12,8 @@
  *   name    the column name in the log, as a C identifier (#name is the text)
  *   unit    SI unit of the cells ("" for a count or a bit set)
  *   fill    which axes write it: ALWAYS, X_TRUE (an axis with a simulated true
- *           position) or TIMING (a real axis' measured period and round trip)
+ *           position), TIMING (a real axis' measured period and round trip)
+ *           or ADMITTANCE (an admittance-type device: docs/ADMITTANCE.md)
  *           -- the POPC_LOG_COL_<fill> bit an axis sets in its log_columns
  *   format  DOUBLE (shortest round-trip text), COUNT (signed integer) or
  *           FLAGS (unsigned bit set, POPC_FLAG_*)
@@ -23,6 +24,7 @@
 
 #include <stddef.h>
 
+#include "popc/core/admittance.h"
 #include "popc/core/controller.h"
 
 #define POPC_LOG_COLUMN_TABLE(COLUMN)                                                                        \
@@ -39,7 +41,12 @@
 	COLUMN(FLAGS,  flags,  "",    ALWAYS, FLAGS,  tick.flags,   "controller events, POPC_FLAG_*")        \
 	COLUMN(E_PORT, E_port, "J",   X_TRUE, DOUBLE, E_port_J,     "true energy into the VE port (ZOH)")    \
 	COLUMN(DT,     dt,     "s",   TIMING, DOUBLE, dt_s,         "measured period of the tick")           \
-	COLUMN(RTT,    rtt,    "s",   TIMING, DOUBLE, rtt_s,        "round trip of the axis transaction")
+	COLUMN(RTT,    rtt,    "s",   TIMING, DOUBLE, rtt_s,        "round trip of the axis transaction")    \
+	COLUMN(F_COUNT, f_count, "",  ADMITTANCE, COUNT, adm.n,      "force sensor count (admittance)")       \
+	COLUMN(F_MEAS, f_meas, "N",   ADMITTANCE, DOUBLE, adm.f_N,  "force reading, count x resolution")     \
+	COLUMN(X_CMD,  x_cmd,  "m",   ADMITTANCE, DOUBLE, x_cmd_m,  "position command the servo tracks")     \
+	COLUMN(V_VE,   v_ve,   "m/s", ADMITTANCE, DOUBLE, adm.v_ve_mps, "velocity of the admittance VE")     \
+	COLUMN(V_PC,   v_pc,   "m/s", ADMITTANCE, DOUBLE, adm.v_pc_mps, "parallel PC velocity, beta f")
 
 /* Which axes fill a column: the bits of an axis' log_columns. A column is
  * written when all its bits are in the log's set (ALWAYS has none). */
@@ -47,6 +54,7 @@ enum popc_log_columns {
 	POPC_LOG_COL_ALWAYS = 0,
 	POPC_LOG_COL_X_TRUE = 1,  /* simulated true position */
 	POPC_LOG_COL_TIMING = 2,  /* dt (measured period) and rtt (Modbus transaction time) */
+	POPC_LOG_COL_ADMITTANCE = 4, /* force count and reading, commanded motion, PC velocity */
 };
 
 typedef enum popc_log_cell_format {
@@ -61,6 +69,9 @@ typedef struct popc_log_row {
 	double x_true_m;
 	double E_port_J;          /* port_energy.h: E_port(k), with x_true_m */
 	double dt_s, rtt_s;
+	/* admittance causality only (POPC_LOG_COL_ADMITTANCE) */
+	popc_admittance_tick adm;
+	double x_cmd_m;
 } popc_log_row;
 
 /* POPC_LOG_COLUMN_T, POPC_LOG_COLUMN_X, ...: a column's index in the table. */

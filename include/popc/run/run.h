@@ -32,6 +32,11 @@ typedef struct popc_run_summary {
 	 * tick and its minimum (0 at t = 0) */
 	int has_device_energy;
 	double device_energy_J, device_energy_min_J;
+	/* admittance causality (has_admittance): the parallel PC's velocity
+	 * v_pc over the run and its second half (the chatter detector sees it
+	 * through on_tick: run_admittance.c) */
+	int has_admittance;
+	double adm_active, adm_v_pc_rms_mps, adm_v_pc_max_mps, adm_v_pc_rms_late_mps;
 	int status;                   /* 0 or the popc_status that stopped the run */
 	char stop_reason[POPC_ERROR_MSG_MAX + 64];
 } popc_run_summary;
@@ -51,6 +56,9 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 	     popc_run_summary *sum, popc_error *err);
 
 /* Human summary (several lines) and one CSV row with its header. */
+/* The variant's name as the log and summary give it: controller.variant, or
+ * admittance.variant in an admittance scene. */
+const char *popc_run_variant_name(const popc_scene *s);
 void popc_run_summary_print(const popc_run_summary *sum, const popc_scene *s, FILE *f);
 void popc_run_summary_csv_header(FILE *f);
 void popc_run_summary_csv_row(const popc_run_summary *sum, const popc_scene *s, FILE *f);

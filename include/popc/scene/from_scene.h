@@ -6,6 +6,8 @@
 
 #include <stddef.h>
 
+#include "popc/core/admittance.h"
+#include "popc/core/admittance_plant.h"
 #include "popc/core/controller.h"
 #include "popc/core/environment.h"
 #include "popc/core/intent.h"
@@ -16,6 +18,12 @@
 void popc_plant_config_from_scene(popc_plant_config *cfg, const popc_scene *s);
 void popc_environment_from_scene(popc_environment *e, const popc_scene *s);
 void popc_controller_config_from_scene(popc_controller_config *c, const popc_scene *s);
+/* Admittance causality (docs/ADMITTANCE.md): the controller (its VE's wall or
+ * spring is the [environment]) and the device with its servo; x_origin_m is
+ * the plant's coordinate origin (the device's initial position). */
+void popc_admittance_config_from_scene(popc_admittance_config *c, const popc_scene *s);
+void popc_admittance_plant_config_from_scene(popc_admittance_plant_config *c, const popc_scene *s,
+					     double x_origin_m);
 
 /* A table intent's points, owned (free with popc_intent_points_free). */
 typedef struct popc_intent_points {

@@ -9,10 +9,13 @@
 
 #include <stdio.h>
 
+#include "popc/core/admittance.h"
+#include "popc/core/admittance_plant.h"
 #include "popc/core/controller.h"
 #include "popc/core/environment.h"
 #include "popc/core/intent.h"
 #include "popc/core/plant.h"
+#include "popc/core/port.h"
 #include "popc/util/error.h"
 
 /* The connection URI notation of axis.connect (popc_modbus_uri), spelt the
@@ -42,6 +45,7 @@ typedef struct popc_scene {
 	/* [device] */
 	double dev_mass_kg, dev_damping_Nspm, dev_stiffness_Npm;
 	double dev_coulomb_N, dev_stiction_N;   /* friction; 0, 0: none (written only when declared) */
+	popc_causality causality;               /* written only when admittance */
 	/* [environment] */
 	popc_environment_kind env_kind;
 	double env_stiffness_Npm, env_damping_Nspm, env_position_m;
@@ -57,6 +61,14 @@ typedef struct popc_scene {
 	int reversal_window;    /* ... within M ticks turn the PC off */
 	int po_window;          /* windowed-po: ticks the PO sums over */
 	double po_velocity_floor_mps, po_damping_max_Nspm; /* windowed-po */
+	/* [admittance]: written only when device.causality = admittance */
+	popc_admittance_variant adm_variant;
+	double adm_virtual_mass_kg, adm_virtual_damping_Nspm;
+	double adm_pc_velocity_bound_mps;
+	popc_servo_kind adm_servo;
+	double adm_servo_stiffness_Npm, adm_servo_damping_Nspm;
+	double adm_force_resolution_N, adm_force_noise_N;
+	int adm_force_noise_seed;
 	/* [integrator] */
 	popc_integrator integrator;
 	int substeps;
