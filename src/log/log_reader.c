@@ -167,6 +167,14 @@ static int column_position(const char *header)
 	return atoi(header + 1);
 }
 
+/* A delimiter or comment mark as the options spell it ('tab', 'space'), in
+ * buf (at least 6 bytes). */
+static const char *char_name(char c, char *buf)
+{
+	snprintf(buf, 6, "%s", c == '\t' ? "tab" : c == ' ' ? "space" : (char[]){c, '\0'});
+	return buf;
+}
+
 static char detect_delimiter(const char *line, int decimal_comma)
 {
 	const char cand[3] = {',', ';', '\t'};
@@ -185,8 +193,11 @@ static char detect_delimiter(const char *line, int decimal_comma)
 
 /* Splits line at the delimiter (runs of blanks for ' '). A cell in double
  * quotes (RFC 4180, as spreadsheets and pandas write text) is the text inside
- * them and may hold the delimiter; "" inside is a quote. Returns the number of
- * cells, or -1 past max. */
+ * them and may hold the delimiter; "" inside is a quote. Blanks around a cell
+ * are no part of it, but under a tab delimiter a tab is no blank: "1\t\t2" is
+ * three cells, the middle one empty (skipped as padding, it would move every
+ * later cell one column left). Returns the number of cells, of which the first
+ * max are stored: more than max is the caller's error, with the count. */
 static int split(char *line, char delim, const char **cs, const char **ce, int max)
 {
 	int n = 0;
@@ -197,18 +208,17 @@ static int split(char *line, char delim, const char **cs, const char **ce, int m
 				p++;
 			if (!*p)
 				return n;
-			if (n == max)
-				return -1;
-			cs[n] = p;
+			if (n < max)
+				cs[n] = p;
 			while (*p && *p != ' ' && *p != '\t')
 				p++;
-			ce[n++] = p;
+			if (n < max)
+				ce[n] = p;
+			n++;
 		}
 	}
 	for (;;) {
-		if (n == max)
-			return -1;
-		while (*p == ' ' || *p == '\t')
+		while (*p == ' ' || (*p == '\t' && delim != '\t'))
 			p++;
 		char *q = NULL;
 		if (*p == '"') {
@@ -224,16 +234,21 @@ static int split(char *line, char delim, const char **cs, const char **ce, int m
 				q = NULL;
 		}
 		char *d;
+		const char *s, *e;
 		if (q) {
-			cs[n] = p + 1;
-			ce[n] = q;
+			s = p + 1;
+			e = q;
 			d = strchr(q + 1, delim);
 		} else { /* unquoted, or a quote never closed (or followed by text):
 			  * the text as it is */
-			cs[n] = p;
+			s = p;
 			d = strchr(p, delim);
-			ce[n] = d ? d : p + strlen(p);
-			popc_trim_blanks(&cs[n], &ce[n]);
+			e = d ? d : p + strlen(p);
+			popc_trim_blanks(&s, &e);
+		}
+		if (n < max) {
+			cs[n] = s;
+			ce[n] = e;
 		}
 		n++;
 		if (!d)
@@ -323,14 +338,32 @@ int popc_log_reader_open(popc_log_reader *r, const char *path, const popc_log_re
 				      path, r->opt.decimal, r->opt.delimiter ? r->opt.delimiter : ',');
 	}
 	r->delimiter = r->opt.delimiter ? r->opt.delimiter : detect_delimiter(line, decimal_comma);
+	/* a comment mark that is also the delimiter makes every row whose first
+	 * cell is empty (",1e-5,0.1") a comment, dropped unseen */
+	if (r->comment == r->delimiter) {
+		char given[64] = "", name[6];
+		if (!r->opt.delimiter)
+			snprintf(given, sizeof given, " (detected from line %lld)", r->lineno);
+		popc_error_set(err, POPC_ERR_INVALID,
+			       "%s: the comment mark '%s'%s is also the delimiter%s: a row whose "
+			       "first cell is empty would read as a comment; give another --comment "
+			       "or --delimiter",
+			       path, char_name(r->comment, name), r->opt.comment ? "" : " (the default)",
+			       given);
+		popc_log_reader_close(r);
+		return POPC_ERR_INVALID;
+	}
 	const char *cs[POPC_LOG_MAX_COLUMNS], *ce[POPC_LOG_MAX_COLUMNS];
 	int n = split(line, r->delimiter, cs, ce, POPC_LOG_MAX_COLUMNS);
-	if (n <= 0) {
+	if (n <= 0 || n > POPC_LOG_MAX_COLUMNS) {
 		popc_log_reader_close(r);
+		if (n > 0)
+			return popc_error_set(err, POPC_ERR_INVALID,
+					      "%s:%lld: %d columns, more than %d", path, r->lineno, n,
+					      POPC_LOG_MAX_COLUMNS);
 		return popc_error_set(err, POPC_ERR_INVALID, "%s:%lld: %s", path, r->lineno,
-				      n < 0 ? "more than 64 columns"
-				      : r->opt.no_header ? "no cells in the first row"
-							 : "no column names");
+				      r->opt.no_header ? "no cells in the first row"
+						       : "no column names");
 	}
 	if (r->opt.no_header) {
 		/* the line is the first row: kept to be returned by the first
@@ -406,6 +439,26 @@ int popc_log_reader_open(popc_log_reader *r, const char *path, const popc_log_re
 			popc_log_reader_close(r);
 			return POPC_ERR_INVALID;
 		}
+	/* a headerless file read without no_header, its columns all mapped by
+	 * position: its first row is taken for the names, which no lookup by
+	 * name needs, and would be lost without a word. A mapping found by a
+	 * number as its name says the line is names (pandas writes 0,1,2). */
+	if (r->names_numeric && r->opt.n_map > 0) {
+		int by_name = 0;
+		for (int i = 0; i < r->opt.n_map; i++)
+			by_name |= column_position(r->opt.map_header[i]) == 0;
+		if (!by_name) {
+			popc_error_set(err, POPC_ERR_INVALID,
+				       "%s:%lld: the first line that is no comment holds only numbers, "
+				       "and every --column maps a position: it would be read as the "
+				       "column names, not as a row (a file without a column names line "
+				       "needs --no-header; if the numbers are the names, map a column "
+				       "by its name, --column x=%s)",
+				       path, r->lineno, r->col_name[r->n_cols > 1 ? 1 : 0]);
+			popc_log_reader_close(r);
+			return POPC_ERR_INVALID;
+		}
+	}
 	/* rows of plain numbers are read in one pass (popc_parse_double_row)
 	 * unless the split needs more than the delimiter: runs of blanks, a
 	 * decimal comma, or a comment mark that could begin a number */
@@ -506,15 +559,13 @@ int popc_log_reader_next(popc_log_reader *r, double *values, popc_error *err)
 	}
 	const char *cs[POPC_LOG_MAX_COLUMNS], *ce[POPC_LOG_MAX_COLUMNS];
 	int n = split(line, r->delimiter, cs, ce, r->n_cols);
-	if (n != r->n_cols) {
-		if (n >= 0 && n < r->n_cols)
-			return popc_error_set(err, POPC_ERR_INVALID,
-					      "%s:%lld: %d cells, expected %d (%s)", r->path, r->lineno,
-					      n, r->n_cols,
-					      complete ? "short row" : "truncated last line");
-		return popc_error_set(err, POPC_ERR_INVALID, "%s:%lld: more than %d cells", r->path,
-				      r->lineno, r->n_cols);
-	}
+	if (n != r->n_cols)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s:%lld: %d cells, expected %d (%s)", r->path, r->lineno, n,
+				      r->n_cols,
+				      n > r->n_cols ? "more cells than columns"
+				      : complete    ? "short row"
+						    : "truncated last line");
 	for (int i = 0; i < n; i++) {
 		if (!r->parse[i]) {
 			values[i] = (double)NAN; /* a column nobody reads: text is fine */
