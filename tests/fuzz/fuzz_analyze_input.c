@@ -110,6 +110,13 @@ static const uint8_t *line_at(const uint8_t *file, size_t size, long long n, siz
 	return p;
 }
 
+/* a broken property: stderr back first, for the report */
+#define FAIL(...)                                                                                  \
+	do {                                                                                       \
+		restore_stderr(saved);                                                             \
+		popc_fuzz_fail(data, size, __VA_ARGS__);                                           \
+	} while (0)
+
 int popc_fuzz_analyze_input(const uint8_t *data, size_t size)
 {
 	const uint8_t *nl = memchr(data, '\n', size);
@@ -134,9 +141,12 @@ int popc_fuzz_analyze_input(const uint8_t *data, size_t size)
 		popc_fuzz_fail(data, size, "--comment '%c' and --delimiter '%c' accepted together",
 			       o.reader.comment, o.reader.delimiter);
 
+	/* the notes of an unfinished log, silenced for every input (not -q's) */
+	int saved = quiet_stderr();
 	char path[64];
 	int fd = popc_fuzz_file(file, file_size, path, sizeof path);
 	if (fd < 0) {
+		restore_stderr(saved);
 		ana_input_free(&o);
 		return 0;
 	}
@@ -147,23 +157,23 @@ int popc_fuzz_analyze_input(const uint8_t *data, size_t size)
 	int st = ana_log_open(&l, path, &o, &err);
 	if (st != 0) {
 		if (strncmp(err.msg, path, strlen(path)) != 0 && strncmp(err.msg, "--set", 5) != 0)
-			popc_fuzz_fail(data, size, "open error without the path: %s", err.msg);
+			FAIL("open error without the path: %s", err.msg);
 		const char *p = err.msg + strlen(path);
 		if (strncmp(err.msg, path, strlen(path)) == 0 && p[0] == ':' && p[1] >= '0' &&
 		    p[1] <= '9' && !popc_fuzz_names_line(err.msg, path, lines, NULL))
-			popc_fuzz_fail(data, size, "open error naming a line not in the file (%lld lines): %s",
+			FAIL("open error naming a line not in the file (%lld lines): %s",
 				       lines, err.msg);
 		goto out;
 	}
 	const popc_log_reader *r = &l.r;
 	if (r->comment == r->delimiter)
-		popc_fuzz_fail(data, size, "comment mark and delimiter both '%c'", r->comment);
+		FAIL("comment mark and delimiter both '%c'", r->comment);
 	if (r->names_numeric && !o.reader.no_header && o.reader.n_map > 0) {
 		int by_name = 0;
 		for (int i = 0; i < o.reader.n_map; i++)
 			by_name |= !is_position(o.reader.map_header[i]);
 		if (!by_name)
-			popc_fuzz_fail(data, size, "a names line of numbers taken with every column by position");
+			FAIL("a names line of numbers taken with every column by position");
 	}
 	/* a popc run log whose time column reads unscaled is checked against its
 	 * rate (a replay log's stamps by their mean, after the last row) */
@@ -179,14 +189,14 @@ int popc_fuzz_analyze_input(const uint8_t *data, size_t size)
 				    t->E_ref_J, row.step_s};
 		for (size_t i = 0; i < sizeof v / sizeof v[0]; i++)
 			if (!isfinite(v[i]))
-				popc_fuzz_fail(data, size, "line %lld: value %zu is %g without an error",
+				FAIL("line %lld: value %zu is %g without an error",
 					       row.line, i, v[i]);
 		if (k > 0 && !(t->t_s > t_prev))
-			popc_fuzz_fail(data, size, "line %lld: time %.17g after %.17g", row.line, t->t_s,
+			FAIL("line %lld: time %.17g after %.17g", row.line, t->t_s,
 				       t_prev);
 		if (run_log && k > 0 &&
 		    !(fabs(t->t_s - t_prev - l.period_s) <= ANA_PERIOD_REL_TOL * l.period_s))
-			popc_fuzz_fail(data, size, "line %lld: a step of %.17g s in a log of period %.17g s",
+			FAIL("line %lld: a step of %.17g s in a log of period %.17g s",
 				       row.line, t->t_s - t_prev, l.period_s);
 		/* under a tab delimiter, a row without quotes has one cell per
 		 * column: n - 1 tabs (an empty cell is one of them) */
@@ -197,7 +207,7 @@ int popc_fuzz_analyze_input(const uint8_t *data, size_t size)
 			for (size_t i = 0; i < len; i++)
 				tabs += text[i] == '\t';
 			if (tabs != r->n_cols - 1)
-				popc_fuzz_fail(data, size, "line %lld: %d tabs read as %d columns", row.line,
+				FAIL("line %lld: %d tabs read as %d columns", row.line,
 					       tabs, r->n_cols);
 		}
 		t_prev = t->t_s;
@@ -206,11 +216,12 @@ int popc_fuzz_analyze_input(const uint8_t *data, size_t size)
 	if (st < 0) {
 		long long line;
 		if (!popc_fuzz_names_line(err.msg, path, lines, &line))
-			popc_fuzz_fail(data, size, "row error not naming a line of the file (%lld lines): %s",
+			FAIL("row error not naming a line of the file (%lld lines): %s",
 				       lines, err.msg);
 	}
 	ana_log_close(&l);
 out:
+	restore_stderr(saved);
 	popc_fuzz_file_close(fd);
 	ana_input_free(&o);
 	return 0;
