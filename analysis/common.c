@@ -437,15 +437,6 @@ static int apply_scale(const ana_log *l, double *row, long long line, popc_error
 	return 0;
 }
 
-/* The line of a header key, or 0. */
-static long long header_line(const popc_log_reader *r, const char *key)
-{
-	for (int i = 0; i < r->n_keys; i++)
-		if (strcmp(r->key[i], key) == 0)
-			return r->key_line[i];
-	return 0;
-}
-
 /* Where a popc log's scene parameter came from, for a message: "run.rate =
  * 500 (header, line 8)", or the last --set that overrode the header. */
 static void fact_source(const ana_log *l, const ana_input_options *o, const char *key, char *buf,
@@ -458,7 +449,8 @@ static void fact_source(const ana_log *l, const ana_input_options *o, const char
 			return;
 		}
 	const char *v = popc_log_reader_header(&l->r, key);
-	snprintf(buf, cap, "%s = %.40s (header, line %lld)", key, v ? v : "", header_line(&l->r, key));
+	snprintf(buf, cap, "%s = %.40s (header, line %lld)", key, v ? v : "",
+		 popc_log_reader_header_line(&l->r, key));
 }
 
 /* A popc log's header states facts its rows can check: popc's run writes t =
@@ -479,8 +471,8 @@ static int header_checks(ana_log *l, const ana_input_options *o, popc_error *err
 		return popc_error_set(err, POPC_ERR_INVALID,
 				      "%s:%lld: header: variant = %s, but controller.variant = %s (line "
 				      "%lld): the header contradicts itself",
-				      r->path, header_line(r, "variant"), variant, cvariant,
-				      header_line(r, "controller.variant"));
+				      r->path, popc_log_reader_header_line(r, "variant"), variant,
+				      cvariant, popc_log_reader_header_line(r, "controller.variant"));
 	const char *source = popc_log_reader_header(r, "source");
 	const int unscaled_t = l->c_t >= 0 && l->scale[l->c_t] == 1.0;
 	if (unscaled_t && !l->period_from_time && !l->allow_uneven) {
@@ -497,7 +489,7 @@ static int header_checks(ana_log *l, const ana_input_options *o, popc_error *err
 	if (variant && strcmp(variant, "none") == 0 && l->c_f_pc >= 0) {
 		l->check_no_pc = 1;
 		snprintf(l->variant_from, sizeof l->variant_from, "variant = none (header, line %lld)",
-			 header_line(r, "variant"));
+			 popc_log_reader_header_line(r, "variant"));
 	}
 	return 0;
 }

@@ -158,8 +158,7 @@ static int blank_or_comment(popc_log_reader *r, const char *line)
 	return 1;
 }
 
-/* A --column HEADER "#N": the position N (1-based), or 0 for a name. */
-static int column_position(const char *header)
+int popc_log_reader_position(const char *header)
 {
 	if (header[0] != '#' || header[1] < '1' || header[1] > '9' ||
 	    header[1 + strspn(header + 1, "0123456789")] != '\0' || strlen(header) > 6)
@@ -421,7 +420,7 @@ int popc_log_reader_open(popc_log_reader *r, const char *path, const popc_log_re
 		if (popc_log_reader_column(r, r->opt.map_name[i]) < 0) {
 			const char *h = r->opt.map_header[i];
 			char hint[200] = "";
-			if (column_position(h) > 0)
+			if (popc_log_reader_position(h) > 0)
 				snprintf(hint, sizeof hint, " (it has %d column%s)", r->n_cols,
 					 r->n_cols == 1 ? "" : "s");
 			else if (h[strspn(h, "0123456789")] == '\0')
@@ -446,7 +445,7 @@ int popc_log_reader_open(popc_log_reader *r, const char *path, const popc_log_re
 	if (r->names_numeric && r->opt.n_map > 0) {
 		int by_name = 0;
 		for (int i = 0; i < r->opt.n_map; i++)
-			by_name |= column_position(r->opt.map_header[i]) == 0;
+			by_name |= popc_log_reader_position(r->opt.map_header[i]) == 0;
 		if (!by_name) {
 			popc_error_set(err, POPC_ERR_INVALID,
 				       "%s:%lld: the first line that is no comment holds only numbers, "
@@ -648,7 +647,7 @@ int popc_log_reader_column(const popc_log_reader *r, const char *name)
 		}
 	if (!header[0])
 		return -1;
-	const int position = mapped ? column_position(header) : 0;
+	const int position = mapped ? popc_log_reader_position(header) : 0;
 	if (position)
 		return position <= r->n_cols ? position - 1 : -1;
 	for (int i = 0; i < r->n_cols; i++)
@@ -671,6 +670,14 @@ int popc_log_reader_require(const popc_log_reader *r, const char *name, int *ind
 const char *popc_log_reader_header_hint(const popc_log_reader *r)
 {
 	return r->names_hint;
+}
+
+long long popc_log_reader_header_line(const popc_log_reader *r, const char *key)
+{
+	for (int i = 0; i < r->n_keys; i++)
+		if (strcmp(r->key[i], key) == 0)
+			return r->key_line[i];
+	return 0;
 }
 
 const char *popc_log_reader_header(const popc_log_reader *r, const char *key)

@@ -36,14 +36,6 @@ static const struct {
 	{"--no-header", ANA_OPT_NO_HEADER, 0}, {"--jitter", ANA_OPT_JITTER, 1},
 };
 
-/* A --column HEADER that is a position, as the reader reads one: '#', then
- * 1 to 5 digits, the first not 0. */
-static int is_position(const char *h)
-{
-	return h[0] == '#' && h[1] >= '1' && h[1] <= '9' &&
-	       h[1 + strspn(h + 1, "0123456789")] == '\0' && strlen(h) <= 6;
-}
-
 /* popc-analyze prints a refused option on stderr: not on every fuzz input */
 static int quiet_stderr(void)
 {
@@ -171,7 +163,7 @@ int popc_fuzz_analyze_input(const uint8_t *data, size_t size)
 	if (r->names_numeric && !o.reader.no_header && o.reader.n_map > 0) {
 		int by_name = 0;
 		for (int i = 0; i < o.reader.n_map; i++)
-			by_name |= !is_position(o.reader.map_header[i]);
+			by_name |= popc_log_reader_position(o.reader.map_header[i]) == 0;
 		if (!by_name)
 			FAIL("a names line of numbers taken with every column by position");
 	}

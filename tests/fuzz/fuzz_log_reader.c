@@ -87,11 +87,8 @@ int popc_fuzz_log_reader(const uint8_t *data, size_t size)
 	 * position would lose that row without a word (issue 28) */
 	if (r.names_numeric && opt.n_map > 0) {
 		int by_name = 0;
-		for (int i = 0; i < opt.n_map; i++) {
-			const char *h = opt.map_header[i];
-			by_name |= !(h[0] == '#' && h[1] >= '1' && h[1] <= '9' &&
-				     h[1 + strspn(h + 1, "0123456789")] == '\0' && strlen(h) <= 6);
-		}
+		for (int i = 0; i < opt.n_map; i++)
+			by_name |= popc_log_reader_position(opt.map_header[i]) == 0;
 		if (!by_name)
 			popc_fuzz_fail(data, size, "a names line of numbers taken, every column by position");
 	}

@@ -143,6 +143,13 @@ int popc_log_reader_require(const popc_log_reader *r, const char *name, int *ind
 /* A header value ("variant", "source", "run.rate", ...) or NULL. */
 const char *popc_log_reader_header(const popc_log_reader *r, const char *key);
 
+/* The line of a header key (for messages), or 0 when the header lacks it. */
+long long popc_log_reader_header_line(const popc_log_reader *r, const char *key);
+
+/* A --column HEADER "#N" (N = 1 to 99999, no leading 0): the position N,
+ * 1-based; 0 for a HEADER that is a name. */
+int popc_log_reader_position(const char *header);
+
 /* Rebuilds the scene of a popc log from its header on top of s (defaults
  * first). Keys the header lacks keep their values in s. An error names the
  * file and the key's line ("LOG:12: header: run.rate = 1e7: out of range"). */
