@@ -174,6 +174,16 @@ typedef struct ana_log {
 	int quiet;                /* -q: no notes */
 	double t_prev_s;          /* the previous row's time, for the step check */
 	long long t_prev_line;
+	/* a popc log's header facts that its rows can check (docs/ANALYSIS.md,
+	 * "A header that contradicts its rows"): each says where the fact came
+	 * from ("run.rate = 500 (header, line 8)", or --set) for the message */
+	int check_steps;          /* run's t = k T: every step T within ANA_PERIOD_REL_TOL */
+	int check_mean_step;      /* replay's t, the recording's stamps: their mean step */
+	int check_x;              /* x = count x encoder.resolution */
+	int check_no_pc;          /* variant none: f_pc = 0 on every row */
+	char rate_from[128], resolution_from[128], variant_from[128];
+	double t_first_s;
+	long long t_first_line;
 	/* column indices, -1 when the file lacks them: c_t, c_x, ... c_rtt, one
 	 * per column of popc's log (POPC_LOG_COLUMN_TABLE) */
 #define ANA_COLUMN_INDEX(ID, name, unit, fill, format, field, meaning) int c_##name;

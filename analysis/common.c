@@ -201,6 +201,26 @@ int ana_input_option(ana_input_options *o, int opt, char *arg, const char *verb)
 				verb);
 			return 2;
 		}
+		/* one character cannot be both: a row whose first cell is empty
+		 * (",1e-5,0.1") would read as a comment (in either order; a
+		 * default '#' against --delimiter '#' is the reader's to refuse) */
+		const char other = opt == ANA_OPT_DELIMITER ? o->reader.comment : o->reader.delimiter;
+		if (c == other) {
+			fprintf(stderr,
+				"popc-analyze %s: --comment '%s' with --delimiter '%s': one character "
+				"cannot be both (a row whose first cell is empty would read as a "
+				"comment)\n",
+				verb, arg, arg);
+			return 2;
+		}
+		/* blanks before a comment mark are skipped: a blank would mark none */
+		if (opt == ANA_OPT_COMMENT && (c == ' ' || c == '\t')) {
+			fprintf(stderr,
+				"popc-analyze %s: --comment '%s': a comment mark is no blank (blanks "
+				"before one are skipped, so it would mark no line)\n",
+				verb, arg);
+			return 2;
+		}
 		if (opt == ANA_OPT_DELIMITER)
 			o->reader.delimiter = c;
 		else
@@ -417,6 +437,63 @@ static int apply_scale(const ana_log *l, double *row, long long line, popc_error
 	return 0;
 }
 
+/* Where a popc log's scene parameter came from, for a message: "run.rate =
+ * 500 (header, line 8)", or the last --set that overrode the header. */
+static void fact_source(const ana_log *l, const ana_input_options *o, const char *key, char *buf,
+			size_t cap)
+{
+	const size_t n = strlen(key);
+	for (int i = o->n_sets - 1; i >= 0; i--)
+		if (strncmp(o->sets[i], key, n) == 0 && o->sets[i][n] == '=') {
+			snprintf(buf, cap, "%s = %.40s (--set)", key, o->sets[i] + n + 1);
+			return;
+		}
+	const char *v = popc_log_reader_header(&l->r, key);
+	snprintf(buf, cap, "%s = %.40s (header, line %lld)", key, v ? v : "",
+		 popc_log_reader_header_line(&l->r, key));
+}
+
+/* A popc log's header states facts its rows can check: popc's run writes t =
+ * k / run.rate (the nominal tick time, on a real axis too: the measured
+ * period is the dt column, which jitters and is not checked), x = count x
+ * encoder.resolution, and variant none logs f_pc = 0. A header that a tool or
+ * an edit changed (rate = 500 over rows 1 ms apart) would be believed, and
+ * every rate, window and velocity be off: ana_log_next refuses the first row
+ * that contradicts it. A replay log's t is its recording's stamps, which may
+ * jitter within the --jitter the replay allowed: their mean step is checked,
+ * at the end. Returns 0, or an error for a header that contradicts itself. */
+static int header_checks(ana_log *l, const ana_input_options *o, popc_error *err)
+{
+	const popc_log_reader *r = &l->r;
+	const char *variant = popc_log_reader_header(r, "variant");
+	const char *cvariant = popc_log_reader_header(r, "controller.variant");
+	if (variant && cvariant && strcmp(variant, cvariant) != 0)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s:%lld: header: variant = %s, but controller.variant = %s (line "
+				      "%lld): the header contradicts itself",
+				      r->path, popc_log_reader_header_line(r, "variant"), variant,
+				      cvariant, popc_log_reader_header_line(r, "controller.variant"));
+	const char *source = popc_log_reader_header(r, "source");
+	const int unscaled_t = l->c_t >= 0 && l->scale[l->c_t] == 1.0;
+	if (unscaled_t && !l->period_from_time && !l->allow_uneven) {
+		l->check_steps = strcmp(source, "replay") != 0;
+		l->check_mean_step = !l->check_steps;
+		fact_source(l, o, "run.rate", l->rate_from, sizeof l->rate_from);
+	}
+	if (l->c_x >= 0 && l->c_count >= 0 && l->scale[l->c_x] == 1.0 &&
+	    l->scale[l->c_count] == 1.0) {
+		l->check_x = 1;
+		fact_source(l, o, "encoder.resolution", l->resolution_from,
+			    sizeof l->resolution_from);
+	}
+	if (variant && strcmp(variant, "none") == 0 && l->c_f_pc >= 0) {
+		l->check_no_pc = 1;
+		snprintf(l->variant_from, sizeof l->variant_from, "variant = none (header, line %lld)",
+			 popc_log_reader_header_line(r, "variant"));
+	}
+	return 0;
+}
+
 int ana_log_open(ana_log *l, const char *path, const ana_input_options *o, popc_error *err)
 {
 	memset(l, 0, sizeof *l);
@@ -553,6 +630,8 @@ int ana_log_open(ana_log *l, const char *path, const ana_input_options *o, popc_
 	l->jitter = o->jitter;
 	l->check_jitter = o->jitter > 0.0;
 	l->quiet = o->quiet;
+	if (l->is_popc && (st = header_checks(l, o, err)) != 0)
+		goto fail;
 	popc_variant v;
 	popc_ignore_mode m;
 	ana_online_observer(&l->scene, &v, &m);
@@ -640,6 +719,21 @@ int ana_log_next(ana_log *l, ana_row *out, popc_error *err)
 		row = l->ahead[l->ahead_pos++];
 	} else {
 		int got = popc_log_reader_next(&l->r, l->row, err);
+		if (got == 0 && l->check_mean_step && l->k > 1) {
+			const double T = l->period_s;
+			const double mean = (l->t_prev_s - l->t_first_s) / (double)(l->k - 1);
+			l->check_mean_step = 0; /* said once */
+			if (!(fabs(mean - T) <= ANA_PERIOD_REL_TOL * T))
+				return popc_error_set(
+					err, POPC_ERR_INVALID,
+					"%s:%lld: column %d (t): the mean time step of lines %lld-%lld is "
+					"%.17g s, %.3g %% off the period %.17g s of %s, more than %g %%: the "
+					"header contradicts the rows (a replay log's t is its recording's "
+					"stamps: they may jitter, their mean step is the period)",
+					l->r.path, l->t_prev_line, l->c_t + 1, l->t_first_line,
+					l->t_prev_line, mean, 100.0 * fabs(mean - T) / T, T, l->rate_from,
+					100.0 * ANA_PERIOD_REL_TOL);
+		}
 		if (got == 0 && !l->unfinished) {
 			note_unfinished(l);
 			note_jitter(l);
@@ -706,6 +800,21 @@ int ana_log_next(ana_log *l, ana_row *out, popc_error *err)
 				100.0 * fabs(step - T) / T, T, l->ahead_line[0], l->ahead_line[1],
 				100.0 * ANA_PERIOD_REL_TOL);
 	}
+	if (l->check_steps && l->k > 0) {
+		const double step = t->t_s - l->t_prev_s;
+		if (!(fabs(step - T) <= ANA_PERIOD_REL_TOL * T))
+			return popc_error_set(
+				err, POPC_ERR_INVALID,
+				"%s:%lld: column %d (t): the time step from line %lld (t = %.17g) is %.17g "
+				"s, %.3g %% off the period %.17g s of %s, more than %g %%: the header "
+				"contradicts the rows (popc writes t = k / run.rate)",
+				l->r.path, line, l->c_t + 1, l->t_prev_line, l->t_prev_s, step,
+				100.0 * fabs(step - T) / T, T, l->rate_from, 100.0 * ANA_PERIOD_REL_TOL);
+	}
+	if (l->k == 0) {
+		l->t_first_s = t->t_s;
+		l->t_first_line = line;
+	}
 	l->t_prev_s = t->t_s;
 	l->t_prev_line = line;
 	if (l->c_count >= 0) {
@@ -718,6 +827,17 @@ int ana_log_next(ana_log *l, ana_row *out, popc_error *err)
 					      l->r.path, line, l->c_count + 1, c);
 		t->count = (long long)c;
 		t->x_m = l->c_x >= 0 ? row[l->c_x] : popc_encoder_position(t->count, delta);
+		/* popc writes x = count x resolution: a relative 1e-9 is rounding
+		 * far below any other resolution (a factor 10, or 1e-5 for 1.024e-5) */
+		const double x_count = popc_encoder_position(t->count, delta);
+		if (l->check_x && !(fabs(t->x_m - x_count) <= 1e-9 * fabs(x_count)))
+			return popc_error_set(
+				err, POPC_ERR_INVALID,
+				"%s:%lld: column %d (x): x = %.17g m, but count %lld x %s is %.17g m (x / "
+				"count = %.6g m): the header contradicts the rows (popc writes x = count x "
+				"encoder.resolution)",
+				l->r.path, line, l->c_x + 1, t->x_m, t->count, l->resolution_from, x_count,
+				t->count ? t->x_m / (double)t->count : 0.0);
 	} else {
 		/* a foreign position in metres: the nearest encoder count */
 		t->x_m = row[l->c_x];
@@ -739,6 +859,11 @@ int ana_log_next(ana_log *l, ana_row *out, popc_error *err)
 	else
 		t->f_pc_N = l->c_f_c >= 0 ? row[l->c_f_c] - t->f_e_N : 0.0;
 	t->f_c_N = l->c_f_c >= 0 ? row[l->c_f_c] : t->f_e_N + t->f_pc_N;
+	if (l->check_no_pc && t->f_pc_N != 0.0)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s:%lld: column %d (f_pc): f_pc = %.17g N, but %s logs no PC "
+				      "force (f_pc = 0): the header contradicts the rows",
+				      l->r.path, line, l->c_f_pc + 1, t->f_pc_N, l->variant_from);
 	out->W_logged_J = l->c_W >= 0 ? row[l->c_W] : (double)NAN;
 	/* an admittance log's own cells (docs/ADMITTANCE.md), for energy */
 	if (l->c_f_count >= 0 && l->c_f_meas >= 0 && l->c_v_ve >= 0 && l->c_v_pc >= 0) {

@@ -36,7 +36,10 @@ paper=(gcc libc6-dev meson ninja-build pkg-config libinih-dev libmodbus-dev libc
 # bundles its own, and Debian's npm package cannot be installed beside it.
 # g++ and libfast-float-dev: bench/fastfloat_reader, the reference reader of
 # docs/BENCHMARKS.md section 3 (built by every build where they are found).
-test=("${paper[@]}" socat parallel slurm-wlm munge python3 clang scdoc man-db python3-pandas nodejs g++ libfast-float-dev)
+# libclang-rt-dev: clang's runtime with libFuzzer (only recommended by clang,
+# so not installed here without it): the test 'libfuzzer' fuzzes each harness
+# of tests/fuzz for a few seconds (it skips, exit 77, without it).
+test=("${paper[@]}" socat parallel slurm-wlm munge python3 clang libclang-rt-dev scdoc man-db python3-pandas nodejs g++ libfast-float-dev)
 command -v npm >/dev/null 2>&1 || test+=(npm)
 
 usage() { echo "usage: tools/install-deps.sh [--list] [paper|test]..." >&2; exit 2; }

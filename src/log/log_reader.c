@@ -158,13 +158,20 @@ static int blank_or_comment(popc_log_reader *r, const char *line)
 	return 1;
 }
 
-/* A --column HEADER "#N": the position N (1-based), or 0 for a name. */
-static int column_position(const char *header)
+int popc_log_reader_position(const char *header)
 {
 	if (header[0] != '#' || header[1] < '1' || header[1] > '9' ||
 	    header[1 + strspn(header + 1, "0123456789")] != '\0' || strlen(header) > 6)
 		return 0;
 	return atoi(header + 1);
+}
+
+/* A delimiter or comment mark as the options spell it ('tab', 'space'), in
+ * buf (at least 6 bytes). */
+static const char *char_name(char c, char *buf)
+{
+	snprintf(buf, 6, "%s", c == '\t' ? "tab" : c == ' ' ? "space" : (char[]){c, '\0'});
+	return buf;
 }
 
 static char detect_delimiter(const char *line, int decimal_comma)
@@ -185,8 +192,11 @@ static char detect_delimiter(const char *line, int decimal_comma)
 
 /* Splits line at the delimiter (runs of blanks for ' '). A cell in double
  * quotes (RFC 4180, as spreadsheets and pandas write text) is the text inside
- * them and may hold the delimiter; "" inside is a quote. Returns the number of
- * cells, or -1 past max. */
+ * them and may hold the delimiter; "" inside is a quote. Blanks around a cell
+ * are no part of it, but under a tab delimiter a tab is no blank: "1\t\t2" is
+ * three cells, the middle one empty (skipped as padding, it would move every
+ * later cell one column left). Returns the number of cells, of which the first
+ * max are stored: more than max is the caller's error, with the count. */
 static int split(char *line, char delim, const char **cs, const char **ce, int max)
 {
 	int n = 0;
@@ -197,18 +207,17 @@ static int split(char *line, char delim, const char **cs, const char **ce, int m
 				p++;
 			if (!*p)
 				return n;
-			if (n == max)
-				return -1;
-			cs[n] = p;
+			if (n < max)
+				cs[n] = p;
 			while (*p && *p != ' ' && *p != '\t')
 				p++;
-			ce[n++] = p;
+			if (n < max)
+				ce[n] = p;
+			n++;
 		}
 	}
 	for (;;) {
-		if (n == max)
-			return -1;
-		while (*p == ' ' || *p == '\t')
+		while (*p == ' ' || (*p == '\t' && delim != '\t'))
 			p++;
 		char *q = NULL;
 		if (*p == '"') {
@@ -224,16 +233,21 @@ static int split(char *line, char delim, const char **cs, const char **ce, int m
 				q = NULL;
 		}
 		char *d;
+		const char *s, *e;
 		if (q) {
-			cs[n] = p + 1;
-			ce[n] = q;
+			s = p + 1;
+			e = q;
 			d = strchr(q + 1, delim);
 		} else { /* unquoted, or a quote never closed (or followed by text):
 			  * the text as it is */
-			cs[n] = p;
+			s = p;
 			d = strchr(p, delim);
-			ce[n] = d ? d : p + strlen(p);
-			popc_trim_blanks(&cs[n], &ce[n]);
+			e = d ? d : p + strlen(p);
+			popc_trim_blanks(&s, &e);
+		}
+		if (n < max) {
+			cs[n] = s;
+			ce[n] = e;
 		}
 		n++;
 		if (!d)
@@ -323,14 +337,32 @@ int popc_log_reader_open(popc_log_reader *r, const char *path, const popc_log_re
 				      path, r->opt.decimal, r->opt.delimiter ? r->opt.delimiter : ',');
 	}
 	r->delimiter = r->opt.delimiter ? r->opt.delimiter : detect_delimiter(line, decimal_comma);
+	/* a comment mark that is also the delimiter makes every row whose first
+	 * cell is empty (",1e-5,0.1") a comment, dropped unseen */
+	if (r->comment == r->delimiter) {
+		char given[64] = "", name[6];
+		if (!r->opt.delimiter)
+			snprintf(given, sizeof given, " (detected from line %lld)", r->lineno);
+		popc_error_set(err, POPC_ERR_INVALID,
+			       "%s: the comment mark '%s'%s is also the delimiter%s: a row whose "
+			       "first cell is empty would read as a comment; give another --comment "
+			       "or --delimiter",
+			       path, char_name(r->comment, name), r->opt.comment ? "" : " (the default)",
+			       given);
+		popc_log_reader_close(r);
+		return POPC_ERR_INVALID;
+	}
 	const char *cs[POPC_LOG_MAX_COLUMNS], *ce[POPC_LOG_MAX_COLUMNS];
 	int n = split(line, r->delimiter, cs, ce, POPC_LOG_MAX_COLUMNS);
-	if (n <= 0) {
+	if (n <= 0 || n > POPC_LOG_MAX_COLUMNS) {
 		popc_log_reader_close(r);
+		if (n > 0)
+			return popc_error_set(err, POPC_ERR_INVALID,
+					      "%s:%lld: %d columns, more than %d", path, r->lineno, n,
+					      POPC_LOG_MAX_COLUMNS);
 		return popc_error_set(err, POPC_ERR_INVALID, "%s:%lld: %s", path, r->lineno,
-				      n < 0 ? "more than 64 columns"
-				      : r->opt.no_header ? "no cells in the first row"
-							 : "no column names");
+				      r->opt.no_header ? "no cells in the first row"
+						       : "no column names");
 	}
 	if (r->opt.no_header) {
 		/* the line is the first row: kept to be returned by the first
@@ -388,7 +420,7 @@ int popc_log_reader_open(popc_log_reader *r, const char *path, const popc_log_re
 		if (popc_log_reader_column(r, r->opt.map_name[i]) < 0) {
 			const char *h = r->opt.map_header[i];
 			char hint[200] = "";
-			if (column_position(h) > 0)
+			if (popc_log_reader_position(h) > 0)
 				snprintf(hint, sizeof hint, " (it has %d column%s)", r->n_cols,
 					 r->n_cols == 1 ? "" : "s");
 			else if (h[strspn(h, "0123456789")] == '\0')
@@ -406,6 +438,26 @@ int popc_log_reader_open(popc_log_reader *r, const char *path, const popc_log_re
 			popc_log_reader_close(r);
 			return POPC_ERR_INVALID;
 		}
+	/* a headerless file read without no_header, its columns all mapped by
+	 * position: its first row is taken for the names, which no lookup by
+	 * name needs, and would be lost without a word. A mapping found by a
+	 * number as its name says the line is names (pandas writes 0,1,2). */
+	if (r->names_numeric && r->opt.n_map > 0) {
+		int by_name = 0;
+		for (int i = 0; i < r->opt.n_map; i++)
+			by_name |= popc_log_reader_position(r->opt.map_header[i]) == 0;
+		if (!by_name) {
+			popc_error_set(err, POPC_ERR_INVALID,
+				       "%s:%lld: the first line that is no comment holds only numbers, "
+				       "and every --column maps a position: it would be read as the "
+				       "column names, not as a row (a file without a column names line "
+				       "needs --no-header; if the numbers are the names, map a column "
+				       "by its name, --column x=%s)",
+				       path, r->lineno, r->col_name[r->n_cols > 1 ? 1 : 0]);
+			popc_log_reader_close(r);
+			return POPC_ERR_INVALID;
+		}
+	}
 	/* rows of plain numbers are read in one pass (popc_parse_double_row)
 	 * unless the split needs more than the delimiter: runs of blanks, a
 	 * decimal comma, or a comment mark that could begin a number */
@@ -506,15 +558,13 @@ int popc_log_reader_next(popc_log_reader *r, double *values, popc_error *err)
 	}
 	const char *cs[POPC_LOG_MAX_COLUMNS], *ce[POPC_LOG_MAX_COLUMNS];
 	int n = split(line, r->delimiter, cs, ce, r->n_cols);
-	if (n != r->n_cols) {
-		if (n >= 0 && n < r->n_cols)
-			return popc_error_set(err, POPC_ERR_INVALID,
-					      "%s:%lld: %d cells, expected %d (%s)", r->path, r->lineno,
-					      n, r->n_cols,
-					      complete ? "short row" : "truncated last line");
-		return popc_error_set(err, POPC_ERR_INVALID, "%s:%lld: more than %d cells", r->path,
-				      r->lineno, r->n_cols);
-	}
+	if (n != r->n_cols)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s:%lld: %d cells, expected %d (%s)", r->path, r->lineno, n,
+				      r->n_cols,
+				      n > r->n_cols ? "more cells than columns"
+				      : complete    ? "short row"
+						    : "truncated last line");
 	for (int i = 0; i < n; i++) {
 		if (!r->parse[i]) {
 			values[i] = (double)NAN; /* a column nobody reads: text is fine */
@@ -597,7 +647,7 @@ int popc_log_reader_column(const popc_log_reader *r, const char *name)
 		}
 	if (!header[0])
 		return -1;
-	const int position = mapped ? column_position(header) : 0;
+	const int position = mapped ? popc_log_reader_position(header) : 0;
 	if (position)
 		return position <= r->n_cols ? position - 1 : -1;
 	for (int i = 0; i < r->n_cols; i++)
@@ -620,6 +670,14 @@ int popc_log_reader_require(const popc_log_reader *r, const char *name, int *ind
 const char *popc_log_reader_header_hint(const popc_log_reader *r)
 {
 	return r->names_hint;
+}
+
+long long popc_log_reader_header_line(const popc_log_reader *r, const char *key)
+{
+	for (int i = 0; i < r->n_keys; i++)
+		if (strcmp(r->key[i], key) == 0)
+			return r->key_line[i];
+	return 0;
 }
 
 const char *popc_log_reader_header(const popc_log_reader *r, const char *key)

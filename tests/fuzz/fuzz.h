@@ -16,6 +16,7 @@ typedef int (*popc_fuzz_fn)(const uint8_t *data, size_t size);
 int popc_fuzz_numfmt_parse(const uint8_t *data, size_t size);
 int popc_fuzz_numfmt_format(const uint8_t *data, size_t size);
 int popc_fuzz_log_reader(const uint8_t *data, size_t size);
+int popc_fuzz_analyze_input(const uint8_t *data, size_t size);
 int popc_fuzz_scene(const uint8_t *data, size_t size);
 int popc_fuzz_ini_lines(const uint8_t *data, size_t size);
 int popc_fuzz_intent(const uint8_t *data, size_t size);

@@ -79,6 +79,19 @@ int popc_fuzz_log_reader(const uint8_t *data, size_t size)
 	}
 	if (r.n_cols < 1 || r.n_cols > POPC_LOG_MAX_COLUMNS)
 		popc_fuzz_fail(data, size, "%d columns", r.n_cols);
+	/* a comment mark that is the delimiter would drop rows with an empty
+	 * first cell (issue 28) */
+	if (r.comment == r.delimiter)
+		popc_fuzz_fail(data, size, "comment mark and delimiter both '%c'", r.comment);
+	/* a first line of numbers taken for names when every mapping is a
+	 * position would lose that row without a word (issue 28) */
+	if (r.names_numeric && opt.n_map > 0) {
+		int by_name = 0;
+		for (int i = 0; i < opt.n_map; i++)
+			by_name |= popc_log_reader_position(opt.map_header[i]) == 0;
+		if (!by_name)
+			popc_fuzz_fail(data, size, "a names line of numbers taken, every column by position");
+	}
 	if (!all_columns) {
 		int used[sizeof popc_columns / sizeof popc_columns[0]], n_used = 0;
 		for (size_t i = 0; i < sizeof popc_columns / sizeof popc_columns[0]; i++) {
@@ -120,6 +133,26 @@ int popc_fuzz_log_reader(const uint8_t *data, size_t size)
 		}
 		if (got != 1)
 			popc_fuzz_fail(data, size, "next returned %d", got);
+		/* under a tab delimiter a row has one cell per column, an empty
+		 * one too (issue 28: "\t\t" was skipped as padding) */
+		if (r.delimiter == '\t' && r.lineno >= 1) {
+			const uint8_t *p = file, *end = file + file_size;
+			for (long long i = 1; p && i < r.lineno; i++) {
+				p = memchr(p, '\n', (size_t)(end - p));
+				p = p ? p + 1 : NULL;
+			}
+			const uint8_t *e = p ? memchr(p, '\n', (size_t)(end - p)) : NULL;
+			if (p && !e)
+				e = end;
+			if (p && !memchr(p, '"', (size_t)(e - p))) {
+				int tabs = 0;
+				for (const uint8_t *q = p; q < e; q++)
+					tabs += *q == '\t';
+				if (tabs != r.n_cols - 1)
+					popc_fuzz_fail(data, size, "line %lld: %d tabs read as %d columns",
+						       r.lineno, tabs, r.n_cols);
+			}
+		}
 		for (int i = 0; i < r.n_cols; i++)
 			if (r.parse[i] && !isfinite(row[i]))
 				popc_fuzz_fail(data, size, "line %lld column %d: %g without an error",

@@ -17,6 +17,7 @@ static const struct {
 } harnesses[] = {
 	{"numfmt_parse", popc_fuzz_numfmt_parse},   {"numfmt_format", popc_fuzz_numfmt_format},
 	{"log_reader", popc_fuzz_log_reader},       {"scene", popc_fuzz_scene},
+	{"analyze_input", popc_fuzz_analyze_input},
 	{"ini_lines", popc_fuzz_ini_lines},         {"intent", popc_fuzz_intent},
 	{"sweep_dir", popc_fuzz_sweep_dir},
 #ifdef POPC_FUZZ_MODBUS /* a build with the Modbus family (meson option modbus) */

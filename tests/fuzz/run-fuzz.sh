@@ -1,15 +1,21 @@
 #!/bin/sh
 # Fuzz popc's input parsers with libFuzzer (clang's -fsanitize=fuzzer, with
-# ASan and UBSan). Not run by CI: CI replays the checked-in corpus through the
-# same harnesses (tests/fuzz/meson.build, test 'fuzz_replay', no clang needed).
+# ASan and UBSan). Every build replays the checked-in corpus through the same
+# harnesses (tests/fuzz/meson.build, test 'fuzz_replay', no clang needed); CI
+# also fuzzes a few seconds per harness through this script (test 'libfuzzer',
+# suites fuzz and slow, in a build without sanitizers).
 #
 #   tests/fuzz/run-fuzz.sh [SECONDS] [HARNESS...]
 #
 # SECONDS per harness (default 300), on one core each, one after another.
 # HARNESS: one of fuzz_harnesses in tests/fuzz/meson.build (numfmt_parse
-# numfmt_format log_reader scene ini_lines intent sweep_dir register_map modbus_uri;
-# default: all). Needs Debian's clang (apt-get install clang: libFuzzer ships
-# in its compiler-rt) and the build deps.
+# numfmt_format log_reader analyze_input scene ini_lines intent sweep_dir register_map
+# modbus_uri; default: all). Needs Debian's clang (apt-get install clang:
+# libFuzzer ships in its compiler-rt, libclang-rt-14-dev on Debian 12's
+# clang-14 packaging) and the build deps. Exits 0 when every harness ran
+# without a failure, 1 when one failed (its artifacts are kept), 2 on a
+# bad argument or a failed build, 77 when clang or its libFuzzer is missing
+# (meson's "skipped").
 #
 # The harnesses are built by Meson: a build directory $POPC_FUZZ_WORK/build
 # (default /tmp/popc-fuzz/build) configured with -Dfuzzing=libfuzzer (every
@@ -35,7 +41,19 @@ build=$work/build
 seconds=${1:-300}
 [ $# -gt 0 ] && shift
 CC=${CC:-clang}
-command -v "$CC" >/dev/null || { echo "run-fuzz.sh: $CC not found (apt-get install clang)" >&2; exit 2; }
+command -v "$CC" >/dev/null || { echo "run-fuzz.sh: skipped: $CC not found (apt-get install clang)"; exit 77; }
+# libFuzzer is a part of clang's runtime that a distribution may split off:
+# a program that links with -fsanitize=fuzzer says whether it is here
+probe=$(mktemp -d "${TMPDIR:-/tmp}/popc-fuzz-probe.XXXXXX")
+printf 'int LLVMFuzzerTestOneInput(const unsigned char *d, unsigned long n);\nint LLVMFuzzerTestOneInput(const unsigned char *d, unsigned long n) { return (int)(d && n > 99); }\n' \
+	>"$probe/probe.c"
+if ! "$CC" -fsanitize=fuzzer,address,undefined "$probe/probe.c" -o "$probe/probe" >"$probe/log" 2>&1; then
+	echo "run-fuzz.sh: skipped: $CC cannot link -fsanitize=fuzzer (libFuzzer missing; Debian: libclang-rt-dev or clang's compiler-rt):"
+	cat "$probe/log"
+	rm -rf "$probe"
+	exit 77
+fi
+rm -rf "$probe"
 
 # a build directory configured from another source tree (another checkout
 # sharing $POPC_FUZZ_WORK) would fuzz that tree's code: start it afresh
@@ -68,6 +86,7 @@ done
 # shellcheck disable=SC2086
 ninja -C "$build" $targets
 
+failed=""
 for h in $harnesses; do
 	ln -sf "$build/tests/fuzz/fuzz_$h" "$work/fuzz_$h"
 	mkdir -p "$work/corpus/$h"
@@ -83,5 +102,10 @@ for h in $harnesses; do
 	# shellcheck disable=SC2086
 	"$work/fuzz_$h" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=8192 \
 		-print_final_stats=1 $dict -artifact_prefix="$work/artifacts/$h-" \
-		"$work/corpus/$h" "$here/corpus/$h" || echo "== $h: FAILED (see $work/artifacts)"
+		"$work/corpus/$h" "$here/corpus/$h" || { echo "== $h: FAILED (see $work/artifacts)"; failed="$failed $h"; }
 done
+if [ -n "$failed" ]; then
+	echo "run-fuzz.sh: failed:$failed (reproducers in $work/artifacts)"
+	exit 1
+fi
+echo "run-fuzz.sh: every harness ran $seconds s without a failure"

@@ -293,7 +293,7 @@ static void test_reader_errors(void **state)
 		{"t,x\n0,1\n0.001,nan\n", NULL, {":3: column 2 (x)", "NaN is not allowed"}},
 		{"t,x\n0,1\n0.001,inf\n", NULL, {":3: column 2", NULL}},
 		{"t,x\n0,1\n0.001,\n", NULL, {":3: column 2", "empty cell"}},
-		{"t,x\n0,1\n0.001,2,3\n", NULL, {":3:", "more than 2 cells"}},
+		{"t,x\n0,1\n0.001,2,3\n", NULL, {":3:", "3 cells, expected 2 (more cells than columns)"}},
 		{"t,x\n0,1\n0,2\n", NULL, {":3: column 1 (t)", "does not increase"}},
 		{"t,x\n0,1\n", "f_c", {"missing column 'f_c'", "--column f_c=HEADER"}},
 		/* a repeated column name: both columns and the line named */
@@ -424,7 +424,7 @@ static void test_reader_one_pass_and_split(void **state)
 	} bad[] = {
 		{"t,x\n0,1\n0.001,1e-400\n", ":3: column 2 (x): below the smallest double"},
 		{"t,x\n0,1\n0.001,1e400\n", ":3: column 2 (x): not a finite number '1e400'"},
-		{"t,x\n0,1\n0.001,2,\n", ":3: more than 2 cells"},
+		{"t,x\n0,1\n0.001,2,\n", ":3: 3 cells, expected 2 (more cells than columns)"},
 		{"t,x\n0,1\n0.001;2\n", ":3: 1 cells, expected 2 (short row)"},
 		{"t,x\n0,1\n0.001,2e\n", ":3: column 2 (x): not a finite number '2e'"},
 	};
@@ -743,6 +743,160 @@ static void test_reader_header_errors(void **state)
 	popc_log_reader_close(&r);
 }
 
+/* Cells of a tab-separated row are what lies between its tabs: "\t\t" is an
+ * empty cell, not padding (it was skipped, and every later cell read one
+ * column left: f_c = 0.7 from the fifth cell, no error). A row with more
+ * or fewer cells than names is refused with its line and both counts; an
+ * empty cell reads only in a column nobody reads. */
+static void test_reader_tab_empty_cells(void **state)
+{
+	(void)state;
+	const popc_log_reader_options tab = {.delimiter = '\t'};
+	const struct {
+		const char *text;
+		const popc_log_reader_options *opt;
+		const char *message; /* NULL: read */
+	} cases[] = {
+		/* the row: 5 cells under 4 names */
+		{"t\tx\tf_e\tf_c\n0\t0\t0\t0.1\n0.001\t1e-5\t\t0.1\t0.7\n", NULL,
+		 ":3: 5 cells, expected 4 (more cells than columns)"},
+		{"t\tx\tf_e\tf_c\n0\t0\t0\t0.1\n0.001\t1e-5\t\t0.1\t0.7\n", &tab,
+		 ":3: 5 cells, expected 4 (more cells than columns)"},
+		/* 4 cells, one empty: a read column's empty cell is named */
+		{"t\tx\tf_e\tf_c\n0\t0\t0\t0.1\n0.001\t1e-5\t\t0.7\n", NULL,
+		 ":3: column 3 (f_e): empty cell"},
+		/* an empty first cell: no blank to skip before it */
+		{"t\tx\n0\t1\n\t2\n", NULL, ":3: column 1 (t): empty cell"},
+		/* more than 64 cells: counted, not just "more" */
+		{"t\tx\n0\t1\n0.001\t2\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t"
+		 "\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t"
+		 "\t\t\t\t\t\t\t\t\t\n",
+		 NULL, ":3: 66 cells, expected 2 (more cells than columns)"},
+		/* blanks around a cell are still no part of it, under a tab too */
+		{"t\tx\n0\t 1 \n 0.001 \t2\n", NULL, NULL},
+	};
+	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+		const char *path = write_file("tab.tsv", cases[i].text);
+		popc_error err;
+		int st = read_all(path, cases[i].opt, NULL, &err);
+		if (!cases[i].message) {
+			if (st != 0)
+				fail_msg("case %zu: %s", i, err.msg);
+			continue;
+		}
+		if (st != POPC_ERR_INVALID || !strstr(err.msg, cases[i].message))
+			fail_msg("case %zu: status %d, '%s', expected '%s'", i, st, st ? err.msg : "",
+				 cases[i].message);
+	}
+	/* an empty cell in a column nobody reads keeps the others in place */
+	const char *path = write_file("tab.tsv", "t\tnote\tx\n0\ta\t1\n0.001\t\t2\n");
+	popc_log_reader r;
+	popc_error err;
+	assert_int_equal(popc_log_reader_open(&r, path, NULL, &err), 0);
+	const int cols[] = {0, 2};
+	assert_int_equal(popc_log_reader_use_columns(&r, cols, 2), 0);
+	double v[POPC_LOG_MAX_COLUMNS];
+	assert_int_equal(popc_log_reader_next(&r, v, &err), 1);
+	assert_int_equal(popc_log_reader_next(&r, v, &err), 1);
+	assert_true(v[0] == 0.001 && isnan(v[1]) && v[2] == 2.0);
+	assert_int_equal(popc_log_reader_next(&r, v, &err), 0);
+	popc_log_reader_close(&r);
+}
+
+/* A comment mark that is the delimiter took every row with an empty first
+ * cell for a comment and dropped it, without a word: refused at open, given
+ * or detected, naming both. */
+static void test_reader_comment_is_delimiter(void **state)
+{
+	(void)state;
+	const char *text = "note,t,x\na,0,1\n,0.001,2\n";
+	const struct {
+		popc_log_reader_options opt;
+		const char *message;
+	} cases[] = {
+		{{.comment = ','}, ": the comment mark ',' is also the delimiter (detected from line 1)"},
+		{{.comment = ';', .delimiter = ';'}, ": the comment mark ';' is also the delimiter:"},
+		{{.delimiter = '#'}, ": the comment mark '#' (the default) is also the delimiter:"},
+		{{.comment = '\t', .delimiter = '\t'}, ": the comment mark 'tab' is also the delimiter:"},
+	};
+	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+		const char *path = write_file("comment.csv", text);
+		popc_error err;
+		int st = read_all(path, &cases[i].opt, NULL, &err);
+		char want[600];
+		snprintf(want, sizeof want, "%s%s", path, cases[i].message);
+		if (st != POPC_ERR_INVALID || strncmp(err.msg, want, strlen(want)) != 0)
+			fail_msg("case %zu: status %d, '%s', expected '%s'", i, st, st ? err.msg : "",
+				 want);
+	}
+	/* the same file with another comment mark: both rows */
+	const char *path = write_file("comment.csv", text);
+	popc_log_reader_options opt = {.comment = '%'};
+	popc_log_reader r;
+	popc_error err;
+	assert_int_equal(popc_log_reader_open(&r, path, &opt, &err), 0);
+	const int cols[] = {1, 2};
+	assert_int_equal(popc_log_reader_use_columns(&r, cols, 2), 0);
+	double v[POPC_LOG_MAX_COLUMNS];
+	assert_int_equal(popc_log_reader_next(&r, v, &err), 1);
+	assert_int_equal(popc_log_reader_next(&r, v, &err), 1);
+	assert_true(v[1] == 0.001 && v[2] == 2.0);
+	popc_log_reader_close(&r);
+}
+
+/* A headerless file read without no_header whose columns are all mapped by
+ * position lost its first row to the names, silently (no lookup by name
+ * failed to say so): refused with the hint. A mapping by a numeric name says
+ * the numbers are names (pandas' 0,1,2); no_header reads the row. */
+static void test_reader_numeric_names_by_position(void **state)
+{
+	(void)state;
+	const char *text = "-0.0065 0.25 0 0.5\n-0.0064 0.125 0 0.25\n";
+	const struct {
+		const char *maps[2];
+		int no_header;
+		long long rows; /* -1: refused */
+	} cases[] = {
+		{{"x=#1", "f_c=#4"}, 0, -1},
+		{{"x=#1", NULL}, 0, -1},
+		{{"x=#1", "f_c=0.5"}, 0, 1}, /* a name: the line is names */
+		{{"x=#1", "f_c=#4"}, 1, 2},
+		{{NULL, NULL}, 0, 1}, /* no mapping: each lookup by name says it */
+	};
+	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+		const char *path = write_file("numbers.txt", text);
+		popc_log_reader_options opt = {.no_header = cases[i].no_header};
+		char maps[2][32];
+		popc_error err;
+		for (int m = 0; m < 2 && cases[i].maps[m]; m++) {
+			snprintf(maps[m], sizeof maps[m], "%s", cases[i].maps[m]);
+			assert_int_equal(popc_log_reader_add_mapping(&opt, maps[m], &err), 0);
+		}
+		popc_log_reader r;
+		int st = popc_log_reader_open(&r, path, &opt, &err);
+		if (cases[i].rows < 0) {
+			char want[1024];
+			snprintf(want, sizeof want,
+				 "%s:1: the first line that is no comment holds only numbers, and every "
+				 "--column maps a position",
+				 path);
+			if (st != POPC_ERR_INVALID || strncmp(err.msg, want, strlen(want)) != 0 ||
+			    !strstr(err.msg, "needs --no-header"))
+				fail_msg("case %zu: status %d, '%s'", i, st, st ? err.msg : "");
+			continue;
+		}
+		if (st != 0)
+			fail_msg("case %zu: %s", i, err.msg);
+		double v[POPC_LOG_MAX_COLUMNS];
+		long long rows = 0;
+		while ((st = popc_log_reader_next(&r, v, &err)) == 1)
+			rows++;
+		assert_int_equal(st, 0);
+		assert_int_equal(rows, cases[i].rows);
+		popc_log_reader_close(&r);
+	}
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -758,6 +912,9 @@ int main(void)
 		cmocka_unit_test(test_writer_full_disk),
 		cmocka_unit_test(test_reader_unfinished),
 		cmocka_unit_test(test_reader_header_errors),
+		cmocka_unit_test(test_reader_tab_empty_cells),
+		cmocka_unit_test(test_reader_comment_is_delimiter),
+		cmocka_unit_test(test_reader_numeric_names_by_position),
 	};
 	return cmocka_run_group_tests(tests, setup, teardown);
 }

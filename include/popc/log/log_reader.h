@@ -18,6 +18,15 @@
  *
  * Cells may be in double quotes (RFC 4180). Column names may be empty (pandas'
  * index column, a trailing delimiter); an empty name is never looked up.
+ * Blanks around a cell are trimmed, but under a tab delimiter a tab is no
+ * blank: "1\t\t2" is three cells, the middle one empty (an error in a column
+ * that is read).
+ *
+ * The comment mark cannot be the delimiter (given or detected): a row whose
+ * first cell is empty would read as a comment. A first line of numbers read
+ * as the names while every mapping is a position ("#N") is refused with the
+ * hint to use no_header: no lookup by name would fail to say so, and the
+ * first row would be lost.
  *
  * Errors name the file, line and column: an empty file, a repeated column name,
  * a row with too few or too many cells, a cell that is not a finite number, a
@@ -133,6 +142,13 @@ int popc_log_reader_require(const popc_log_reader *r, const char *name, int *ind
 
 /* A header value ("variant", "source", "run.rate", ...) or NULL. */
 const char *popc_log_reader_header(const popc_log_reader *r, const char *key);
+
+/* The line of a header key (for messages), or 0 when the header lacks it. */
+long long popc_log_reader_header_line(const popc_log_reader *r, const char *key);
+
+/* A --column HEADER "#N" (N = 1 to 99999, no leading 0): the position N,
+ * 1-based; 0 for a HEADER that is a name. */
+int popc_log_reader_position(const char *header);
 
 /* Rebuilds the scene of a popc log from its header on top of s (defaults
  * first). Keys the header lacks keep their values in s. An error names the
