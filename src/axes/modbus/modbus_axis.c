@@ -654,8 +654,15 @@ static void encode_command(mb_axis *a, double f_N, uint16_t *words)
 	/* reversed: an exact negation, which popc-servo-sim undoes bit for bit
 	 * (the clamp is symmetric, so it holds either way) */
 	double units = f / m->cmd.newton_per_unit;
-	popc_reg_encode(m->cmd.reversed ? -units : units, m->cmd.type, m->cmd.order,
-			words + a->cmd_off);
+	if (m->cmd.reversed)
+		units = -units;
+	/* a zero force goes out as +0.0: negating 0 (start and stop with a
+	 * reversed command, exchange's -f_c of a zero f_c) gives -0.0, which a
+	 * float register would carry as 8000 0000, and a drive's firmware
+	 * should never have to know that -0.0 is zero */
+	if (units == 0.0)
+		units = 0.0;
+	popc_reg_encode(units, m->cmd.type, m->cmd.order, words + a->cmd_off);
 }
 
 /* Sleeps until the next deadline on the absolute grid. A deadline already
