@@ -13,6 +13,19 @@
 #include "popc/util/text_builder.h"
 #include "popc/scene/from_scene.h"
 
+/* The stop line's reason for an axis' failure to bring a sample, the same
+ * for the first sample as for every exchange after it (docs/MODBUS.md,
+ * "Exit codes": each exit code's stop lines). */
+static const char *sample_failure(int st)
+{
+	return st == POPC_ERR_NUMERIC	   ? "integrator unstable"
+	       : st == POPC_ERR_DIVERGED    ? "closed loop diverged"
+	       : st == POPC_ERR_SAFETY	    ? "safety stop"
+	       : st == POPC_ERR_COMM	    ? "communication lost"
+	       : st == POPC_ERR_INTERRUPTED ? "signal" /* seen by the axis mid-transaction */
+					    : "axis error";
+}
+
 int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 	     popc_run_summary *sum, popc_error *err)
 {
@@ -42,7 +55,7 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 	if (!st) {
 		st = axis->ops->sample(axis, &smp, err);
 		if (st)
-			why = st == POPC_ERR_INTERRUPTED ? "signal" : "axis sample failed";
+			why = sample_failure(st);
 	}
 	/* the true port energy, for an axis that knows its true position (the
 	 * log's E_port column is filled by the same axes as x_true) */
@@ -124,12 +137,7 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 		sum->ticks = k + 1;
 		smp.dissipated_J = (double)NAN;
 		if (k + 1 < n_ticks && (st = axis->ops->exchange(axis, command_N, &smp, err)) != 0) {
-			why = st == POPC_ERR_NUMERIC ? "integrator unstable"
-			      : st == POPC_ERR_DIVERGED ? "closed loop diverged"
-			      : st == POPC_ERR_SAFETY ? "safety stop"
-			      : st == POPC_ERR_COMM   ? "communication lost"
-			      : st == POPC_ERR_INTERRUPTED ? "signal" /* seen by the axis mid-transaction */
-						      : "axis error";
+			why = sample_failure(st);
 			break;
 		}
 	}
