@@ -995,6 +995,12 @@ int popc_modbus_axis_create(popc_axis **out, const popc_scene *s, const popc_mod
 	int st = popc_register_map_load(&a->map, s->axis_map, err);
 	if (!st)
 		st = popc_modbus_uri_parse(s->axis_connect, &a->uri, err);
+	/* port 0 is a server's "any free port": a drive is not found there */
+	if (!st && !a->uri.rtu && strcmp(a->uri.port, "0") == 0)
+		st = popc_error_set(err, POPC_ERR_INVALID,
+				    "connect URI '%s': port 0 is for a server (any free port); give the "
+				    "drive's port, 1-65535",
+				    s->axis_connect);
 	if (st) {
 		free(a);
 		free(ax);
