@@ -178,6 +178,11 @@ static const bad_case bad_cases[] = {
 	{"off = 6", "off = 15", ":23: enable.off = 15: off must differ from the last on word"},
 	{"fault_mask = 0x08", "fault_mask = 0x21", ":27: status.fault_mask = 0x21: shares bits with ready_mask"},
 	{"[status]", "[statuss]", "unknown section [statuss]"},
+	/* an unknown section without keys (issue 28: it passed unseen, as in
+	 * scenes before), alone or before a known one */
+	{"[status]", "[nosuch]\n[status]", ":24: unknown section [nosuch] (allowed: drive, position, "
+					     "command, enable, status)"},
+	{"slave = 3\n", "slave = 3\n[comand]\n", ":3: unknown section [comand]"},
 	{"gear = 2", "gearing = 2", ":10: unknown key position.gearing"},
 	/* numbers are decimal, as in scenes: strtod took a hex float and "inf" */
 	{"gear = 2", "gear = 0x1p1", ":10: position.gear = 0x1p1: expected a number in (0, 1e+06]"},
