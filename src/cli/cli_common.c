@@ -41,9 +41,10 @@ static void on_signal(int sig)
  *   timer or uses them: they come from outside, as a request to end),
  *   SIGXCPU (the soft CPU time limit: the hard one follows with SIGKILL, so
  *   stop while we still can), SIGIO/SIGPOLL, SIGPWR (a UPS: the power is
- *   going), SIGSTKFLT, SIGTRAP and SIGSYS sent by kill, SIGTSTP (^Z would
- *   suspend popc with the drive holding its last force: a run is ended, not
- *   paused), and the real-time signals SIGRTMIN..SIGRTMAX;
+ *   going), SIGSTKFLT, SIGTRAP and SIGSYS sent by kill, the real-time
+ *   signals SIGRTMIN..SIGRTMAX, and with a drive (drive != 0) SIGTSTP: ^Z
+ *   would suspend popc with the drive holding its last force, so a drive run
+ *   is ended, not paused (a simulated run or a sweep is suspended as usual);
  * - ignored: SIGPIPE (a --log pipe whose reader left is a write error,
  *   EPIPE) and SIGXFSZ (a file size limit reached: the write fails with
  *   EFBIG, the log is cut back to its last whole row, exit 1).
@@ -57,7 +58,7 @@ static void on_signal(int sig)
  * for these only the drive's own watchdog brings the axis to a safe state. */
 static const int stop_signals[] = {
 	SIGINT, SIGTERM, SIGQUIT, SIGALRM, SIGUSR1, SIGUSR2, SIGVTALRM, SIGPROF,
-	SIGXCPU, SIGTRAP, SIGSYS, SIGTSTP,
+	SIGXCPU, SIGTRAP, SIGSYS,
 #ifdef SIGIO
 	SIGIO,
 #endif
@@ -69,7 +70,7 @@ static const int stop_signals[] = {
 #endif
 };
 
-void popc_cli_install_signals(void)
+void popc_cli_install_signals(int drive)
 {
 	struct sigaction sa, old;
 	memset(&sa, 0, sizeof sa);
@@ -81,6 +82,8 @@ void popc_cli_install_signals(void)
 	for (int sig = SIGRTMIN; sig <= SIGRTMAX; sig++)
 		sigaction(sig, &sa, NULL);
 #endif
+	if (drive)
+		sigaction(SIGTSTP, &sa, NULL);
 	if (sigaction(SIGHUP, NULL, &old) != 0 || old.sa_handler != SIG_IGN)
 		sigaction(SIGHUP, &sa, NULL);
 	signal(SIGPIPE, SIG_IGN);

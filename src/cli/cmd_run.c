@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "cli.h"
@@ -191,7 +192,11 @@ static int refuse_overwriting_inputs(const popc_scene *s, const char *scene_path
  * holds nothing yet. Returns 0, or -1 after naming the file and its format. */
 static int refuse_mixed_summary(const char *summary_path, int json)
 {
-	if (!summary_path || strcmp(summary_path, "-") == 0)
+	/* a regular file only: a FIFO or a terminal (/dev/stdout) would block
+	 * the read, and holds nothing to mix with */
+	struct stat sb;
+	if (!summary_path || strcmp(summary_path, "-") == 0 || stat(summary_path, &sb) != 0 ||
+	    !S_ISREG(sb.st_mode))
 		return 0;
 	FILE *f = fopen(summary_path, "r");
 	if (!f)
@@ -385,7 +390,7 @@ int popc_cmd_run(int argc, char **argv)
 		}
 		ro.log = &log;
 	}
-	popc_cli_install_signals();
+	popc_cli_install_signals(!popc_axis_is_simulated(&s));
 	/* the progress line: on a terminal, not with -q, once the run has taken
 	 * a second (POPC_PROGRESS_AFTER_S); the hook is set only then, so a run
 	 * whose stderr is a file or a pipe runs exactly as before */
