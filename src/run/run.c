@@ -18,10 +18,10 @@
  * "Exit codes": each exit code's stop lines). */
 static const char *sample_failure(int st)
 {
-	return st == POPC_ERR_NUMERIC	   ? "integrator unstable"
+	return st == POPC_ERR_NUMERIC       ? "integrator unstable"
 	       : st == POPC_ERR_DIVERGED    ? "closed loop diverged"
-	       : st == POPC_ERR_SAFETY	    ? "safety stop"
-	       : st == POPC_ERR_COMM	    ? "communication lost"
+	       : st == POPC_ERR_SAFETY      ? "safety stop"
+	       : st == POPC_ERR_COMM        ? "communication lost"
 	       : st == POPC_ERR_INTERRUPTED ? "signal" /* seen by the axis mid-transaction */
 					    : "axis error";
 }
