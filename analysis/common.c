@@ -1,6 +1,7 @@
 /* Shared helpers of popc-analyze (analyze.h): input options, the log wrapper
  * that derives missing columns, error printing. */
 #include <errno.h>
+#include <float.h>
 #include <limits.h>
 #include <math.h>
 #include <stdlib.h>
@@ -819,9 +820,18 @@ int ana_log_next(ana_log *l, ana_row *out, popc_error *err)
 	l->t_prev_line = line;
 	if (l->c_count >= 0) {
 		double c = row[l->c_count];
-		/* an integer: equal to its truncation, converted only within
-		 * range (floor is a libm emulation on baseline x86-64) */
-		if (!(fabs(c) < 4.0e18 && c == (double)(long long)c))
+		/* an integer within 2^53: beyond it a double no longer holds
+		 * every integer, so a count there is not exact (popc's encoder
+		 * stays below it: README, exit 6); within, equal to its
+		 * truncation (floor is a libm emulation on baseline x86-64) */
+		const double exact_max = 9007199254740992.0; /* 2^53 */
+		if (fabs(c) > exact_max && fabs(c) <= DBL_MAX)
+			return popc_error_set(err, POPC_ERR_INVALID,
+					      "%s:%lld: column %d (count): %.17g is beyond 2^53 = "
+					      "9007199254740992, where counts stop being exact (a double holds "
+					      "every integer only up to there)",
+					      l->r.path, line, l->c_count + 1, c);
+		if (!(fabs(c) <= exact_max && c == (double)(long long)c))
 			return popc_error_set(err, POPC_ERR_INVALID,
 					      "%s:%lld: column %d (count): %.17g is not an integer count",
 					      l->r.path, line, l->c_count + 1, c);

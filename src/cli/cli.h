@@ -8,10 +8,13 @@
 #include "popc/util/parse.h" /* every number an option takes */
 #include "popc/scene/scene.h"
 
-/* Set by SIGINT, SIGTERM, SIGHUP and SIGQUIT; the run loop polls it every
- * tick (SIGPIPE is ignored). */
+/* Set by every signal whose default would end popc (SIGINT, SIGTERM, SIGHUP,
+ * SIGQUIT, ...: the list and the reasons are in cli_common.c); the run loop
+ * polls it every tick (SIGPIPE and SIGXFSZ are ignored: write errors). */
 extern volatile sig_atomic_t popc_cli_stop;
-void popc_cli_install_signals(void);
+/* drive: a real axis is enabled during the run; SIGTSTP then ends the run
+ * safely instead of suspending popc with the drive at its last force. */
+void popc_cli_install_signals(int drive);
 
 /* The command line popc was started with (main keeps it before any verb's
  * getopt permutes it): -j 1's sweep starts popc again with it after a crash

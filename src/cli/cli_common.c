@@ -30,28 +30,64 @@ static void on_signal(int sig)
 	popc_cli_stop = 1;
 }
 
-/* Every signal that would otherwise end the process while a drive is enabled
- * sets the stop flag instead: the run loop (and the Modbus axis while it
- * retries or waits for the ready bits) then stops safely: zero force,
- * disable, the log's stop line, exit 5. SIGQUIT would dump core with the
- * drive still enabled; SIGHUP comes when the terminal or the ssh session
- * goes away. A SIGHUP ignored when popc starts (nohup) stays ignored: nohup
- * asks the run to outlive the terminal. SIGKILL cannot be caught: only the
- * drive's own watchdog covers it (docs/MODBUS.md). SIGPIPE is ignored so that
- * a --log pipe whose reader left is a write error (EPIPE) that ends the run
- * safely, not a death by signal. */
-void popc_cli_install_signals(void)
+/* Every signal whose default action ends the process (or, SIGTSTP, stops
+ * it) would leave a drive enabled at its last force, with nothing in popc
+ * running to zero it. Each is handled or ignored, none left at its default:
+ *
+ * - the stop flag, and so the safe stop (zero force, disable, the log's stop
+ *   line, exit 5): SIGINT, SIGTERM, SIGQUIT (its default would dump core with
+ *   the drive enabled), SIGHUP (the terminal or the ssh session went away),
+ *   SIGALRM, SIGUSR1, SIGUSR2, SIGVTALRM, SIGPROF (nothing in popc sets a
+ *   timer or uses them: they come from outside, as a request to end),
+ *   SIGXCPU (the soft CPU time limit: the hard one follows with SIGKILL, so
+ *   stop while we still can), SIGIO/SIGPOLL, SIGPWR (a UPS: the power is
+ *   going), SIGSTKFLT, SIGTRAP and SIGSYS sent by kill, the real-time
+ *   signals SIGRTMIN..SIGRTMAX, and with a drive (drive != 0) SIGTSTP: ^Z
+ *   would suspend popc with the drive holding its last force, so a drive run
+ *   is ended, not paused (a simulated run or a sweep is suspended as usual);
+ * - ignored: SIGPIPE (a --log pipe whose reader left is a write error,
+ *   EPIPE) and SIGXFSZ (a file size limit reached: the write fails with
+ *   EFBIG, the log is cut back to its last whole row, exit 1).
+ *
+ * A SIGHUP ignored when popc starts (nohup) stays ignored: nohup asks the
+ * run to outlive the terminal. Not covered, and said in docs/MODBUS.md:
+ * SIGKILL and SIGSTOP cannot be caught or ignored; SIGSEGV, SIGBUS, SIGFPE,
+ * SIGILL and SIGABRT are a crash (a handler cannot return into the code that
+ * faulted), SIGTTIN and SIGTTOU stop a background popc that uses the
+ * terminal, and SIGCONT, SIGCHLD, SIGURG and SIGWINCH do nothing by default;
+ * for these only the drive's own watchdog brings the axis to a safe state. */
+static const int stop_signals[] = {
+	SIGINT, SIGTERM, SIGQUIT, SIGALRM, SIGUSR1, SIGUSR2, SIGVTALRM, SIGPROF,
+	SIGXCPU, SIGTRAP, SIGSYS,
+#ifdef SIGIO
+	SIGIO,
+#endif
+#ifdef SIGPWR
+	SIGPWR,
+#endif
+#ifdef SIGSTKFLT
+	SIGSTKFLT,
+#endif
+};
+
+void popc_cli_install_signals(int drive)
 {
 	struct sigaction sa, old;
 	memset(&sa, 0, sizeof sa);
 	sa.sa_handler = on_signal;
 	sigemptyset(&sa.sa_mask);
-	sigaction(SIGINT, &sa, NULL);
-	sigaction(SIGTERM, &sa, NULL);
-	sigaction(SIGQUIT, &sa, NULL);
+	for (size_t i = 0; i < sizeof stop_signals / sizeof stop_signals[0]; i++)
+		sigaction(stop_signals[i], &sa, NULL);
+#ifdef SIGRTMIN
+	for (int sig = SIGRTMIN; sig <= SIGRTMAX; sig++)
+		sigaction(sig, &sa, NULL);
+#endif
+	if (drive)
+		sigaction(SIGTSTP, &sa, NULL);
 	if (sigaction(SIGHUP, NULL, &old) != 0 || old.sa_handler != SIG_IGN)
 		sigaction(SIGHUP, &sa, NULL);
 	signal(SIGPIPE, SIG_IGN);
+	signal(SIGXFSZ, SIG_IGN);
 }
 
 int popc_cli_fail(const char *verb, int status, const popc_error *err)

@@ -15,6 +15,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "bench.h"
 #include "cli.h"
@@ -152,8 +154,20 @@ int popc_cmd_bench(int argc, char **argv)
 	}
 	/* the figure's directory is made (or refused) before half a minute of
 	 * measuring, as report -o and sweep -o make theirs */
-	if (o.plot_dir && (st = popc_mkdir_p(o.plot_dir, &err)) != 0)
-		return popc_cli_fail("bench", st, &err);
+	if (o.plot_dir && (st = popc_mkdir_p(o.plot_dir, &err)) != 0) {
+		fprintf(stderr, "popc bench: --plot %s: %s\n", o.plot_dir, err.msg);
+		return 2; /* an unusable output named on the command line: nothing ran */
+	}
+	/* a name that is already a file passes mkdir (EEXIST): the figure's
+	 * files would fail to open after the measurement */
+	struct stat sb;
+	if (o.plot_dir && (stat(o.plot_dir, &sb) != 0 || !S_ISDIR(sb.st_mode) ||
+			   access(o.plot_dir, W_OK | X_OK) != 0)) {
+		fprintf(stderr, "popc bench: --plot %s: %s (the figure's files go into a directory)\n",
+			o.plot_dir, stat(o.plot_dir, &sb) == 0 && !S_ISDIR(sb.st_mode) ? "not a directory"
+												  : "cannot write into it");
+		return 2;
+	}
 	if (strcmp(what, "integrators") == 0)
 		return bench_integrators(&s, &o);
 	if (strcmp(what, "loop") == 0)

@@ -454,7 +454,7 @@ static int map_main(const map_args *a)
 				  .jobs = a->jobs > 0 ? (int)a->jobs : sweep_pool_default_jobs(), .rows_pid = 0,
 				  .die_after_claim = -1, .crash_at = -1, .interrupt_after = -1, .isolate = a->isolate};
 	sweep_pool_test_hooks(&pool);
-	popc_cli_install_signals();
+	popc_cli_install_signals(0); /* the simulated axis only */
 	for (;;) {
 		if ((st = evaluate(&m, &plan, a->dir, &shard, a->port_tol_J, &err)) != 0)
 			goto out;

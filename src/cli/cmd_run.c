@@ -5,6 +5,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "cli.h"
 #include "popc/axes/axis.h"
@@ -34,9 +36,11 @@ static void usage(FILE *f)
 	      "  --summary-format csv|json  the summary as a CSV row (default) or as one JSON\n"
 	      "                           object on one line (JSON Lines: appending adds a\n"
 	      "                           line; the CSV header's names, numbers as JSON\n"
-	      "                           numbers, null for an empty cell; docs/READING.md)\n"
+	      "                           numbers, null for an empty cell; docs/READING.md);\n"
+	      "                           a file holding the other format is refused\n"
 	      "  --axis sim|modbus        axis.kind: the simulated plant or a servo drive\n"
-	      "  --map FILE               axis.map: the drive's register map (docs/MODBUS.md)\n"
+	      "  --map FILE               axis.map: the drive's register map (docs/MODBUS.md);\n"
+	      "                           --map and --connect only with axis.kind = modbus\n"
 	      "  --connect URI            axis.connect:\n"
 	      "                           " POPC_URI_NOTATION "\n"
 	      "                           (" POPC_URI_DEFAULTS ";\n"
@@ -180,6 +184,39 @@ static int refuse_overwriting_inputs(const popc_scene *s, const char *scene_path
 	return 0;
 }
 
+/* --summary appends: onto a file that holds the other format it would mix
+ * them (a JSON object under a CSV header, a headerless CSV row among JSON
+ * Lines), and neither reader could take the file afterwards. What a file
+ * holds is told by its first byte: a JSON Lines summary starts with '{', a
+ * CSV one with its header's first name. An empty or missing file (or "-")
+ * holds nothing yet. Returns 0, or -1 after naming the file and its format. */
+static int refuse_mixed_summary(const char *summary_path, int json)
+{
+	/* a regular file only: a FIFO or a terminal (/dev/stdout) would block
+	 * the read, and holds nothing to mix with */
+	struct stat sb;
+	if (!summary_path || strcmp(summary_path, "-") == 0 || stat(summary_path, &sb) != 0 ||
+	    !S_ISREG(sb.st_mode))
+		return 0;
+	FILE *f = fopen(summary_path, "r");
+	if (!f)
+		return 0; /* not there yet, or unreadable: opening it for appending says */
+	int c = fgetc(f);
+	fclose(f);
+	if (c == EOF)
+		return 0;
+	int holds_json = c == '{';
+	if (holds_json == json)
+		return 0;
+	fprintf(stderr,
+		"popc run: --summary %s holds %s (line 1 %s): refusing to append %s to it "
+		"(give --summary-format %s, or another file)\n",
+		summary_path, holds_json ? "JSON Lines" : "CSV",
+		holds_json ? "is a JSON object" : "is not a JSON object: a CSV header",
+		json ? "a JSON line" : "a CSV row", holds_json ? "json" : "csv");
+	return -1;
+}
+
 /* popc run's progress line (progress.h): simulated (or run) time against
  * the scene's duration, checked every 1024 ticks so that the clock is read
  * about once a millisecond of simulated time at 1 kHz, not every tick. */
@@ -304,8 +341,19 @@ int popc_cmd_run(int argc, char **argv)
 	free(sets);
 	if (st)
 		return popc_cli_fail("run", st, &err);
-	if (refuse_overwriting_inputs(&s, argv[optind], log_path, summary_path) != 0)
+	if (refuse_overwriting_inputs(&s, argv[optind], log_path, summary_path) != 0 ||
+	    refuse_mixed_summary(summary_path, summary_json) != 0)
 		return 2;
+	/* --map and --connect set keys that only a Modbus axis reads: on the
+	 * simulated one they would do nothing, silently */
+	for (int o = 1; o <= 2; o++)
+		if (axis_opt[o] && strcmp(s.axis, "modbus") != 0) {
+			fprintf(stderr,
+				"popc run: %s %s: only for axis.kind = modbus, and axis.kind is %s "
+				"(give --axis modbus, or leave %s out)\n",
+				key_opts[o + 1].option, axis_opt[o], s.axis, key_opts[o + 1].option);
+			return 2;
+		}
 
 	popc_axis *axis = NULL;
 	st = popc_axis_create(&axis, &s, &axis_create, &err);
@@ -313,6 +361,10 @@ int popc_cmd_run(int argc, char **argv)
 		return popc_cli_fail("run", st, &err);
 
 	FILE *summary = summary_stdout ? stdout : NULL;
+	/* a summary file this run creates is removed again when the run fails
+	 * before its first tick (the log cannot be opened): it would be left
+	 * empty, a summary of nothing */
+	int summary_created = summary_path && !summary_stdout && access(summary_path, F_OK) != 0;
 	if (summary_path && !summary_stdout && !(summary = fopen(summary_path, "a"))) {
 		st = popc_error_set(&err, POPC_ERR_IO, "%s: cannot open the summary for appending: %s",
 				    summary_path, strerror(errno));
@@ -328,14 +380,17 @@ int popc_cmd_run(int argc, char **argv)
 			popc_log_close(&log, &cerr);
 		}
 		if (st) {
-			if (summary && summary != stdout)
+			if (summary && summary != stdout) {
 				fclose(summary);
+				if (summary_created)
+					remove(summary_path);
+			}
 			popc_axis_destroy(&axis);
 			return popc_cli_fail("run", st, &err);
 		}
 		ro.log = &log;
 	}
-	popc_cli_install_signals();
+	popc_cli_install_signals(!popc_axis_is_simulated(&s));
 	/* the progress line: on a terminal, not with -q, once the run has taken
 	 * a second (POPC_PROGRESS_AFTER_S); the hook is set only then, so a run
 	 * whose stderr is a file or a pipe runs exactly as before */

@@ -62,7 +62,7 @@ static int scene_list(int argc, char **argv)
 		fprintf(stderr, "popc scene list: unexpected argument '%s'\n", argv[optind]);
 		return 2;
 	}
-	popc_data_list(maps ? POPC_DATA_DRIVES : POPC_DATA_SCENES, stdout);
+	popc_data_list(maps ? POPC_DATA_DRIVES : POPC_DATA_SCENES, stdout, stderr, "popc scene list");
 	return fflush(stdout) == 0 && !ferror(stdout) ? 0 : 1;
 }
 

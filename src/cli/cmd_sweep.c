@@ -418,7 +418,7 @@ static int sweep_main(const sweep_args *a)
 	if (!a->quiet && n_shard - n_todo > 0)
 		fprintf(stderr, "popc sweep: %lld of %lld runs already done in %s\n", n_shard - n_todo,
 			n_shard, a->dir);
-	popc_cli_install_signals();
+	popc_cli_install_signals(0); /* the simulated axis only */
 	int trouble = n_todo > 0 ? sweep_pool_run(&pool, todo, n_todo, &prog) : 0;
 	free(todo);
 	double elapsed = sweep_progress_elapsed_s(&prog);

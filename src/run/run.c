@@ -15,6 +15,16 @@
 
 #include "run_admittance.h"
 
+const char *popc_run_sample_failure(int st)
+{
+	return st == POPC_ERR_NUMERIC       ? "integrator unstable"
+	       : st == POPC_ERR_DIVERGED    ? "closed loop diverged"
+	       : st == POPC_ERR_SAFETY      ? "safety stop"
+	       : st == POPC_ERR_COMM        ? "communication lost"
+	       : st == POPC_ERR_INTERRUPTED ? "signal" /* seen by the axis mid-transaction */
+					    : "axis error";
+}
+
 int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 	     popc_run_summary *sum, popc_error *err)
 {
@@ -46,7 +56,7 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 	if (!st) {
 		st = axis->ops->sample(axis, &smp, err);
 		if (st)
-			why = st == POPC_ERR_INTERRUPTED ? "signal" : "axis sample failed";
+			why = popc_run_sample_failure(st);
 	}
 	/* the true port energy, for an axis that knows its true position (the
 	 * log's E_port column is filled by the same axes as x_true) */
@@ -128,12 +138,7 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 		sum->ticks = k + 1;
 		smp.dissipated_J = (double)NAN;
 		if (k + 1 < n_ticks && (st = axis->ops->exchange(axis, command_N, &smp, err)) != 0) {
-			why = st == POPC_ERR_NUMERIC ? "integrator unstable"
-			      : st == POPC_ERR_DIVERGED ? "closed loop diverged"
-			      : st == POPC_ERR_SAFETY ? "safety stop"
-			      : st == POPC_ERR_COMM   ? "communication lost"
-			      : st == POPC_ERR_INTERRUPTED ? "signal" /* seen by the axis mid-transaction */
-						      : "axis error";
+			why = popc_run_sample_failure(st);
 			break;
 		}
 	}

@@ -65,7 +65,7 @@ int popc_run_admittance(const popc_scene *s, popc_axis *axis, const popc_run_opt
 	if (st)
 		why = "axis start failed";
 	if (!st && (st = axis->ops->sample(axis, &smp, err)) != 0)
-		why = "axis sample failed";
+		why = popc_run_sample_failure(st);
 	if (!st)
 		popc_admittance_init(&ctl, &acfg, popc_encoder_position(smp.count, s->enc_resolution_m));
 	for (long long k = 0; !st && k < n_ticks; k++) {
@@ -110,9 +110,7 @@ int popc_run_admittance(const popc_scene *s, popc_axis *axis, const popc_run_opt
 		}
 		sum->ticks = k + 1;
 		if (k + 1 < n_ticks && (st = axis->ops->exchange(axis, row.adm.v_c_mps, &smp, err)) != 0) {
-			why = st == POPC_ERR_NUMERIC ? "integrator unstable"
-			      : st == POPC_ERR_DIVERGED ? "closed loop diverged"
-							: "axis error";
+			why = popc_run_sample_failure(st);
 			break;
 		}
 	}

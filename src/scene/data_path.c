@@ -110,7 +110,32 @@ static int cmp_names(const void *a, const void *b)
 	return strcmp(*(char *const *)a, *(char *const *)b);
 }
 
-int popc_data_list(popc_data_kind kind, FILE *f)
+/* Whether text holds a control character (C0 or DEL): such a name cannot
+ * be one field of a NAME<TAB>PATH line. */
+static int has_control(const char *text)
+{
+	for (const unsigned char *p = (const unsigned char *)text; *p; p++)
+		if (*p < 0x20 || *p == 0x7f)
+			return 1;
+	return 0;
+}
+
+/* text with its control characters escaped (\t, \n, \xHH), for a note */
+static void put_escaped(FILE *f, const char *text)
+{
+	for (const unsigned char *p = (const unsigned char *)text; *p; p++) {
+		if (*p == '\t')
+			fputs("\\t", f);
+		else if (*p == '\n')
+			fputs("\\n", f);
+		else if (*p < 0x20 || *p == 0x7f)
+			fprintf(f, "\\x%02x", *p);
+		else
+			fputc(*p, f);
+	}
+}
+
+int popc_data_list(popc_data_kind kind, FILE *f, FILE *notes, const char *who)
 {
 	char dir[POPC_PATH_MAX], sub[POPC_PATH_MAX + 16];
 	char **seen = NULL;
@@ -130,6 +155,16 @@ int popc_data_list(popc_data_kind kind, FILE *f)
 			snprintf(path, sizeof path, "%s%s", sub, e->d_name);
 			if (!is_file(path))
 				continue;
+			if (has_control(path)) {
+				if (notes) {
+					fprintf(notes, "%s: note: not listed: ", who);
+					put_escaped(notes, path);
+					fputs(": a name or path with a tab, a newline or another control "
+					      "character cannot be one NAME<TAB>PATH line (rename it)\n",
+					      notes);
+				}
+				continue;
+			}
 			int dup = 0;
 			for (int k = 0; k < n_seen && !dup; k++)
 				dup = strncmp(seen[k], e->d_name, len - 4) == 0 && seen[k][len - 4] == '\0';

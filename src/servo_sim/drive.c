@@ -154,9 +154,18 @@ static int register_write(servo_drive *d, int addr, int n, const uint8_t *p, int
 	d->force_N = (m->cmd.reversed ? -units : units) * m->cmd.newton_per_unit;
 	d->last_cmd_ns = now_ns;
 	d->commands++;
-	char text[64], num[POPC_DOUBLE_TEXT_MAX + 1];
-	popc_format_double(d->force_N, num);
-	snprintf(text, sizeof text, "command %s", num);
+	/* the force, then the register's words as they came over the wire
+	 * (register order): a zero force must arrive as all-zero words, never
+	 * a float's -0.0 (8000 0000), which a drive's firmware would have to
+	 * know for zero */
+	char text[sizeof d->record[0]], num[POPC_DOUBLE_TEXT_MAX + 1];
+	popc_format_double(d->force_N + 0.0, num); /* -0 N is written 0 */
+	int used = snprintf(text, sizeof text, "command %s [", num);
+	for (int i = 0; i < ncmd && used > 0 && (size_t)used < sizeof text; i++)
+		used += snprintf(text + used, sizeof text - (size_t)used, "%s%04x", i ? " " : "",
+				 (unsigned)d->mb->tab_registers[m->cmd.reg + i]);
+	if (used > 0 && (size_t)used < sizeof text)
+		snprintf(text + used, sizeof text - (size_t)used, "]");
 	record(d, text);
 	int st = 0;
 	/* the force above is taken either way (a retry carries the same one); the

@@ -62,7 +62,7 @@ typedef struct servo_drive {
 	int have_seq;              /* a sequence value has been written (last_seq is valid) */
 	uint16_t last_seq;
 	long long seq_repeats;     /* command writes that repeated the last sequence value */
-	char record[DRIVE_RECORD_MAX][64]; /* the last writes of command and enable, a ring */
+	char record[DRIVE_RECORD_MAX][96]; /* the last writes of command and enable, a ring */
 	long long n_record;
 } servo_drive;
 

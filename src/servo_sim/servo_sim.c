@@ -30,6 +30,7 @@
 #include "popc/scene/data_path.h"
 #include "popc/util/clock.h"
 #include "popc/util/parse.h"
+#include "popc/util/same_file.h"
 #include "popc/util/stdfds.h"
 #include "popc/util/usage_hint.h"
 
@@ -59,7 +60,9 @@ static void usage(FILE *f)
 	      "  --set section.key=V   override a scene key (repeatable)\n"
 	      "  --watchdog-ms MS      command watchdog (default: the map's drive.watchdog_ms)\n"
 	      "  --record FILE         on exit, write the last writes of command and enable\n"
-	      "                        there (oldest first), e.g. 'command 0' then 'enable 0x0000'\n"
+	      "                        there (oldest first), e.g. 'command 0 [0000 0000]' (the\n"
+	      "                        force, then the register's words) and 'enable 0x0000';\n"
+	      "                        not onto the map, the scene or its operator table\n"
 	      "  --notify-at AT        print 'popc-servo-sim: request N' on stdout at request AT\n"
 	      "  --pace-baud           RTU: hold each reply for the wire time of request and\n"
 	      "                        reply at the URI's baud plus two 3.5-character gaps\n"
@@ -701,6 +704,25 @@ int main(int argc, char **argv)
 		fprintf(stderr, "popc-servo-sim: %s\n", err.msg);
 		return st == POPC_ERR_INVALID || st == POPC_ERR_IO ? 2 : 1;
 	}
+	/* --record truncates its file when it opens it (below): never one of
+	 * the inputs, which it would empty (popc_same_file: a link or another
+	 * spelling counts), as popc run's and popc-analyze's outputs */
+	const struct {
+		const char *what, *path;
+	} inputs[] = {
+		{"the register map (--map)", map_path},
+		{"the scene (--scene)", scene_path},
+		{"the operator table (operator.table)",
+		 scene.intent == POPC_INTENT_TABLE ? scene.op_table : NULL},
+	};
+	for (size_t i = 0; record_path && i < sizeof inputs / sizeof inputs[0]; i++)
+		if (popc_same_file(record_path, inputs[i].path)) {
+			fprintf(stderr,
+				"popc-servo-sim: --record %s is %s %s: refusing to overwrite an input "
+				"(choose another --record)\n",
+				record_path, inputs[i].what, inputs[i].path);
+			return 2;
+		}
 	/* the record file is opened now, so that a path that cannot be written
 	 * is bad usage before the drive serves anyone, not found at exit */
 	FILE *record = NULL;

@@ -50,6 +50,16 @@ expect_rc 0 "$A" compare "$W/popc-cut.csv" &&
 printf 't,x,count\n0,0,1.5\n# note\n\n0.001,0,1\n' >"$W/lines.csv"
 expect_rc 2 "$A" compare "$W/lines.csv" && grep -q "lines.csv:2: column 3 (count): 1.5 is not an integer count" "$W/err" &&
 	ok "line number of a look-ahead row after comments" || fail "look-ahead line: $(cat "$W/err")"
+# a count beyond 2^53 is an integer, but no longer exact: said so (issue
+# 28: "1e+20 is not an integer count")
+printf 't,x,count\n0,0,1e20\n0.001,0,1\n' >"$W/huge.csv"
+expect_rc 2 "$A" compare "$W/huge.csv" &&
+	grep -q "huge.csv:2: column 3 (count): 1e+20 is beyond 2^53 = 9007199254740992, where counts stop being exact" "$W/err" &&
+	ok "a count beyond 2^53: named as such" || fail "count 1e20: $(cat "$W/err")"
+printf 't,x,count\n0,0,-9007199254740994\n0.001,0,1\n' >"$W/huge2.csv"
+expect_rc 2 "$A" compare "$W/huge2.csv" &&
+	grep -q "huge2.csv:2: column 3 (count): -9007199254740994 is beyond 2^53" "$W/err" &&
+	ok "a count just beyond -2^53: named as such" || fail "count -2^53-2: $(cat "$W/err")"
 
 # --column: a misspelt popc name or a name mapped twice is refused, not ignored
 awk -F, 'NR == 1 { print "t,x,force"; next } { print }' "$W/plain.csv" >"$W/force.csv"

@@ -83,6 +83,16 @@ check "  the first directory's paper" has_line "paper	$T/d1/scenes/paper.ini"
 check "  once" test "$(grep -c '^paper	' "$T/out")" -eq 1
 check "  the second's fig3" has_line "fig3	$DATA/scenes/fig3.ini"
 check "  only .ini files, named without .ini" test "$(grep -c '^both	' "$T/out")" -eq 1
+# a name with a tab or a newline would break the NAME<TAB>PATH lines (issue
+# 28: printed raw): not listed, a note names it escaped; the others are
+mkdir -p "$T/ctl/scenes"
+cp "$DATA/scenes/paper.ini" "$T/ctl/scenes/ok.ini"
+cp "$DATA/scenes/paper.ini" "$T/ctl/scenes/tab"$'\t'"name.ini"
+cp "$DATA/scenes/paper.ini" "$T/ctl/scenes/new"$'\n'"line.ini"
+expect_exit 0 "popc scene list with control characters in names" env POPC_DATA_PATH="$T/ctl" "$POPC" scene list
+check "  only the plain name is listed" test "$(cat "$T/out")" = "ok	$T/ctl/scenes/ok.ini"
+check "  a note names the tab" err_has "popc scene list: note: not listed: $T/ctl/scenes/tab\\tname.ini: a name or path with a tab, a newline or another control character cannot be one NAME<TAB>PATH line (rename it)"
+check "  and the newline" err_has "popc scene list: note: not listed: $T/ctl/scenes/new\\nline.ini"
 expect_exit 0 "popc scene list --maps" env POPC_DATA_PATH="$DATA" "$POPC" scene list --maps
 check "  generic" has_line "generic	$DATA/drives/generic.ini"
 expect_exit 0 "popc sweep paper" env POPC_DATA_PATH="$DATA" "$POPC" sweep paper --vary controller.variant=none,improved --set run.duration=0.1 -o "$T/sw" -q --no-log

@@ -29,6 +29,11 @@ int popc_fuzz_modbus_uri(const uint8_t *data, size_t size)
 			    (u.stop_bits != 1 && u.stop_bits != 2)
 		  : !u.host[0] || !u.port[0])
 		popc_fuzz_fail(data, size, "accepted an incomplete URI");
+	/* a TCP port is decimal digits in [0, 65535], a host holds no blank,
+	 * control character or bracket (issue 28: "+1", "host name") */
+	if (!u.rtu && (strspn(u.port, "0123456789") != strlen(u.port) || strlen(u.port) > 5 ||
+		       atol(u.port) > 65535 || strpbrk(u.host, " \t\r\n\v\f[]")))
+		popc_fuzz_fail(data, size, "accepted host '%s' port '%s'", u.host, u.port);
 	char canon[2 * POPC_PATH_MAX], again[2 * POPC_PATH_MAX];
 	popc_modbus_uri_format(&u, canon, sizeof canon);
 	if (popc_modbus_uri_parse(canon, &v, &err) != 0)

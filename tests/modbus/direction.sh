@@ -76,5 +76,32 @@ map=$(reversed cmd-only command)
 lockstep wrong "$map" "$EXACT_MAP"
 [ $RC -ne 0 ] || ! cmp -s "$WORK/sim.cols" "$WORK/mb-wrong.cols" ||
 	fail "a reversed command against a drive that is not reversed gave the simulated run"
+# A zero force goes over the wire as all-zero words: +0.0, never -0.0
+# (8000 0000 ...), for a float command normal or reversed. Before issue 28 a
+# reversed float command sent the start's and the stop's zero as -0.0, and a
+# normal one every zero f_c of a tick (the device receives -f_c). 50 ticks
+# at rest before the ramp: every command is zero; the record holds the last
+# 8 writes (6 ticks' commands, the stop's zero force, the disable word).
+for type in float32 float64; do
+	for dir in normal reversed; do
+		name=zero-$type-$dir
+		sed "s/^type = float64/type = $type/" "$EXACT_MAP" >"$WORK/$name.ini"
+		[ $dir = reversed ] && sed -i "/^\[command\]/a direction = reversed" "$WORK/$name.ini"
+		start_server --map "$WORK/$name.ini" --listen "$LISTEN" --scene "$SCENE" --lockstep \
+			--record "$WORK/rec-$name.txt"
+		[ "$TRANSPORT" = rtu ] || CONNECT=$SRV_URI
+		RC=0
+		"$POPC" run "$SCENE" -q --set run.duration=0.05 --axis modbus --map "$WORK/$name.ini" \
+			--connect "$CONNECT" --free-run --log "$WORK/$name.csv" 2>"$WORK/$name.err" || RC=$?
+		stop_server
+		expect_rc "$name" $RC 0
+		check_last_writes "$WORK/rec-$name.txt" 0x0000
+		[ "$(grep -c '^command ' "$WORK/rec-$name.txt")" -ge 6 ] ||
+			fail "$name: fewer commands recorded than expected: $(tr '\n' '|' <"$WORK/rec-$name.txt")"
+		! grep '^command ' "$WORK/rec-$name.txt" | grep -qv '^command 0 \[0000\( 0000\)*\]$' ||
+			fail "$name: a zero force not sent as +0.0: $(tr '\n' '|' <"$WORK/rec-$name.txt")"
+	done
+done
+
 [ "$TRANSPORT" = rtu ] && stop_socat
 finish

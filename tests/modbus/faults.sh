@@ -59,6 +59,17 @@ stop_server
 grep -q ' 1 failed transactions' "$WORK/drop1.err" || fail "drop1: want 1 failed transaction: $(grep 'link:' "$WORK/drop1.err")"
 check_last_writes "$WORK/rec-drop1.txt" 0x0000
 
+# 2b. every reply to the first sample's read dropped (max_failures = 3): the
+#     start's requests are the status read, command 1 (zero force), the
+#     enable word and one ready poll (the lockstep drive is ready at once),
+#     so c1+3 is the first position read. Communication lost, exit 4, no
+#     tick, the stop line docs/MODBUS.md lists for exit 4 (before issue 28:
+#     "axis sample failed: ...", listed nowhere).
+run_case first 4 '^# stop = communication lost: .*3 failed transactions in a row \(last: position read' 0 \
+	"$EXACT_MAP" "--drop c1+3,3"
+stop_server
+check_last_writes "$WORK/rec-first.txt" 0x0000
+
 # 3. a reply 750 ms late (timeout 500 ms): timeout; TCP reconnects (the server
 #    holds the late reply until popc has closed the old connection), RTU drains
 #    the late reply (it comes 250 ms into the drain's 500 ms quiet wait: a

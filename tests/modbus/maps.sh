@@ -118,6 +118,21 @@ rc=0
 	2>"$WORK/uri.err" || rc=$?
 expect_rc bad-uri $rc 2
 grep -q "connect URI 'serial:x': unknown transport" "$WORK/uri.err" || fail "bad URI message"
+# malformed hosts and ports are usage errors naming what is wrong, before
+# anything connects (issue 28: these were tried and failed with "Connection
+# refused", exit 4); port 0 is a server's (any free port), not a drive's
+for uri in "tcp:127.0.0.1:+1|port must be decimal digits, 1-65535" \
+	"tcp:host name:1|host 'host name': a host is an IPv4 address" \
+	"tcp:999.999.999.999:1|host '999.999.999.999': an IPv4 address is four numbers 0-255" \
+	"tcp:127.0.0.1:0|port 0 is for a server (any free port)"; do
+	rc=0
+	"$POPC" run "$SCENE" -q --axis modbus --map "$DRIVES/generic.ini" --connect "${uri%%|*}" \
+		--log "$WORK/uri.csv" 2>"$WORK/uri.err" || rc=$?
+	expect_rc "bad URI ${uri%%|*}" $rc 2
+	grep -qF "connect URI '${uri%%|*}': ${uri#*|}" "$WORK/uri.err" ||
+		fail "bad URI ${uri%%|*}: $(cat "$WORK/uri.err")"
+	[ ! -e "$WORK/uri.csv" ] || fail "bad URI ${uri%%|*}: a log was written"
+done
 # nobody listens: a connection failure before start is a communication loss
 rc=0
 "$POPC" run "$SCENE" -q --axis modbus --map "$DRIVES/generic.ini" --connect tcp:127.0.0.1:1 \

@@ -53,4 +53,42 @@ refused --wrong-protocol "1,0"
 refused --wrong-protocol "1,65536"
 refused --wrong-protocol "1,1,$MAXL"
 accepted --wrong-protocol "1,65535,2"
+
+# --record never writes onto an input (issue 28: onto its own --map or
+# --scene it emptied that file, exit 0): refused with exit 2 naming both,
+# the file left as it was; also through a symbolic link, and onto a table
+# intent's operator.table
+cp "$EXACT_MAP" "$WORK/own.ini"
+cp "$SCENE" "$WORK/own-scene.ini"
+printf 't,value\n0,0\n1,0.001\n' >"$WORK/table.csv"
+printf '[operator]\nintent = table\ntable = table.csv\n' >"$WORK/table-scene.ini"
+ln -s own.ini "$WORK/link.ini"
+for c in "map:$WORK/own.ini:$WORK/own.ini:the register map (--map)" \
+	"scene:$WORK/own-scene.ini:$WORK/own-scene.ini:the scene (--scene)" \
+	"link:$WORK/own.ini:$WORK/link.ini:the register map (--map)" \
+	"table:$WORK/table-scene.ini:$WORK/table.csv:the operator table (operator.table)"; do
+	IFS=: read -r name input record what <<<"$c"
+	map=$WORK/own.ini scene=$SCENE
+	[ "$name" = scene ] && scene=$WORK/own-scene.ini
+	[ "$name" = table ] && scene=$WORK/table-scene.ini
+	before=$(md5sum <"$record")
+	# in the background, its stdout through a FIFO: a server that accepted
+	# the record says it listens (then it is stopped by its pid: the case
+	# fails), one that refused exits and the FIFO ends
+	rm -f "$WORK/rec.fifo"
+	mkfifo "$WORK/rec.fifo"
+	"$SIM" --map "$map" --listen tcp:127.0.0.1:0 --scene "$scene" --record "$record" \
+		>"$WORK/rec.fifo" 2>"$WORK/err" </dev/null &
+	pid=$!
+	if read -r -t 10 line <"$WORK/rec.fifo"; then
+		fail "record onto $name: the server started: $line"
+		kill -TERM $pid
+	fi
+	rc=0
+	wait $pid || rc=$?
+	[ $rc -eq 2 ] || fail "record onto $name: exit $rc, want 2: $(cat "$WORK/err")"
+	grep -qF "popc-servo-sim: --record $record is $what" "$WORK/err" ||
+		fail "record onto $name: $(cat "$WORK/err")"
+	[ "$(md5sum <"$record")" = "$before" ] || fail "record onto $name: the input changed"
+done
 finish

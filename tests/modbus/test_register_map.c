@@ -178,6 +178,11 @@ static const bad_case bad_cases[] = {
 	{"off = 6", "off = 15", ":23: enable.off = 15: off must differ from the last on word"},
 	{"fault_mask = 0x08", "fault_mask = 0x21", ":27: status.fault_mask = 0x21: shares bits with ready_mask"},
 	{"[status]", "[statuss]", "unknown section [statuss]"},
+	/* an unknown section without keys (issue 28: it passed unseen, as in
+	 * scenes before), alone or before a known one */
+	{"[status]", "[nosuch]\n[status]", ":24: unknown section [nosuch] (allowed: drive, position, "
+					     "command, enable, status)"},
+	{"slave = 3\n", "slave = 3\n[comand]\n", ":3: unknown section [comand]"},
 	{"gear = 2", "gearing = 2", ":10: unknown key position.gearing"},
 	/* numbers are decimal, as in scenes: strtod took a hex float and "inf" */
 	{"gear = 2", "gear = 0x1p1", ":10: position.gear = 0x1p1: expected a number in (0, 1e+06]"},
@@ -780,9 +785,41 @@ static const uri_case uri_cases[] = {
 	{"rtu:/dev/ttyS1:9600:9N1", 0, NULL},
 	{"udp:1.2.3.4:502", 0, NULL},
 	{"rtu:", 0, NULL},
-	/* numbers as everywhere (popc/util/parse.h): a sign is fine, blanks,
-	 * hex and junk are not */
-	{"tcp:127.0.0.1:+502", 1, "tcp:127.0.0.1:502"},
+	/* a port is decimal digits (issue 28: "+1" was port 1, then
+	 * "Connection refused"); a baud is a number as everywhere
+	 * (popc/util/parse.h): a sign is fine, blanks, hex and junk are not */
+	{"tcp:127.0.0.1:+502", 0, NULL},
+	{"tcp:127.0.0.1:+1", 0, NULL},
+	{"tcp:127.0.0.1:5e2", 0, NULL},
+	{"tcp:127.0.0.1:502.0", 0, NULL},
+	{"tcp:127.0.0.1:-1", 0, NULL},
+	{"tcp:127.0.0.1:65536", 0, NULL},
+	{"tcp:127.0.0.1:65535", 1, "tcp:127.0.0.1:65535"},
+	{"tcp:127.0.0.1:00502", 1, "tcp:127.0.0.1:502"},
+	{"tcp:127.0.0.1:0", 1, "tcp:127.0.0.1:0"}, /* a server's any free port */
+	/* hosts: an IPv4 dotted quad of 0-255, a bracketed IPv6 address, or a
+	 * host name of letters, digits and '-' (issue 28: each of these was
+	 * tried, and failed with "Connection refused", exit 4) */
+	{"tcp:host name:1", 0, NULL},
+	{"tcp:999.999.999.999:1", 0, NULL},
+	{"tcp:256.0.0.1:1", 0, NULL},
+	{"tcp:1.2.3:1", 0, NULL},
+	{"tcp:1.2.3.4.5:1", 0, NULL},
+	{"tcp:1..3.4:1", 0, NULL},
+	{"tcp:010.0.0.1:1", 0, NULL},
+	{"tcp:-drive:1", 0, NULL},
+	{"tcp:drive-:1", 0, NULL},
+	{"tcp:drive..lab:1", 0, NULL},
+	{"tcp:drive_1:1", 0, NULL},
+	{"tcp:dr\tive:1", 0, NULL},
+	{"tcp:[::g]:1", 0, NULL},
+	{"tcp:[1.2.3.4]:1", 0, NULL},
+	{"tcp:[fe80::1%]:1", 0, NULL},
+	{"tcp:255.255.255.255:1", 1, "tcp:255.255.255.255:1"},
+	{"tcp:0.0.0.0", 1, "tcp:0.0.0.0:502"},
+	{"tcp:drive-1.lab.example:1502", 1, "tcp:drive-1.lab.example:1502"},
+	{"tcp:[fe80::1%eth0]:1502", 1, "tcp:[fe80::1%eth0]:1502"},
+	{"tcp:[::ffff:192.0.2.1]", 1, "tcp:[::ffff:192.0.2.1]:502"},
 	{"tcp:127.0.0.1: 502", 0, NULL},
 	{"tcp:127.0.0.1:0x1f6", 0, NULL},
 	{"tcp:127.0.0.1:502x", 0, NULL},

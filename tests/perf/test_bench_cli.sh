@@ -54,8 +54,14 @@ check "  prints measured orders" grep -q "measured order" "$T/out"
 check "  the gnuplot script" test -s "$T/fig/new/integrators.gp"
 check "  the figure" test -s "$T/fig/new/integrators.png"
 : > "$T/a-file"
-expect_exit 1 "bench --plot where no directory can be made" "$POPC" bench integrators --plot "$T/a-file/x"
-check "  says so before measuring" bash -c "grep -q 'cannot create directory $T/a-file/x' '$T/err' && ! test -s '$T/out'"
+# an unusable output named on the command line is bad usage before any work
+# (exit 2; it was exit 1); a --plot that is a regular file passed mkdir
+# (EEXIST) and failed after the half minute of measuring (issue 28)
+expect_exit 2 "bench --plot where no directory can be made" "$POPC" bench integrators --plot "$T/a-file/x"
+check "  says so before measuring" bash -c "grep -q 'popc bench: --plot $T/a-file/x: cannot create directory $T/a-file/x' '$T/err' && ! test -s '$T/out'"
+expect_exit 2 "bench --plot onto a regular file" "$POPC" bench integrators --plot "$T/a-file"
+check "  says so before measuring" bash -c "grep -qF 'popc bench: --plot $T/a-file: not a directory (the figure'\''s files go into a directory)' '$T/err' && ! test -s '$T/out'"
+check "  the file is left as it was" test ! -s "$T/a-file"
 
 expect_exit 0 "bench loop, CSV" "$POPC" bench loop --format csv --min-time 0 --repeat 1
 check "  loop rows" grep -q "^loop_ns_per_tick," "$T/out"

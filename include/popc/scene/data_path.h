@@ -45,7 +45,11 @@ void popc_data_dirs(char *out, size_t cap);
 
 /* Writes "NAME\tPATH\n" for every file of kind in the data directories (NAME
  * without a trailing .ini), the first directory's winning where two hold a
- * name, sorted by name within each directory. Returns the count. */
-int popc_data_list(popc_data_kind kind, FILE *f);
+ * name, sorted by name within each directory. A name or path holding a
+ * control character (a tab or a newline would break the NAME<TAB>PATH
+ * lines) is not listed: a note on notes (when not NULL), after who, names
+ * it, its control characters written as \t, \n or \xHH. Returns the count
+ * listed. */
+int popc_data_list(popc_data_kind kind, FILE *f, FILE *notes, const char *who);
 
 #endif

@@ -654,8 +654,15 @@ static void encode_command(mb_axis *a, double f_N, uint16_t *words)
 	/* reversed: an exact negation, which popc-servo-sim undoes bit for bit
 	 * (the clamp is symmetric, so it holds either way) */
 	double units = f / m->cmd.newton_per_unit;
-	popc_reg_encode(m->cmd.reversed ? -units : units, m->cmd.type, m->cmd.order,
-			words + a->cmd_off);
+	if (m->cmd.reversed)
+		units = -units;
+	/* a zero force goes out as +0.0: negating 0 (start and stop with a
+	 * reversed command, exchange's -f_c of a zero f_c) gives -0.0, which a
+	 * float register would carry as 8000 0000, and a drive's firmware
+	 * should never have to know that -0.0 is zero */
+	if (units == 0.0)
+		units = 0.0;
+	popc_reg_encode(units, m->cmd.type, m->cmd.order, words + a->cmd_off);
 }
 
 /* Sleeps until the next deadline on the absolute grid. A deadline already
@@ -988,6 +995,12 @@ int popc_modbus_axis_create(popc_axis **out, const popc_scene *s, const popc_mod
 	int st = popc_register_map_load(&a->map, s->axis_map, err);
 	if (!st)
 		st = popc_modbus_uri_parse(s->axis_connect, &a->uri, err);
+	/* port 0 is a server's "any free port": a drive is not found there */
+	if (!st && !a->uri.rtu && strcmp(a->uri.port, "0") == 0)
+		st = popc_error_set(err, POPC_ERR_INVALID,
+				    "connect URI '%s': port 0 is for a server (any free port); give the "
+				    "drive's port, 1-65535",
+				    s->axis_connect);
 	if (st) {
 		free(a);
 		free(ax);

@@ -151,6 +151,8 @@ typedef struct load_ctx {
  * libinih and by us (every later message would name the wrong line) and the
  * tail parsed as a line of its own; so it is refused here, with its real
  * number (ini_lines.h). */
+static void check_section_line(load_ctx *c, const char *line);
+
 static char *read_line(char *str, int num, void *stream)
 {
 	load_ctx *c = stream;
@@ -169,6 +171,8 @@ static char *read_line(char *str, int num, void *stream)
 		c->status = popc_error_set(c->err, POPC_ERR_INVALID,
 					   "%s:%d: line longer than %d characters (shorten the comment or value)",
 					   c->path, c->line, num - 1);
+	else if (r)
+		check_section_line(c, r);
 	return c->status ? NULL : r;
 }
 
@@ -180,6 +184,29 @@ static void list_sections(char *buf, size_t cap)
 	for (int i = 0; i < K_COUNT && n < cap; i++)
 		if (i == 0 || strcmp(rows[i].key.section, rows[i - 1].key.section) != 0)
 			n += (size_t)snprintf(buf + n, cap - n, "%s%s", i ? ", " : "", rows[i].key.section);
+}
+
+/* A "[section]" line: libinih calls the handler for keys only, so an unknown
+ * section without keys ("[nosuch]" alone, or a misspelt "[comand]" before
+ * another section) passed unseen; refused here with the message of an
+ * unknown section with keys, as the scene loader does. The name as libinih
+ * takes it: from '[' to the first ']' (a line without one is libinih's
+ * malformed line). */
+static void check_section_line(load_ctx *c, const char *line)
+{
+	if (line[0] != '[')
+		return;
+	const char *end = strchr(line + 1, ']');
+	if (!end)
+		return;
+	size_t n = (size_t)(end - line - 1);
+	for (int i = 0; i < K_COUNT; i++)
+		if (strlen(rows[i].key.section) == n && strncmp(rows[i].key.section, line + 1, n) == 0)
+			return;
+	char sections[128];
+	list_sections(sections, sizeof sections);
+	c->status = popc_error_set(c->err, POPC_ERR_INVALID, "%s:%d: unknown section [%.*s] (allowed: %s)",
+				   c->path, c->line, (int)(n > 64 ? 64 : n), line + 1, sections);
 }
 
 static int map_handler(void *user, const char *section, const char *name, const char *value)
