@@ -32,8 +32,12 @@ typedef struct scene_key {
 	const char *def;          /* the default, as a scene file spells it (set_key reads it) */
 	int declared_only;        /* physics modelled only when declared: written (resolved
 				   * scene, log header) only when not 0, so that a scene
-				   * without it keeps its bytes */
+				   * without it keeps its bytes; WRITTEN_FOR_EB: a key of
+				   * energy-bounding, written only when that is the variant,
+				   * so that every other variant's log keeps its bytes */
 } scene_key;
+
+enum { WRITTEN_FOR_EB = 2 };
 
 static const char *const axis_names[] = {"sim", "modbus", NULL};
 
@@ -103,6 +107,9 @@ static const scene_key scene_keys[] = {
 	    "windowed-po: no PC below this measured speed |dx| / T"),
 	NUM("controller", "po_damping_max", po_damping_max_Nspm, "8", 0, 1e9, 0, "N s/m",
 	    "windowed-po: bound on the PC's damping |f_pc| / |v|"),
+	{"controller", "eb_margin", KEY_DOUBLE, OFF(eb_margin), 0, 1, 0, "", NULL,
+	 "energy-bounding: K_b = (1 - eb_margin) 2 b / T, strictly inside Colgate and Schenkel's "
+	 "line (docs/ANALYSIS.md)", "0.5", WRITTEN_FOR_EB},
 
 	{"integrator", "method", KEY_ENUM, OFF(integrator), 0, 0, 0, "", popc_integrator_names,
 	 "plant integration", "exact", 0},
@@ -732,7 +739,8 @@ void popc_scene_write(const popc_scene *s, FILE *f, const char *prefix)
 			fprintf(f, "%s[%s]\n", prefix, section);
 		}
 		const char *field = (const char *)s + k->offset;
-		if (k->declared_only && *(const double *)(const void *)field == 0.0)
+		if (k->declared_only == WRITTEN_FOR_EB ? s->variant != POPC_VARIANT_ENERGY_BOUNDING
+		    : k->declared_only && *(const double *)(const void *)field == 0.0)
 			continue;
 		switch (k->type) {
 		case KEY_DOUBLE: {

@@ -57,6 +57,7 @@ typedef struct popc_scene {
 	int reversal_window;    /* ... within M ticks turn the PC off */
 	int po_window;          /* windowed-po: ticks the PO sums over */
 	double po_velocity_floor_mps, po_damping_max_Nspm; /* windowed-po */
+	double eb_margin;       /* energy-bounding: K_b = (1 - eb_margin) 2 b / T */
 	/* [integrator] */
 	popc_integrator integrator;
 	int substeps;
