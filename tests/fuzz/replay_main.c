@@ -18,6 +18,7 @@ static const struct {
 	{"numfmt_parse", popc_fuzz_numfmt_parse},   {"numfmt_format", popc_fuzz_numfmt_format},
 	{"log_reader", popc_fuzz_log_reader},       {"scene", popc_fuzz_scene},
 	{"ini_lines", popc_fuzz_ini_lines},         {"intent", popc_fuzz_intent},
+	{"map", popc_fuzz_map},
 #ifdef POPC_FUZZ_MODBUS /* a build with the Modbus family (meson option modbus) */
 	{"register_map", popc_fuzz_register_map},   {"modbus_uri", popc_fuzz_modbus_uri},
 #endif

@@ -7,7 +7,7 @@
 #
 # SECONDS per harness (default 300), on one core each, one after another.
 # HARNESS: one of fuzz_harnesses in tests/fuzz/meson.build (numfmt_parse
-# numfmt_format log_reader scene ini_lines intent register_map modbus_uri;
+# numfmt_format log_reader scene ini_lines intent map register_map modbus_uri;
 # default: all). Needs Debian's clang (apt-get install clang: libFuzzer ships
 # in its compiler-rt) and the build deps.
 #
