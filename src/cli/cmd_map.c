@@ -470,8 +470,11 @@ static int map_main(const map_args *a)
 	m.need = malloc((size_t)m.n_scan * sizeof *m.need);
 	m.asked = malloc((size_t)m.n_k);
 	m.made_now = calloc((size_t)plan.n_runs, 1);
-	/* a line asks for at most its scan at once, however many criteria */
-	m.todo = malloc((size_t)m.n_lines * (size_t)m.n_scan * sizeof *m.todo);
+	/* a line asks at once for at most its scan (shared by the criteria)
+	 * or two bisection points per criterion, and never for more than its
+	 * points */
+	long per_line = m.n_scan + 2L * m.n_crit < m.n_k ? m.n_scan + 2L * m.n_crit : m.n_k;
+	m.todo = malloc((size_t)m.n_lines * (size_t)per_line * sizeof *m.todo);
 	if (!m.search || !m.line_runs || !m.need || !m.asked || !m.made_now || !m.todo) {
 		st = popc_error_set(&err, POPC_ERR_NOMEM, "out of memory");
 		goto out;
