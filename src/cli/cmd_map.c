@@ -115,6 +115,18 @@ static void state_release(map_state *m)
 	m->have_res = 0;
 }
 
+/* Everything the state holds, on every way out of map_main. */
+static void state_free(map_state *m)
+{
+	state_release(m);
+	free(m->search);
+	free(m->line_runs);
+	free(m->need);
+	free(m->asked);
+	free(m->made_now);
+	free(m->todo);
+}
+
 /* Reads the rows and replays every search; fills todo with the shard's
  * runs that some search needs and that have no row yet. A run whose row
  * says it failed without a verdict (exit status other than 0 and 6: a
@@ -505,10 +517,7 @@ static int map_main(const map_args *a)
 		fprintf(stderr, "popc map: %lld runs made now in %d steps\n", made, step);
 	if (popc_cli_stop) {
 		fprintf(stderr, "popc map: interrupted; run the same command again to resume\n");
-		state_release(&m);
-		free(m.search);
-		free(m.line_runs);
-		free(m.todo);
+		state_free(&m);
 		popc_sweep_plan_free(&plan);
 		return POPC_EXIT_INTERRUPTED;
 	}
@@ -537,13 +546,7 @@ static int map_main(const map_args *a)
 	for (long s = 0; s < m.n_lines * m.n_crit; s++)
 		trouble |= m.search[s].outcome == POPC_MAP_UNDECIDED_RUN;
 out:
-	state_release(&m);
-	free(m.search);
-	free(m.line_runs);
-	free(m.need);
-	free(m.asked);
-	free(m.made_now);
-	free(m.todo);
+	state_free(&m);
 	popc_sweep_plan_free(&plan);
 	if (st)
 		return popc_cli_fail("map", st, &err);
