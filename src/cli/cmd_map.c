@@ -1,8 +1,9 @@
 /* popc map SCENE --variant V... [--vary KEY=LIST...] -o DIR [options]
  *
  * A stability map (docs/MAPS.md): for every variant and every value of the
- * other axes, the largest wall stiffness K whose run is acceptable, by
- * bisection in log K (popc/sweep/sweep_map.h). The map is a sweep whose last
+ * other axes, the first wall stiffness K whose run is not acceptable, and
+ * the last acceptable K above it where the line folds, by a coarse scan of
+ * log K and bisection (popc/sweep/sweep_map.h). The map is a sweep whose last
  * axis is a log grid of K (sweep_plan.h); it runs only the points the search
  * asks for, step by step: each step's runs are one batch for the sweep's
  * worker pool (-j), its shards and its resumption. The figure is written by
@@ -18,6 +19,7 @@
 
 #include "cli.h"
 #include "map_figure.h"
+#include "popc/axes/axis.h"
 #include "popc/sweep/sweep_dir.h"
 #include "popc/sweep/sweep_lock.h"
 #include "popc/sweep/sweep_map.h"
@@ -33,9 +35,11 @@ static void usage(FILE *f)
 	fputs("usage: popc map SCENE --variant V[,V...] [--vary section.key=LIST ...] -o DIR [options]\n"
 	      "\n"
 	      "For every variant and every value of the --vary axes (a line), finds the\n"
-	      "largest wall stiffness environment.stiffness at which the run is acceptable,\n"
-	      "by bisection in log K on a grid whose neighbours differ by at most --tol,\n"
-	      "then re-runs K/2 below and 2K above the bracket to check there is one edge.\n"
+	      "first wall stiffness environment.stiffness at which the run is not\n"
+	      "acceptable: a scan of every --scan-th point of a log grid whose neighbours\n"
+	      "differ by at most --tol, then bisection between the last acceptable scan\n"
+	      "point and the first unacceptable one. Where the line is acceptable again\n"
+	      "above that, the band's top (the last acceptable K) is bisected too.\n"
 	      "Writes DIR/boundary.csv (one row per line and criterion), DIR/map.gp and\n"
 	      "DIR/map.png, DIR/map.pdf (gnuplot), and a table on stdout. Every run's row is\n"
 	      "kept as in popc sweep (DIR/rows/); running the same map again resumes it.\n"
@@ -46,6 +50,9 @@ static void usage(FILE *f)
 	      "  --set section.key=value  a fixed override of the scene (repeatable)\n"
 	      "  --stiffness LO:HI        the K range, N/m (default 1e2:1e6)\n"
 	      "  --tol R                  relative width of the bracket (default 0.02)\n"
+	      "  --scan N                 grid steps between scan points (default 16: a\n"
+	      "                           factor 1.37 at 2 %); a fold narrower than that\n"
+	      "                           may go unseen\n"
 	      "  --criterion C[,C...]     diverged, limit-cycle, chatter, passive,\n"
 	      "                           device-passive (default passive); one boundary\n"
 	      "                           per criterion\n"
@@ -68,12 +75,13 @@ static void usage(FILE *f)
 	      "  -h, --help               this help\n"
 	      "\n"
 	      "Exit status: 0 done (or this shard's part done), 1 a run failed without a\n"
-	      "verdict, 2 bad scene or usage, 5 interrupted (finished runs kept).\n",
+	      "verdict (the same command again makes it again), 2 bad scene or usage,\n"
+	      "5 interrupted (finished runs kept).\n",
 	      f);
 }
 
 enum { OPT_VARIANT = 256, OPT_VARY, OPT_SET, OPT_STIFFNESS, OPT_TOL, OPT_CRITERION, OPT_PORT_TOL,
-       OPT_SHARD, OPT_KEEP_LOG, OPT_ALLOW_OTHER_BUILD, OPT_ISOLATE };
+       OPT_SHARD, OPT_KEEP_LOG, OPT_ALLOW_OTHER_BUILD, OPT_ISOLATE, OPT_SCAN };
 
 typedef struct map_args {
 	char **variants, **vary, **sets;
@@ -81,16 +89,19 @@ typedef struct map_args {
 	const char *scene_path, *dir, *shard_text, *stiffness;
 	double tol, port_tol_J;
 	unsigned criteria;
-	long long jobs;
+	long long jobs, scan_steps;
 	int quiet, keep_log, allow_other_build, isolate;
 } map_args;
 
 /* The searches of every line and criterion, from the rows in DIR. */
 typedef struct map_state {
-	long n_k, check_steps, n_lines;
+	long n_k, scan_steps, n_scan, n_lines;
 	int n_crit;
 	popc_map_criterion crit[POPC_MAP_N_CRITERIA];
 	popc_map_search *search;        /* n_lines * n_crit */
+	long *need;                     /* n_scan: the needs of one search */
+	unsigned char *asked;           /* n_k: a line's points already in todo */
+	unsigned char *made_now;        /* per run: made by this invocation */
 	long *line_runs;                /* runs with a row, per line */
 	popc_sweep_results res;
 	int have_res;
@@ -105,8 +116,24 @@ static void state_release(map_state *m)
 	m->have_res = 0;
 }
 
+/* Everything the state holds, on every way out of map_main. */
+static void state_free(map_state *m)
+{
+	state_release(m);
+	free(m->search);
+	free(m->line_runs);
+	free(m->need);
+	free(m->asked);
+	free(m->made_now);
+	free(m->todo);
+}
+
 /* Reads the rows and replays every search; fills todo with the shard's
- * runs that some search needs and that have no row yet. */
+ * runs that some search needs and that have no row yet. A run whose row
+ * says it failed without a verdict (exit status other than 0 and 6: a
+ * worker killed, a run that could not start) counts as not made unless this
+ * invocation made it: a map run again makes it again, as a sweep does
+ * (docs/SWEEPS.md), and within one invocation it stops its line. */
 static int evaluate(map_state *m, const popc_sweep_plan *p, const char *dir,
 		    const popc_sweep_shard *shard, double port_tol_J, popc_error *err)
 {
@@ -127,24 +154,26 @@ static int evaluate(map_state *m, const popc_sweep_plan *p, const char *dir,
 			const popc_sweep_result_entry *e = &m->res.run[line * m->n_k + k];
 			if (!e->row)
 				continue;
-			m->line_runs[line]++;
 			popc_map_facts f;
 			if ((st = popc_map_facts_from_row(p, e->row, &f, err)) != 0)
 				break;
+			if (f.exit_status != 0 && f.exit_status != 6 && !m->made_now[line * m->n_k + k])
+				continue;
+			m->line_runs[line]++;
 			for (int c = 0; c < m->n_crit; c++)
 				v[(size_t)c * (size_t)m->n_k + (size_t)k] = (unsigned char)popc_map_verdict_of(m->crit[c], &f, port_tol_J);
 		}
+		memset(m->asked, 0, (size_t)m->n_k);
 		for (int c = 0; c < m->n_crit && !st; c++) {
 			popc_map_search *s = &m->search[line * m->n_crit + c];
-			popc_map_search_line(v + (size_t)c * (size_t)m->n_k, m->n_k, m->check_steps, s);
+			popc_map_search_line(v + (size_t)c * (size_t)m->n_k, m->n_k, m->scan_steps, m->need,
+					     s);
 			for (int q = 0; q < s->n_need; q++) {
 				long long i = line * m->n_k + s->need[q];
 				/* two criteria may need the same run */
-				int dup = 0;
-				for (long long t = 0; t < m->n_todo; t++)
-					dup |= m->todo[t] == i;
-				if (dup)
+				if (m->asked[s->need[q]])
 					continue;
+				m->asked[s->need[q]] = 1;
 				m->n_needed++;
 				if (!popc_sweep_in_shard(shard, i))
 					m->n_pending_other++;
@@ -206,8 +235,8 @@ static int write_boundary(const map_state *m, const popc_sweep_plan *p, const ch
 		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
 	for (int a = 0; a < p->n_axes - 1; a++)
 		fprintf(f, "%s.%s,", p->axes[a].section, p->axes[a].key);
-	fputs("criterion,outcome,k_ok_N_per_m,k_bad_N_per_m,width,k_check_low_N_per_m,"
-	      "k_check_high_N_per_m,runs,line_runs,k_colgate_schenkel_N_per_m,pc_energy_J,pc_rms_N,"
+	fputs("criterion,outcome,k_ok_N_per_m,k_bad_N_per_m,width,k_last_ok_N_per_m,"
+	      "k_last_bad_N_per_m,runs,line_runs,k_colgate_schenkel_N_per_m,pc_energy_J,pc_rms_N,"
 	      "chatter_s,port_energy_min_J,device_energy_min_J,run_ok,run_bad,note\n", f);
 	int *vi = malloc((size_t)p->n_axes * sizeof *vi);
 	if (!vi) {
@@ -231,10 +260,7 @@ static int write_boundary(const map_state *m, const popc_sweep_plan *p, const ch
 			for (int a = 0; a < p->n_axes - 1; a++)
 				fprintf(f, "%s,", p->axes[a].values[vi[a]]);
 			fprintf(f, "%s,%s,", popc_map_criterion_name(m->crit[c]), outcome_name(se->outcome));
-			long ok = se->outcome == POPC_MAP_BRACKET ? se->ok_index
-				  : se->outcome == POPC_MAP_ALL_OK ? m->n_k - 1 : -1;
-			long bad = se->outcome == POPC_MAP_BRACKET ? se->bad_index
-				   : se->outcome == POPC_MAP_NONE_OK ? 0 : -1;
+			long ok = se->ok_index, bad = se->bad_index;
 			if (ok >= 0)
 				put_double(f, k_of(p, ok));
 			fputc(',', f);
@@ -244,11 +270,11 @@ static int write_boundary(const map_state *m, const popc_sweep_plan *p, const ch
 			if (ok >= 0 && bad >= 0)
 				put_double(f, k_of(p, bad) / k_of(p, ok) - 1.0);
 			fputc(',', f);
-			if (se->check_low >= 0)
-				put_double(f, k_of(p, se->check_low));
+			if (se->last_ok_index >= 0)
+				put_double(f, k_of(p, se->last_ok_index));
 			fputc(',', f);
-			if (se->check_high >= 0)
-				put_double(f, k_of(p, se->check_high));
+			if (se->last_bad_index >= 0)
+				put_double(f, k_of(p, se->last_bad_index));
 			fprintf(f, ",%ld,%ld,", se->runs, m->line_runs[line]);
 			if (isfinite(k_cs))
 				put_double(f, k_cs);
@@ -276,12 +302,14 @@ static int write_boundary(const map_state *m, const popc_sweep_plan *p, const ch
 			}
 			fputc(',', f);
 			if (se->outcome == POPC_MAP_NOT_MONOTONIC)
-				fprintf(f, "acceptable at K = %.6g above unacceptable at K = %.6g: no edge drawn",
-					k_of(p, se->culprit_ok), k_of(p, se->culprit_bad));
+				fprintf(f, "acceptable again above the first failure at K = %.6g up to "
+					   "K = %.6g%s",
+					k_of(p, bad), k_of(p, se->last_ok_index),
+					se->last_bad_index < 0 ? " (the range's top)" : "");
 			else if (se->outcome == POPC_MAP_UNDECIDED_RUN) {
-				popc_sweep_run_id(p, first + se->culprit_ok, id);
+				popc_sweep_run_id(p, first + se->culprit, id);
 				fprintf(f, "run %s at K = %.6g failed or lacks the criterion's cell", id,
-					k_of(p, se->culprit_ok));
+					k_of(p, se->culprit));
 			}
 			fputc('\n', f);
 		}
@@ -308,10 +336,7 @@ static void print_table(const map_state *m, const popc_sweep_plan *p)
 			for (int a = 1; a < p->n_axes - 1; a++)
 				printf(" %-12.12s", p->axes[a].values[vi[a]]);
 			printf(" %-12s %-13s", popc_map_criterion_name(m->crit[c]), outcome_name(se->outcome));
-			long ok = se->outcome == POPC_MAP_BRACKET ? se->ok_index
-				  : se->outcome == POPC_MAP_ALL_OK ? m->n_k - 1 : -1;
-			long bad = se->outcome == POPC_MAP_BRACKET ? se->bad_index
-				   : se->outcome == POPC_MAP_NONE_OK ? 0 : -1;
+			long ok = se->ok_index, bad = se->bad_index;
 			if (ok >= 0)
 				printf(" %12.5g", k_of(p, ok));
 			else
@@ -354,6 +379,12 @@ static int make_plan(const map_args *a, popc_sweep_plan *plan, popc_error *err)
 					      a->stiffness);
 	}
 	long n_k = popc_map_grid_points(k_lo, k_hi, a->tol);
+	if (n_k < 0)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "--stiffness %s with --tol %g: the grid would have more than %ld "
+				      "points (log(HI / LO) / log(1 + R) + 1); narrow --stiffness or "
+				      "raise --tol (in [1e-4, 1])",
+				      a->stiffness ? a->stiffness : "1e2:1e6", a->tol, POPC_MAP_GRID_MAX);
 	int n_axes = a->n_vary + 2;
 	popc_sweep_axis *axes = calloc((size_t)n_axes, sizeof *axes);
 	char spec[POPC_SWEEP_VALUE_MAX * 4];
@@ -391,13 +422,20 @@ static int make_plan(const map_args *a, popc_sweep_plan *plan, popc_error *err)
 		free(axes);
 		return st;
 	}
-	/* every run's scene is checked when it is made; here the lines' ends */
+	/* every run's scene is checked when it is made; here the lines' ends,
+	 * and that they run on the simulated axis: the runs share no drive,
+	 * so a real axis is refused before any run, as popc sweep does */
 	st = popc_sweep_plan_init(plan, &base, axes, n_axes, 0, err);
 	for (long long i = 0; !st && i < plan->n_runs; i += n_k) {
 		popc_scene s;
 		st = popc_sweep_run_scene(plan, i, &s, err);
 		if (!st)
 			st = popc_sweep_run_scene(plan, i + n_k - 1, &s, err);
+		if (!st && !popc_axis_is_simulated(&s))
+			st = popc_error_set(err, POPC_ERR_INVALID,
+					    "axis.kind = %s: a map runs the simulated axis only "
+					    "(drive a real axis with popc run)",
+					    s.axis);
 	}
 	if (!st)
 		popc_sweep_plan_set_build(plan, popc_cli_version(), popc_cli_build_id());
@@ -438,15 +476,23 @@ static int map_main(const map_args *a)
 	long long made = 0;
 	popc_sweep_axis *kax = &plan.axes[plan.n_axes - 1];
 	m.n_k = kax->n_values;
-	m.check_steps = popc_map_check_steps(k_of(&plan, 0), k_of(&plan, m.n_k - 1), m.n_k);
+	m.scan_steps = a->scan_steps < m.n_k - 1 ? (long)a->scan_steps : m.n_k - 1;
+	m.n_scan = popc_map_scan_points(m.n_k, m.scan_steps);
 	m.n_lines = (long)(plan.n_runs / m.n_k);
 	for (int c = 0; c < POPC_MAP_N_CRITERIA; c++)
 		if (a->criteria & (1u << c))
 			m.crit[m.n_crit++] = (popc_map_criterion)c;
 	m.search = calloc((size_t)m.n_lines * (size_t)m.n_crit, sizeof *m.search);
 	m.line_runs = calloc((size_t)m.n_lines, sizeof *m.line_runs);
-	m.todo = malloc((size_t)m.n_lines * 2 * (size_t)m.n_crit * sizeof *m.todo);
-	if (!m.search || !m.line_runs || !m.todo) {
+	m.need = malloc((size_t)m.n_scan * sizeof *m.need);
+	m.asked = malloc((size_t)m.n_k);
+	m.made_now = calloc((size_t)plan.n_runs, 1);
+	/* a line asks at once for at most its scan (shared by the criteria)
+	 * or two bisection points per criterion, and never for more than its
+	 * points */
+	long per_line = m.n_scan + 2L * m.n_crit < m.n_k ? m.n_scan + 2L * m.n_crit : m.n_k;
+	m.todo = malloc((size_t)m.n_lines * (size_t)per_line * sizeof *m.todo);
+	if (!m.search || !m.line_runs || !m.need || !m.asked || !m.made_now || !m.todo) {
 		st = popc_error_set(&err, POPC_ERR_NOMEM, "out of memory");
 		goto out;
 	}
@@ -465,6 +511,8 @@ static int map_main(const map_args *a)
 		sweep_progress_start(&prog, a->quiet, m.n_todo, 0);
 		if (!a->quiet)
 			fprintf(stderr, "popc map: step %d: %lld runs\n", step, m.n_todo);
+		for (long long t = 0; t < m.n_todo; t++)
+			m.made_now[m.todo[t]] = 1;
 		trouble |= sweep_pool_run(&pool, m.todo, m.n_todo, &prog);
 		made += prog.done_now;
 		if (trouble || popc_cli_stop)
@@ -474,10 +522,7 @@ static int map_main(const map_args *a)
 		fprintf(stderr, "popc map: %lld runs made now in %d steps\n", made, step);
 	if (popc_cli_stop) {
 		fprintf(stderr, "popc map: interrupted; run the same command again to resume\n");
-		state_release(&m);
-		free(m.search);
-		free(m.line_runs);
-		free(m.todo);
+		state_free(&m);
 		popc_sweep_plan_free(&plan);
 		return POPC_EXIT_INTERRUPTED;
 	}
@@ -506,10 +551,7 @@ static int map_main(const map_args *a)
 	for (long s = 0; s < m.n_lines * m.n_crit; s++)
 		trouble |= m.search[s].outcome == POPC_MAP_UNDECIDED_RUN;
 out:
-	state_release(&m);
-	free(m.search);
-	free(m.line_runs);
-	free(m.todo);
+	state_free(&m);
 	popc_sweep_plan_free(&plan);
 	if (st)
 		return popc_cli_fail("map", st, &err);
@@ -524,6 +566,7 @@ int popc_cmd_map(int argc, char **argv)
 		{"set", required_argument, NULL, OPT_SET},
 		{"stiffness", required_argument, NULL, OPT_STIFFNESS},
 		{"tol", required_argument, NULL, OPT_TOL},
+		{"scan", required_argument, NULL, OPT_SCAN},
 		{"criterion", required_argument, NULL, OPT_CRITERION},
 		{"port-tol", required_argument, NULL, OPT_PORT_TOL},
 		{"output", required_argument, NULL, 'o'},
@@ -536,7 +579,8 @@ int popc_cmd_map(int argc, char **argv)
 		{"help", no_argument, NULL, 'h'},
 		{NULL, 0, NULL, 0},
 	};
-	map_args a = {.tol = 0.02, .port_tol_J = 1e-6, .criteria = 1u << POPC_MAP_PASSIVE};
+	map_args a = {.tol = 0.02, .port_tol_J = 1e-6, .criteria = 1u << POPC_MAP_PASSIVE,
+		      .scan_steps = POPC_MAP_SCAN_STEPS_DEFAULT};
 	int c, rc = -1, oom = 0;
 	popc_error err;
 	optind = 1;
@@ -550,6 +594,13 @@ int popc_cmd_map(int argc, char **argv)
 			if (popc_parse_double_text(optarg, &a.tol) != POPC_PARSE_OK || !(a.tol >= 1e-4) ||
 			    !(a.tol <= 1)) {
 				fprintf(stderr, "popc map: --tol '%s': a number in [1e-4, 1]\n", optarg);
+				rc = 2;
+			}
+			break;
+		case OPT_SCAN:
+			if (popc_parse_ll_text(optarg, 1, POPC_SWEEP_RANGE_MAX, &a.scan_steps) != 0) {
+				fprintf(stderr, "popc map: --scan '%s': grid steps, a whole number in [1, %ld]\n",
+					optarg, POPC_SWEEP_RANGE_MAX);
 				rc = 2;
 			}
 			break;

@@ -1,6 +1,8 @@
 /* popc map's figure (map_figure.h): K against the first --vary axis (the wall
- * damping B by default), one line per variant and criterion with the bracket
- * as error bars, and the Colgate-Schenkel line K = 2 (b - |B|) / T from
+ * damping B by default), one line per variant and criterion at the first
+ * failure with its bracket as error bars, the band where a line is
+ * acceptable again above it (from the first failure to the band's top) as a
+ * thick bar, and the Colgate-Schenkel line K = 2 (b - |B|) / T from
  * boundary.csv's k_colgate_schenkel_N_per_m column. */
 #define _XOPEN_SOURCE 700
 #include "map_figure.h"
@@ -43,7 +45,7 @@ int popc_map_figure_write(const popc_sweep_plan *p, const char *dir, const char 
 	/* boundary.csv's columns, counted from 1 as gnuplot does */
 	int n_ax = p->n_axes - 1;           /* variant and --vary axes */
 	int c_crit = n_ax + 1, c_out = n_ax + 2, c_ok = n_ax + 3, c_bad = n_ax + 4;
-	int c_cs = n_ax + 10;
+	int c_last_ok = n_ax + 6, c_cs = n_ax + 10;
 	int has_x = n_ax >= 2;
 	/* x on a log scale when its values are positive and span two decades */
 	int log_x = 0;
@@ -73,8 +75,9 @@ int popc_map_figure_write(const popc_sweep_plan *p, const char *dir, const char 
 			unit_of(p->axes[1].section, p->axes[1].key));
 	else
 		fputs("set xlabel 'variant (index)'\n", f);
-	fputs("set ylabel 'largest acceptable environment.stiffness K (N/m)'\n", f);
-	fputs("set title 'Stability map: the largest acceptable K per line, bar = bracket [K_{ok}, K_{bad}]'\n", f);
+	fputs("set ylabel 'environment.stiffness K (N/m)'\n", f);
+	fputs("set title 'Stability map: the first failure per line, bar = bracket [K_{ok}, K_{bad}]; "
+	      "thick bar = acceptable again above it, up to the band top'\n", f);
 	fputs("set terminal pngcairo size 1100,700 enhanced font ',10'\nset output 'map.png'\n", f);
 	fputs("plot \\\n", f);
 	const char *first_variant = p->axes[0].values[0];
@@ -84,13 +87,20 @@ int popc_map_figure_write(const popc_sweep_plan *p, const char *dir, const char 
 		char xv[64];
 		snprintf(xv, sizeof xv, "%d", v);
 		const char *x = has_x ? "column(2)" : xv;
-		for (int c = 0; c < n_criteria; c++)
+		for (int c = 0; c < n_criteria; c++) {
 			fprintf(f,
 				"  'boundary.csv' every ::1 using (strcol(1) eq '%s' && strcol(%d) eq '%s' && "
-				"strcol(%d) eq 'bracket' ? %s : NaN):%d:%d:%d with yerrorlines lc %d dt %d "
-				"title '%s (%s)', \\\n",
-				name, c_crit, criteria[c], c_out, x, c_ok, c_ok, c_bad, v + 1, c + 1, name,
-				criteria[c]);
+				"(strcol(%d) eq 'bracket' || strcol(%d) eq 'not-monotonic') ? %s : NaN)"
+				":%d:%d:%d with yerrorlines lc %d dt %d title '%s (%s)', \\\n",
+				name, c_crit, criteria[c], c_out, c_out, x, c_ok, c_ok, c_bad, v + 1, c + 1,
+				name, criteria[c]);
+			/* the band: from the first failure up to the last acceptable K */
+			fprintf(f,
+				"  'boundary.csv' every ::1 using (strcol(1) eq '%s' && strcol(%d) eq '%s' && "
+				"strcol(%d) eq 'not-monotonic' ? %s : NaN):%d:%d:%d with yerrorbars lc %d "
+				"lw 5 pt 0 notitle, \\\n",
+				name, c_crit, criteria[c], c_out, x, c_bad, c_bad, c_last_ok, v + 1);
+		}
 	}
 	fprintf(f,
 		"  'boundary.csv' every ::1 using (strcol(1) eq '%s' && strcol(%d) eq '%s' && column(%d) > 0 "

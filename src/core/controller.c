@@ -182,7 +182,7 @@ static int reversals_repeated(popc_controller *c, long long dcount)
  * summary). Returns f_c(k) - f_e(k) (the PC force). */
 static double energy_bounded_pc(const popc_controller *c, double f_e, double dx, unsigned *flags)
 {
-	const double k_b = 2.0 * c->cfg.damping_Nspm / c->cfg.period_s;
+	const double k_b = (1.0 - c->cfg.eb_margin) * 2.0 * c->cfg.damping_Nspm / c->cfg.period_s;
 	double f = c->obs.f_c_prev_N + k_b * dx;
 	const double lo = f_e < 0.0 ? f_e : 0.0, hi = f_e > 0.0 ? f_e : 0.0;
 	if (f > hi)

@@ -325,9 +325,20 @@ void popc_run_summary_print(const popc_run_summary *sum, const popc_scene *s, FI
 		fprintf(f, "  integrator: %s, %lld substeps; max position error against exact: %.3g m\n",
 			v[SUMMARY_INTEGRATOR].text, v[SUMMARY_SUBSTEPS].integer,
 			v[SUMMARY_INTEGRATOR_ERROR].real);
-	fprintf(f, "  PC active %.4g %% of ticks; f_pc RMS %.4g N, max %.4g N; late half RMS %.4g N\n",
-		100.0 * v[SUMMARY_PC_ACTIVE].real, v[SUMMARY_PC_RMS].real, v[SUMMARY_PC_MAX].real,
-		v[SUMMARY_PC_RMS_LATE].real);
+	if (s->variant == POPC_VARIANT_ENERGY_BOUNDING) {
+		/* its f_pc = f_c - f_e is the force the bound withheld, not one
+		 * it applied: say what it rendered (issue 23) */
+		double k_b = (1.0 - s->eb_margin) * 2.0 * (s->op_damping_Nspm + s->dev_damping_Nspm) *
+			     s->rate_Hz;
+		fprintf(f, "  energy bound: rendered stiffness %.4g N/m in contact (K_b = (1 - %g) 2 b / T "
+			   "= %.4g N/m, the wall %.4g N/m); the bound held |f_c| below |f_e| on %.4g %% of "
+			   "ticks (f_e - f_c RMS %.4g N, withheld, not applied)\n",
+			v[SUMMARY_RENDERED_STIFFNESS].real, s->eb_margin, k_b, s->env_stiffness_Npm,
+			100.0 * v[SUMMARY_PC_ACTIVE].real, v[SUMMARY_PC_RMS].real);
+	} else
+		fprintf(f, "  PC active %.4g %% of ticks; f_pc RMS %.4g N, max %.4g N; late half RMS %.4g N\n",
+			100.0 * v[SUMMARY_PC_ACTIVE].real, v[SUMMARY_PC_RMS].real, v[SUMMARY_PC_MAX].real,
+			v[SUMMARY_PC_RMS_LATE].real);
 	fprintf(f, "  W - E_ref: final %.4g J, minimum %.4g J; velocity sign changes in contact %.4g /s\n",
 		v[SUMMARY_W_MINUS_EREF_END].real, v[SUMMARY_W_MINUS_EREF_MIN].real,
 		v[SUMMARY_VSIGN_RATE].real);

@@ -50,6 +50,7 @@ void popc_controller_config_from_scene(popc_controller_config *c, const popc_sce
 	c->reversal_window_ticks = s->reversal_window;
 	/* energy-bounding: the damping of the one rigid body the plant is */
 	c->damping_Nspm = s->op_damping_Nspm + s->dev_damping_Nspm;
+	c->eb_margin = s->eb_margin;
 	c->po_window_ticks = s->po_window;
 	c->po_velocity_floor_mps = s->po_velocity_floor_mps;
 	c->po_damping_max_Nspm = s->po_damping_max_Nspm;

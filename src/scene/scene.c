@@ -33,12 +33,15 @@ typedef struct scene_key {
 	int declared_only;        /* physics modelled only when declared: written (resolved
 				   * scene, log header) only when not 0, so that a scene
 				   * without it keeps its bytes; ADMITTANCE_ONLY: only in a
-				   * scene with device.causality = admittance */
+				   * scene with device.causality = admittance; WRITTEN_FOR_EB:
+				   * a key of energy-bounding, written only when that is the
+				   * variant, so that every other variant's log keeps its bytes */
 } scene_key;
 
-static const char *const axis_names[] = {"sim", "modbus", NULL};
+/* declared_only's values beside 0 (always written) and 1 (written when not 0) */
+enum { ADMITTANCE_ONLY = 2, WRITTEN_FOR_EB = 3 };
 
-#define ADMITTANCE_ONLY 2
+static const char *const axis_names[] = {"sim", "modbus", NULL};
 
 #define OFF(field) offsetof(popc_scene, field)
 #define NUM(sec, k, field, def, lo, hi, open, unit, help) \
@@ -111,6 +114,9 @@ static const scene_key scene_keys[] = {
 	    "windowed-po: no PC below this measured speed |dx| / T"),
 	NUM("controller", "po_damping_max", po_damping_max_Nspm, "8", 0, 1e9, 0, "N s/m",
 	    "windowed-po: bound on the PC's damping |f_pc| / |v|"),
+	{"controller", "eb_margin", KEY_DOUBLE, OFF(eb_margin), 0, 1, 0, "", NULL,
+	 "energy-bounding: K_b = (1 - eb_margin) 2 b / T, strictly inside Colgate and Schenkel's "
+	 "line (docs/ANALYSIS.md)", "0.5", WRITTEN_FOR_EB},
 
 	{"admittance", "variant", KEY_ENUM, OFF(adm_variant), 0, 0, 0, "",
 	 popc_admittance_variant_names, "parallel PC variant (docs/ADMITTANCE.md)", "parallel-pc",
@@ -798,12 +804,15 @@ int popc_scene_validate(const popc_scene *s, popc_error *err)
 
 /* Whether the resolved scene writes key k: a declared-only key when it is not
  * 0 (a number) or not its first name (an enum), an admittance key in an
- * admittance scene only; every other key always. */
+ * admittance scene only, an energy-bounding key with that variant only;
+ * every other key always. */
 static int key_written(const popc_scene *s, const scene_key *k)
 {
 	const char *field = (const char *)s + k->offset;
 	if (k->declared_only == ADMITTANCE_ONLY)
 		return s->causality == POPC_CAUSALITY_ADMITTANCE;
+	if (k->declared_only == WRITTEN_FOR_EB)
+		return s->variant == POPC_VARIANT_ENERGY_BOUNDING;
 	if (k->declared_only && k->type == KEY_ENUM)
 		return *(const int *)(const void *)field != 0;
 	if (k->declared_only)

@@ -1,5 +1,6 @@
 /* Stability maps (sweep_map.h): the criteria, the log-K grid and the
- * bisection of one line, replayed from the verdicts known so far. */
+ * search of one line (a scan, then bisection of its first failure and of
+ * the band's top), replayed from the verdicts known so far. */
 #include "popc/sweep/sweep_map.h"
 
 #include <math.h>
@@ -153,15 +154,25 @@ popc_map_verdict popc_map_verdict_of(popc_map_criterion c, const popc_map_facts 
 
 long popc_map_grid_points(double k_lo, double k_hi, double tol)
 {
-	double steps = ceil(log(k_hi / k_lo) / log1p(tol));
+	/* log(k_hi) - log(k_lo), not log(k_hi / k_lo): the ratio of 1e9 and
+	 * 1e-300 overflows a double, the difference of the logs does not */
+	double span = log(k_hi) - log(k_lo);
+	if (!(k_lo > 0) || !(span > 0) || !isfinite(span) || !(tol > 0) || !isfinite(tol))
+		return -1;
+	double steps = ceil(span / log1p(tol));
+	if (!(steps < (double)POPC_MAP_GRID_MAX)) /* also NaN */
+		return -1;
 	return steps < 1 ? 2 : (long)steps + 1;
 }
 
-long popc_map_check_steps(double k_lo, double k_hi, long n_k)
+long popc_map_scan_points(long n_k, long scan_steps)
 {
-	double step = log(k_hi / k_lo) / (double)(n_k - 1);
-	long s = lround(log(2.0) / step);
-	return s < 1 ? 1 : s;
+	long last = n_k - 1;
+	if (last < 1)
+		return 1;
+	if (scan_steps < 1)
+		scan_steps = 1;
+	return (last + scan_steps - 1) / scan_steps + 1;
 }
 
 /* ---- the search ---------------------------------------------------------------- */
@@ -172,132 +183,104 @@ static void need(popc_map_search *out, long i)
 	out->need[out->n_need++] = i;
 }
 
-/* Counts the known points and, given the edge between ok_below (the highest
- * index that must be acceptable) and bad_above (the lowest that must not
- * be), finds a known point on the wrong side. Returns 1 when one is found. */
-static int wrong_side(const unsigned char *v, long n_k, long ok_below, long bad_above,
-		      popc_map_search *out)
+/* Scan point number j of a line (the last is n_k - 1). */
+static long scan_at(long j, long n_scan, long n_k, long scan_steps)
 {
-	for (long i = 0; i < n_k; i++) {
-		if (v[i] == POPC_MAP_OK && i >= bad_above) {
-			/* the lowest bad point below it names the fold */
-			long b = bad_above;
-			for (long j = 0; j < i; j++)
-				if (v[j] == POPC_MAP_BAD) {
-					b = j;
-					break;
-				}
-			out->outcome = POPC_MAP_NOT_MONOTONIC;
-			out->culprit_ok = i;
-			out->culprit_bad = b;
-			return 1;
-		}
-		if (v[i] == POPC_MAP_BAD && i <= ok_below) {
-			out->outcome = POPC_MAP_NOT_MONOTONIC;
-			out->culprit_bad = i;
-			out->culprit_ok = ok_below;
-			for (long j = n_k - 1; j > i; j--)
-				if (v[j] == POPC_MAP_OK) {
-					out->culprit_ok = j;
-					break;
-				}
-			return 1;
-		}
-	}
-	return 0;
+	return j == n_scan - 1 ? n_k - 1 : j * scan_steps;
 }
 
-void popc_map_search_line(const unsigned char *v, long n_k, long check_steps,
-			  popc_map_search *out)
+/* Bisection in index between a (acceptable) and b (not), replayed from the
+ * known verdicts: returns 1 with *a, *b adjacent, 0 when it needs a run
+ * (asked for in out), -1 at a run without a verdict (out->culprit). */
+static int bisect(const unsigned char *v, long *a, long *b, popc_map_search *out)
 {
-	memset(out, 0, sizeof *out);
-	out->ok_index = out->bad_index = out->check_low = out->check_high = -1;
-	out->culprit_ok = out->culprit_bad = -1;
-	long last = n_k - 1;
-	/* the two ends, one batch */
-	if (v[0] == POPC_MAP_UNKNOWN)
-		need(out, 0);
-	if (v[last] == POPC_MAP_UNKNOWN)
-		need(out, last);
-	out->runs = (v[0] != POPC_MAP_UNKNOWN) + (v[last] != POPC_MAP_UNKNOWN);
-	if (out->n_need)
-		return;
-	for (long e = 0; e <= last; e += last)
-		if (v[e] == POPC_MAP_UNDECIDED) {
-			out->outcome = POPC_MAP_UNDECIDED_RUN;
-			out->culprit_ok = e;
-			return;
-		}
-	if (v[0] == POPC_MAP_BAD) {
-		/* every known point must be unacceptable */
-		out->outcome = POPC_MAP_NONE_OK;
-		wrong_side(v, n_k, -1, 0, out);
-		return;
-	}
-	if (v[last] == POPC_MAP_OK) {
-		out->outcome = POPC_MAP_ALL_OK;
-		wrong_side(v, n_k, last, n_k, out);
-		return;
-	}
-	/* bisection in index, i.e. in log K: a acceptable, b not */
-	long a = 0, b = last;
-	while (b - a > 1) {
-		long m = a + (b - a) / 2;
+	while (*b - *a > 1) {
+		long m = *a + (*b - *a) / 2;
 		if (v[m] == POPC_MAP_UNKNOWN) {
 			need(out, m);
-			return;
+			return 0;
 		}
 		out->runs++;
 		if (v[m] == POPC_MAP_UNDECIDED) {
-			out->outcome = POPC_MAP_UNDECIDED_RUN;
-			out->culprit_ok = m;
-			return;
+			out->culprit = m;
+			return -1;
 		}
 		if (v[m] == POPC_MAP_OK)
-			a = m;
+			*a = m;
 		else
-			b = m;
+			*b = m;
 	}
-	/* the checks: a factor of two inside and outside the bracket, one batch */
-	long lo = a - check_steps < 0 ? 0 : a - check_steps;
-	long hi = b + check_steps > last ? last : b + check_steps;
-	out->check_low = lo;
-	out->check_high = hi;
-	if (v[lo] == POPC_MAP_UNKNOWN)
-		need(out, lo);
-	if (v[hi] == POPC_MAP_UNKNOWN && hi != lo)
-		need(out, hi);
+	return 1;
+}
+
+void popc_map_search_line(const unsigned char *v, long n_k, long scan_steps, long *need_buf,
+			  popc_map_search *out)
+{
+	memset(out, 0, sizeof *out);
+	out->need = need_buf;
+	out->ok_index = out->bad_index = out->last_ok_index = out->last_bad_index = -1;
+	out->culprit = -1;
+	if (scan_steps < 1)
+		scan_steps = 1;
+	const long n_scan = popc_map_scan_points(n_k, scan_steps);
+	/* the scan, one batch */
+	for (long j = 0; j < n_scan; j++) {
+		long i = scan_at(j, n_scan, n_k, scan_steps);
+		if (v[i] == POPC_MAP_UNKNOWN)
+			need(out, i);
+		else
+			out->runs++;
+	}
 	if (out->n_need)
 		return;
-	/* the checks count when they are new points (not an end or a
-	 * bisection point already run) */
-	for (long e = lo; ; e = hi) {
-		int seen = e == 0 || e == last;
-		for (long x = 0, y = last; !seen && y - x > 1;) {
-			long m = x + (y - x) / 2;
-			seen = m == e;
-			if (v[m] == POPC_MAP_OK)
-				x = m;
-			else
-				y = m;
-		}
-		out->runs += !seen;
-		if (e == hi || hi == lo)
-			break;
-	}
-	for (long e = lo; ; e = hi) {
-		if (v[e] == POPC_MAP_UNDECIDED) {
+	long first_bad = -1, last_ok = -1; /* scan numbers */
+	for (long j = 0; j < n_scan; j++) {
+		long i = scan_at(j, n_scan, n_k, scan_steps);
+		if (v[i] == POPC_MAP_UNDECIDED) {
 			out->outcome = POPC_MAP_UNDECIDED_RUN;
-			out->culprit_ok = e;
+			out->culprit = i;
 			return;
 		}
-		if (e == hi)
-			break;
+		if (v[i] == POPC_MAP_BAD && first_bad < 0)
+			first_bad = j;
+		if (v[i] == POPC_MAP_OK)
+			last_ok = j;
 	}
-	out->outcome = POPC_MAP_BRACKET;
-	out->ok_index = a;
+	if (first_bad < 0) {
+		out->outcome = POPC_MAP_ALL_OK;
+		out->ok_index = n_k - 1;
+		return;
+	}
+	/* the first failure: between the scan point below the first
+	 * unacceptable one and it; and, where the line is acceptable again
+	 * above it, the band's top: between the highest acceptable scan point
+	 * and the next. Both bisections step in the same batch. */
+	int done_first = 1, done_top = 1;
+	long a = -1, b = scan_at(first_bad, n_scan, n_k, scan_steps);
+	if (first_bad > 0) {
+		a = scan_at(first_bad - 1, n_scan, n_k, scan_steps);
+		done_first = bisect(v, &a, &b, out);
+	}
+	long ta = -1, tb = -1;
+	if (done_first >= 0 && last_ok > first_bad) {
+		ta = scan_at(last_ok, n_scan, n_k, scan_steps);
+		if (last_ok < n_scan - 1) {
+			tb = scan_at(last_ok + 1, n_scan, n_k, scan_steps);
+			done_top = bisect(v, &ta, &tb, out);
+		}
+	}
+	if (done_first < 0 || done_top < 0) {
+		out->outcome = POPC_MAP_UNDECIDED_RUN;
+		return;
+	}
+	if (out->n_need)
+		return;
 	out->bad_index = b;
-	wrong_side(v, n_k, a, b, out);
-	if (out->outcome != POPC_MAP_BRACKET)
-		out->ok_index = out->bad_index = -1;
+	out->ok_index = a;
+	if (ta >= 0) {
+		out->outcome = POPC_MAP_NOT_MONOTONIC;
+		out->last_ok_index = ta;
+		out->last_bad_index = tb;
+	} else
+		out->outcome = a < 0 ? POPC_MAP_NONE_OK : POPC_MAP_BRACKET;
 }

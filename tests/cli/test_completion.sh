@@ -47,7 +47,7 @@ includes() {
 
 offers "verbs" _popc popc "" "--help --version bench map run scene sweep"
 offers "a verb's start" _popc popc "sw" "sweep"
-includes "popc map's options, from its --help" _popc popc "map --" --variant --vary --stiffness --tol --criterion --port-tol --shard
+includes "popc map's options, from its --help" _popc popc "map --" --variant --vary --stiffness --tol --scan --criterion --port-tol --shard
 offers "map --criterion: the criteria" _popc popc "map paper --criterion " "chatter diverged limit-cycle passive"
 includes "popc run's options, from its --help" _popc popc "run --" --set --variant --log --summary --axis --map --connect --free-run --rt --quiet --help
 complete_line _popc popc "run --"

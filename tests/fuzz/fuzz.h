@@ -21,6 +21,7 @@ int popc_fuzz_scene(const uint8_t *data, size_t size);
 int popc_fuzz_ini_lines(const uint8_t *data, size_t size);
 int popc_fuzz_intent(const uint8_t *data, size_t size);
 int popc_fuzz_sweep_dir(const uint8_t *data, size_t size);
+int popc_fuzz_map(const uint8_t *data, size_t size);
 int popc_fuzz_register_map(const uint8_t *data, size_t size);
 int popc_fuzz_modbus_uri(const uint8_t *data, size_t size);
 

@@ -20,6 +20,7 @@ static const struct {
 	{"analyze_input", popc_fuzz_analyze_input},
 	{"ini_lines", popc_fuzz_ini_lines},         {"intent", popc_fuzz_intent},
 	{"sweep_dir", popc_fuzz_sweep_dir},
+	{"map", popc_fuzz_map},
 #ifdef POPC_FUZZ_MODBUS /* a build with the Modbus family (meson option modbus) */
 	{"register_map", popc_fuzz_register_map},   {"modbus_uri", popc_fuzz_modbus_uri},
 #endif

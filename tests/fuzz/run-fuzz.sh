@@ -9,7 +9,7 @@
 #
 # SECONDS per harness (default 300), on one core each, one after another.
 # HARNESS: one of fuzz_harnesses in tests/fuzz/meson.build (numfmt_parse
-# numfmt_format log_reader analyze_input scene ini_lines intent sweep_dir register_map
+# numfmt_format log_reader analyze_input scene ini_lines intent sweep_dir map register_map
 # modbus_uri; default: all). Needs Debian's clang (apt-get install clang:
 # libFuzzer ships in its compiler-rt, libclang-rt-14-dev on Debian 12's
 # clang-14 packaging) and the build deps. Exits 0 when every harness ran

@@ -123,6 +123,8 @@ typedef struct popc_controller_config {
 	/* energy-bounding: the physical damping b (operator + device) that
 	 * dissipates at least b dx^2 / T per period */
 	double damping_Nspm;
+	/* energy-bounding: K_b = (1 - eb_margin) 2 b / T (docs/ANALYSIS.md) */
+	double eb_margin;
 	/* windowed-po: window length, velocity floor, damping bound */
 	int po_window_ticks;
 	double po_velocity_floor_mps, po_damping_max_Nspm;

@@ -69,6 +69,7 @@ typedef struct popc_scene {
 	double adm_servo_stiffness_Npm, adm_servo_damping_Nspm;
 	double adm_force_resolution_N, adm_force_noise_N;
 	int adm_force_noise_seed;
+	double eb_margin;       /* energy-bounding: K_b = (1 - eb_margin) 2 b / T */
 	/* [integrator] */
 	popc_integrator integrator;
 	int substeps;

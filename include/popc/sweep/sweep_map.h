@@ -1,5 +1,7 @@
-/* Stability maps (src/sweep/sweep_map.c): the largest acceptable wall
- * stiffness K of every line of a map, found by bisection in log K.
+/* Stability maps (src/sweep/sweep_map.c): the first unacceptable wall
+ * stiffness K of every line of a map, and the last acceptable K above it
+ * where the line folds, found by a coarse scan of the log-K grid that
+ * brackets every transition wider than its step, then bisection in log K.
  *
  * A map is a sweep (sweep_plan.h) whose last axis is environment.stiffness
  * on a log grid of n_k points from k_lo to k_hi, spaced by a ratio of at most
@@ -10,8 +12,8 @@
  * resumption are the sweep's.
  *
  * The search is a pure function of the verdicts known so far (no state is
- * stored): it replays the bisection from the two ends of the grid and returns
- * the indices it needs next, or its result. The same verdicts give the same
+ * stored): it replays the scan and the bisections and returns the indices it
+ * needs next, or its result. The same verdicts give the same
  * answer on every machine and after any interruption, so a resumed or
  * sharded map makes the runs a one-machine map makes, and no others. */
 #ifndef POPC_SWEEP_MAP_H
@@ -79,41 +81,58 @@ popc_map_verdict popc_map_verdict_of(popc_map_criterion c, const popc_map_facts 
  * between neighbours: ceil(log(k_hi / k_lo) / log(1 + tol)) + 1 (at least 2). */
 long popc_map_grid_points(double k_lo, double k_hi, double tol);
 
-/* Grid steps that make a factor of two (the re-run points K/2 and 2K):
- * round(log 2 / log(ratio)), at least 1. */
-long popc_map_check_steps(double k_lo, double k_hi, long n_k);
+/* The most points of a map's grid: 2^20, e.g. --tol 1e-4 over 45 decades
+ * (a line's verdicts and the plan's K texts are held in memory).
+ * popc_map_grid_points returns -1 beyond it, or when k_hi / k_lo or tol is
+ * not a finite number above 0 (1e9 / 1e-300 overflows a double): the count
+ * is compared as a double, never converted out of a long's range. */
+#define POPC_MAP_GRID_MAX (1L << 20)
+
+/* The scan's default step, in grid steps: 16 steps of 2 % are a factor of
+ * 1.37; four decades at 2 % (467 points) take 31 scan points and two
+ * bisections of 4 runs, 39 runs, 8.4 % of the grid (docs/MAPS.md). */
+#define POPC_MAP_SCAN_STEPS_DEFAULT 16
+
+/* Points of the scan of an n_k-point line with a step of scan_steps grid
+ * steps: 0, scan_steps, 2 scan_steps, ... below n_k - 1, and n_k - 1. */
+long popc_map_scan_points(long n_k, long scan_steps);
 
 /* ---- the search ------------------------------------------------------------ */
 
 typedef enum popc_map_outcome {
 	POPC_MAP_NEEDS_RUNS,    /* need[0 .. n_need) are to run next */
-	POPC_MAP_BRACKET,       /* ok_index acceptable, bad_index = ok_index + 1 not,
-				 * and the checks agree */
-	POPC_MAP_ALL_OK,        /* acceptable up to k_hi (the edge is above the range) */
-	POPC_MAP_NONE_OK,       /* not acceptable at k_lo (the edge is below the range) */
-	POPC_MAP_NOT_MONOTONIC, /* an acceptable point above an unacceptable one:
-				 * culprit_ok > culprit_bad; no edge is drawn */
-	POPC_MAP_UNDECIDED_RUN, /* a run the search needs has no verdict (culprit_ok) */
+	POPC_MAP_BRACKET,       /* the first failure bad_index, ok_index = bad_index - 1
+				 * acceptable, and no acceptable scan point above */
+	POPC_MAP_ALL_OK,        /* every scan point acceptable (no failure seen) */
+	POPC_MAP_NONE_OK,       /* not acceptable at k_lo, nor at any scan point */
+	POPC_MAP_NOT_MONOTONIC, /* the first failure bad_index (ok_index = bad_index - 1,
+				 * or -1 when it is k_lo), and acceptable scan points
+				 * above it: the band's top last_ok_index, with
+				 * last_bad_index = last_ok_index + 1 (-1 when
+				 * acceptable at k_hi) */
+	POPC_MAP_UNDECIDED_RUN, /* a run the search needs has no verdict (culprit) */
 } popc_map_outcome;
 
 typedef struct popc_map_search {
 	popc_map_outcome outcome;
-	long need[2];
+	long *need;                    /* the caller's array of popc_map_scan_points
+					* (n_k, scan_steps) entries */
 	int n_need;
-	long ok_index, bad_index;      /* the bracket (BRACKET); -1 otherwise */
-	long check_low, check_high;    /* the re-run points: ok_index - check_steps
-					* and bad_index + check_steps, clamped to
-					* the grid; -1 when not reached */
-	long culprit_ok, culprit_bad;  /* NOT_MONOTONIC / UNDECIDED_RUN */
+	long ok_index, bad_index;      /* the first failure's bracket; -1 where none */
+	long last_ok_index, last_bad_index; /* NOT_MONOTONIC: the band's top; -1 otherwise */
+	long culprit;                  /* UNDECIDED_RUN: the run without a verdict */
 	long runs;                     /* the points the search used */
 } popc_map_search;
 
 /* One line's search: verdict[0 .. n_k) the verdicts of its points under one
- * criterion. Bisection in index (log K) from the two ends, then the two
- * checks; every known verdict is compared with the bracket, so an acceptable
- * point above it or an unacceptable one below it (a run for another
- * criterion, a check) marks the line not monotonic. */
-void popc_map_search_line(const unsigned char *verdict, long n_k, long check_steps,
+ * criterion, need an array of popc_map_scan_points(n_k, scan_steps) entries.
+ * First the scan (one batch); then, in one batch each step, bisection in
+ * index (log K) between the scan point below the first unacceptable scan
+ * point and it, and, where an acceptable scan point lies above that, between
+ * the highest one and the next scan point. Points known for another
+ * criterion are used where the search reaches them and change nothing else,
+ * so a line's result does not depend on the other criteria asked for. */
+void popc_map_search_line(const unsigned char *verdict, long n_k, long scan_steps, long *need,
 			  popc_map_search *out);
 
 #endif
