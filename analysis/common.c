@@ -467,13 +467,18 @@ static int header_checks(ana_log *l, const ana_input_options *o, popc_error *err
 {
 	const popc_log_reader *r = &l->r;
 	const char *variant = popc_log_reader_header(r, "variant");
-	const char *cvariant = popc_log_reader_header(r, "controller.variant");
+	/* the variant that ran: the parallel PC's in an admittance log
+	 * (docs/ADMITTANCE.md), the series PC's otherwise */
+	const char *causality = popc_log_reader_header(r, "device.causality");
+	const char *vkey = causality && strcmp(causality, "admittance") == 0 ? "admittance.variant"
+									     : "controller.variant";
+	const char *cvariant = popc_log_reader_header(r, vkey);
 	if (variant && cvariant && strcmp(variant, cvariant) != 0)
 		return popc_error_set(err, POPC_ERR_INVALID,
-				      "%s:%lld: header: variant = %s, but controller.variant = %s (line "
+				      "%s:%lld: header: variant = %s, but %s = %s (line "
 				      "%lld): the header contradicts itself",
-				      r->path, popc_log_reader_header_line(r, "variant"), variant,
-				      cvariant, popc_log_reader_header_line(r, "controller.variant"));
+				      r->path, popc_log_reader_header_line(r, "variant"), variant, vkey,
+				      cvariant, popc_log_reader_header_line(r, vkey));
 	const char *source = popc_log_reader_header(r, "source");
 	const int unscaled_t = l->c_t >= 0 && l->scale[l->c_t] == 1.0;
 	if (unscaled_t && !l->period_from_time && !l->allow_uneven) {

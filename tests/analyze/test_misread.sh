@@ -87,6 +87,13 @@ sed "${res_line}s/.*/# resolution = 1e-06/" "$W/good.csv" >"$W/res.csv"
 refused "$W/res.csv" "$W/res.csv:$((names + 1)): column 2 (x): x = -0.0065000000000000006 m, but count -650 x encoder.resolution = 1e-06 (header, line $res_line) is"
 sed "${var_line}s/.*/# variant = none/" "$W/good.csv" >"$W/var.csv"
 refused "$W/var.csv" "$W/var.csv:$var_line: header: variant = none, but controller.variant = improved (line"
+# an admittance log's variant is admittance.variant's (docs/ADMITTANCE.md):
+# read as it is, refused when the two disagree
+run_scene admittance.ini "$W/adm.csv" --set run.duration=0.5
+read_ok "$W/adm.csv" && ok "an admittance log's variant is admittance.variant's: it reads"
+adm_line=$(grep -n '^# variant = ' "$W/adm.csv" | head -1 | cut -d: -f1)
+sed "${adm_line}s/.*/# variant = parallel-hold/" "$W/adm.csv" >"$W/adm-var.csv"
+refused "$W/adm-var.csv" "$W/adm-var.csv:$adm_line: header: variant = parallel-hold, but admittance.variant = parallel-pc (line"
 sed "s/^# variant = improved$/# variant = none/" "$W/good.csv" >"$W/none.csv"
 refused "$W/none.csv" "column 7 (f_pc): f_pc = .* N, but variant = none (header, line $var_line) logs no PC force"
 # what popc writes reads: sim, every variant's header; a replay log of a
