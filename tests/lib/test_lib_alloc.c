@@ -24,7 +24,10 @@ static volatile long long allocations;
 #endif
 
 #ifdef COUNTER_ASAN
-#include <sanitizer/allocator_interface.h>
+/* the sanitizers' runtime's hooks (compiler-rt's allocator_interface.h,
+ * which gcc does not install) */
+int __sanitizer_install_malloc_and_free_hooks(void (*malloc_hook)(const volatile void *, size_t),
+					      void (*free_hook)(const volatile void *));
 static void on_malloc(const volatile void *p, size_t n)
 {
 	(void)p;
