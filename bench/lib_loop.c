@@ -3,7 +3,7 @@
  * as `popc bench loop` times popc_run's loop (src/cli/bench_common.c): the
  * scene run to 100 s at least, repeated until 0.2 s of this thread's CPU
  * time, the fastest of 3 such timings, ns per tick. docs/BENCHMARKS.md
- * section 7 runs both alternately.
+ * section 10 runs both alternately.
  *
  *     lib_loop [SCENE [section.key=value ...]]     prints ns per tick */
 #include <stdio.h>
