@@ -172,7 +172,8 @@ typedef struct popc_lib_sample {
 POPC_API int popc_lib_sim_create(const popc_lib_scene *s, popc_lib_sim **out,
 				 popc_lib_sample *first, popc_lib_error *err);
 /* Applies f_c_N (the port's f_c) for one period and samples tick k + 1.
- * Fails (POPC_LIB_ERR_NUMERIC, POPC_LIB_ERR_DIVERGED) when the integrator or
+ * A non-finite f_c_N is refused (POPC_LIB_ERR_INVALID, the device left as
+ * it was). Fails (POPC_LIB_ERR_NUMERIC, POPC_LIB_ERR_DIVERGED) when the integrator or
  * the closed loop goes unstable; err says which and when. No allocation. */
 POPC_API int popc_lib_sim_exchange(popc_lib_sim *sim, double f_c_N, popc_lib_sample *next,
 				   popc_lib_error *err);
@@ -211,7 +212,9 @@ typedef struct popc_lib_log_writer popc_lib_log_writer;
 POPC_API int popc_lib_log_writer_open(popc_lib_log_writer **out, const char *log_path,
 				      const popc_lib_scene *s, const char *source, unsigned columns,
 				      popc_lib_error *err);
-/* Buffered: no allocation after open; a write may block on the disk. */
+/* Buffered: no allocation after open; a write may block on the disk. A row
+ * with a NaN or inf in a cell the log writes is refused (POPC_LIB_ERR_INVALID,
+ * naming the column), the rows before it kept. */
 POPC_API int popc_lib_log_write_row(popc_lib_log_writer *w, const popc_lib_row *row,
 				    popc_lib_error *err);
 /* Writes "# stop = STOP_REASON" (NULL: no line), flushes, closes and frees

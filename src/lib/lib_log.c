@@ -1,5 +1,6 @@
 /* libpopc: log writing and reading (popc/popc.h), over the log layer's
  * writer and streaming reader. */
+#include <math.h>
 #include <stdlib.h>
 
 #include "lib_private.h"
@@ -27,7 +28,8 @@ POPC_API int popc_lib_log_writer_open(popc_lib_log_writer **out, const char *log
 	if (!w)
 		return popc_lib_error_set(err, POPC_LIB_ERR_NOMEM,
 					  "popc_lib_log_writer_open: out of memory");
-	_Static_assert(POPC_LIB_LOG_X_TRUE == POPC_LOG_COL_X_TRUE && POPC_LIB_LOG_TIMING == POPC_LOG_COL_TIMING,
+	_Static_assert((int)POPC_LIB_LOG_X_TRUE == (int)POPC_LOG_COL_X_TRUE &&
+			       (int)POPC_LIB_LOG_TIMING == (int)POPC_LOG_COL_TIMING,
 		       "the public column bits are the log's");
 	popc_error e;
 	int st = popc_log_open(&w->w, log_path, columns, &e);
@@ -65,6 +67,19 @@ POPC_API int popc_lib_log_write_row(popc_lib_log_writer *w, const popc_lib_row *
 	r.dt_s = row->dt_s;
 	r.rtt_s = row->rtt_s;
 	popc_error e;
+	/* no NaN or inf reaches a log cell: every cell this log writes is checked
+	 * (the columns of its set, log_columns.h's table) */
+	for (int id = 0; id < POPC_LOG_N_COLUMNS; id++) {
+		if (!popc_log_column_written(popc_log_columns[id].fill, w->w.columns))
+			continue;
+		if (!isfinite(popc_log_row_get(&r, (popc_log_column_id)id)))
+			return popc_lib_fail(err,
+					     popc_error_set(&e, POPC_ERR_INVALID,
+							    "%s: row at t = %.17g: column %s is not finite "
+							    "(NaN or inf); the row is not written",
+							    w->w.path, row->tick.t_s, popc_log_columns[id].name),
+					     &e);
+	}
 	return popc_lib_fail(err, popc_log_write_row(&w->w, &r, &e), &e);
 }
 

@@ -58,6 +58,12 @@ POPC_API int popc_lib_sim_create(const popc_lib_scene *s, popc_lib_sim **out,
 POPC_API int popc_lib_sim_exchange(popc_lib_sim *sim, double f_c_N, popc_lib_sample *next,
 				   popc_lib_error *err)
 {
+	/* a non-finite command never reaches the plant: it would integrate to
+	 * NaN and read as a diverged closed loop */
+	if (!isfinite(f_c_N))
+		return popc_lib_error_set(err, POPC_LIB_ERR_INVALID,
+					  "popc_lib_sim_exchange: f_c_N is not finite (NaN or inf); "
+					  "the device is left as it was");
 	popc_error e;
 	popc_axis_sample smp;
 	smp.dissipated_J = (double)NAN;
