@@ -11,7 +11,7 @@
  *
  * The layer is thin: each function calls the internal functions the programs
  * call (popc run, popc-analyze), so a tick through the library gives the
- * bits the programs log. Compiles as C (C99 and later) and as C++. */
+ * bits the programs log. Compiles as C and as C++ (tests/lib/test_lib_cxx.cpp). */
 #ifndef POPC_POPC_H
 #define POPC_POPC_H
 
