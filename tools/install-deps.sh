@@ -35,11 +35,15 @@ paper=(gcc libc6-dev meson ninja-build pkg-config libinih-dev libmodbus-dev libc
 # is unreachable). npm only where no npm is there: NodeSource's nodejs
 # bundles its own, and Debian's npm package cannot be installed beside it.
 # g++ and libfast-float-dev: bench/fastfloat_reader, the reference reader of
-# docs/BENCHMARKS.md section 3 (built by every build where they are found).
+# docs/BENCHMARKS.md section 3 (built by every build where they are found);
+# g++ also compiles popc/popc.h as C++ (test lib-cxx).
 # libclang-rt-dev: clang's runtime with libFuzzer (only recommended by clang,
 # so not installed here without it): the test 'libfuzzer' fuzzes each harness
 # of tests/fuzz for a few seconds (it skips, exit 77, without it).
-test=("${paper[@]}" socat parallel slurm-wlm munge python3 clang libclang-rt-dev scdoc man-db python3-pandas nodejs g++ libfast-float-dev)
+# python3-numpy: the popc Python module (python/popc, docs/LIBRARY.md) and
+# its tests (lib-python, install); python3-pandas depends on it, named here
+# because the module needs it on its own.
+test=("${paper[@]}" socat parallel slurm-wlm munge python3 clang libclang-rt-dev scdoc man-db python3-numpy python3-pandas nodejs g++ libfast-float-dev)
 command -v npm >/dev/null 2>&1 || test+=(npm)
 
 usage() { echo "usage: tools/install-deps.sh [--list] [paper|test]..." >&2; exit 2; }

@@ -105,6 +105,54 @@ check "installed completion: an installed scene name" test "$(sed -n 1p <<<"$com
 check "  an installed map name" test "$(sed -n 2p <<<"$comp")" = generic
 check "  popc-analyze's variant names, from the popc beside it" test "$(sed -n 3p <<<"$comp")" = improved
 
+# ---- the library: the public header alone, libpopc shared and static, its
+# pkg-config file, a program built out of the tree with it, import popc
+check "installed: include/popc/popc.h, the public header" test -s "$P/include/popc/popc.h"
+internal=$(cd "$P/include" && find . -name '*.h' ! -path ./popc/popc.h | head -3)
+check "  and no internal header${internal:+ (installed: $internal)}" test -z "$internal"
+pc=$(find "$P" -name popc.pc | head -1)
+check "installed: popc.pc (pkg-config)" test -n "$pc"
+libdir=$(PKG_CONFIG_PATH=${pc%/*} pkg-config --variable=libdir popc 2>/dev/null)
+check "  its libdir holds libpopc.so.1 and libpopc.a" test -e "$libdir/libpopc.so.1" -a -e "$libdir/libpopc.a"
+export PKG_CONFIG_PATH=${pc%/*}
+cc_=${CC:-cc}
+if command -v pkg-config >/dev/null && command -v "$cc_" >/dev/null; then
+  # shared: the loader finds the scratch prefix's library by the rpath
+  # shellcheck disable=SC2046
+  "$cc_" -std=c11 -Wall -Werror "$SRC/examples/device_loop.c" -o "$T/dl-shared" \
+    $(pkg-config --cflags --libs popc) -Wl,-rpath,"$libdir" 2>"$T/cc.err"
+  check "an out-of-tree program: cc device_loop.c \$(pkg-config --cflags --libs popc)" test $? -eq 0 || cat "$T/cc.err"
+  check "  needs libpopc.so.1" grep -q 'libpopc\.so\.1' <(readelf -d "$T/dl-shared" 2>/dev/null)
+  # static: libpopc.a by name, then what --static adds (libmodbus, inih, m, pthread)
+  static_libs=$(pkg-config --static --libs popc)
+  # shellcheck disable=SC2046,SC2086
+  "$cc_" -std=c11 -Wall -Werror "$SRC/examples/device_loop.c" -o "$T/dl-static" \
+    $(pkg-config --cflags popc) ${static_libs/-lpopc/-l:libpopc.a} 2>"$T/cc.err"
+  check "  and with pkg-config --static, against libpopc.a" test $? -eq 0 || cat "$T/cc.err"
+  check "  which needs no libpopc.so" test -z "$(readelf -d "$T/dl-static" 2>/dev/null | grep libpopc)"
+  "$P/bin/popc" run paper -q --set run.duration=1 --set controller.variant=improved --log lib-ref.csv
+  for kind in shared static; do
+    "$T/dl-$kind" paper "lib-$kind.csv" run.duration=1 controller.variant=improved
+    check "  the $kind program's rows equal the installed popc run's" \
+      cmp -s <(grep -v '^#' "lib-$kind.csv") <(grep -v '^#' lib-ref.csv)
+  done
+else
+  bad "pkg-config or $cc_ missing: the library was not built against (tools/install-deps.sh paper)"
+fi
+# import popc from the prefix: the module loads the prefix's libpopc.so.1
+py=${POPC_PYTHON:-}
+pkg=$(find "$P" -path '*/popc/__init__.py' | head -1)
+if [ -n "$py" ]; then
+  check "installed: the Python module popc (${pkg#"$P"/})" test -n "$pkg"
+  pyp=${pkg%/popc/__init__.py}
+  (unset POPC_LIBRARY; PYTHONPATH=$pyp "$py" "$SRC/examples/python/step_controller.py" paper improved) > "$T/py.out" 2>&1
+  check "  examples/python/step_controller.py against the prefix: $(tail -1 "$T/py.out")" test $? -eq 0
+  (unset POPC_LIBRARY; PYTHONPATH=$pyp "$py" "$SRC/examples/python/read_log.py" lib-ref.csv) > "$T/py.out" 2>&1
+  check "  examples/python/read_log.py: $(grep -m1 recomputed "$T/py.out")" test $? -eq 0
+  (unset POPC_LIBRARY; PYTHONPATH=$pyp "$py" -c 'import popc, sys; sys.exit(popc._lib._name != sys.argv[1])' "$libdir/libpopc.so.1")
+  check "  it loaded $libdir/libpopc.so.1" test $? -eq 0
+fi
+
 # ---- man pages
 man_skip=
 if [ "$MAN" != man ]; then

@@ -5,7 +5,9 @@ Every C file and header of the library lives in a layer folder, src/<layer>/
 and include/popc/<layer>/, and may include a public header
 "popc/<other>/x.h" only when <other> is its own layer or a lower one:
 
-    util < core < scene < log < axes < run < sweep < programs
+    util < core < scene < log < axes < run < sweep < lib < programs
+
+(lib: libpopc's public API, src/lib/ and its one header include/popc/popc.h)
 
 The programs (src/cli, src/servo_sim, analysis) sit above every layer; tests
 are not checked (they may include anything). Also refused: a library file
@@ -28,9 +30,12 @@ import tempfile
 
 # Lowest first: a layer may include its own headers and those of the layers
 # before it.
-LAYERS = ["util", "core", "scene", "log", "axes", "run", "sweep"]
+LAYERS = ["util", "core", "scene", "log", "axes", "run", "sweep", "lib"]
+# The public API of libpopc (src/lib): the one header outside the layer
+# folders, include/popc/popc.h, belongs to the lib layer.
+PUBLIC_API = {"popc/popc.h": "lib"}
 # Above every layer: may include any layer's headers.
-PROGRAM_DIRS = ["src/cli", "src/servo_sim", "analysis"]
+PROGRAM_DIRS = ["src/cli", "src/servo_sim", "analysis", "examples"]
 PROGRAMS = "programs"
 GENERATED = {"popc_config.h", "popc_build_id.h"}  # configure_file() and vcs_tag() outputs, in the build dir
 
@@ -57,6 +62,8 @@ def layer_of(rel):
     for d in PROGRAM_DIRS:
         if rel.startswith(d + "/"):
             return PROGRAMS
+    if rel.startswith("include/") and rel[len("include/"):] in PUBLIC_API:
+        return PUBLIC_API[rel[len("include/"):]]
     parts = rel.split("/")
     if parts[0] == "src" and len(parts) > 2 and parts[1] in LAYERS:
         return parts[1]
@@ -101,7 +108,7 @@ def check_file(root, rel):
         where = f"{rel}:{number}: #include {bracket}{name}{'>' if bracket == '<' else bracket}"
         if name.startswith("popc/"):
             parts = name.split("/")
-            target = parts[1] if len(parts) > 2 else None
+            target = parts[1] if len(parts) > 2 else PUBLIC_API.get(name)
             if target not in LAYERS:
                 errors.append(f"{where}: names no layer (popc/<layer>/x.h, <layer> one of "
                               f"{', '.join(LAYERS)})")

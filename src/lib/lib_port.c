@@ -1,0 +1,120 @@
+/* libpopc: the controller port and the observer alone (popc/popc.h), over
+ * the core's popc_controller and popc_observer: the calls of popc run's loop
+ * (src/run/run.c) and of popc-analyze energy (analysis/cmd_energy.c). */
+#include <stdlib.h>
+
+#include "lib_private.h"
+#include "popc/core/controller.h"
+#include "popc/core/encoder.h"
+#include "popc/scene/from_scene.h"
+
+struct popc_lib_port {
+	popc_controller ctl; /* 34 kB whatever the variant: the library's to know */
+	popc_lib_causality causality;
+	double period_s, resolution_m;
+	long long k;         /* the next tick */
+};
+
+struct popc_lib_observer {
+	popc_observer obs;
+	double period_s;
+};
+
+/* The public tick is the internal one field by field (the internal layout
+ * may change; this one may not). */
+static void tick_out(const popc_tick *in, popc_lib_tick *out)
+{
+	out->t_s = in->t_s;
+	out->x_m = in->x_m;
+	out->count = in->count;
+	out->v_mps = in->v_mps;
+	out->f_e_N = in->f_e_N;
+	out->f_pc_N = in->f_pc_N;
+	out->f_c_N = in->f_c_N;
+	out->W_J = in->W_J;
+	out->E_ref_J = in->E_ref_J;
+	out->flags = in->flags;
+}
+
+POPC_API int popc_lib_port_create_impedance(const popc_lib_scene *s, double force_limit_N,
+					    popc_lib_port **out, popc_lib_error *err)
+{
+	*out = NULL;
+	int st = popc_lib_scene_validate(s, err);
+	if (st)
+		return st;
+	if (!(force_limit_N >= 0.0 && force_limit_N < (double)INFINITY))
+		return popc_lib_error_set(err, POPC_LIB_ERR_INVALID,
+					  "popc_lib_port_create_impedance: force_limit_N must be "
+					  "finite and >= 0 (0: none)");
+	popc_lib_port *p = malloc(sizeof *p);
+	if (!p)
+		return popc_lib_error_set(err, POPC_LIB_ERR_NOMEM,
+					  "popc_lib_port_create_impedance: out of memory");
+	popc_controller_config cfg;
+	popc_controller_config_from_scene(&cfg, &s->scene);
+	cfg.force_limit_N = force_limit_N;
+	popc_controller_init(&p->ctl, &cfg);
+	p->causality = POPC_LIB_CAUSALITY_IMPEDANCE;
+	p->period_s = popc_scene_period_s(&s->scene);
+	p->resolution_m = s->scene.enc_resolution_m;
+	p->k = 0;
+	*out = p;
+	return 0;
+}
+
+POPC_API popc_lib_causality popc_lib_port_causality(const popc_lib_port *p)
+{
+	return p->causality;
+}
+
+POPC_API void popc_lib_port_step(popc_lib_port *p, long long count, popc_lib_tick *out)
+{
+	popc_tick t;
+	/* t and x exactly as popc_run computes them: k T, count x resolution */
+	t.t_s = (double)p->k * p->period_s;
+	popc_controller_step(&p->ctl, count, popc_encoder_position(count, p->resolution_m), &t);
+	p->k++;
+	tick_out(&t, out);
+}
+
+POPC_API void popc_lib_port_free(popc_lib_port *p)
+{
+	free(p);
+}
+
+POPC_API int popc_lib_observer_create(const popc_lib_scene *s, popc_lib_observer **out,
+				      popc_lib_error *err)
+{
+	*out = NULL;
+	int st = popc_lib_scene_validate(s, err);
+	if (st)
+		return st;
+	popc_lib_observer *o = malloc(sizeof *o);
+	if (!o)
+		return popc_lib_error_set(err, POPC_LIB_ERR_NOMEM,
+					  "popc_lib_observer_create: out of memory");
+	popc_observer_init(&o->obs, s->scene.variant, s->scene.ignore_mode);
+	o->period_s = popc_scene_period_s(&s->scene);
+	*out = o;
+	return 0;
+}
+
+POPC_API void popc_lib_observer_step(popc_lib_observer *o, const popc_lib_tick *in, double *W_J,
+				     double *E_ref_J)
+{
+	/* update with tick k's position and f_e, then commit the f_c sent: the
+	 * order of the online controller and of popc-analyze energy */
+	popc_observation ob;
+	popc_observer_update(&o->obs, in->x_m, in->count, in->v_mps, o->period_s, in->f_e_N, &ob);
+	popc_observer_commit(&o->obs, &ob, in->f_e_N, in->f_c_N);
+	if (W_J)
+		*W_J = o->obs.W_J;
+	if (E_ref_J)
+		*E_ref_J = o->obs.E_ref_J;
+}
+
+POPC_API void popc_lib_observer_free(popc_lib_observer *o)
+{
+	free(o);
+}

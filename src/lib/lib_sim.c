@@ -1,0 +1,144 @@
+/* libpopc: the simulated device, the environment and encoder alone, and a
+ * whole run (popc/popc.h), over the axes layer's simulated axis and
+ * popc_run: the calls popc run makes (src/cli/cmd_run.c). */
+#include <math.h>
+#include <stdlib.h>
+
+#include "lib_private.h"
+#include "popc/axes/sim_axis.h"
+#include "popc/core/encoder.h"
+#include "popc/core/port_energy.h"
+#include "popc/log/log.h"
+#include "popc/run/run.h"
+#include "popc/scene/from_scene.h"
+
+struct popc_lib_sim {
+	popc_axis *axis;
+	/* E_port as popc_run computes it: the update with tick k's true
+	 * position, then the commit of the command sent after it */
+	popc_port_energy port;
+};
+
+static void sample_out(popc_lib_sim *sim, const popc_axis_sample *in, popc_lib_sample *out)
+{
+	out->count = in->count;
+	out->x_true_m = in->x_true_m;
+	out->E_port_J = popc_port_energy_update(&sim->port, in->x_true_m);
+}
+
+POPC_API int popc_lib_sim_create(const popc_lib_scene *s, popc_lib_sim **out,
+				 popc_lib_sample *first, popc_lib_error *err)
+{
+	*out = NULL;
+	int st = popc_lib_scene_validate(s, err);
+	if (st)
+		return st;
+	popc_lib_sim *sim = calloc(1, sizeof *sim);
+	if (!sim)
+		return popc_lib_error_set(err, POPC_LIB_ERR_NOMEM, "popc_lib_sim_create: out of memory");
+	popc_error e;
+	popc_axis_sample smp;
+	smp.dissipated_J = (double)NAN;
+	st = popc_sim_axis_create(&sim->axis, &s->scene, &e);
+	if (!st)
+		st = sim->axis->ops->start(sim->axis, &e);
+	if (!st)
+		st = sim->axis->ops->sample(sim->axis, &smp, &e);
+	if (st) {
+		popc_axis_destroy(&sim->axis);
+		free(sim);
+		return popc_lib_fail(err, st, &e);
+	}
+	popc_port_energy_init(&sim->port);
+	sample_out(sim, &smp, first);
+	*out = sim;
+	return 0;
+}
+
+POPC_API int popc_lib_sim_exchange(popc_lib_sim *sim, double f_c_N, popc_lib_sample *next,
+				   popc_lib_error *err)
+{
+	/* a non-finite command never reaches the plant: it would integrate to
+	 * NaN and read as a diverged closed loop */
+	if (!isfinite(f_c_N))
+		return popc_lib_error_set(err, POPC_LIB_ERR_INVALID,
+					  "popc_lib_sim_exchange: f_c_N is not finite (NaN or inf); "
+					  "the device is left as it was");
+	popc_error e;
+	popc_axis_sample smp;
+	smp.dissipated_J = (double)NAN;
+	popc_port_energy_commit(&sim->port, f_c_N);
+	int st = sim->axis->ops->exchange(sim->axis, f_c_N, &smp, &e);
+	if (st)
+		return popc_lib_fail(err, st, &e);
+	sample_out(sim, &smp, next);
+	return 0;
+}
+
+POPC_API void popc_lib_sim_free(popc_lib_sim *sim)
+{
+	if (!sim)
+		return;
+	popc_error e;
+	sim->axis->ops->stop(sim->axis, &e); /* a simulated axis stops without fail */
+	popc_axis_destroy(&sim->axis);
+	free(sim);
+}
+
+POPC_API double popc_lib_environment_force(const popc_lib_scene *s, double x_m, double v_mps)
+{
+	popc_environment env;
+	popc_environment_from_scene(&env, &s->scene);
+	return popc_environment_force(&env, x_m, v_mps);
+}
+
+POPC_API long long popc_lib_encoder_count(const popc_lib_scene *s, double x_m, int *ok)
+{
+	int ok_ = 0;
+	long long c = popc_encoder_count(x_m, s->scene.enc_resolution_m, &ok_);
+	if (ok)
+		*ok = ok_;
+	return c;
+}
+
+POPC_API int popc_lib_run(const popc_lib_scene *s, const char *log_path, popc_lib_error *err)
+{
+	int st = popc_lib_scene_validate(s, err);
+	if (st)
+		return st;
+	popc_error e;
+	popc_axis *axis = NULL;
+	popc_axis_create_options opt = {0};
+	st = popc_axis_create(&axis, &s->scene, &opt, &e);
+	if (st)
+		return popc_lib_fail(err, st, &e);
+	popc_log_writer log;
+	if (log_path) {
+		st = popc_log_open(&log, log_path, axis->ops->log_columns, &e);
+		if (!st && (st = popc_log_write_header(&log, axis->ops->name, &s->scene, NULL, &e)) != 0) {
+			popc_error ce;
+			popc_log_close(&log, &ce);
+		}
+		if (st) {
+			popc_axis_destroy(&axis);
+			return popc_lib_fail(err, st, &e);
+		}
+	}
+	popc_run_options ro = {.log = log_path ? &log : NULL};
+	popc_run_summary *sum = malloc(sizeof *sum);
+	if (!sum)
+		st = popc_error_set(&e, POPC_ERR_NOMEM, "popc_lib_run: out of memory");
+	else
+		st = popc_run(&s->scene, axis, &ro, sum, &e);
+	free(sum);
+	if (log_path) {
+		popc_error ce;
+		int cst = popc_log_close(&log, &ce);
+		if (cst && !st) {
+			st = cst;
+			e = ce;
+		}
+	}
+	popc_axis_destroy(&axis);
+	return popc_lib_fail(err, st, &e);
+}

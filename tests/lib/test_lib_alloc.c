@@ -1,0 +1,157 @@
+/* A step allocates nothing (docs/LIBRARY.md, "Real-time safety"): 100,000
+ * ticks of every controller variant through the public API (the port's
+ * step, the simulated device's exchange, the observer's step) under an
+ * allocation counter, which must read zero. The counter is malloc, calloc,
+ * realloc and free defined here, over glibc's own (__libc_*): the program's
+ * definitions interpose libpopc.so's calls. Under ASan, which owns malloc,
+ * its hooks count instead. That the counter counts is checked too: creating
+ * a port must count its allocation. */
+#include <stddef.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "popc/popc.h"
+#include "popc/core/controller.h" /* POPC_VARIANT_COUNT only: every variant is here */
+
+static volatile long long allocations;
+
+#if defined(__SANITIZE_ADDRESS__)
+#define COUNTER_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define COUNTER_ASAN 1
+#endif
+#endif
+
+#ifdef COUNTER_ASAN
+/* the sanitizers' runtime's hooks (compiler-rt's allocator_interface.h,
+ * which gcc does not install) */
+int __sanitizer_install_malloc_and_free_hooks(void (*malloc_hook)(const volatile void *, size_t),
+					      void (*free_hook)(const volatile void *));
+static void on_malloc(const volatile void *p, size_t n)
+{
+	(void)p;
+	(void)n;
+	allocations++;
+}
+static void on_free(const volatile void *p)
+{
+	if (p)
+		allocations++;
+}
+static void counter_install(void)
+{
+	__sanitizer_install_malloc_and_free_hooks(on_malloc, on_free);
+}
+#else
+void *__libc_malloc(size_t n);
+void *__libc_calloc(size_t m, size_t n);
+void *__libc_realloc(void *p, size_t n);
+void __libc_free(void *p);
+void *malloc(size_t n);
+void *calloc(size_t m, size_t n);
+void *realloc(void *p, size_t n);
+void free(void *p);
+void *malloc(size_t n)
+{
+	allocations++;
+	return __libc_malloc(n);
+}
+void *calloc(size_t m, size_t n)
+{
+	allocations++;
+	return __libc_calloc(m, n);
+}
+void *realloc(void *p, size_t n)
+{
+	allocations++;
+	return __libc_realloc(p, n);
+}
+void free(void *p)
+{
+	if (p)
+		allocations++;
+	__libc_free(p);
+}
+static void counter_install(void)
+{
+}
+#endif
+
+static const char *const variants[] = {
+	"none", "po-pc", "ref-energy", "filtered-velocity", "ignore", "hold", "improved",
+	"pc-off-reversals", "energy-bounding", "windowed-po",
+};
+#define N_VARIANTS (int)(sizeof variants / sizeof variants[0])
+#define STEPS 100000
+
+int main(int argc, char **argv)
+{
+	if (argc < 2) {
+		fprintf(stderr, "usage: test_lib_alloc SCENE\n");
+		return 2;
+	}
+	counter_install();
+	int failed = 0;
+	if (N_VARIANTS != POPC_VARIANT_COUNT) {
+		printf("not ok - the test lists %d variants, popc has %d\n", N_VARIANTS, POPC_VARIANT_COUNT);
+		return 1;
+	}
+	for (int v = 0; v < N_VARIANTS; v++) {
+		popc_lib_error err;
+		popc_lib_scene *s = NULL;
+		popc_lib_port *port = NULL;
+		popc_lib_sim *sim = NULL;
+		popc_lib_observer *obs = NULL;
+		popc_lib_sample smp;
+		int st = popc_lib_scene_create(&s, &err);
+		if (!st)
+			st = popc_lib_scene_load(s, argv[1], &err);
+		if (!st)
+			st = popc_lib_scene_set(s, "controller.variant", variants[v], &err);
+		if (!st)
+			st = popc_lib_scene_set(s, "run.duration", "200", &err);
+		long long before_create = allocations;
+		if (!st)
+			st = popc_lib_port_create_impedance(s, 0.0, &port, &err);
+		long long create_allocs = allocations - before_create;
+		if (!st)
+			st = popc_lib_sim_create(s, &sim, &smp, &err);
+		if (!st)
+			st = popc_lib_observer_create(s, &obs, &err);
+		if (st) {
+			printf("not ok - %s: %s\n", variants[v], err.msg);
+			return 1;
+		}
+		long long before = allocations;
+		double W_sum = 0.0;
+		for (int k = 0; k < STEPS && !st; k++) {
+			popc_lib_tick t;
+			double W;
+			popc_lib_port_step(port, smp.count, &t);
+			popc_lib_observer_step(obs, &t, &W, NULL);
+			W_sum += W;
+			st = popc_lib_sim_exchange(sim, t.f_c_N, &smp, &err);
+		}
+		long long during = allocations - before;
+		if (st) {
+			printf("not ok - %s: %s\n", variants[v], err.msg);
+			failed = 1;
+		} else if (create_allocs < 1) {
+			printf("not ok - %s: the counter saw no allocation in popc_lib_port_create_impedance: "
+			       "it does not count\n", variants[v]);
+			failed = 1;
+		} else if (during != 0) {
+			printf("not ok - %s: %lld allocator calls in %d steps\n", variants[v], during, STEPS);
+			failed = 1;
+		} else {
+			printf("ok - %s: 0 allocator calls in %d steps (port, observer, device; W sum %g)\n",
+			       variants[v], STEPS, W_sum);
+		}
+		popc_lib_observer_free(obs);
+		popc_lib_sim_free(sim);
+		popc_lib_port_free(port);
+		popc_lib_scene_free(s);
+	}
+	return failed;
+}
