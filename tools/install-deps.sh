@@ -34,9 +34,13 @@ paper=(gcc libc6-dev meson ninja-build pkg-config libinih-dev libmodbus-dev libc
 # `npm ci` from tests/readers/package-lock.json; it skips when the registry
 # is unreachable). npm only where no npm is there: NodeSource's nodejs
 # bundles its own, and Debian's npm package cannot be installed beside it.
+# bash-completion: on most Debian installs (priority standard); its
+# pkg-config file once made `meson install --prefix=SCRATCH` write into
+# /usr/share (tests/cli/test_install.sh checks every file lands under the
+# prefix), so the tests run with it installed.
 # g++ and libfast-float-dev: bench/fastfloat_reader, the reference reader of
 # docs/BENCHMARKS.md section 3 (built by every build where they are found).
-test=("${paper[@]}" socat parallel slurm-wlm munge python3 clang scdoc man-db python3-pandas nodejs g++ libfast-float-dev)
+test=("${paper[@]}" socat parallel slurm-wlm munge python3 clang scdoc man-db python3-pandas nodejs g++ libfast-float-dev bash-completion)
 command -v npm >/dev/null 2>&1 || test+=(npm)
 
 usage() { echo "usage: tools/install-deps.sh [--list] [paper|test]..." >&2; exit 2; }
