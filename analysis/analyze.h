@@ -273,6 +273,9 @@ void ana_put_md_text(FILE *f, const char *text);
 
 /* Writes v in shortest round-trip form. */
 void ana_put_double(FILE *f, double v);
+/* The same with a decimal point always ("0.0", "5.0": popc_format_double_point):
+ * a summary's real cells, which readers then type floating point. */
+void ana_put_double_point(FILE *f, double v);
 
 /* Chatter thresholds from "--threshold name=value". */
 int ana_threshold_option(popc_chatter_config *cfg, char *arg, const char *verb);

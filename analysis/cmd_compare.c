@@ -311,7 +311,7 @@ void ana_summary_print_row(FILE *f, ana_format fmt, const ana_summary *s)
 		else if (fmt == ANA_MARKDOWN)
 			fprintf(f, "%.4g", v[i]);
 		else
-			ana_put_double(f, v[i]);
+			ana_put_double_point(f, v[i]);
 	}
 	fputs(sep, f);
 	if (ana_chatter_checked(s))
@@ -328,9 +328,9 @@ void ana_summary_print_row(FILE *f, ana_format fmt, const ana_summary *s)
 			c->lc_frequency_Hz);
 	} else {
 		fprintf(f, "%s%d%s", sep, c->limit_cycle, sep);
-		ana_put_double(f, c->lc_amplitude_m);
+		ana_put_double_point(f, c->lc_amplitude_m);
 		fputs(sep, f);
-		ana_put_double(f, c->lc_frequency_Hz);
+		ana_put_double_point(f, c->lc_frequency_Hz);
 	}
 	/* the true port energy: only a log with E_port (and W) has it */
 	const double port[] = {s->port_energy_end_J, s->po_error_end_J, s->po_error_max_J,
@@ -342,13 +342,13 @@ void ana_summary_print_row(FILE *f, ana_format fmt, const ana_summary *s)
 		else if (fmt == ANA_MARKDOWN)
 			fprintf(f, "%.4g", port[i]);
 		else
-			ana_put_double(f, port[i]);
+			ana_put_double_point(f, port[i]);
 	}
 	fputs(sep, f);
 	if (fmt == ANA_MARKDOWN)
 		fprintf(f, "%.4g", s->rendered_stiffness_Npm);
 	else
-		ana_put_double(f, s->rendered_stiffness_Npm);
+		ana_put_double_point(f, s->rendered_stiffness_Npm);
 	fputs(fmt == ANA_MARKDOWN ? " |\n" : "\n", f);
 }
 
