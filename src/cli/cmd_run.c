@@ -323,10 +323,14 @@ int popc_cmd_run(int argc, char **argv)
 	popc_run_options ro = {.log = NULL, .stop_flag = &popc_cli_stop};
 	if (log_path) {
 		st = popc_log_open(&log, log_path, axis->ops->log_columns, &err);
-		if (!st && (st = popc_log_write_header(&log, axis->ops->name, &s, NULL, &err)) != 0) {
+		/* which build, when, what command: the header says how to make
+		 * the log again (without them on out of memory: the run goes on) */
+		char *provenance = st ? NULL : popc_cli_provenance();
+		if (!st && (st = popc_log_write_header(&log, axis->ops->name, &s, provenance, &err)) != 0) {
 			popc_error cerr; /* the header did not go out (a full disk): err says so */
 			popc_log_close(&log, &cerr);
 		}
+		free(provenance);
 		if (st) {
 			if (summary && summary != stdout)
 				fclose(summary);
