@@ -9,7 +9,9 @@
 #   behaviour.sh [--update]      (POPC, POPC_ANALYZE, POPC_SOURCE_ROOT from the environment)
 #
 # Digested: each log byte for byte but its provenance lines (popc_build,
-# date, command: they differ from run to run; check.sh's sans_provenance); each run summary row without its three
+# date, command: they differ from run to run; check.sh's sans_provenance);
+# each run summary row without its scene and scene_digest cells (paths of
+# this checkout: tests/cli/test_popc_cli.sh checks them); each run summary row without its three
 # wall-clock cells (wall_time_s, realtime_factor, ns_per_tick); popc-analyze
 # compare (CSV), energy -o and chatter on the logs; the sweep's summary.csv
 # without its last cell (wall_time_s).
@@ -32,7 +34,7 @@ digest() { # name, file
 }
 # the summary without the wall-clock cells, found by their header names
 summary_nowall() {
-	awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) drop[i] = ($i == "wall_time_s" || $i == "realtime_factor" || $i == "ns_per_tick") }
+	awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) drop[i] = ($i == "wall_time_s" || $i == "realtime_factor" || $i == "ns_per_tick" || $i == "scene" || $i == "scene_digest") }
 		{ s = ""; for (i = 1; i <= NF; i++) if (!drop[i]) s = s (s == "" ? "" : ",") $i; print s }' "$1"
 }
 case_run() { # name, popc run arguments...

@@ -131,6 +131,23 @@ check "  summary CSV has a header and one row" test "$(wc -l < "$T/sum.csv")" -e
 check "  summary CSV header" grep -q "^variant,integrator,substeps,status,ticks,sim_time_s,wall_time_s,realtime_factor" "$T/sum.csv"
 expect_exit 0 "second run appends to the summary" "$POPC" run "$SRC/data/scenes/paper.ini" -q --variant improved --summary "$T/sum.csv"
 check "  two rows, one header" test "$(wc -l < "$T/sum.csv")" -eq 3
+# the scene of each row (issue 27): the file as given or found, and a digest
+# of the resolved scene: equal for the same scene under another name
+# (popc scene show LOG of the run's log), different for another scene
+check "  the header ends with scene,scene_digest" grep -q ",rendered_stiffness,scene,scene_digest$" "$T/sum.csv"
+scol() { awk -F, -v r="$2" -v n="$3" 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next } NR == r + 1 { print $c[n] }' "$1"; }
+check "  scene: the file given" test "$(scol "$T/sum.csv" 1 scene)" = "$SRC/data/scenes/paper.ini"
+check "  scene_digest: fnv1a- and 16 hex digits" grep -qE ',fnv1a-[0-9a-f]{16}$' "$T/sum.csv"
+"$POPC" scene show "$T/paper.csv" >"$T/paper-again.ini" &&
+  "$POPC" run "$T/paper-again.ini" -q --set run.duration=0.01 --summary "$T/sum2.csv" &&
+  "$POPC" run "$SRC/data/scenes/paper.ini" -q --set run.duration=0.01 --summary "$T/sum2.csv" &&
+  "$POPC" run "$SRC/data/scenes/paper.ini" -q --set run.duration=0.02 --summary "$T/sum2.csv" &&
+  "$POPC" run "$SRC/data/scenes/paper.ini" -q --set run.duration=0.01 --summary "$T/sum2.json" --summary-format json
+check "  the same resolved scene, another file: the same digest" test "$(scol "$T/sum2.csv" 1 scene_digest)" = "$(scol "$T/sum2.csv" 2 scene_digest)"
+check "  ... and its own scene name" test "$(scol "$T/sum2.csv" 1 scene)" = "$T/paper-again.ini"
+check "  another duration: another digest" test "$(scol "$T/sum2.csv" 2 scene_digest)" != "$(scol "$T/sum2.csv" 3 scene_digest)"
+check "  JSON: scene and digest as strings" \
+  grep -qF "\"scene\":\"$SRC/data/scenes/paper.ini\",\"scene_digest\":\"$(scol "$T/sum2.csv" 2 scene_digest)\"}" "$T/sum2.json"
 check "  -q prints nothing" test ! -s "$T/err"
 
 expect_exit 1 "a summary path that cannot be written" "$POPC" run "$SRC/data/scenes/paper.ini" --summary "$T/nodir/sum.csv" --log "$T/sumlog.csv"

@@ -7,7 +7,7 @@
 //   node summary_types.mjs FILE...   (.csv or .jsonl, absolute paths)
 import { DuckDBInstance } from '@duckdb/node-api';
 
-const TEXT = new Set(['run', 'log', 'variant', 'integrator']);
+const TEXT = new Set(['run', 'log', 'variant', 'integrator', 'scene', 'scene_digest']);
 const INT = new Set(['ticks', 'substeps', 'status', 'exit_status', 'chatter_intervals', 'limit_cycle']);
 const INTS = ['BIGINT', 'INTEGER', 'SMALLINT', 'TINYINT', 'UBIGINT', 'UINTEGER', 'HUGEINT'];
 const instance = await DuckDBInstance.create(':memory:');

@@ -10,7 +10,7 @@ import sys
 
 import pandas as pd
 
-TEXT = {"run", "log", "variant", "integrator"}
+TEXT = {"run", "log", "variant", "integrator", "scene", "scene_digest"}
 INT = {"ticks", "substeps", "status", "exit_status", "chatter_intervals", "limit_cycle"}
 
 
