@@ -285,6 +285,15 @@ int ana_output_dir_usable(const char *verb, const char *opt, const char *dir, in
  * ".csv"; "stdin" for "-"), as ana_log_open sets ana_log.name. */
 void ana_log_name(const char *path, char *out, size_t cap);
 
+/* Names that tell n logs apart in one table (compare's log column): each
+ * log's file name without ".csv", and where two logs would share one, the
+ * shortest path suffix that tells them apart ("a/improved.csv" and
+ * "b/improved.csv": "a/improved", "b/improved"; "improved.csv" beside
+ * "b/improved.csv": "improved", "b/improved"). The same path twice keeps its
+ * name. "-" is "stdin". Returns 0, or -1 when out of memory. */
+#define ANA_LOG_NAME_MAX 256
+int ana_log_names(char *const *paths, int n, char (*names)[ANA_LOG_NAME_MAX]);
+
 /* Writes text as one CSV cell: in double quotes (inner quotes doubled) when it
  * holds a comma, a quote or a line end, as a file name may. */
 void ana_put_csv_text(FILE *f, const char *text);
@@ -294,6 +303,9 @@ void ana_put_md_text(FILE *f, const char *text);
 
 /* Writes v in shortest round-trip form. */
 void ana_put_double(FILE *f, double v);
+/* The same with a decimal point always ("0.0", "5.0": popc_format_double_point):
+ * a summary's real cells, which readers then type floating point. */
+void ana_put_double_point(FILE *f, double v);
 
 /* Chatter thresholds from "--threshold name=value". */
 int ana_threshold_option(popc_chatter_config *cfg, char *arg, const char *verb);

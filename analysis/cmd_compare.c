@@ -311,7 +311,7 @@ void ana_summary_print_row(FILE *f, ana_format fmt, const ana_summary *s)
 		else if (fmt == ANA_MARKDOWN)
 			fprintf(f, "%.4g", v[i]);
 		else
-			ana_put_double(f, v[i]);
+			ana_put_double_point(f, v[i]);
 	}
 	fputs(sep, f);
 	if (ana_chatter_checked(s))
@@ -328,9 +328,9 @@ void ana_summary_print_row(FILE *f, ana_format fmt, const ana_summary *s)
 			c->lc_frequency_Hz);
 	} else {
 		fprintf(f, "%s%d%s", sep, c->limit_cycle, sep);
-		ana_put_double(f, c->lc_amplitude_m);
+		ana_put_double_point(f, c->lc_amplitude_m);
 		fputs(sep, f);
-		ana_put_double(f, c->lc_frequency_Hz);
+		ana_put_double_point(f, c->lc_frequency_Hz);
 	}
 	/* the true port energy: only a log with E_port (and W) has it */
 	const double port[] = {s->port_energy_end_J, s->po_error_end_J, s->po_error_max_J,
@@ -342,13 +342,13 @@ void ana_summary_print_row(FILE *f, ana_format fmt, const ana_summary *s)
 		else if (fmt == ANA_MARKDOWN)
 			fprintf(f, "%.4g", port[i]);
 		else
-			ana_put_double(f, port[i]);
+			ana_put_double_point(f, port[i]);
 	}
 	fputs(sep, f);
 	if (fmt == ANA_MARKDOWN)
 		fprintf(f, "%.4g", s->rendered_stiffness_Npm);
 	else
-		ana_put_double(f, s->rendered_stiffness_Npm);
+		ana_put_double_point(f, s->rendered_stiffness_Npm);
 	fputs(fmt == ANA_MARKDOWN ? " |\n" : "\n", f);
 }
 
@@ -358,7 +358,9 @@ static void usage(FILE *f)
 	      "\n"
 	      "One row per log, one column per metric, for comparing controller variants and\n"
 	      "parameter values. Columns (SI units; docs/ANALYSIS.md):\n"
-	      "  log, variant, ticks, duration_s; pc_rms, pc_rms_late, pc_max (N); pc_active\n"
+	      "  log (the file name; logs that would share one: the shortest path suffix\n"
+	      "  that tells them apart, a/improved and b/improved), variant, ticks, duration_s;\n"
+	      "  pc_rms, pc_rms_late, pc_max (N); pc_active\n"
 	      "  (share of ticks with f_pc != 0); pc_energy (J, sum f_pc(k-1) dx(k));\n"
 	      "  w_minus_eref_min, w_minus_eref_end (J); vsign_rate, vsign_rate_late (velocity\n"
 	      "  sign changes per second in contact); chatter_s, chatter_intervals, limit_cycle,\n"
@@ -445,6 +447,15 @@ int ana_cmd_compare(int argc, char **argv)
 		rc = 2;
 		goto out;
 	}
+	/* the log column tells the logs apart: a/improved.csv and b/improved.csv
+	 * are a/improved and b/improved, not improved twice */
+	char (*names)[ANA_LOG_NAME_MAX] = malloc((size_t)(argc - optind) * sizeof *names);
+	if (!names || ana_log_names(argv + optind, argc - optind, names) != 0) {
+		fprintf(stderr, "popc-analyze compare: out of memory\n");
+		free(names);
+		rc = 1;
+		goto out;
+	}
 	ana_summary_print_header(stdout, fmt);
 	for (int i = optind; i < argc; i++) {
 		ana_summary s;
@@ -454,6 +465,7 @@ int ana_cmd_compare(int argc, char **argv)
 			rc = ana_fail("compare", st, &err);
 			continue;
 		}
+		snprintf(s.log, sizeof s.log, "%s", names[i - optind]);
 		if (!s.has_pc_force) {
 			popc_error why;
 			ana_no_pc_force(&why, argv[i]);
@@ -474,6 +486,7 @@ int ana_cmd_compare(int argc, char **argv)
 		}
 		ana_summary_print_row(stdout, fmt, &s);
 	}
+	free(names);
 	if (fflush(stdout) != 0)
 		rc = 2;
 out:

@@ -62,6 +62,13 @@ void ana_put_double(FILE *f, double v)
 	fputs(b, f);
 }
 
+void ana_put_double_point(FILE *f, double v)
+{
+	char b[POPC_DOUBLE_TEXT_MAX + 1];
+	popc_format_double_point(v, b);
+	fputs(b, f);
+}
+
 static int push(char ***list, int *n, char *value)
 {
 	char **grown = realloc(*list, (size_t)(*n + 1) * sizeof **list);

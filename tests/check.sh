@@ -17,3 +17,7 @@ expect_exit() {
 err_has() { grep -qF -- "$1" "$T/err" || { echo "   stderr lacks '$1':"; sed 's/^/   | /' "$T/err" | head -5; return 1; }; }
 # check_summary: the closing count; the test fails if any check failed
 check_summary() { echo "# $passes passed, $fails failed"; [ "$fails" -eq 0 ]; }
+# sans_provenance LOG: the log without exactly its provenance lines (popc
+# run's "# popc_build = ", "# date = ", "# command = ": they differ from run
+# to run, README "The log"); every other line, header included, as written
+sans_provenance() { grep -v -E '^# (popc_build|date|command) = ' "$1"; }

@@ -34,6 +34,10 @@ paper=(gcc libc6-dev meson ninja-build pkg-config libinih-dev libmodbus-dev libc
 # `npm ci` from tests/readers/package-lock.json; it skips when the registry
 # is unreachable). npm only where no npm is there: NodeSource's nodejs
 # bundles its own, and Debian's npm package cannot be installed beside it.
+# bash-completion: on most Debian installs (priority standard); its
+# pkg-config file once made `meson install --prefix=SCRATCH` write into
+# /usr/share (tests/cli/test_install.sh checks every file lands under the
+# prefix), so the tests run with it installed.
 # g++ and libfast-float-dev: bench/fastfloat_reader, the reference reader of
 # docs/BENCHMARKS.md section 3 (built by every build where they are found);
 # g++ also compiles popc/popc.h as C++ (test lib-cxx).
@@ -43,7 +47,7 @@ paper=(gcc libc6-dev meson ninja-build pkg-config libinih-dev libmodbus-dev libc
 # python3-numpy: the popc Python module (python/popc, docs/LIBRARY.md) and
 # its tests (lib-python, install); python3-pandas depends on it, named here
 # because the module needs it on its own.
-test=("${paper[@]}" socat parallel slurm-wlm munge python3 clang libclang-rt-dev scdoc man-db python3-numpy python3-pandas nodejs g++ libfast-float-dev)
+test=("${paper[@]}" socat parallel slurm-wlm munge python3 clang libclang-rt-dev scdoc man-db python3-numpy python3-pandas nodejs g++ libfast-float-dev bash-completion)
 command -v npm >/dev/null 2>&1 || test+=(npm)
 
 usage() { echo "usage: tools/install-deps.sh [--list] [paper|test]..." >&2; exit 2; }

@@ -268,16 +268,23 @@ static int sim_sample(popc_axis *a, popc_axis_sample *out, popc_error *err)
 			snprintf(pc_note, sizeof pc_note,
 				 "; the PC, bounded at controller.pc_bound = %g N, did not keep it passive",
 				 s->scene.pc_bound_N);
+		/* Colgate and Schenkel's b > K T / 2, each period of loop delay
+		 * adding K T (docs/ANALYSIS.md, "Loop delay moves the passivity
+		 * boundary") */
+		char passive[96] = "b > K_e T / 2";
+		if (s->scene.delay_ticks > 0)
+			snprintf(passive, sizeof passive, "b > K_e T (1/2 + d), d = run.delay_ticks = %d",
+				 s->scene.delay_ticks);
 		return popc_error_set(
 			err, POPC_ERR_DIVERGED,
 			"%s at t = %.9g s (tick %lld) %s: the closed loop of this scene diverged (the "
 			"physics, not the integrator); add damping, lower the wall stiffness or "
-			"raise the control rate (a sampled wall is passive for b > K_e T / 2)%s",
+			"raise the control rate (a sampled wall is passive for %s)%s",
 			what, (double)s->k * s->period_s, s->k,
 			s->scene.integrator == POPC_INTEGRATOR_EXACT
 				? "with the exact integrator, which is exact for any step"
 				: "and so does the exact integrator fed the same commands",
-			pc_note);
+			passive, pc_note);
 	}
 	/* only a force with no spring to hold it gets here (every bounded
 	 * scene's reach is within 2^53 counts: popc_intent_from_scene): a run

@@ -66,6 +66,14 @@ int popc_cli_stdout_closed(const char *verb, const char *option, const char *pat
 const char *popc_cli_version(void);
 const char *popc_cli_build_id(void);
 
+/* The log header's provenance lines (provenance.c), malloc'd, NULL when out
+ * of memory: "# popc_build = " the build id, "# date = " the time now in UTC
+ * (ISO 8601, 2026-12-05T12:00:00Z) and "# command = " the command line as
+ * started (popc_cli_argv), each argument as a shell reads it back. They
+ * differ from run to run: whoever compares logs leaves out exactly these
+ * three lines (README, "The log"). */
+char *popc_cli_provenance(void);
+
 int popc_cmd_run(int argc, char **argv);
 int popc_cmd_scene(int argc, char **argv);
 int popc_cmd_bench(int argc, char **argv);

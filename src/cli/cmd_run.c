@@ -2,6 +2,8 @@
  *          [--summary-format csv|json] */
 #include <errno.h>
 #include <getopt.h>
+#include <inttypes.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -90,11 +92,56 @@ static int write_summary_json(FILE *f, const char *header, const char *axis_name
 	popc_json_kind kinds[256];
 	int n = popc_json_csv_names(names_line, names, 256);
 	for (int i = 0; i < n; i++)
-		kinds[i] = popc_run_summary_json_kind(names[i]);
+		kinds[i] = strcmp(names[i], "scene") == 0 || strcmp(names[i], "scene_digest") == 0
+				   ? POPC_JSON_TEXT /* a digest of digits only is still text */
+				   : popc_run_summary_json_kind(names[i]);
 	popc_json_csv_object(f, n, names, kinds, row_line, strlen(row_line));
 	free(names_line);
 	free(row_line);
 	return 0;
+}
+
+/* The scene's columns of the summary (after the run's, before the axis'):
+ * scene, the scene file as found (an installed scene's absolute path; empty
+ * for the defaults), and scene_digest, "fnv1a-" and FNV-1a 64 (16 hex digits) of the
+ * resolved scene as `popc scene show` prints it below its first line: two
+ * rows with one digest ran one scene, whatever the files were called. */
+static const char scene_names[] = ",scene,scene_digest";
+
+static int scene_cells(const popc_scene *s, const char *scene_path, char *out, size_t cap)
+{
+	char *text = NULL;
+	size_t n = 0;
+	FILE *m = open_memstream(&text, &n);
+	if (!m)
+		return -1;
+	popc_scene_write(s, m, "");
+	if (fclose(m) != 0 || !text) {
+		free(text);
+		return -1;
+	}
+	uint64_t h = 0xcbf29ce484222325u; /* FNV-1a 64: offset basis, prime */
+	for (size_t i = 0; i < n; i++)
+		h = (h ^ (unsigned char)text[i]) * 0x100000001b3u;
+	free(text);
+	/* the path as a CSV cell: quoted (RFC 4180) where it holds , " or a line break */
+	const char *path = scene_path ? s->source : "";
+	size_t len = 0;
+	out[len++] = ',';
+	int quote = strpbrk(path, ",\"\r\n") != NULL;
+	if (quote)
+		out[len++] = '"';
+	for (const char *p = path; *p && len + 4 < cap; p++) {
+		if (*p == '"')
+			out[len++] = '"';
+		out[len++] = *p;
+	}
+	if (quote)
+		out[len++] = '"';
+	/* "fnv1a-" first: a digest of 16 decimal digits is still text to every
+	 * CSV reader, not a number */
+	int w = snprintf(out + len, cap - len, ",fnv1a-%016" PRIx64, h);
+	return w < 0 || (size_t)w >= cap - len ? -1 : 0;
 }
 
 /* Appends the run's summary row, and the axis' own columns (a real axis:
@@ -104,9 +151,18 @@ static int write_summary_json(FILE *f, const char *header, const char *axis_name
  * stream without a position (standard output on a pipe or a terminal), gets
  * the header first. Closes f, or flushes it when it is stdout. */
 static int write_summary_file(FILE *f, int json, const popc_run_summary *sum,
-			      const popc_scene *s, const char *axis_names, const char *axis_values)
+			      const popc_scene *s, const char *scene_path, const char *axis_names,
+			      const char *axis_values)
 {
 	char *header = NULL, *row = NULL;
+	char scene_values[POPC_PATH_MAX * 2 + 64];
+	if (scene_cells(s, scene_path, scene_values, sizeof scene_values) != 0)
+		return -1;
+	char more_names[1200], more_values[sizeof scene_values + 1024];
+	snprintf(more_names, sizeof more_names, "%s%s", scene_names, axis_names);
+	snprintf(more_values, sizeof more_values, "%s%s", scene_values, axis_values);
+	axis_names = more_names;
+	axis_values = more_values;
 	size_t hl = 0, rl = 0;
 	FILE *m = open_memstream(&header, &hl);
 	if (m) {
@@ -375,10 +431,14 @@ int popc_cmd_run(int argc, char **argv)
 	popc_run_options ro = {.log = NULL, .stop_flag = &popc_cli_stop};
 	if (log_path) {
 		st = popc_log_open(&log, log_path, axis->ops->log_columns, &err);
-		if (!st && (st = popc_log_write_header(&log, axis->ops->name, &s, NULL, &err)) != 0) {
+		/* which build, when, what command: the header says how to make
+		 * the log again (without them on out of memory: the run goes on) */
+		char *provenance = st ? NULL : popc_cli_provenance();
+		if (!st && (st = popc_log_write_header(&log, axis->ops->name, &s, provenance, &err)) != 0) {
 			popc_error cerr; /* the header did not go out (a full disk): err says so */
 			popc_log_close(&log, &cerr);
 		}
+		free(provenance);
 		if (st) {
 			if (summary && summary != stdout) {
 				fclose(summary);
@@ -412,7 +472,8 @@ int popc_cmd_run(int argc, char **argv)
 		axis->ops->report(axis, quiet ? NULL : stderr, axis_names, axis_values,
 				  sizeof axis_names);
 	popc_axis_destroy(&axis);
-	if (summary && write_summary_file(summary, summary_json, &sum, &s, axis_names, axis_values) != 0) {
+	if (summary && write_summary_file(summary, summary_json, &sum, &s, argv[optind], axis_names,
+					  axis_values) != 0) {
 		fprintf(stderr, "popc run: %s: cannot write the summary: %s\n", summary_path,
 			strerror(errno));
 		if (!run_st)

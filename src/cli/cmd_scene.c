@@ -6,6 +6,7 @@
 
 #include "cli.h"
 #include "popc/core/intent.h"
+#include "popc/log/log_reader.h"
 #include "popc/scene/data_path.h"
 #include "popc/scene/from_scene.h"
 #include "popc/util/usage_hint.h"
@@ -19,6 +20,8 @@ static void usage(FILE *f)
 	      "show  prints the resolved scene as INI, every default explicit: the scene\n"
 	      "      file (or only the defaults, the paper's scene, without FILE) with the\n"
 	      "      --set overrides applied and validated (an intent table is read too).\n"
+	      "      FILE may be a popc log: its header's scene, which popc run makes the\n"
+	      "      log's rows again from, bit for bit.\n"
 	      "      Exit 2 names what is wrong: file:line, key and allowed range.\n"
 	      "      Relative paths (operator.table, axis.map) are printed absolute: from\n"
 	      "      the scene file's directory, or for --set from the working directory.\n"
@@ -37,6 +40,37 @@ static void usage(FILE *f)
 	char dirs[1024];
 	popc_data_dirs(dirs, sizeof dirs);
 	fprintf(f, "%s\n", dirs);
+}
+
+/* Whether path is a popc log: a file whose first line is "# popc log" (a
+ * scene file never starts so: "#" lines are comments there). */
+static int is_popc_log(const char *path)
+{
+	FILE *f = fopen(path, "r");
+	if (!f)
+		return 0;
+	char line[16] = "";
+	int yes = fgets(line, sizeof line, f) && strcmp(line, "# popc log\n") == 0;
+	fclose(f);
+	return yes;
+}
+
+/* The scene a popc log was run with, from its header (the whole resolved
+ * scene: popc run writes every key), then the --set assignments, validated:
+ * popc run of the result makes the log's rows again, bit for bit. */
+static int load_log_scene(popc_scene *s, const char *path, char **sets, int n_sets, popc_error *err)
+{
+	popc_log_reader r;
+	int st = popc_log_reader_open(&r, path, NULL, err);
+	if (st)
+		return st;
+	popc_scene_defaults(s);
+	st = popc_log_reader_scene(&r, s, err);
+	popc_log_reader_close(&r);
+	snprintf(s->source, sizeof s->source, "%s", path);
+	for (int i = 0; !st && i < n_sets; i++)
+		st = popc_scene_set_assignment(s, sets[i], err);
+	return st ? st : popc_scene_validate(s, err);
 }
 
 /* popc scene list [--maps]: what the names find (completion reads it) */
@@ -131,7 +165,9 @@ int popc_cmd_scene(int argc, char **argv)
 	}
 	popc_scene s;
 	popc_error err;
-	int st = popc_cli_load_scene(&s, path, sets, n_sets, &err);
+	int from_log = path && is_popc_log(path);
+	int st = from_log ? load_log_scene(&s, path, sets, n_sets, &err)
+			  : popc_cli_load_scene(&s, path, sets, n_sets, &err);
 	free(sets);
 	if (!st && s.intent == POPC_INTENT_TABLE) {
 		/* the table is part of the scene: check it as popc run reads it */
@@ -143,7 +179,8 @@ int popc_cmd_scene(int argc, char **argv)
 		return popc_cli_fail("scene show", st, &err);
 	/* s.source: the file read (an installed scene's absolute path when
 	 * found by name) */
-	printf("; resolved scene%s%s\n", path ? " from " : " (defaults)", path ? s.source : "");
+	printf("; resolved scene%s%s\n", !path ? " (defaults)" : from_log ? " of the log " : " from ",
+	       path ? s.source : "");
 	popc_scene_write(&s, stdout, "");
 	return 0;
 }

@@ -190,7 +190,8 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
  *
  * FIELD(ID, name, unit, format, value, meaning): value is an expression of
  * sum (the popc_run_summary), s (the scene) and m (sum's metrics); format is
- * TEXT (a name), INT (a decimal integer), REAL (shortest round-trip form) or
+ * TEXT (a name), INT (a decimal integer), REAL (shortest round-trip form,
+ * with a decimal point always: "0.0", "5.0") or
  * PORT (REAL for an axis with a true position, sum->has_port_energy; an
  * empty cell otherwise, as the log has no E_port column: never a NaN) or
  * DEVICE (REAL where the axis gave the plant's dissipation at every tick,
@@ -389,7 +390,8 @@ static void put_cell(popc_text_builder *t, const popc_run_summary *sum, int i, c
 	case SUMMARY_REAL: {
 		if (!summary_field_known(sum, i))
 			break;
-		popc_text_put_double(t, v->real);
+		/* with a point ("0.0"): readers type the column floating point */
+		popc_text_put_double_point(t, v->real);
 		break;
 	}
 	}

@@ -55,7 +55,7 @@ static const scene_key scene_keys[] = {
 	NUM("run", "duration", duration_s, "5", 0, 1e7, 1, "s", "simulated time"),
 	NUM("run", "rate", rate_Hz, "1000", 1, 1e6, 0, "Hz", "control rate 1/T"),
 	{"run", "delay_ticks", KEY_INT, OFF(delay_ticks), 0, POPC_SCENE_MAX_DELAY_TICKS, 0, "periods", NULL,
-	 "loop delay: the command of tick k takes effect at tick k + 1 + delay_ticks", "0", 0},
+	 "loop delay: the command of tick k acts over period k + delay_ticks", "0", 0},
 
 	NUM("operator", "mass", op_mass_kg, "0.1", 0, 1e3, 0, "kg", "hand mass M_HO"),
 	NUM("operator", "damping", op_damping_Nspm, "0.5", 0, 1e6, 0, "N s/m", "hand damping B_HO"),

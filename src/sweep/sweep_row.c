@@ -245,7 +245,9 @@ static int make_row(const popc_sweep_plan *p, long long i, row_input *in, char *
 		case POPC_SWEEP_FORMAT_TEXT: popc_text_put(&t, v.text, v.len); break;
 		case POPC_SWEEP_FORMAT_INT: popc_text_put_integer(&t, v.whole); break;
 		case POPC_SWEEP_FORMAT_DOUBLE:
-			popc_text_put_double(&t, v.kind == POPC_SWEEP_FORMAT_INT ? (double)v.whole : v.real);
+			/* with a point ("0.0"): readers type the column floating point */
+			popc_text_put_double_point(&t, v.kind == POPC_SWEEP_FORMAT_INT ? (double)v.whole
+										   : v.real);
 			break;
 		}
 	}

@@ -53,6 +53,17 @@ expect_rc 0 "$A" compare --format csv "$W/noport.csv" &&
 expect_rc 0 "$A" compare --format markdown "$W/none.csv" && grep -q '^| log | variant |' "$W/out" &&
 	grep -q '^| none | none |' "$W/out" && ok "markdown" || fail "markdown: $(cat "$W/out")"
 expect_rc 0 "$A" compare "$W/none.csv" && grep -q '^none ' "$W/out" && ok "text"
+# the log column tells logs of the same file name apart (issue 27): the
+# shortest path suffix that does; a lone name stays the file name
+mkdir -p "$W/a/x" "$W/b/x" && cp "$W/none.csv" "$W/a/x/none.csv" && cp "$W/none.csv" "$W/b/x/none.csv" &&
+	cp "$W/none.csv" "$W/a/lone.csv"
+expect_rc 0 "$A" compare --format csv "$W/a/x/none.csv" "$W/b/x/none.csv" "$W/none.csv" "$W/a/lone.csv" &&
+	[ "$(cut -d, -f1 "$W/out" | tr '\n' ' ')" = "log a/x/none b/x/none ${W##*/}/none lone " ] &&
+	ok "same file names: the shortest path suffixes that tell them apart" ||
+	fail "same file names: $(cut -d, -f1 "$W/out" | tr '\n' ' ')"
+expect_rc 0 "$A" compare --format json "$W/a/x/none.csv" "$W/b/x/none.csv" &&
+	grep -q '^{"log":"a/x/none",' "$W/out" && grep -q '^{"log":"b/x/none",' "$W/out" &&
+	ok "  in JSON too" || fail "same file names, JSON: $(cut -c1-40 "$W/out")"
 expect_rc 2 "$A" compare --format xml "$W/none.csv" && ok "bad --format: exit 2"
 expect_rc 0 "$A" compare --help && ok "--help"
 finish

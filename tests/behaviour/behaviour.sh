@@ -8,7 +8,10 @@
 #
 #   behaviour.sh [--update]      (POPC, POPC_ANALYZE, POPC_SOURCE_ROOT from the environment)
 #
-# Digested: each log byte for byte; each run summary row without its three
+# Digested: each log byte for byte but its provenance lines (popc_build,
+# date, command: they differ from run to run; check.sh's sans_provenance);
+# each run summary row without its scene and scene_digest cells (paths of
+# this checkout: tests/cli/test_popc_cli.sh checks them); each run summary row without its three
 # wall-clock cells (wall_time_s, realtime_factor, ns_per_tick); popc-analyze
 # compare (CSV), energy -o and chatter on the logs; the sweep's summary.csv
 # without its last cell (wall_time_s).
@@ -17,6 +20,7 @@ POPC=${POPC:?POPC must name the popc program}
 ANALYZE=${POPC_ANALYZE:?POPC_ANALYZE must name popc-analyze}
 SRC=${POPC_SOURCE_ROOT:?}
 DIGESTS=$SRC/tests/behaviour/digests.txt
+. "$SRC/tests/check.sh" # sans_provenance
 update=0
 [ "${1:-}" = --update ] && update=1
 T=$(mktemp -d /tmp/popc-behaviour-XXXXXX)
@@ -30,7 +34,7 @@ digest() { # name, file
 }
 # the summary without the wall-clock cells, found by their header names
 summary_nowall() {
-	awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) drop[i] = ($i == "wall_time_s" || $i == "realtime_factor" || $i == "ns_per_tick") }
+	awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) drop[i] = ($i == "wall_time_s" || $i == "realtime_factor" || $i == "ns_per_tick" || $i == "scene" || $i == "scene_digest") }
 		{ s = ""; for (i = 1; i <= NF; i++) if (!drop[i]) s = s (s == "" ? "" : ",") $i; print s }' "$1"
 }
 case_run() { # name, popc run arguments...
@@ -39,7 +43,8 @@ case_run() { # name, popc run arguments...
 	"$POPC" run "$@" --log "$log" --summary "$sum" -q 2>"$T/$name.err"
 	local rc=$?
 	printf '%s exit %s\n' "$name" "$rc" >>"$out"
-	[ -f "$log" ] && digest "$name.log" "$log"
+	# the log without its provenance lines (build, date, command line)
+	[ -f "$log" ] && { sans_provenance "$log" >"$log.fixed"; digest "$name.log" "$log.fixed"; }
 	[ -f "$sum" ] && { summary_nowall "$sum" >"$sum.nowall"; digest "$name.summary" "$sum.nowall"; }
 	return 0
 }

@@ -30,6 +30,25 @@ secs() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.1f", b - a }'; }
 t0=$(now)
 man_opt=disabled
 [ "$MAN" = man ] && man_opt=enabled
+# a bash-completion.pc as Debian's (package bash-completion, on most
+# installs): its datadir is a literal /usr/share, so a completionsdir taken
+# from it ignores --prefix (issue 27). Put first on pkg-config's path, so
+# this test sees that case whether or not the package is installed here.
+mkdir -p "$T/pc"
+cat >"$T/pc/bash-completion.pc" <<'EOF'
+prefix=/usr
+datadir=/usr/share
+sysconfdir=/etc
+
+compatdir=${sysconfdir}/bash_completion.d
+completionsdir=${datadir}/bash-completion/completions
+helpersdir=${datadir}/bash-completion/helpers
+
+Name: bash-completion
+Description: programmable completion for the bash shell
+Version: 2.11
+EOF
+export PKG_CONFIG_PATH=$T/pc${PKG_CONFIG_PATH:+:$PKG_CONFIG_PATH}
 if ! meson setup "$T/build" "$SRC" --prefix="$P" -Dbuildtype=debug -Dmodbus="$MODBUS" \
      -Dman="$man_opt" >"$T/setup.log" 2>&1; then
   tail -20 "$T/setup.log"
@@ -51,6 +70,14 @@ check "the installed targets listed (${#targets[@]}: ${targets[*]})" test "${#ta
 ninja -C "$T/build" "${targets[@]}" >"$T/build.log" 2>&1
 check "  built" test $? -eq 0 || tail -20 "$T/build.log"
 t2=$(now)
+# every file meson install would write goes under the prefix (nothing into
+# /usr/share, with or without bash-completion's pkg-config file)
+meson introspect "$T/build" --installed > "$T/installed.json"
+outside=$(python3 -c '
+import json, sys
+p = sys.argv[1].rstrip("/") + "/"
+print(" ".join(sorted(d for d in json.load(open(sys.argv[2])).values() if not d.startswith(p))))' "$P" "$T/installed.json")
+check "every installed file is under $P${outside:+ (not: $outside)}" test -z "$outside"
 meson install -C "$T/build" --no-rebuild --quiet >"$T/install.log" 2>&1
 check "meson install into $P" test $? -eq 0 || tail -20 "$T/install.log"
 t3=$(now)

@@ -109,6 +109,19 @@ check "  summary states the integrator" err_has "integrator: exact"
 check "  summary states the speed" err_has "x real time"
 check "  log has the provenance header" grep -qx "# source = sim" "$T/paper.csv"
 check "  log names the variant" grep -qx "# variant = ref-energy" "$T/paper.csv"
+# provenance (issue 27): the build popc --version names, the date (UTC,
+# ISO 8601) and the command line, each argument as a shell reads it back
+build=$("$POPC" --version | sed -n 's/.*(build \(.*\))$/\1/p')
+check "  log names the build ($build)" grep -qxF "# popc_build = $build" "$T/paper.csv"
+check "  log has the date" grep -qE '^# date = [0-9]{4}-[0-9]{2}-[0-9]{2}T[0-9]{2}:[0-9]{2}:[0-9]{2}Z$' "$T/paper.csv"
+check "  log has the command line" grep -qxF "# command = $POPC run $SRC/data/scenes/paper.ini --log $T/paper.csv --summary $T/sum.csv" "$T/paper.csv"
+expect_exit 0 "run with arguments a shell must quote" "$POPC" run "$SRC/data/scenes/paper.ini" -q \
+  --set run.duration=0.01 --set "operator.speed = 0.01" --log "$T/it's a log.csv"
+check "  the command line quoted as a shell reads it" grep -qxF \
+  "# command = $POPC run $SRC/data/scenes/paper.ini -q --set run.duration=0.01 --set 'operator.speed = 0.01' --log '$T/it'\''s a log.csv'" "$T/it's a log.csv"
+cmd=$(sed -n 's/^# command = //p' "$T/it's a log.csv")
+check "  ... and bash reads it back to the same words" \
+  test "$(eval "printf '%s|' $cmd")" = "$POPC|run|$SRC/data/scenes/paper.ini|-q|--set|run.duration=0.01|--set|operator.speed = 0.01|--log|$T/it's a log.csv|"
 check "  log holds the resolved scene" grep -qx "# \[encoder\]" "$T/paper.csv"
 check "  log has the column names" grep -qx "t,x,count,x_true,v,f_e,f_pc,f_c,W,E_ref,flags,E_port" "$T/paper.csv"
 rows=$(grep -c '^[0-9-]' "$T/paper.csv")
@@ -118,6 +131,23 @@ check "  summary CSV has a header and one row" test "$(wc -l < "$T/sum.csv")" -e
 check "  summary CSV header" grep -q "^variant,integrator,substeps,status,ticks,sim_time_s,wall_time_s,realtime_factor" "$T/sum.csv"
 expect_exit 0 "second run appends to the summary" "$POPC" run "$SRC/data/scenes/paper.ini" -q --variant improved --summary "$T/sum.csv"
 check "  two rows, one header" test "$(wc -l < "$T/sum.csv")" -eq 3
+# the scene of each row (issue 27): the file as given or found, and a digest
+# of the resolved scene: equal for the same scene under another name
+# (popc scene show LOG of the run's log), different for another scene
+check "  the header ends with scene,scene_digest" grep -q ",rendered_stiffness,scene,scene_digest$" "$T/sum.csv"
+scol() { awk -F, -v r="$2" -v n="$3" 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next } NR == r + 1 { print $c[n] }' "$1"; }
+check "  scene: the file given" test "$(scol "$T/sum.csv" 1 scene)" = "$SRC/data/scenes/paper.ini"
+check "  scene_digest: fnv1a- and 16 hex digits" grep -qE ',fnv1a-[0-9a-f]{16}$' "$T/sum.csv"
+"$POPC" scene show "$T/paper.csv" >"$T/paper-again.ini" &&
+  "$POPC" run "$T/paper-again.ini" -q --set run.duration=0.01 --summary "$T/sum2.csv" &&
+  "$POPC" run "$SRC/data/scenes/paper.ini" -q --set run.duration=0.01 --summary "$T/sum2.csv" &&
+  "$POPC" run "$SRC/data/scenes/paper.ini" -q --set run.duration=0.02 --summary "$T/sum2.csv" &&
+  "$POPC" run "$SRC/data/scenes/paper.ini" -q --set run.duration=0.01 --summary "$T/sum2.json" --summary-format json
+check "  the same resolved scene, another file: the same digest" test "$(scol "$T/sum2.csv" 1 scene_digest)" = "$(scol "$T/sum2.csv" 2 scene_digest)"
+check "  ... and its own scene name" test "$(scol "$T/sum2.csv" 1 scene)" = "$T/paper-again.ini"
+check "  another duration: another digest" test "$(scol "$T/sum2.csv" 2 scene_digest)" != "$(scol "$T/sum2.csv" 3 scene_digest)"
+check "  JSON: scene and digest as strings" \
+  grep -qF "\"scene\":\"$SRC/data/scenes/paper.ini\",\"scene_digest\":\"$(scol "$T/sum2.csv" 2 scene_digest)\"}" "$T/sum2.json"
 check "  -q prints nothing" test ! -s "$T/err"
 
 expect_exit 1 "a summary path that cannot be written" "$POPC" run "$SRC/data/scenes/paper.ini" --summary "$T/nodir/sum.csv" --log "$T/sumlog.csv"
@@ -140,7 +170,7 @@ check "  --help says '-' is standard output" grep -q "'-': standard output, with
 
 # log to standard output equals the log file
 "$POPC" run "$SRC/data/scenes/paper.ini" -q --log - > "$T/stdout.csv"
-check "--log - writes the same log to stdout" cmp -s "$T/stdout.csv" "$T/paper.csv"
+check "--log - writes the same log to stdout (but its provenance lines)" cmp -s <(sans_provenance "$T/stdout.csv") <(sans_provenance "$T/paper.csv")
 
 # the resolved scene: every key, reloadable, and it reproduces the run
 expect_exit 0 "scene show" "$POPC" scene show "$SRC/data/scenes/fig16.ini" --set run.duration=2
@@ -151,6 +181,23 @@ check "  defaults explicit" grep -qx "ignore_mode = undo" "$T/resolved.ini"
 "$POPC" run "$T/resolved.ini" -q --log "$T/a.csv"
 "$POPC" run "$SRC/data/scenes/fig16.ini" -q --set run.duration=2 --log "$T/b.csv"
 check "  the resolved scene reproduces the run's rows" cmp -s <(grep -v '^#' "$T/a.csv") <(grep -v '^#' "$T/b.csv")
+# popc scene show LOG: the log's own scene, which reruns it bit for bit
+# (every shipped scene, with overrides and a variant of its own)
+for f in "$SRC"/data/scenes/*.ini; do
+  n=$(basename "$f" .ini)
+  "$POPC" run "$f" -q --set run.duration=0.5 --set encoder.resolution=2e-6 --variant improved \
+    --log "$T/show-$n.csv" 2>/dev/null || { bad "scene show LOG: $n did not run"; continue; }
+  expect_exit 0 "scene show LOG ($n)" "$POPC" scene show "$T/show-$n.csv"
+  cp "$T/out" "$T/show-$n.ini"
+  check "  names the log" grep -qxF "; resolved scene of the log $T/show-$n.csv" "$T/show-$n.ini"
+  "$POPC" run "$T/show-$n.ini" -q --log "$T/show-$n.again.csv" 2>/dev/null
+  check "  popc run of it makes the same log (but its provenance lines)" \
+    cmp -s <(sans_provenance "$T/show-$n.csv") <(sans_provenance "$T/show-$n.again.csv")
+done
+expect_exit 0 "scene show LOG --set" "$POPC" scene show "$T/show-paper.csv" --set run.duration=2
+check "  the override applied" grep -qx "duration = 2" "$T/out"
+expect_exit 2 "scene show LOG --set out of range" "$POPC" scene show "$T/show-paper.csv" --set run.rate=1e9
+check "  names the key" err_has "run.rate"
 expect_exit 0 "scene keys" "$POPC" scene keys
 check "  lists controller.pc_bound with its range" grep -q "controller.pc_bound .*allowed (0, 1e+06\] N" "$T/out"
 expect_exit 0 "scene keys --help" "$POPC" scene keys --help

@@ -63,6 +63,12 @@ expect_exit 6 "a diverging closed loop stops at the scene's bound" "$POPC" run "
   --set environment.stiffness=1e6 --variant none --log "$T/div.csv"
 check "  blames the physics" err_has "the closed loop of this scene diverged (the physics, not the integrator)"
 check "  names the bound" err_has "the bound is 1.3 m"
+check "  the passivity condition without delay: b > K_e T / 2" err_has "a sampled wall is passive for b > K_e T / 2)"
+# with a loop delay the condition is b > K_e T (1/2 + d) (docs/ANALYSIS.md,
+# "Loop delay moves the passivity boundary"), not K_e T / 2 (issue 27)
+expect_exit 6 "a diverging closed loop with run.delay_ticks = 2" "$POPC" run "$PAPER" -q $OLD_RAMP \
+  --set environment.stiffness=1e6 --set run.delay_ticks=2 --variant none
+check "  the passivity condition with the delay" err_has "a sampled wall is passive for b > K_e T (1/2 + d), d = run.delay_ticks = 2)"
 check "  the log ends with the stop line" bash -c "tail -n 1 '$T/div.csv' | grep -q '^# stop = closed loop diverged: '"
 # x_true is column 4 (t,x,count,x_true,...): nothing logged past 1.3 m
 check "  the log's columns are as assumed" bash -c "grep -v '^#' '$T/div.csv' | head -n 1 | grep -q '^t,x,count,x_true,'"

@@ -5,6 +5,8 @@
  *   # popc_version = 0.1.0
  *   # source = sim | modbus | replay
  *   # variant = ref-energy
+ *   # popc_build = ..., # date = ..., # command = ...   (popc run's extra
+ *   #                 lines: the provenance, src/cli/provenance.c)
  *   # [run] ... the whole resolved scene, prefixed "# "
  *   t,x,count[,x_true],v,f_e,f_pc,f_c,W,E_ref,flags[,E_port][,dt,rtt]
  *   0,-0.01,-1000,-0.01,0,0,0,0,0,0,0,0

@@ -53,4 +53,18 @@ static inline void popc_text_put_double(popc_text_builder *t, double v)
 	popc_text_put(t, b, popc_format_double(v, b));
 }
 
+/* popc_format_double_point's text of v (a decimal point always: "0.0",
+ * "5.0", "1.0e+17"): a summary's real cells, which every CSV and JSON
+ * reader types floating point even where a column's sampled cells are all
+ * integral (DuckDB, pandas, polars typed "0" and "1" as integers). */
+static inline void popc_text_put_double_point(popc_text_builder *t, double v)
+{
+	if (t->len <= t->cap && t->cap - t->len >= POPC_DOUBLE_TEXT_MAX + 1) {
+		t->len += popc_format_double_point(v, t->buf + t->len);
+		return;
+	}
+	char b[POPC_DOUBLE_TEXT_MAX + 1];
+	popc_text_put(t, b, popc_format_double_point(v, b));
+}
+
 #endif
