@@ -69,6 +69,7 @@ static void usage(FILE *f)
 	      "\n"
 	      "Exit status: 0 done, 1 --check found a difference, 2 bad usage or input.\n",
 	      f);
+	fputs(ANA_FOREIGN_HELP, f); /* its own string: C99 promises 4095 characters */
 }
 
 enum { OPT_OBSERVER = 256, OPT_FORMAT, OPT_CHECK, OPT_ALLOW_UNEVEN };
