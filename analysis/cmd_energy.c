@@ -227,6 +227,7 @@ static int energy_one(const char *path, const ana_input_options *in, const int *
 			return 2;
 		}
 		fprintf(out, "# popc-analyze energy of %s\n# period = %.17g\n", path, l.period_s);
+		ana_foreign_provenance(out, &in->foreign);
 		if (uneven)
 			fputs("# allow_uneven = the time steps were not checked; no column below uses "
 			      "the period\n",

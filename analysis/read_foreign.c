@@ -150,3 +150,14 @@ void ana_lever_scales(double lever_m, double *scale, int n_cols, const popc_log_
 	}
 	*scaled = 1;
 }
+
+void ana_foreign_provenance(FILE *f, const ana_foreign_options *o)
+{
+	if (o->lever_m > 0.0)
+		fprintf(f, "# lever = %.17g m (a rotary log: x = r theta, v = r omega, f = tau / r)\n",
+			o->lever_m);
+	if (o->variable)
+		fprintf(f, "# mat_variable = %s\n", o->variable);
+	for (int i = 0; i < o->n_join; i++)
+		fprintf(f, "# joined = %s\n", o->join[i]);
+}

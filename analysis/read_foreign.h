@@ -84,6 +84,11 @@ int ana_join_to_csv(const char *path, const ana_foreign_options *o,
 void ana_lever_scales(double lever_m, double *scale, int n_cols, const popc_log_reader *r,
 		      int *scaled);
 
+/* The provenance lines of an output (only the options given, so every other
+ * output stays as it was): "# lever = R m ...", "# mat_variable = NAME",
+ * "# joined = FILE" per --join. */
+void ana_foreign_provenance(FILE *f, const ana_foreign_options *o);
+
 /* The file's column header text in a synthetic CSV: quoted ("#1" would read
  * as a comment otherwise, a label may hold ','). */
 void ana_foreign_put_name(FILE *f, const char *name);
