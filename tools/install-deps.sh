@@ -34,9 +34,12 @@ paper=(gcc libc6-dev meson ninja-build pkg-config libinih-dev libmodbus-dev libc
 # `npm ci` from tests/readers/package-lock.json; it skips when the registry
 # is unreachable). npm only where no npm is there: NodeSource's nodejs
 # bundles its own, and Debian's npm package cannot be installed beside it.
+# libmatio-dev: popc-analyze's MAT input and tests/analyze/test_mat.sh (which
+# writes its MAT files with it; -Dmatio=auto builds without it, the test then
+# skips); not in the paper set: command 1 reads no MAT file.
 # g++ and libfast-float-dev: bench/fastfloat_reader, the reference reader of
 # docs/BENCHMARKS.md section 3 (built by every build where they are found).
-test=("${paper[@]}" socat parallel slurm-wlm munge python3 clang scdoc man-db python3-pandas nodejs g++ libfast-float-dev)
+test=("${paper[@]}" socat parallel slurm-wlm munge python3 clang scdoc man-db python3-pandas nodejs g++ libfast-float-dev libmatio-dev)
 command -v npm >/dev/null 2>&1 || test+=(npm)
 
 usage() { echo "usage: tools/install-deps.sh [--list] [paper|test]..." >&2; exit 2; }
