@@ -66,17 +66,6 @@ int ana_is_mat_file(const char *path)
 	       memcmp(head + 10, " MAT-file", 9) == 0;
 }
 
-void ana_foreign_put_name(FILE *f, const char *name)
-{
-	fputc('"', f);
-	for (const char *p = name; *p; p++) {
-		if (*p == '"')
-			fputc('"', f);
-		fputc(*p, f);
-	}
-	fputc('"', f);
-}
-
 int ana_foreign_convert(const char *path, const ana_foreign_options *o,
 			const popc_log_reader_options *in, popc_log_reader_options *ropt,
 			char *tmp, size_t cap, popc_error *err)

@@ -90,7 +90,17 @@ void ana_lever_scales(double lever_m, double *scale, int n_cols, const popc_log_
 void ana_foreign_provenance(FILE *f, const ana_foreign_options *o);
 
 /* The file's column header text in a synthetic CSV: quoted ("#1" would read
- * as a comment otherwise, a label may hold ','). */
-void ana_foreign_put_name(FILE *f, const char *name);
+ * as a comment otherwise, a label may hold ','). Inline: read_mat.c and
+ * read_split.c use it, and read_foreign.c calls them (no call cycle). */
+static inline void ana_foreign_put_name(FILE *f, const char *name)
+{
+	fputc('"', f);
+	for (const char *p = name; *p; p++) {
+		if (*p == '"')
+			fputc('"', f);
+		fputc(*p, f);
+	}
+	fputc('"', f);
+}
 
 #endif
