@@ -4,6 +4,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "read_foreign.h"
@@ -53,7 +54,10 @@ int ana_foreign_option(ana_foreign_options *o, int opt, const char *arg, const c
 
 int ana_is_mat_file(const char *path)
 {
-	if (strcmp(path, "-") == 0)
+	/* only a regular file is looked into: the first bytes of a pipe
+	 * (<(cmd), a FIFO) read here would be lost to the log reader */
+	struct stat sb;
+	if (strcmp(path, "-") == 0 || stat(path, &sb) != 0 || !S_ISREG(sb.st_mode))
 		return 0;
 	FILE *f = fopen(path, "rb");
 	if (!f)

@@ -45,6 +45,16 @@ expect_rc 2 "$A" compare --join "$W/force-bad.txt" --no-header --column x=#1 --c
 expect_rc 2 "$A" compare --join "$W/missing.txt" "$W/pos.txt" && grep -q "missing.txt: cannot open" "$W/err" &&
 	ok "a missing joined file named" || fail "missing join: $(cat "$W/err")"
 
+# a log read from a pipe loses no byte to the look for a MAT file's header
+expect_rc 0 "$A" compare --format csv /dev/stdin <"$W/plain.csv" &&
+	tail -n 1 "$W/out" | cut -d, -f2- | cmp -s - "$W/want" && ok "a log from a pipe reads as before" ||
+	fail "pipe: $(cat "$W/err")"
+mkfifo "$W/fifo" && { cat "$W/plain.csv" >"$W/fifo" & } &&
+	expect_rc 0 "$A" compare --format csv "$W/fifo" &&
+	tail -n 1 "$W/out" | cut -d, -f2- | cmp -s - "$W/want" && ok "a log from a FIFO reads as before" ||
+	fail "fifo: $(cat "$W/err")"
+wait
+
 # rotary: theta = x / r rad, tau = f r N m at a lever r = 0.25 m (exact in
 # binary, so the row is bit for bit; other levers round once per cell)
 awk -F, 'NR == 1 { print "t,theta,tau"; next } { printf "%s,%.17g,%.17g\n", $1, $2 / 0.25, $3 * 0.25 }' \
