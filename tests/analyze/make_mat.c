@@ -27,6 +27,7 @@
 static double *data;
 static size_t n_rows, n_cols;
 static char names[MAX_COLS][64];
+static int32_t *ints; /* the int32 copy (Mat_VarCreate copies it: freed at the end) */
 
 static int read_csv(const char *path)
 {
@@ -77,10 +78,12 @@ static matvar_t *matrix(const char *kind)
 {
 	size_t dims[3] = {n_rows, n_cols, 1};
 	if (strcmp(kind, "int32") == 0) {
-		int32_t *d = malloc(n_rows * n_cols * sizeof *d);
+		ints = malloc(n_rows * n_cols * sizeof *ints);
+		if (!ints)
+			return NULL;
 		for (size_t i = 0; i < n_rows * n_cols; i++)
-			d[i] = (int32_t)data[i];
-		return Mat_VarCreate("log", MAT_C_INT32, MAT_T_INT32, 2, dims, d, 0);
+			ints[i] = (int32_t)data[i];
+		return Mat_VarCreate("log", MAT_C_INT32, MAT_T_INT32, 2, dims, ints, 0);
 	}
 	if (strcmp(kind, "nan") == 0)
 		data[4 + 1 * n_rows] = (double)NAN;
@@ -159,6 +162,7 @@ int main(int argc, char **argv)
 	Mat_VarFree(v);
 	Mat_Close(mat);
 	free(data);
+	free(ints);
 	if (st)
 		fprintf(stderr, "make_mat: %s: cannot write\n", argv[4]);
 	return st;
