@@ -17,6 +17,7 @@
 #include "popc/log/log_columns.h"
 #include "popc/log/log_reader.h"
 #include "popc/scene/scene.h"
+#include "read_foreign.h"
 
 /* Options every verb that reads logs accepts (--column, --delimiter,
  * --decimal, --comment, --set, --scale). */
@@ -45,6 +46,8 @@ typedef struct ana_input_options {
 	 * them (report: E_port), handed out in ana_row.extra (NaN when absent) */
 	int n_extra;
 	const char *extra_name[ANA_MAX_EXTRA];
+	/* MAT files, split files, rotary logs (read_foreign.h) */
+	ana_foreign_options foreign;
 } ana_input_options;
 
 /* --jitter's largest fraction: past half a period a step is a dropped or a
@@ -106,7 +109,8 @@ enum {
 	case ANA_OPT_SCALE:                                                  \
 	case ANA_OPT_DECIMAL:                                                \
 	case ANA_OPT_NO_HEADER:                                              \
-	case ANA_OPT_JITTER
+	case ANA_OPT_JITTER:                                                 \
+	ANA_FOREIGN_OPTION_CASES
 #define ANA_INPUT_LONG_OPTIONS                                               \
 	{"column", required_argument, NULL, ANA_OPT_COLUMN},                 \
 	{"delimiter", required_argument, NULL, ANA_OPT_DELIMITER},           \
@@ -115,7 +119,8 @@ enum {
 	{"scale", required_argument, NULL, ANA_OPT_SCALE},                   \
 	{"decimal", required_argument, NULL, ANA_OPT_DECIMAL},               \
 	{"no-header", no_argument, NULL, ANA_OPT_NO_HEADER},                 \
-	{"jitter", required_argument, NULL, ANA_OPT_JITTER}
+	{"jitter", required_argument, NULL, ANA_OPT_JITTER},                 \
+	ANA_FOREIGN_LONG_OPTIONS
 /* popc's column names, each after a space: " t x count ..."; an admittance
  * log's own columns are left out (a recorded admittance device's log is a
  * later phase, docs/ADMITTANCE.md) */

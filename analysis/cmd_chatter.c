@@ -38,6 +38,7 @@ static void usage(FILE *f)
 	      "  -h, --help               this help\n"
 	      "\n",
 	      f);
+	fputs(ANA_FOREIGN_HELP, f); /* its own string: C99 promises 4095 characters */
 	/* two strings: one would pass the 4095 characters C99 promises */
 	fputs("Exit status (like diff): 0 nothing flagged, 1 chatter or a limit cycle flagged,\n"
 	      "2 trouble (bad usage or input). A log without a PC force (no f_pc or f_c\n"

@@ -387,6 +387,7 @@ static void usage(FILE *f)
 	      "\n"
 	      "Exit status: 0 done, 2 bad usage or input (the other logs are still compared).\n",
 	      f);
+	fputs(ANA_FOREIGN_HELP, f); /* its own string: C99 promises 4095 characters */
 }
 
 enum { OPT_FORMAT = 256, OPT_LATE, OPT_THRESHOLD };

@@ -69,6 +69,7 @@ static void usage(FILE *f)
 	      "\n"
 	      "Exit status: 0 done, 1 --check found a difference, 2 bad usage or input.\n",
 	      f);
+	fputs(ANA_FOREIGN_HELP, f); /* its own string: C99 promises 4095 characters */
 }
 
 enum { OPT_OBSERVER = 256, OPT_FORMAT, OPT_CHECK, OPT_ALLOW_UNEVEN };
@@ -302,6 +303,7 @@ static int energy_one(const char *path, const ana_input_options *in, const int *
 			return 2;
 		}
 		fprintf(out, "# popc-analyze energy of %s\n# period = %.17g\n", path, l.period_s);
+		ana_foreign_provenance(out, &in->foreign);
 		if (uneven)
 			fputs("# allow_uneven = the time steps were not checked; no column below uses "
 			      "the period\n",

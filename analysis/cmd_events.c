@@ -36,6 +36,7 @@ static void usage(FILE *f)
 	      "Exit status: 0, or 2 for bad usage or input (a log without a PC force or W\n"
 	      "cannot show the Fig. 5 or 8 event: a note on stderr, and its cells are empty).\n",
 	      f);
+	fputs(ANA_FOREIGN_HELP, f); /* its own string: C99 promises 4095 characters */
 }
 
 enum { OPT_FORMAT = 256, OPT_SETTLE_HOLD };

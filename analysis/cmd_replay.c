@@ -38,6 +38,7 @@ static void usage(FILE *f)
 	      "\n"
 	      "Exit status: 0 done, 2 bad usage, bad input or a log that could not be written.\n",
 	      f);
+	fputs(ANA_FOREIGN_HELP, f); /* its own string: C99 promises 4095 characters */
 }
 
 enum { OPT_VARIANT = 256, OPT_PREFIX };

@@ -62,6 +62,7 @@ static void usage(FILE *f)
 	      "Exit status: 0 done, 1 gnuplot failed, a figure is missing or a --figure asked\n"
 	      "for found no event in any log, 2 bad usage or input.\n",
 	      f);
+	fputs(ANA_FOREIGN_HELP, f); /* its own string: C99 promises 4095 characters */
 }
 
 enum { OPT_POINTS = 256, OPT_TITLE, OPT_GNUPLOT, OPT_NO_DRAW, OPT_THRESHOLD, OPT_FIGURE, OPT_ZOOM };

@@ -6,6 +6,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "analyze.h"
 #include "popc/core/encoder.h"
@@ -277,6 +278,8 @@ int ana_input_option(ana_input_options *o, int opt, char *arg, const char *verb)
 			return 2;
 		}
 		return 0;
+	ANA_FOREIGN_OPTION_CASES:
+		return ana_foreign_option(&o->foreign, opt, arg, verb);
 	default:
 		return 2;
 	}
@@ -320,7 +323,7 @@ static void base_name(const char *path, char *out, size_t cap)
 	if (strcmp(path, "-") == 0)
 		b = "stdin";
 	size_t n = strlen(b);
-	if (n > 4 && strcmp(b + n - 4, ".csv") == 0)
+	if (n > 4 && (strcmp(b + n - 4, ".csv") == 0 || strcmp(b + n - 4, ".mat") == 0))
 		n -= 4;
 	snprintf(out, cap, "%.*s", (int)n, b);
 }
@@ -512,7 +515,17 @@ int ana_log_open(ana_log *l, const char *path, const ana_input_options *o, popc_
 	memset(l, 0, sizeof *l);
 	l->verb = o->verb;
 	base_name(path, l->name, sizeof l->name);
-	int st = popc_log_reader_open(&l->r, path, &o->reader, err);
+	/* a MAT file or split files: read as the CSV they convert to (read_foreign.h) */
+	char tmp[1100];
+	popc_log_reader_options ropt;
+	int st = ana_foreign_convert(path, &o->foreign, &o->reader, &ropt, tmp, sizeof tmp, err);
+	if (st)
+		return st;
+	st = popc_log_reader_open(&l->r, tmp[0] ? tmp : path, &ropt, err);
+	if (tmp[0]) {
+		unlink(tmp); /* open, or not needed */
+		snprintf(l->r.path, sizeof l->r.path, "%s", path);
+	}
 	if (st)
 		return st;
 	popc_log_reader *r = &l->r;
@@ -572,6 +585,8 @@ int ana_log_open(ana_log *l, const char *path, const ana_input_options *o, popc_
 		l->scale[c] = o->scale[i];
 		l->scaled = 1;
 	}
+	if (o->foreign.lever_m > 0.0)
+		ana_lever_scales(o->foreign.lever_m, l->scale, l->r.n_cols, r, &l->scaled);
 	l->has_pc_force = l->c_f_pc >= 0 || l->c_f_c >= 0;
 	l->has_w = l->has_pc_force || (l->c_W >= 0 && l->c_E_ref >= 0);
 	const int rate_given =

@@ -1,0 +1,169 @@
+/* Writes MAT files from a plain CSV log (numbers only, one names line) with
+ * libmatio itself, for test_mat.sh: no binary from elsewhere is checked in.
+ *
+ *   make_mat VERSION KIND IN.csv OUT.mat
+ *
+ * VERSION: 5 (MAT_FT_MAT5) or 73 (MAT_FT_MAT73; exit 77 when this libmatio
+ * cannot create one: built without HDF5). KIND:
+ *   matrix   variable 'log', N x M doubles, and 'names', a 1 x M cell of the
+ *            CSV's column names
+ *   swt      variable 'log', a Simulink StructureWithTime: 'time' is the CSV's
+ *            first column, one signal per other column, labelled by its name
+ *   int32    'log' as matrix, of class int32 (refused: not double)
+ *   nan      'log' as matrix with row 5 of column 2 NaN (refused)
+ *   cube     'log' as N x M x 1... a 3-D array (refused: not a matrix)
+ *   swt_rows 'log' as swt, with the last signal one row short (refused)
+ * The doubles are those strtod reads from the CSV's shortest round-trip text:
+ * the very doubles the CSV path reads. */
+#include <matio.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define MAX_COLS 16
+
+static double *data;
+static size_t n_rows, n_cols;
+static char names[MAX_COLS][64];
+static int32_t *ints; /* the int32 copy (Mat_VarCreate copies it: freed at the end) */
+
+static int read_csv(const char *path)
+{
+	FILE *f = fopen(path, "r");
+	if (!f)
+		return -1;
+	char line[4096];
+	size_t cap = 0;
+	double *rows = NULL;
+	if (!fgets(line, sizeof line, f))
+		return -1;
+	for (char *tok = strtok(line, ",\n"); tok && n_cols < MAX_COLS; tok = strtok(NULL, ",\n"))
+		snprintf(names[n_cols++], sizeof names[0], "%s", tok);
+	while (fgets(line, sizeof line, f)) {
+		if (n_rows == cap) {
+			cap = cap ? 2 * cap : 1024;
+			rows = realloc(rows, cap * n_cols * sizeof *rows);
+			if (!rows)
+				return -1;
+		}
+		char *p = line;
+		for (size_t j = 0; j < n_cols; j++) {
+			rows[n_rows * n_cols + j] = strtod(p, &p);
+			if (*p == ',')
+				p++;
+		}
+		n_rows++;
+	}
+	fclose(f);
+	/* column-major, as MAT stores a matrix */
+	data = malloc(n_rows * n_cols * sizeof *data);
+	if (!data)
+		return -1;
+	for (size_t i = 0; i < n_rows; i++)
+		for (size_t j = 0; j < n_cols; j++)
+			data[i + j * n_rows] = rows[i * n_cols + j];
+	free(rows);
+	return 0;
+}
+
+static matvar_t *text(const char *name, const char *s)
+{
+	size_t dims[2] = {1, strlen(s)};
+	return Mat_VarCreate(name, MAT_C_CHAR, MAT_T_UINT8, 2, dims, (void *)s, 0);
+}
+
+static matvar_t *matrix(const char *kind)
+{
+	size_t dims[3] = {n_rows, n_cols, 1};
+	if (strcmp(kind, "int32") == 0) {
+		ints = malloc(n_rows * n_cols * sizeof *ints);
+		if (!ints)
+			return NULL;
+		for (size_t i = 0; i < n_rows * n_cols; i++)
+			ints[i] = (int32_t)data[i];
+		return Mat_VarCreate("log", MAT_C_INT32, MAT_T_INT32, 2, dims, ints, 0);
+	}
+	if (strcmp(kind, "nan") == 0)
+		data[4 + 1 * n_rows] = (double)NAN;
+	if (strcmp(kind, "cube") == 0) {
+		dims[1] = 1;
+		dims[2] = n_cols;
+		return Mat_VarCreate("log", MAT_C_DOUBLE, MAT_T_DOUBLE, 3, dims, data, 0);
+	}
+	return Mat_VarCreate("log", MAT_C_DOUBLE, MAT_T_DOUBLE, 2, dims, data, 0);
+}
+
+static matvar_t *names_cell(void)
+{
+	size_t dims[2] = {1, n_cols};
+	matvar_t *c = Mat_VarCreate("names", MAT_C_CELL, MAT_T_CELL, 2, dims, NULL, 0);
+	for (size_t j = 0; j < n_cols; j++)
+		Mat_VarSetCell(c, (int)j, text(NULL, names[j]));
+	return c;
+}
+
+static matvar_t *structure_with_time(int short_last)
+{
+	const char *top[] = {"time", "signals", "blockName"};
+	const char *sig[] = {"values", "dimensions", "label"};
+	size_t one[2] = {1, 1}, k_dims[2] = {1, n_cols - 1};
+	matvar_t *s = Mat_VarCreateStruct("log", 2, one, top, 3);
+	size_t col[2] = {n_rows, 1};
+	Mat_VarSetStructFieldByName(s, "time", 0,
+				    Mat_VarCreate(NULL, MAT_C_DOUBLE, MAT_T_DOUBLE, 2, col, data, 0));
+	Mat_VarSetStructFieldByName(s, "blockName", 0, text(NULL, "popc/To Workspace"));
+	matvar_t *signals = Mat_VarCreateStruct("signals", 2, k_dims, sig, 3);
+	for (size_t j = 1; j < n_cols; j++) {
+		size_t d[2] = {n_rows - (short_last && j == n_cols - 1), 1};
+		double width = 1.0;
+		Mat_VarSetStructFieldByName(
+			signals, "values", j - 1,
+			Mat_VarCreate(NULL, MAT_C_DOUBLE, MAT_T_DOUBLE, 2, d, data + j * n_rows, 0));
+		Mat_VarSetStructFieldByName(
+			signals, "dimensions", j - 1,
+			Mat_VarCreate(NULL, MAT_C_DOUBLE, MAT_T_DOUBLE, 2, one, &width, MAT_F_DONT_COPY_DATA));
+		Mat_VarSetStructFieldByName(signals, "label", j - 1, text(NULL, names[j]));
+	}
+	Mat_VarSetStructFieldByName(s, "signals", 0, signals);
+	return s;
+}
+
+int main(int argc, char **argv)
+{
+	if (argc != 5) {
+		fprintf(stderr, "usage: make_mat 5|73 matrix|swt|int32|nan|cube|swt_rows IN.csv OUT.mat\n");
+		return 2;
+	}
+	if (read_csv(argv[3]) != 0 || n_rows < 6 || n_cols < 2) {
+		fprintf(stderr, "make_mat: %s: cannot read a CSV of at least 6 rows, 2 columns\n", argv[3]);
+		return 1;
+	}
+	const enum mat_ft ver = strcmp(argv[1], "73") == 0 ? MAT_FT_MAT73 : MAT_FT_MAT5;
+	mat_t *mat = Mat_CreateVer(argv[4], NULL, ver);
+	if (!mat) {
+		if (ver == MAT_FT_MAT73) {
+			fprintf(stderr, "make_mat: this libmatio cannot write MAT v7.3 (no HDF5)\n");
+			return 77;
+		}
+		fprintf(stderr, "make_mat: %s: cannot create\n", argv[4]);
+		return 1;
+	}
+	const char *kind = argv[2];
+	matvar_t *v = strncmp(kind, "swt", 3) == 0 ? structure_with_time(strcmp(kind, "swt_rows") == 0)
+						   : matrix(kind);
+	int st = !v || Mat_VarWrite(mat, v, MAT_COMPRESSION_NONE) != 0;
+	if (!st && strcmp(kind, "matrix") == 0) {
+		matvar_t *c = names_cell();
+		st = Mat_VarWrite(mat, c, MAT_COMPRESSION_NONE) != 0;
+		Mat_VarFree(c);
+	}
+	Mat_VarFree(v);
+	Mat_Close(mat);
+	free(data);
+	free(ints);
+	if (st)
+		fprintf(stderr, "make_mat: %s: cannot write\n", argv[4]);
+	return st;
+}
