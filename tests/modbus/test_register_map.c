@@ -686,6 +686,12 @@ static const mode_case mode_cases[] = {
 	 ":12: command.m_per_s_per_unit = 1e-6 (line 11), command.limit_m_per_s = 0.5 (line 12), "
 	 "command.type = int16 (line 10): the velocity command's clamp is -500000 command units, "
 	 "which the int16 command register cannot hold"},
+	/* reversed: the register holds -x, and the key named is the limit behind
+	 * the value that does not fit (uint32 holds -(-0.1 m) but not -(0.1 m)) */
+	{0, "register = 4\ntype = int32\ncounts_per_m = 1e5", "register = 4\ntype = uint32\ncounts_per_m = 1e5\ndirection = reversed",
+	 ":12: command.counts_per_m = 1e5 (line 11), position.soft_max_m = 0.1 (line 6), command.type = "
+	 "uint32 (line 10), command.direction = reversed (line 12): the position command's clamp is "
+	 "-10000 command units, which the uint32 command register cannot hold"},
 	/* the sensor */
 	{0, "table = holding\ntype = int32", "table = holding\ntype = uint16",
 	 ":15: force_sensor.type = uint16: an unsigned register cannot read a force of either sign"},

@@ -766,8 +766,8 @@ static int servo_command(load_ctx *c, const popc_register_map *m)
 	double ends[2] = {lo_units, hi_units};
 	for (int i = 0; i < 2; i++)
 		if (!isfinite(ends[i]) || popc_reg_encode(ends[i], m->cmd.type, m->cmd.order, w)) {
-			const int extra[] = {pos ? (i == m->cmd.reversed ? K_POS_MIN : K_POS_MAX)
-						 : K_CMD_VLIMIT,
+			/* ends[0] comes from soft_min_m, ends[1] from soft_max_m */
+			const int extra[] = {pos ? (i == 0 ? K_POS_MIN : K_POS_MAX) : K_CMD_VLIMIT,
 					     K_CMD_TYPE, K_CMD_DIR};
 			snprintf(what, sizeof what,
 				 "the %s command's clamp is %.17g command units, which the %s command "
