@@ -1,5 +1,5 @@
 #!/bin/bash
-# Every register map shipped in data/drives/ dry-runs against popc-servo-sim
+# Every force-mode register map shipped in data/drives/ dry-runs against popc-servo-sim
 # (lockstep, TCP): the run completes (exit 0) and the server's last writes are
 # zero force and the map's disable word. What is dry-run is the map's layout
 # (registers, types, word orders, scales, enable words); its timing is not:
