@@ -719,11 +719,9 @@ static int validate_admittance(const popc_scene *s, const char *src, popc_error 
 				      "%s: admittance.servo = velocity needs admittance.servo_damping > 0 "
 				      "N s/m (K_v)",
 				      src);
-	if (strcmp(s->axis, "sim") != 0)
-		return popc_error_set(err, POPC_ERR_INVALID,
-				      "%s: device.causality = admittance needs axis.kind = sim (a drive in "
-				      "position or velocity mode over Modbus is not supported yet)",
-				      src);
+	/* axis.kind = modbus: the register map's command.mode must match
+	 * admittance.servo, which the Modbus axis checks when it loads the map
+	 * (issue 25; modbus_axis.c) */
 	if (s->delay_ticks != 0)
 		return popc_error_set(err, POPC_ERR_INVALID,
 				      "%s: device.causality = admittance needs run.delay_ticks = 0 (a "

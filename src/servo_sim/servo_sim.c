@@ -681,6 +681,11 @@ int main(int argc, char **argv)
 		map_path = map_found;
 	if (st >= 0)
 		st = popc_register_map_load(&map, map_path, &err);
+	if (!st && map.cmd.mode != POPC_CMD_FORCE)
+		st = popc_error_set(&err, POPC_ERR_INVALID,
+				    "%s: command.mode = %s: popc-servo-sim simulates a drive with a "
+				    "force command only (a position or velocity drive: issue 25 phase 2)",
+				    map_path, popc_cmd_mode_names[map.cmd.mode]);
 	if (!st) {
 		popc_scene_defaults(&scene);
 		st = popc_scene_load(&scene, scene_path, &err);

@@ -579,7 +579,8 @@ static void test_shipped_maps(void **state)
 {
 	(void)state;
 	static const char *const names[] = {"generic.ini", "popc-exact.ini", "hilo-int32.ini",
-					    "hilo-int16-command.ini", "lohi-int32.ini", "cia402-lohi.ini"};
+					    "hilo-int16-command.ini", "lohi-int32.ini", "cia402-lohi.ini",
+					    "hilo-int32-position.ini", "hilo-int32-velocity.ini"};
 	const char *root = getenv("POPC_SOURCE_ROOT");
 	if (!root)
 		skip();
@@ -590,6 +591,148 @@ static void test_shipped_maps(void **state)
 		popc_error err;
 		if (popc_register_map_load(&m, path, &err))
 			fail_msg("%s", err.msg);
+	}
+}
+
+
+/* ---- command modes (issue 25): position and velocity commands, the force
+ * sensor --------------------------------------------------------------------- */
+
+/* A position-mode drive; line numbers below count from 1. */
+static const char *const servo_map =
+	"[position]\nregister = 0\ntype = int32\ncounts_per_m = 1e5\n"          /* 1-4 */
+	"soft_min_m = -0.1\nsoft_max_m = 0.1\n"                                  /* 5-6 */
+	"[command]\nmode = position\nregister = 4\ntype = int32\n"               /* 7-10 */
+	"counts_per_m = 1e5\n"                                                   /* 11 */
+	"[force_sensor]\nregister = 8\ntable = holding\ntype = int32\n"         /* 12-15 */
+	"newton_per_unit = 0.001\n"                                              /* 16 */
+	"[enable]\nregister = 20\non = 1\noff = 0\n"                             /* 17-20 */
+	"[status]\nregister = 2\nready_mask = 1\nfault_mask = 8\n";              /* 21-24 */
+
+static const char *const velocity_cmd =
+	"mode = velocity\nregister = 4\ntype = int32\nm_per_s_per_unit = 1e-6\nlimit_m_per_s = 0.5\n";
+
+static void test_servo_maps(void **state)
+{
+	(void)state;
+	popc_register_map m;
+	popc_error err;
+	const char *path = write_map(servo_map);
+	if (popc_register_map_load(&m, path, &err))
+		fail_msg("%s", err.msg);
+	assert_int_equal(m.cmd.mode, POPC_CMD_POSITION);
+	assert_true(m.cmd.counts_per_m == 1e5);
+	assert_int_equal(m.sensor.reg, 8);
+	assert_int_equal(m.sensor.table, POPC_TABLE_HOLDING);
+	assert_int_equal(m.sensor.type, POPC_REG_INT32);
+	assert_int_equal(m.sensor.order, POPC_WORDS_HI_LO); /* default */
+	assert_true(m.sensor.newton_per_unit == 0.001);
+	assert_int_equal(m.sensor.reversed, 0);
+	char *text = replace(servo_map,
+			     "mode = position\nregister = 4\ntype = int32\ncounts_per_m = 1e5\n",
+			     velocity_cmd);
+	path = write_map(text);
+	free(text);
+	if (popc_register_map_load(&m, path, &err))
+		fail_msg("%s", err.msg);
+	assert_int_equal(m.cmd.mode, POPC_CMD_VELOCITY);
+	assert_true(m.cmd.m_per_s_per_unit == 1e-6 && m.cmd.limit_m_per_s == 0.5);
+	/* a force map: the mode's default, no sensor */
+	path = write_map(good_map);
+	if (popc_register_map_load(&m, path, &err))
+		fail_msg("%s", err.msg);
+	assert_int_equal(m.cmd.mode, POPC_CMD_FORCE);
+	unlink(path);
+}
+
+/* Bad servo maps, from servo_map (or from good_map, the force map, for
+ * `force`), with file, line and key in the message. */
+typedef struct mode_case {
+	int force;
+	const char *from, *to, *want;
+} mode_case;
+
+static const mode_case mode_cases[] = {
+	{0, "mode = position", "mode = torque",
+	 ":8: command.mode = torque: expected one of: force position velocity"},
+	/* a key of another mode */
+	{1, "limit_N = 20", "limit_N = 20\ncounts_per_m = 1e5",
+	 ":20: command.counts_per_m = 1e5: only used with command.mode = position (this map's is "
+	 "force)"},
+	{1, "limit_N = 20", "limit_N = 20\n[force_sensor]\nregister = 8",
+	 ":21: force_sensor.register = 8: only used with command.mode = position or velocity (this "
+	 "map's is force)"},
+	{0, "counts_per_m = 1e5\n[force", "counts_per_m = 1e5\nlimit_N = 20\n[force",
+	 ":12: command.limit_N = 20: only used with command.mode = force (this map's is position)"},
+	{0, "counts_per_m = 1e5\n[force", "counts_per_m = 1e5\nlimit_m_per_s = 1\n[force",
+	 ":12: command.limit_m_per_s = 1: only used with command.mode = velocity (this map's is "
+	 "position)"},
+	/* what the mode needs */
+	{0, "counts_per_m = 1e5\n[force", "[force",
+	 ": missing command.counts_per_m: a position command needs its scale"},
+	{0, "mode = position\nregister = 4\ntype = int32\ncounts_per_m = 1e5",
+	 "mode = velocity\nregister = 4\ntype = int32\nm_per_s_per_unit = 1e-6",
+	 ": missing command.limit_m_per_s: the velocity clamp is not optional"},
+	{0, "[force_sensor]\nregister = 8\n", "[force_sensor]\n",
+	 ": missing force_sensor.register: a position or velocity command needs the force sensor"},
+	{0, "newton_per_unit = 0.001\n", "",
+	 ": missing force_sensor.newton_per_unit: the force sensor needs its scale"},
+	/* the command on the wire */
+	{0, "register = 4\ntype = int32\ncounts_per_m = 1e5", "register = 4\ntype = int16\ncounts_per_m = 1e6",
+	 ":11: command.counts_per_m = 1e6 (line 11), position.soft_min_m = -0.1 (line 5), command.type = "
+	 "int16 (line 10): the position command's clamp is -100000 command units, which the int16 "
+	 "command register cannot hold"},
+	{0, "mode = position\nregister = 4\ntype = int32\ncounts_per_m = 1e5",
+	 "mode = velocity\nregister = 4\ntype = int32\nm_per_s_per_unit = 1\nlimit_m_per_s = 0.5",
+	 ":12: command.m_per_s_per_unit = 1 (line 11), command.limit_m_per_s = 0.5 (line 12): "
+	 "limit_m_per_s is below one command unit"},
+	{0, "mode = position\nregister = 4\ntype = int32\ncounts_per_m = 1e5",
+	 "mode = velocity\nregister = 4\ntype = int16\nm_per_s_per_unit = 1e-6\nlimit_m_per_s = 0.5",
+	 ":12: command.m_per_s_per_unit = 1e-6 (line 11), command.limit_m_per_s = 0.5 (line 12), "
+	 "command.type = int16 (line 10): the velocity command's clamp is -500000 command units, "
+	 "which the int16 command register cannot hold"},
+	/* reversed: the register holds -x, and the key named is the limit behind
+	 * the value that does not fit (uint32 holds -(-0.1 m) but not -(0.1 m)) */
+	{0, "register = 4\ntype = int32\ncounts_per_m = 1e5", "register = 4\ntype = uint32\ncounts_per_m = 1e5\ndirection = reversed",
+	 ":12: command.counts_per_m = 1e5 (line 11), position.soft_max_m = 0.1 (line 6), command.type = "
+	 "uint32 (line 10), command.direction = reversed (line 12): the position command's clamp is "
+	 "-10000 command units, which the uint32 command register cannot hold"},
+	/* the sensor */
+	{0, "table = holding\ntype = int32", "table = holding\ntype = uint16",
+	 ":15: force_sensor.type = uint16: an unsigned register cannot read a force of either sign"},
+	{0, "table = holding\ntype = int32\nnewton_per_unit = 0.001",
+	 "table = holding\ntype = float64\nnewton_per_unit = 1e9",
+	 ":16: force_sensor.newton_per_unit = 1e9 (line 16), force_sensor.type = float64 (line 15): "
+	 "the float64 force sensor register's value"},
+	{0, "[force_sensor]\nregister = 8", "[force_sensor]\nregister = 1",
+	 ":13: force_sensor.register = 1: overlaps the position registers"},
+	{0, "[force_sensor]\nregister = 8", "[force_sensor]\nregister = 5",
+	 ":13: force_sensor.register = 5: overlaps the command registers"},
+	{0, "[force_sensor]\nregister = 8\ntable = holding", "[force_sensor]\nregister = 2\ntable = input",
+	 ""}, /* the input table has no position, command or status: fine */
+};
+
+static void test_mode_cases(void **state)
+{
+	(void)state;
+	for (size_t i = 0; i < sizeof mode_cases / sizeof mode_cases[0]; i++) {
+		const mode_case *c = &mode_cases[i];
+		char *text = replace(c->force ? good_map : servo_map, c->from, c->to);
+		const char *path = write_map(text);
+		free(text);
+		popc_register_map m;
+		popc_error err;
+		int st = popc_register_map_load(&m, path, &err);
+		unlink(path);
+		if (!c->want[0]) {
+			if (st)
+				fail_msg("case %zu: %s", i, err.msg);
+			continue;
+		}
+		if (st != POPC_ERR_INVALID)
+			fail_msg("case %zu (%s): status %d, want invalid", i, c->to, st);
+		if (!strstr(err.msg, c->want) || !strstr(err.msg, path))
+			fail_msg("case %zu: message '%s' lacks '%s' or the file name", i, err.msg, c->want);
 	}
 }
 
@@ -638,13 +781,14 @@ static double default_value(const popc_map_key *k)
 static void test_key_table(void **state)
 {
 	(void)state;
-	static const char *const sections[] = {"drive", "position", "command", "enable", "status"};
+	static const char *const sections[] = {"drive", "position", "command", "force_sensor",
+					       "enable", "status"};
 	size_t n = 0, sec = 0;
 	for (; popc_register_map_key(n); n++) {
 		const popc_map_key *k = popc_register_map_key(n);
-		while (sec < 5 && strcmp(k->section, sections[sec]) != 0)
+		while (sec < 6 && strcmp(k->section, sections[sec]) != 0)
 			sec++;
-		if (sec == 5)
+		if (sec == 6)
 			fail_msg("row %zu: section [%s] out of order or unknown", n, k->section);
 		assert_true(k->key[0] && k->help && k->help[0]);
 		for (size_t j = 0; j < n; j++) {
@@ -665,7 +809,7 @@ static void test_key_table(void **state)
 		    (v < k->lo || v > k->hi || (k->lo_open && v == k->lo)))
 			fail_msg("%s.%s: default %s outside its range", k->section, k->key, k->default_text);
 	}
-	assert_int_equal(n, 42);
+	assert_int_equal(n, 52);
 	assert_null(popc_register_map_key(n));
 }
 
@@ -739,7 +883,7 @@ static void test_key_listing(void **state)
 	for (const char *p = text; *p; p = strchr(p, '\n') + 1)
 		if (p[0] == ' ' && p[1] == ' ' && p[2] != ' ')
 			entries++;
-	assert_int_equal(entries, 42);
+	assert_int_equal(entries, 52);
 	free(text);
 
 	const char *root = getenv("POPC_SOURCE_ROOT");
@@ -891,6 +1035,8 @@ int main(void)
 		cmocka_unit_test(test_bad_maps),
 		cmocka_unit_test(test_command_on_the_wire),
 		cmocka_unit_test(test_sequence_register),
+		cmocka_unit_test(test_servo_maps),
+		cmocka_unit_test(test_mode_cases),
 		cmocka_unit_test(test_unreadable_maps),
 		cmocka_unit_test(test_shipped_maps),
 		cmocka_unit_test(test_key_table),

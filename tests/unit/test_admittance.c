@@ -329,7 +329,8 @@ static void test_scene_refusals(void **state)
 		 "admittance.servo = position needs admittance.servo_stiffness > 0"},
 		{{"device.causality=admittance", "run.delay_ticks=2"}, "needs run.delay_ticks = 0"},
 		{{"device.causality=admittance", "device.coulomb=0.1"}, "needs device.coulomb = 0"},
-		{{"device.causality=admittance", "axis.kind=modbus"}, "needs axis.kind = sim"},
+		/* axis.kind = modbus is the register map's to refuse or accept
+		 * (command.mode; tests/modbus/modes.sh) */
 		{{"device.causality=sideways"}, "'sideways': unknown value; allowed one of impedance|admittance"},
 		{{"admittance.variant=po-pc"}, "allowed one of none|parallel-pc|parallel-ignore|parallel-hold|parallel-improved"},
 	};

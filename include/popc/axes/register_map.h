@@ -7,9 +7,14 @@
  *   [position] register, table, type, word_order, counts_per_m | counts_per_rev + lead_m
  *              (+ gear), soft_min_m, soft_max_m (required: the soft limits are
  *              part of the always-on safety supervisor), direction
- *   [command]  register, type, word_order, newton_per_unit | percent_of_rated_per_unit
- *              + rated_torque_Nm + lead_m (+ gear), limit_N, sequence_register
- *              (optional: a command sequence counter next to the command), direction
+ *   [command]  mode (force | position | velocity), register, type, word_order,
+ *              sequence_register (optional: a command sequence counter next to the
+ *              command), direction; mode = force: newton_per_unit |
+ *              percent_of_rated_per_unit + rated_torque_Nm + lead_m (+ gear), limit_N;
+ *              position: counts_per_m (clamped to the soft limits); velocity:
+ *              m_per_s_per_unit, limit_m_per_s
+ *   [force_sensor] (mode = position or velocity only, then required) register,
+ *              table, type, word_order, newton_per_unit, direction
  *   [enable]   register, table (holding | coil), on (up to 4 values, written in
  *              order), off
  *   [status]   register, table, ready_mask, fault_mask
@@ -46,6 +51,17 @@ typedef enum popc_word_order {
 	POPC_WORDS_HI_LO, /* most significant word at the lowest address (AKD, ZLTECH) */
 	POPC_WORDS_LO_HI, /* least significant word first (Delta ASDA, Kinco) */
 } popc_word_order;
+
+/* What the command register carries (issue 25): a force for an
+ * impedance-type device, or the set point of a position or velocity servo
+ * for an admittance-type device (docs/ADMITTANCE.md), which then reads the
+ * hand's force from a force sensor register. */
+typedef enum popc_cmd_mode {
+	POPC_CMD_FORCE,
+	POPC_CMD_POSITION,
+	POPC_CMD_VELOCITY,
+} popc_cmd_mode;
+extern const char *const popc_cmd_mode_names[]; /* indexed by popc_cmd_mode, NULL-terminated */
 
 #define POPC_MAP_ENABLE_MAX 4
 
@@ -88,11 +104,19 @@ typedef struct popc_register_map {
 		int reversed;          /* 1: popc's position = -(register value / counts_per_m) */
 	} pos;
 	struct {
+		popc_cmd_mode mode;
 		int reg;
 		popc_reg_type type;
 		popc_word_order order;
+		/* mode = force: */
 		double newton_per_unit;
 		double limit_N;        /* force clamp, always applied */
+		/* mode = position: command units per metre (the position command
+		 * is clamped to the soft limits); mode = velocity: m/s per
+		 * command unit and the velocity clamp, always applied */
+		double counts_per_m;
+		double m_per_s_per_unit;
+		double limit_m_per_s;
 		int reversed;          /* 1: the register holds -(force on the device) / newton_per_unit */
 		/* The command sequence register (a heartbeat / sign-of-life counter),
 		 * -1: none. A uint16 holding register right before or right after
@@ -104,6 +128,16 @@ typedef struct popc_register_map {
 		 * command once. */
 		int seq_reg;
 	} cmd;
+	/* mode = position or velocity: the force the hand exerts on the device,
+	 * F = register value x newton_per_unit (reversed: minus that) */
+	struct {
+		int reg;
+		popc_reg_table table;
+		popc_reg_type type;
+		popc_word_order order;
+		double newton_per_unit;
+		int reversed;
+	} sensor;
 	struct {
 		int reg;
 		popc_reg_table table;
@@ -160,10 +194,15 @@ typedef struct popc_map_key {
 					one of" would not say why (NULL: that message) */
 	const char *unit;            /* NULL: none */
 	const char *help;
+	unsigned modes;              /* the command modes the key belongs to (bits
+					POPC_MAP_MODE(popc_cmd_mode)), 0: every mode. In
+					another mode the key is refused when given, and
+					neither required nor defaulted when absent. */
 } popc_map_key;
+#define POPC_MAP_MODE(mode) (1u << (mode))
 
 /* Row i of the table, in file order ([drive], [position], [command],
- * [enable], [status]); NULL past the last row. */
+ * [force_sensor], [enable], [status]); NULL past the last row. */
 const popc_map_key *popc_register_map_key(size_t i);
 
 /* Every key with its default and allowed range, as popc scene keys lists a

@@ -18,6 +18,7 @@
 
 #include "../axis_kind.h"
 #include "modbus_stats.h"
+#include "popc/core/admittance_plant.h"
 #include "popc/core/encoder.h"
 #include "popc/log/log.h"
 #include "popc/axes/register_map.h"
@@ -971,6 +972,40 @@ void popc_modbus_options_defaults(popc_modbus_options *o)
 	o->stop_flag = NULL;
 }
 
+/* The map's command mode against the scene (issue 25): an impedance scene
+ * commands a force (command.mode = force); an admittance scene commands the
+ * set point of its device's servo (admittance.servo: command.mode = position
+ * or velocity) and reads the hand's force from [force_sensor]. */
+static int mode_fits_scene(const popc_scene *s, const popc_register_map *m, popc_error *err)
+{
+	const char *mode = popc_cmd_mode_names[m->cmd.mode];
+	const char *scene = s->source[0] ? s->source : "the scene";
+	if (s->causality != POPC_CAUSALITY_ADMITTANCE) {
+		if (m->cmd.mode == POPC_CMD_FORCE)
+			return 0;
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: command.mode = %s: %s has device.causality = impedance, "
+				      "which commands a force; the map needs command.mode = force",
+				      m->path, mode, scene);
+	}
+	const char *servo = popc_servo_kind_names[s->adm_servo];
+	if (m->cmd.mode == POPC_CMD_FORCE)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: command.mode = force: %s has device.causality = admittance "
+				      "with admittance.servo = %s, which commands a %s; the map needs "
+				      "command.mode = %s and a [force_sensor]",
+				      m->path, scene, servo, servo, servo);
+	if ((m->cmd.mode == POPC_CMD_POSITION) != (s->adm_servo == POPC_SERVO_POSITION))
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: command.mode = %s: %s has admittance.servo = %s; the map "
+				      "needs command.mode = %s",
+				      m->path, mode, scene, servo, servo);
+	return popc_error_set(err, POPC_ERR_INVALID,
+			      "%s: command.mode = %s: the modbus axis does not drive an "
+			      "admittance-type device yet (issue 25 phase 2; --axis sim does)",
+			      m->path, mode);
+}
+
 int popc_modbus_axis_create(popc_axis **out, const popc_scene *s, const popc_modbus_options *o,
 			    popc_error *err)
 {
@@ -993,6 +1028,8 @@ int popc_modbus_axis_create(popc_axis **out, const popc_scene *s, const popc_mod
 	if (a->opt.rt_priority < 1 || a->opt.rt_priority > 99)
 		a->opt.rt_priority = 50;
 	int st = popc_register_map_load(&a->map, s->axis_map, err);
+	if (!st)
+		st = mode_fits_scene(s, &a->map, err);
 	if (!st)
 		st = popc_modbus_uri_parse(s->axis_connect, &a->uri, err);
 	/* port 0 is a server's "any free port": a drive is not found there */

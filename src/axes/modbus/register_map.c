@@ -40,6 +40,14 @@ static const char *const enable_tables[] = {"holding", "input", "coil", NULL};
 static const char *const command_tables[] = {"holding", NULL};
 static const char *const orders[] = {"hi-lo", "lo-hi", NULL};
 static const char *const directions[] = {"normal", "reversed", NULL};
+const char *const popc_cmd_mode_names[] = {"force", "position", "velocity", NULL};
+
+/* the command modes of the table's .modes (register_map.h) */
+#define FORCE_ONLY POPC_MAP_MODE(POPC_CMD_FORCE)
+#define POSITION_ONLY POPC_MAP_MODE(POPC_CMD_POSITION)
+#define VELOCITY_ONLY POPC_MAP_MODE(POPC_CMD_VELOCITY)
+#define SERVO_ONLY (POSITION_ONLY | VELOCITY_ONLY)
+
 /* the index is libmodbus' MODBUS_RTU_RTS_NONE, _UP, _DOWN (modbus_axis.c maps it) */
 static const char *const rts_modes[] = {"none", "up", "down", NULL};
 
@@ -56,7 +64,7 @@ typedef enum key_store {
 
 /* the enums take a choice's index as an int (TO_ENUM) */
 _Static_assert(sizeof(popc_reg_table) == sizeof(int) && sizeof(popc_reg_type) == sizeof(int) &&
-		       sizeof(popc_word_order) == sizeof(int),
+		       sizeof(popc_word_order) == sizeof(int) && sizeof(popc_cmd_mode) == sizeof(int),
 	       "an enum of the map is not int-sized");
 
 typedef struct key_row {
@@ -348,14 +356,50 @@ static int parse_words(load_ctx *c, int k, const char *text)
 	return 0;
 }
 
-/* Every key on its own, in file order: a required key that is absent, a
- * value of the wrong type or out of its range. An absent key with a default
- * takes the default's text. Returns 0 or the first error. */
+/* Whether key k belongs to the map's command mode (command.mode, parsed
+ * first: the keys that belong to it depend on it). */
+static int in_mode(const load_ctx *c, int k)
+{
+	return !rows[k].key.modes || (rows[k].key.modes & POPC_MAP_MODE((int)c->num[K_CMD_MODE]));
+}
+
+/* "only used with command.mode = position or velocity" */
+static int wrong_mode(load_ctx *c, int k)
+{
+	char what[160] = "only used with command.mode =";
+	const char *sep = " ";
+	for (int i = 0; popc_cmd_mode_names[i]; i++)
+		if (rows[k].key.modes & POPC_MAP_MODE(i)) {
+			strncat(what, sep, sizeof what - strlen(what) - 1);
+			strncat(what, popc_cmd_mode_names[i], sizeof what - strlen(what) - 1);
+			sep = " or ";
+		}
+	char tail[64];
+	snprintf(tail, sizeof tail, " (this map's is %s)", popc_cmd_mode_names[(int)c->num[K_CMD_MODE]]);
+	strncat(what, tail, sizeof what - strlen(what) - 1);
+	return bad(c, k, what);
+}
+
+/* Every key on its own, in file order (command.mode first, since which keys
+ * a map needs depends on it): a required key that is absent, a key of
+ * another command mode that is given, a value of the wrong type or out of
+ * its range. An absent key with a default takes the default's text; a key of
+ * another mode is neither required nor defaulted. Returns 0 or the first
+ * error. */
 static int parse_keys(load_ctx *c)
 {
+	int st = parse_choice(c, K_CMD_MODE,
+			      c->at[K_CMD_MODE] ? c->value[K_CMD_MODE] : rows[K_CMD_MODE].key.default_text);
+	if (st)
+		return st;
 	for (int k = 0; k < K_COUNT; k++) {
 		const popc_map_key *d = &rows[k].key;
 		const char *text = c->value[k];
+		if (!in_mode(c, k)) {
+			if (c->at[k])
+				return wrong_mode(c, k);
+			continue;
+		}
 		if (!c->at[k]) {
 			if (d->required)
 				return missing(c, k, d->required[0] ? d->required : NULL);
@@ -363,7 +407,7 @@ static int parse_keys(load_ctx *c)
 				continue;
 			text = d->default_text; /* in range: tests/modbus/test_register_map.c */
 		}
-		int st = 0;
+		st = 0;
 		switch (d->type) {
 		case POPC_MAP_TEXT: break;
 		case POPC_MAP_INT: st = parse_int(c, k, text); break;
@@ -382,7 +426,7 @@ static void store_keys(const load_ctx *c, popc_register_map *m)
 {
 	for (int k = 0; k < K_COUNT; k++) {
 		const key_row *r = &rows[k];
-		if (!c->at[k] && !r->key.default_text)
+		if ((!c->at[k] && !r->key.default_text) || !in_mode(c, k))
 			continue;
 		char *field = (char *)m + r->offset;
 		/* each conversion only for its kind: the ranges of INT rows fit
@@ -723,6 +767,93 @@ static int command_limit(load_ctx *c, const popc_register_map *m)
 	return 0;
 }
 
+/* A servo command on the wire (mode = position or velocity): popc clamps
+ * the position command to the soft limits and the velocity command to
+ * +-limit_m_per_s, so the extremes bound every command, which must fit the
+ * (signed, or for a position of one sign possibly unsigned) type without
+ * saturating; a velocity clamp below one command unit could only command 0;
+ * and every value the register can hold must read back as a finite position
+ * or velocity (popc-servo-sim converts it). */
+static int servo_command(load_ctx *c, const popc_register_map *m)
+{
+	int pos = m->cmd.mode == POPC_CMD_POSITION;
+	int scale_key = pos ? K_CMD_CPM : K_CMD_MPS, type_key[] = {K_CMD_TYPE};
+	scale_keys s = {{scale_key}, 1, {NULL}};
+	/* units of the extremes, in the register's frame (reversed: minus) */
+	double sign = m->cmd.reversed ? -1.0 : 1.0, lo_units, hi_units;
+	if (pos) {
+		lo_units = sign * m->pos.soft_min_m * m->cmd.counts_per_m;
+		hi_units = sign * m->pos.soft_max_m * m->cmd.counts_per_m;
+	} else {
+		hi_units = m->cmd.limit_m_per_s / m->cmd.m_per_s_per_unit;
+		lo_units = -hi_units;
+	}
+	char what[300];
+	uint16_t w[4];
+	double ends[2] = {lo_units, hi_units};
+	for (int i = 0; i < 2; i++)
+		if (!isfinite(ends[i]) || popc_reg_encode(ends[i], m->cmd.type, m->cmd.order, w)) {
+			/* ends[0] comes from soft_min_m, ends[1] from soft_max_m */
+			const int extra[] = {pos ? (i == 0 ? K_POS_MIN : K_POS_MAX) : K_CMD_VLIMIT,
+					     K_CMD_TYPE, K_CMD_DIR};
+			snprintf(what, sizeof what,
+				 "the %s command's clamp is %.17g command units, which the %s command "
+				 "register cannot hold",
+				 pos ? "position" : "velocity", ends[i], popc_reg_type_name(m->cmd.type));
+			return bad_scale(c, &s, extra, m->cmd.reversed ? 3 : 2, what);
+		}
+	if (!pos && hi_units < 1.0) {
+		const int extra[] = {K_CMD_VLIMIT};
+		return bad_scale(c, &s, extra, 1,
+				 "limit_m_per_s is below one command unit: every command would be 0");
+	}
+	double lo, hi, per_unit = pos ? 1.0 / m->cmd.counts_per_m : m->cmd.m_per_s_per_unit;
+	type_range(m->cmd.type, &lo, &hi);
+	if (!isfinite(lo * per_unit) || !isfinite(hi * per_unit)) {
+		snprintf(what, sizeof what,
+			 "the %s command register's value %g reads as %g %s; every value it can hold "
+			 "must read as a finite %s",
+			 popc_reg_type_name(m->cmd.type), hi, hi * per_unit, pos ? "m" : "m/s",
+			 pos ? "position" : "velocity");
+		return bad_scale(c, &s, type_key, 1, what);
+	}
+	return 0;
+}
+
+/* The force sensor (mode = position or velocity): a signed type (the hand
+ * pushes both ways), and every value the register can hold a finite force. */
+static int force_sensor(load_ctx *c, const popc_register_map *m)
+{
+	if (m->sensor.type == POPC_REG_UINT16 || m->sensor.type == POPC_REG_UINT32)
+		return bad(c, K_FS_TYPE, "an unsigned register cannot read a force of either sign");
+	double lo, hi, npu = m->sensor.newton_per_unit;
+	type_range(m->sensor.type, &lo, &hi);
+	if (isfinite(lo * npu) && isfinite(hi * npu))
+		return 0;
+	scale_keys s = {{K_FS_NPU}, 1, {NULL}};
+	const int type_key[] = {K_FS_TYPE};
+	char what[300];
+	snprintf(what, sizeof what,
+		 "the %s force sensor register's value %g reads as %g N; every value it can hold "
+		 "must read as a finite force",
+		 popc_reg_type_name(m->sensor.type), hi, hi * npu);
+	return bad_scale(c, &s, type_key, 1, what);
+}
+
+/* The command's own rules, by mode. */
+static int command_rules(load_ctx *c, popc_register_map *m)
+{
+	int st;
+	if (m->cmd.mode != POPC_CMD_FORCE) {
+		if ((st = servo_command(c, m)))
+			return st;
+		return force_sensor(c, m);
+	}
+	if ((st = command_scale(c, m)) || (st = command_scale_usable(c, m)))
+		return st;
+	return command_limit(c, m);
+}
+
 static int enable_words(load_ctx *c, const popc_register_map *m)
 {
 	if (m->enable.table == POPC_TABLE_INPUT)
@@ -748,9 +879,32 @@ static int overlap(int a, int na, int b, int nb)
 	return a < b + nb && b < a + na;
 }
 
+/* The force sensor's registers against the others of its table (a sensor
+ * in the holding table could be overwritten by a command or enable write). */
+static int sensor_layout(load_ctx *c, const popc_register_map *m)
+{
+	int n = popc_reg_type_words(m->sensor.type), reg = m->sensor.reg;
+	int holding = m->sensor.table == POPC_TABLE_HOLDING;
+	if (reg + n > 65536)
+		return bad(c, K_FS_REG, "the value runs past register 65535");
+	if (m->sensor.table == m->pos.table &&
+	    overlap(reg, n, m->pos.reg, popc_reg_type_words(m->pos.type)))
+		return bad(c, K_FS_REG, "overlaps the position registers");
+	if (m->sensor.table == m->status.table && overlap(reg, n, m->status.reg, 1))
+		return bad(c, K_FS_REG, "overlaps the status register");
+	if (holding && overlap(reg, n, m->cmd.reg, popc_reg_type_words(m->cmd.type)))
+		return bad(c, K_FS_REG, "overlaps the command registers");
+	if (holding && m->enable.table == POPC_TABLE_HOLDING && overlap(reg, n, m->enable.reg, 1))
+		return bad(c, K_FS_REG, "overlaps the enable register");
+	if (holding && c->at[K_CMD_SEQ] && overlap(reg, n, (int)c->num[K_CMD_SEQ], 1))
+		return bad(c, K_FS_REG, "overlaps the command sequence register");
+	return 0;
+}
+
 /* Registers that would step on each other. */
 static int register_layout(load_ctx *c, const popc_register_map *m)
 {
+	int st;
 	int npos = popc_reg_type_words(m->pos.type), ncmd = popc_reg_type_words(m->cmd.type);
 	int en_holding = m->enable.table == POPC_TABLE_HOLDING;
 	int pos_holding = m->pos.table == POPC_TABLE_HOLDING;
@@ -773,6 +927,8 @@ static int register_layout(load_ctx *c, const popc_register_map *m)
 	 * on = 1 and ready_mask = 1 a drive that never enabled would look ready */
 	if (st_holding && en_holding && m->status.reg == m->enable.reg)
 		return bad(c, K_ST_REG, "is the enable register (the status must be the drive's own word)");
+	if (m->cmd.mode != POPC_CMD_FORCE && (st = sensor_layout(c, m)))
+		return st;
 	if (m->fc23 && !pos_holding)
 		return bad(c, K_DRIVE_FC23, "FC23 reads holding registers; the position is an input register");
 	return 0;
@@ -833,8 +989,7 @@ static int validate(load_ctx *c, popc_register_map *m)
 	store_keys(c, m);
 	if ((st = link_silence(c, m)) || (st = serial_line(c, m)) || (st = position_scale(c, m)) ||
 	    (st = position_scale_usable(c, m)) || (st = soft_limits(c, m)) ||
-	    (st = soft_limits_in_register(c, m)) || (st = command_scale(c, m)) ||
-	    (st = command_scale_usable(c, m)) || (st = command_limit(c, m)) ||
+	    (st = soft_limits_in_register(c, m)) || (st = command_rules(c, m)) ||
 	    (st = enable_words(c, m)) || (st = status_masks(c, m)) || (st = register_layout(c, m)))
 		return st;
 	return sequence_register(c, m);
