@@ -14,16 +14,7 @@
 #include "popc/scene/from_scene.h"
 
 #include "run_admittance.h"
-
-const char *popc_run_sample_failure(int st)
-{
-	return st == POPC_ERR_NUMERIC       ? "integrator unstable"
-	       : st == POPC_ERR_DIVERGED    ? "closed loop diverged"
-	       : st == POPC_ERR_SAFETY      ? "safety stop"
-	       : st == POPC_ERR_COMM        ? "communication lost"
-	       : st == POPC_ERR_INTERRUPTED ? "signal" /* seen by the axis mid-transaction */
-					    : "axis error";
-}
+#include "run_stop.h"
 
 int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 	     popc_run_summary *sum, popc_error *err)
@@ -142,46 +133,11 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 			break;
 		}
 	}
-	/* every way out: safe state first, then the log */
-	popc_error stop_err;
-	int stop_st = axis->ops->stop(axis, &stop_err);
-	/* an unconfirmed safe stop (the drive may still be enabled) is never
-	 * success: after a completed run it is the stop reason and its status
-	 * the exit code (communication: 4); after a failed one the run's reason
-	 * stays and the stop line says it as well */
-	int stop_is_reason = stop_st && !st;
-	if (stop_is_reason) {
-		st = stop_st;
-		why = "safe stop incomplete";
-		if (err)
-			*err = stop_err;
-	}
-	sum->wall_time_s = popc_now_s() - t0;
-	sum->sim_time_s = sum->ticks > 0 ? (double)(sum->ticks - 1) * T : 0.0;
+	/* every way out: safe state first, then the summary and the log */
+	st = popc_run_finish(axis, log, sum, st, why, t0, T, err);
 	/* an axis without a model to check has no integrator error */
 	sum->integrator_error_m =
 		axis->ops->integrator_error_m ? axis->ops->integrator_error_m(axis) : 0.0;
-	sum->status = st;
-	if (st && err)
-		snprintf(sum->stop_reason, sizeof sum->stop_reason, "%s: %s", why, err->msg);
-	else
-		snprintf(sum->stop_reason, sizeof sum->stop_reason, "%s", why);
-	if (stop_st && !stop_is_reason) {
-		size_t used = strlen(sum->stop_reason);
-		snprintf(sum->stop_reason + used, sizeof sum->stop_reason - used,
-			 "; safe stop incomplete: %s", stop_err.msg);
-	}
-	if (log) {
-		popc_error lerr;
-		int lst = popc_log_write_comment(log, "stop", sum->stop_reason, &lerr);
-		if (!lst)
-			lst = popc_log_flush(log, &lerr);
-		if (lst && !st) {
-			st = lst;
-			if (err)
-				*err = lerr;
-		}
-	}
 	return st;
 }
 

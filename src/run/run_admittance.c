@@ -3,6 +3,7 @@
  * observer, parallel PC) -> log -> velocity command. Its own loop, not a
  * branch in popc_run's: the impedance tick keeps its code and its speed. */
 #include "run_admittance.h"
+#include "run_stop.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -114,36 +115,12 @@ int popc_run_admittance(const popc_scene *s, popc_axis *axis, const popc_run_opt
 			break;
 		}
 	}
-	popc_error stop_err;
-	int stop_st = axis->ops->stop(axis, &stop_err);
-	if (stop_st && !st) {
-		st = stop_st;
-		why = "safe stop incomplete";
-		if (err)
-			*err = stop_err;
-	}
-	sum->wall_time_s = popc_now_s() - t0;
-	sum->sim_time_s = sum->ticks > 0 ? (double)(sum->ticks - 1) * T : 0.0;
-	sum->status = st;
 	sum->adm_active = stats.ticks ? (double)stats.active / (double)stats.ticks : 0.0;
 	sum->adm_v_pc_rms_mps = stats.ticks ? popc_sum_squares_rms(&stats.sq, (double)stats.ticks) : 0.0;
 	sum->adm_v_pc_rms_late_mps =
 		stats.ticks_late ? popc_sum_squares_rms(&stats.sq_late, (double)stats.ticks_late) : 0.0;
 	sum->adm_v_pc_max_mps = stats.max_mps;
-	if (st && err)
-		snprintf(sum->stop_reason, sizeof sum->stop_reason, "%s: %s", why, err->msg);
-	else
-		snprintf(sum->stop_reason, sizeof sum->stop_reason, "%s", why);
-	if (log) {
-		popc_error lerr;
-		int lst = popc_log_write_comment(log, "stop", sum->stop_reason, &lerr);
-		if (!lst)
-			lst = popc_log_flush(log, &lerr);
-		if (lst && !st) {
-			st = lst;
-			if (err)
-				*err = lerr;
-		}
-	}
+	/* every way out: safe state first, then the summary and the log */
+	st = popc_run_finish(axis, log, sum, st, why, t0, T, err);
 	return st;
 }
