@@ -34,7 +34,7 @@ extern "C" {
  * changes only when a function or a public struct changes incompatibly;
  * MINOR counts additions. */
 #define POPC_LIB_API_VERSION_MAJOR 1
-#define POPC_LIB_API_VERSION_MINOR 0
+#define POPC_LIB_API_VERSION_MINOR 1
 #define POPC_LIB_API_VERSION_PATCH 0
 #define POPC_LIB_API_VERSION_INT(major, minor, patch) (((major) << 16) | ((minor) << 8) | (patch))
 #define POPC_LIB_API_VERSION                                                                        \
@@ -120,10 +120,11 @@ enum {
 
 /* ---- the controller: a port with a causality ---- */
 
-/* Impedance: a count in, a force out. An admittance port (force in,
- * position out) will be one more create function and its step. */
+/* Impedance: a position count in, a force out. Admittance (API 1.1): a
+ * force count in, a velocity command out (docs/ADMITTANCE.md). */
 typedef enum popc_lib_causality {
 	POPC_LIB_CAUSALITY_IMPEDANCE = 0,
+	POPC_LIB_CAUSALITY_ADMITTANCE = 1,
 } popc_lib_causality;
 
 typedef struct popc_lib_port popc_lib_port;
@@ -142,6 +143,36 @@ POPC_API popc_lib_causality popc_lib_port_causality(const popc_lib_port *p);
  * count. Real-time safe: no allocation, lock or system call. */
 POPC_API void popc_lib_port_step(popc_lib_port *p, long long count, popc_lib_tick *out);
 POPC_API void popc_lib_port_free(popc_lib_port *p);
+
+/* What an admittance tick adds to popc_lib_tick (the admittance log's own
+ * columns; API 1.1). */
+typedef struct popc_lib_admittance_tick {
+	long long f_count;   /* the force sensor's count n(k) */
+	double f_meas_N;     /* f = n r (admittance.force_resolution) */
+	double x_ve_m;       /* the VE's position after its step */
+	double v_ve_mps;     /* the VE's velocity */
+	double v_pc_mps;     /* the parallel PC's correction beta f */
+	double v_c_mps;      /* the command: v_ve + v_pc, held over the period */
+} popc_lib_admittance_tick;
+
+/* The VE (admittance.virtual_mass, _damping; environment.*), admittance
+ * observer and parallel PC (admittance.variant, every variant) of scene s,
+ * which must have device.causality = admittance. Allocates; s may be freed
+ * after. (API 1.1) */
+POPC_API int popc_lib_port_create_admittance(const popc_lib_scene *s, popc_lib_port **out,
+					     popc_lib_error *err);
+/* Tick k of an admittance port: the position count and the force count
+ * sampled at t = k T in (the VE starts at rest at tick 0's measured
+ * position); *out as the admittance log's common columns (v_mps the
+ * velocity command v_c; f_e_N the VE's environment
+ * force; f_pc_N = f_c_N = E_ref_J = 0; W_J and flags the admittance
+ * observer's) and *adm (may be NULL) its own. v_c is finite whatever the
+ * counts. Real-time safe. On an impedance port, and popc_lib_port_step on an
+ * admittance port: every field 0 (no motion, no force) and the port's state
+ * unchanged. (API 1.1) */
+POPC_API void popc_lib_port_step_admittance(popc_lib_port *p, long long count,
+					    long long force_count, popc_lib_tick *out,
+					    popc_lib_admittance_tick *adm);
 
 /* ---- the observer alone: W and E_ref from recorded ticks ---- */
 
@@ -178,6 +209,27 @@ POPC_API int popc_lib_sim_create(const popc_lib_scene *s, popc_lib_sim **out,
 POPC_API int popc_lib_sim_exchange(popc_lib_sim *sim, double f_c_N, popc_lib_sample *next,
 				   popc_lib_error *err);
 POPC_API void popc_lib_sim_free(popc_lib_sim *sim);
+
+/* The simulated admittance-type device of scene s (operator.*, device.*,
+ * admittance.servo*, the force sensor; device.causality = admittance),
+ * started; *first gets tick 0's sample. Its exchange takes the velocity
+ * command v_c (the admittance port's v_c_mps). The handle is freed by
+ * popc_lib_sim_free; popc_lib_sim_exchange refuses it, as
+ * popc_lib_sim_exchange_admittance refuses an impedance device
+ * (POPC_LIB_ERR_INVALID). (API 1.1) */
+typedef struct popc_lib_admittance_sample {
+	long long count;       /* the position encoder's count */
+	long long force_count; /* the force sensor's count */
+	double x_true_m;       /* the device's true position */
+	double x_cmd_m;        /* the position command the servo tracks from this tick */
+} popc_lib_admittance_sample;
+
+POPC_API int popc_lib_sim_create_admittance(const popc_lib_scene *s, popc_lib_sim **out,
+					    popc_lib_admittance_sample *first, popc_lib_error *err);
+/* Applies v_c_mps for one period and samples tick k + 1; a non-finite v_c is
+ * refused (the device left as it was). No allocation. (API 1.1) */
+POPC_API int popc_lib_sim_exchange_admittance(popc_lib_sim *sim, double v_c_mps,
+					      popc_lib_admittance_sample *next, popc_lib_error *err);
 
 /* The virtual environment's force at x_m, v_mps, and the encoder's count of
  * x_m (*ok = 0 where it has none: not finite, beyond 2^53 counts). */

@@ -26,6 +26,7 @@ except ImportError:  # the source tree: POPC_LIBRARY names the built library
     LIBDIR = None
 
 __all__ = ["Error", "Scene", "Port", "Observer", "Sim", "Tick", "Sample", "Log",
+           "AdmittancePort", "AdmittanceSim", "AdmittanceTick", "AdmittanceSample",
            "run", "read_log", "version", "api_version"]
 
 API_MAJOR = 1  # POPC_LIB_API_VERSION_MAJOR: the soname this module was written for
@@ -78,6 +79,19 @@ class Sample(ctypes.Structure):
                 ("E_port_J", ctypes.c_double)]
 
 
+class AdmittanceTick(ctypes.Structure):
+    """popc_lib_admittance_tick: what an admittance tick adds (API 1.1)."""
+    _fields_ = [("f_count", ctypes.c_longlong), ("f_meas_N", ctypes.c_double),
+                ("x_ve_m", ctypes.c_double), ("v_ve_mps", ctypes.c_double),
+                ("v_pc_mps", ctypes.c_double), ("v_c_mps", ctypes.c_double)]
+
+
+class AdmittanceSample(ctypes.Structure):
+    """popc_lib_admittance_sample: the admittance device's counts and positions (API 1.1)."""
+    _fields_ = [("count", ctypes.c_longlong), ("force_count", ctypes.c_longlong),
+                ("x_true_m", ctypes.c_double), ("x_cmd_m", ctypes.c_double)]
+
+
 _P = ctypes.c_void_p
 _E = ctypes.POINTER(_Err)
 
@@ -102,6 +116,9 @@ _port_create = _sig("popc_lib_port_create_impedance", ctypes.c_int, _P, ctypes.c
                     ctypes.POINTER(_P), _E)
 _port_step = _sig("popc_lib_port_step", None, _P, ctypes.c_longlong, ctypes.POINTER(Tick))
 _port_free = _sig("popc_lib_port_free", None, _P)
+_adm_port_create = _sig("popc_lib_port_create_admittance", ctypes.c_int, _P, ctypes.POINTER(_P), _E)
+_adm_port_step = _sig("popc_lib_port_step_admittance", None, _P, ctypes.c_longlong,
+                      ctypes.c_longlong, ctypes.POINTER(Tick), ctypes.POINTER(AdmittanceTick))
 _obs_create = _sig("popc_lib_observer_create", ctypes.c_int, _P, ctypes.POINTER(_P), _E)
 _obs_step = _sig("popc_lib_observer_step", None, _P, ctypes.POINTER(Tick),
                  ctypes.POINTER(ctypes.c_double), ctypes.POINTER(ctypes.c_double))
@@ -111,6 +128,10 @@ _sim_create = _sig("popc_lib_sim_create", ctypes.c_int, _P, ctypes.POINTER(_P),
 _sim_exchange = _sig("popc_lib_sim_exchange", ctypes.c_int, _P, ctypes.c_double,
                      ctypes.POINTER(Sample), _E)
 _sim_free = _sig("popc_lib_sim_free", None, _P)
+_adm_sim_create = _sig("popc_lib_sim_create_admittance", ctypes.c_int, _P, ctypes.POINTER(_P),
+                       ctypes.POINTER(AdmittanceSample), _E)
+_adm_sim_exchange = _sig("popc_lib_sim_exchange_admittance", ctypes.c_int, _P, ctypes.c_double,
+                         ctypes.POINTER(AdmittanceSample), _E)
 _run = _sig("popc_lib_run", ctypes.c_int, _P, ctypes.c_char_p, _E)
 _reader_open = _sig("popc_lib_log_reader_open", ctypes.c_int, ctypes.POINTER(_P), ctypes.c_char_p, _E)
 _reader_ncols = _sig("popc_lib_log_reader_column_count", ctypes.c_int, _P)
@@ -244,6 +265,38 @@ class Sim(_Handle):
     def exchange(self, f_c_N):
         err = _Err()
         _check(_sim_exchange(self._h, float(f_c_N), ctypes.byref(self.sample), err), err)
+        return self.sample
+
+
+class AdmittancePort(_Handle):
+    """The scene's admittance VE, observer and parallel PC (device.causality =
+    admittance): step(count, force_count) -> (Tick, AdmittanceTick)."""
+    _free = _port_free
+
+    def __init__(self, scene):
+        super().__init__()
+        err = _Err()
+        _check(_adm_port_create(scene._h, ctypes.byref(self._h), err), err)
+
+    def step(self, count, force_count):
+        t, a = Tick(), AdmittanceTick()
+        _adm_port_step(self._h, int(count), int(force_count), ctypes.byref(t), ctypes.byref(a))
+        return t, a
+
+
+class AdmittanceSim(_Handle):
+    """The scene's simulated admittance device; .sample is tick 0's, exchange(v_c) the next."""
+    _free = _sim_free
+
+    def __init__(self, scene):
+        super().__init__()
+        err = _Err()
+        self.sample = AdmittanceSample()
+        _check(_adm_sim_create(scene._h, ctypes.byref(self._h), ctypes.byref(self.sample), err), err)
+
+    def exchange(self, v_c_mps):
+        err = _Err()
+        _check(_adm_sim_exchange(self._h, float(v_c_mps), ctypes.byref(self.sample), err), err)
         return self.sample
 
 

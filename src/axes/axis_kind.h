@@ -16,9 +16,9 @@ typedef struct popc_axis_kind {
 
 extern const popc_axis_kind popc_axis_kind_sim;
 
-/* The simulated admittance-type device (sim_admittance_axis.c), which the
- * sim kind makes for a scene with device.causality = admittance. */
-int popc_sim_admittance_axis_create(popc_axis **out, const popc_scene *s, popc_error *err);
+/* The simulated admittance-type device, which the sim kind makes for a
+ * scene with device.causality = admittance, is declared in
+ * popc/axes/sim_axis.h (libpopc makes it too). */
 extern const popc_axis_kind popc_axis_kind_modbus;
 
 #endif

@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "axis_kind.h"
+#include "popc/axes/sim_axis.h"
 #include "popc/core/admittance.h"
 #include "popc/core/admittance_plant.h"
 #include "popc/core/encoder.h"

@@ -1,8 +1,10 @@
-/* libpopc: the simulated device, the environment and encoder alone, and a
- * whole run (popc/popc.h), over the axes layer's simulated axis and
- * popc_run: the calls popc run makes (src/cli/cmd_run.c). */
+/* libpopc: the simulated devices (impedance- and admittance-type), the
+ * environment and encoder alone, and a whole run (popc/popc.h), over the
+ * axes layer's simulated axes and popc_run: the calls popc run makes
+ * (src/cli/cmd_run.c). */
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "lib_private.h"
 #include "popc/axes/sim_axis.h"
@@ -14,6 +16,7 @@
 
 struct popc_lib_sim {
 	popc_axis *axis;
+	int admittance;   /* the admittance-type device: a velocity is exchanged */
 	/* E_port as popc_run computes it: the update with tick k's true
 	 * position, then the commit of the command sent after it */
 	popc_port_energy port;
@@ -33,6 +36,11 @@ POPC_API int popc_lib_sim_create(const popc_lib_scene *s, popc_lib_sim **out,
 	int st = popc_lib_scene_validate(s, err);
 	if (st)
 		return st;
+	if (s->scene.causality != POPC_CAUSALITY_IMPEDANCE)
+		return popc_lib_error_set(err, POPC_LIB_ERR_INVALID,
+					  "popc_lib_sim_create: the scene's device.causality is "
+					  "admittance; allowed: impedance (an admittance device: "
+					  "popc_lib_sim_create_admittance)");
 	popc_lib_sim *sim = calloc(1, sizeof *sim);
 	if (!sim)
 		return popc_lib_error_set(err, POPC_LIB_ERR_NOMEM, "popc_lib_sim_create: out of memory");
@@ -64,6 +72,10 @@ POPC_API int popc_lib_sim_exchange(popc_lib_sim *sim, double f_c_N, popc_lib_sam
 		return popc_lib_error_set(err, POPC_LIB_ERR_INVALID,
 					  "popc_lib_sim_exchange: f_c_N is not finite (NaN or inf); "
 					  "the device is left as it was");
+	if (sim->admittance)
+		return popc_lib_error_set(err, POPC_LIB_ERR_INVALID,
+					  "popc_lib_sim_exchange: the device is admittance-type; "
+					  "use popc_lib_sim_exchange_admittance");
 	popc_error e;
 	popc_axis_sample smp;
 	smp.dissipated_J = (double)NAN;
@@ -72,6 +84,70 @@ POPC_API int popc_lib_sim_exchange(popc_lib_sim *sim, double f_c_N, popc_lib_sam
 	if (st)
 		return popc_lib_fail(err, st, &e);
 	sample_out(sim, &smp, next);
+	return 0;
+}
+
+static void adm_sample_out(const popc_axis_sample *in, popc_lib_admittance_sample *out)
+{
+	out->count = in->count;
+	out->force_count = in->force_count;
+	out->x_true_m = in->x_true_m;
+	out->x_cmd_m = in->x_cmd_m;
+}
+
+POPC_API int popc_lib_sim_create_admittance(const popc_lib_scene *s, popc_lib_sim **out,
+					    popc_lib_admittance_sample *first, popc_lib_error *err)
+{
+	*out = NULL;
+	int st = popc_lib_scene_validate(s, err);
+	if (st)
+		return st;
+	if (s->scene.causality != POPC_CAUSALITY_ADMITTANCE)
+		return popc_lib_error_set(err, POPC_LIB_ERR_INVALID,
+					  "popc_lib_sim_create_admittance: the scene's device.causality "
+					  "is impedance; allowed: admittance");
+	popc_lib_sim *sim = calloc(1, sizeof *sim);
+	if (!sim)
+		return popc_lib_error_set(err, POPC_LIB_ERR_NOMEM,
+					  "popc_lib_sim_create_admittance: out of memory");
+	sim->admittance = 1;
+	popc_error e;
+	popc_axis_sample smp;
+	memset(&smp, 0, sizeof smp);
+	st = popc_sim_admittance_axis_create(&sim->axis, &s->scene, &e);
+	if (!st)
+		st = sim->axis->ops->start(sim->axis, &e);
+	if (!st)
+		st = sim->axis->ops->sample(sim->axis, &smp, &e);
+	if (st) {
+		popc_axis_destroy(&sim->axis);
+		free(sim);
+		return popc_lib_fail(err, st, &e);
+	}
+	adm_sample_out(&smp, first);
+	*out = sim;
+	return 0;
+}
+
+POPC_API int popc_lib_sim_exchange_admittance(popc_lib_sim *sim, double v_c_mps,
+					      popc_lib_admittance_sample *next, popc_lib_error *err)
+{
+	if (!sim->admittance)
+		return popc_lib_error_set(err, POPC_LIB_ERR_INVALID,
+					  "popc_lib_sim_exchange_admittance: the device is "
+					  "impedance-type; use popc_lib_sim_exchange");
+	/* a non-finite command never reaches the servo (as popc_lib_sim_exchange) */
+	if (!isfinite(v_c_mps))
+		return popc_lib_error_set(err, POPC_LIB_ERR_INVALID,
+					  "popc_lib_sim_exchange_admittance: v_c_mps is not finite (NaN "
+					  "or inf); the device is left as it was");
+	popc_error e;
+	popc_axis_sample smp;
+	memset(&smp, 0, sizeof smp);
+	int st = sim->axis->ops->exchange(sim->axis, v_c_mps, &smp, &e);
+	if (st)
+		return popc_lib_fail(err, st, &e);
+	adm_sample_out(&smp, next);
 	return 0;
 }
 

@@ -1,6 +1,8 @@
 /* A step allocates nothing (docs/LIBRARY.md, "Real-time safety"): 100,000
  * ticks of every controller variant through the public API (the port's
- * step, the simulated device's exchange, the observer's step) under an
+ * step, the simulated device's exchange, the observer's step), and of every
+ * admittance variant (the admittance port's step, the admittance device's
+ * exchange), under an
  * allocation counter, which must read zero. The counter is malloc, calloc,
  * realloc and free defined here, over glibc's own (__libc_*): the program's
  * definitions interpose libpopc.so's calls. Under ASan, which owns malloc,
@@ -11,6 +13,7 @@
 #include <string.h>
 
 #include "popc/popc.h"
+#include "popc/core/admittance.h" /* POPC_ADMITTANCE_VARIANT_COUNT only */
 #include "popc/core/controller.h" /* POPC_VARIANT_COUNT only: every variant is here */
 
 static volatile long long allocations;
@@ -85,10 +88,70 @@ static const char *const variants[] = {
 #define N_VARIANTS (int)(sizeof variants / sizeof variants[0])
 #define STEPS 100000
 
+static const char *const adm_variants[] = {
+	"none", "parallel-pc", "parallel-ignore", "parallel-hold", "parallel-improved",
+};
+#define N_ADM_VARIANTS (int)(sizeof adm_variants / sizeof adm_variants[0])
+
+/* The admittance port and device of the admittance scene: 0 or 1 (failed) */
+static int admittance_variant(const char *scene_path, const char *variant)
+{
+	popc_lib_error err;
+	popc_lib_scene *s = NULL;
+	popc_lib_port *port = NULL;
+	popc_lib_sim *sim = NULL;
+	popc_lib_admittance_sample smp;
+	int st = popc_lib_scene_create(&s, &err);
+	if (!st)
+		st = popc_lib_scene_load(s, scene_path, &err);
+	if (!st)
+		st = popc_lib_scene_set(s, "admittance.variant", variant, &err);
+	if (!st)
+		st = popc_lib_scene_set(s, "run.duration", "200", &err);
+	long long before_create = allocations;
+	if (!st)
+		st = popc_lib_port_create_admittance(s, &port, &err);
+	long long create_allocs = allocations - before_create;
+	if (!st)
+		st = popc_lib_sim_create_admittance(s, &sim, &smp, &err);
+	if (st) {
+		printf("not ok - admittance %s: %s\n", variant, err.msg);
+		popc_lib_port_free(port);
+		popc_lib_scene_free(s);
+		return 1;
+	}
+	long long before = allocations, active = 0;
+	for (int k = 0; k < STEPS && !st; k++) {
+		popc_lib_tick t;
+		popc_lib_admittance_tick a;
+		popc_lib_port_step_admittance(port, smp.count, smp.force_count, &t, &a);
+		active += a.v_pc_mps != 0.0;
+		st = popc_lib_sim_exchange_admittance(sim, a.v_c_mps, &smp, &err);
+	}
+	long long during = allocations - before;
+	int failed = 1;
+	if (st)
+		printf("not ok - admittance %s: %s\n", variant, err.msg);
+	else if (create_allocs < 1)
+		printf("not ok - admittance %s: the counter saw no allocation in "
+		       "popc_lib_port_create_admittance: it does not count\n", variant);
+	else if (during != 0)
+		printf("not ok - admittance %s: %lld allocator calls in %d steps\n", variant, during, STEPS);
+	else {
+		printf("ok - admittance %s: 0 allocator calls in %d steps (port, device; PC active on "
+		       "%lld ticks)\n", variant, STEPS, active);
+		failed = 0;
+	}
+	popc_lib_sim_free(sim);
+	popc_lib_port_free(port);
+	popc_lib_scene_free(s);
+	return failed;
+}
+
 int main(int argc, char **argv)
 {
-	if (argc < 2) {
-		fprintf(stderr, "usage: test_lib_alloc SCENE\n");
+	if (argc < 3) {
+		fprintf(stderr, "usage: test_lib_alloc SCENE ADMITTANCE_SCENE\n");
 		return 2;
 	}
 	counter_install();
@@ -97,6 +160,13 @@ int main(int argc, char **argv)
 		printf("not ok - the test lists %d variants, popc has %d\n", N_VARIANTS, POPC_VARIANT_COUNT);
 		return 1;
 	}
+	if (N_ADM_VARIANTS != POPC_ADMITTANCE_VARIANT_COUNT) {
+		printf("not ok - the test lists %d admittance variants, popc has %d\n", N_ADM_VARIANTS,
+		       POPC_ADMITTANCE_VARIANT_COUNT);
+		return 1;
+	}
+	for (int v = 0; v < N_ADM_VARIANTS; v++)
+		failed |= admittance_variant(argv[2], adm_variants[v]);
 	for (int v = 0; v < N_VARIANTS; v++) {
 		popc_lib_error err;
 		popc_lib_scene *s = NULL;

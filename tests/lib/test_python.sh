@@ -48,4 +48,36 @@ assert popc.api_version()[0] == 1 and popc.version()
 print("ok")
 PYEOF
 check "the module: header dict, structured rows, exact cells, errors naming key and file" grep -qx ok "$T/out" || cat "$T/out"
+# the admittance port against the admittance device, from Python: every
+# column of popc run's admittance log, bit for bit (API 1.1)
+"$POPC" run admittance-wall -q --set run.duration=1 --set admittance.variant=parallel-improved --log "$T/adm.csv"
+"$PY" - "$T/adm.csv" > "$T/out" 2>&1 <<'PYEOF'
+import sys, numpy, popc
+s = popc.Scene("admittance-wall", **{"run.duration": "1", "admittance.variant": "parallel-improved"})
+log = popc.read_log(sys.argv[1])
+port, sim = popc.AdmittancePort(s), popc.AdmittanceSim(s)
+assert len(log.rows.dtype.names) == 15, log.rows.dtype.names
+cols = {c: [] for c in log.rows.dtype.names}
+smp = sim.sample
+for k in range(s.tick_count):
+    t, a = port.step(smp.count, smp.force_count)
+    for c, v in (("t", t.t_s), ("x", t.x_m), ("count", t.count), ("v", t.v_mps), ("f_e", t.f_e_N), ("f_pc", t.f_pc_N), ("f_c", t.f_c_N),
+                 ("W", t.W_J), ("E_ref", t.E_ref_J), ("flags", t.flags), ("f_count", a.f_count),
+                 ("f_meas", a.f_meas_N), ("x_cmd", smp.x_cmd_m), ("v_ve", a.v_ve_mps),
+                 ("v_pc", a.v_pc_mps)):
+        cols[c].append(v)
+    if k + 1 < s.tick_count:
+        smp = sim.exchange(a.v_c_mps)
+for c in log.rows.dtype.names:
+    mine = numpy.array(cols[c], dtype=log.rows[c].dtype)
+    assert len(cols[c]) == len(log.rows) and numpy.array_equal(
+        mine.view(numpy.uint8), numpy.ascontiguousarray(log.rows[c]).view(numpy.uint8)), c
+try:
+    popc.AdmittancePort(popc.Scene("paper"))
+    raise SystemExit("an admittance port of an impedance scene made")
+except popc.Error as e:
+    assert "device.causality" in str(e), e
+print("ok", sum(1 for v in cols["v_pc"] if v != 0.0))
+PYEOF
+check "the admittance port and device from Python: popc run's admittance log, every column bit for bit (ok, PC active on N ticks: $(cat "$T/out"))" grep -q "^ok [1-9]" "$T/out" || cat "$T/out"
 check_summary

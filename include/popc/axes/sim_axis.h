@@ -17,5 +17,9 @@
 /* Creates the simulated axis of the scene (any axis.kind); the caller frees
  * it with popc_axis_destroy. Returns 0 or a negative popc_status. */
 int popc_sim_axis_create(popc_axis **out, const popc_scene *s, popc_error *err);
+/* The simulated admittance-type device of the scene (sim_admittance_axis.c;
+ * any axis.kind, any device.causality): force count and position in a
+ * sample, a velocity command to exchange. For libpopc's admittance sim. */
+int popc_sim_admittance_axis_create(popc_axis **out, const popc_scene *s, popc_error *err);
 
 #endif
