@@ -181,7 +181,7 @@ static const bad_case bad_cases[] = {
 	/* an unknown section without keys (issue 28: it passed unseen, as in
 	 * scenes before), alone or before a known one */
 	{"[status]", "[nosuch]\n[status]", ":24: unknown section [nosuch] (allowed: drive, position, "
-					     "command, enable, status)"},
+					     "command, force_sensor, enable, status)"},
 	{"slave = 3\n", "slave = 3\n[comand]\n", ":3: unknown section [comand]"},
 	{"gear = 2", "gearing = 2", ":10: unknown key position.gearing"},
 	/* numbers are decimal, as in scenes: strtod took a hex float and "inf" */
