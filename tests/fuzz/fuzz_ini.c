@@ -93,7 +93,17 @@ static int map_conversions_usable(const popc_register_map *m)
 	double cpm = m->pos.counts_per_m, npu = m->cmd.newton_per_unit;
 	if (!(isfinite(1.0 / cpm) && 1.0 / cpm > 0) || !isfinite(pr[0] / cpm) ||
 	    !isfinite(pr[1] / cpm) || !(m->pos.soft_min_m * cpm > pr[0]) ||
-	    !(m->pos.soft_max_m * cpm < pr[1]) || !isfinite(cr[0] * npu) || !isfinite(cr[1] * npu))
+	    !(m->pos.soft_max_m * cpm < pr[1]))
+		return 0;
+	/* a position or velocity command (an admittance-type device's servo,
+	 * docs/MODBUS.md "Command modes"): its scale and clamp are finite and
+	 * positive; the force conversions below are a force command's */
+	if (m->cmd.mode == POPC_CMD_POSITION)
+		return isfinite(m->cmd.counts_per_m) && m->cmd.counts_per_m > 0;
+	if (m->cmd.mode == POPC_CMD_VELOCITY)
+		return isfinite(m->cmd.m_per_s_per_unit) && m->cmd.m_per_s_per_unit > 0 &&
+		       isfinite(m->cmd.limit_m_per_s) && m->cmd.limit_m_per_s > 0;
+	if (!isfinite(cr[0] * npu) || !isfinite(cr[1] * npu))
 		return 0;
 	int integer = m->cmd.type <= POPC_REG_UINT32;
 	double slack = integer ? 0.5 * npu : m->cmd.limit_N * 1.2e-7;
@@ -134,8 +144,9 @@ int popc_fuzz_register_map(const uint8_t *data, size_t size)
 		int first;
 		int n = popc_register_map_command_block(m, &first);
 		if (!(isfinite(m->pos.counts_per_m) && m->pos.counts_per_m > 0) ||
-		    !(isfinite(m->cmd.newton_per_unit) && m->cmd.newton_per_unit > 0) ||
-		    !(isfinite(m->cmd.limit_N) && m->cmd.limit_N >= 0) ||
+		    (m->cmd.mode == POPC_CMD_FORCE &&
+		     (!(isfinite(m->cmd.newton_per_unit) && m->cmd.newton_per_unit > 0) ||
+		      !(isfinite(m->cmd.limit_N) && m->cmd.limit_N >= 0))) ||
 		    !(isfinite(m->pos.soft_min_m) && isfinite(m->pos.soft_max_m) &&
 		      m->pos.soft_min_m < m->pos.soft_max_m) ||
 		    m->slave < 1 || m->slave > 247 || m->enable.n_on < 1 ||
