@@ -32,6 +32,43 @@ int ana_mat_to_csv(const char *path, const ana_foreign_options *o, FILE *out, po
 #else
 
 #include <matio.h>
+#include <sys/stat.h>
+
+/* A variable is read whole (Mat_VarRead allocates what its header declares),
+ * so a header is checked first against what the file can hold: deflate,
+ * which MAT v5's compressed variables use, expands at most 1032 to 1 (RFC
+ * 1951's longest match of 258 bytes per 2 bits), so a variable of more
+ * elements than 1032 x the file's size in bytes is a damaged header, not
+ * data. Without the check a few damaged bytes of a 600-byte file made
+ * libmatio allocate and clear gigabytes (found by tests/fuzz's
+ * analyze_input). */
+static int read_checked(mat_t *mat, const char *path, const char *name, const char *option,
+			matvar_t **out, popc_error *err)
+{
+	*out = NULL;
+	struct stat st;
+	if (stat(path, &st) != 0)
+		return popc_error_set(err, POPC_ERR_IO, "%s: cannot stat", path);
+	matvar_t *info = Mat_VarReadInfo(mat, name);
+	if (!info)
+		return popc_error_set(err, POPC_ERR_INVALID, "%s: %s %s: no such variable", path,
+				      option, name);
+	const double budget = 1032.0 * (double)st.st_size;
+	double elements = 1.0;
+	for (int i = 0; i < info->rank && info->dims; i++)
+		elements *= (double)info->dims[i];
+	Mat_VarFree(info);
+	if (!(elements <= budget))
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: %s %s: its header declares %.17g elements, more than a "
+				      "file of %lld bytes can hold: a damaged file",
+				      path, option, name, elements, (long long)st.st_size);
+	*out = Mat_VarRead(mat, name);
+	if (!*out)
+		return popc_error_set(err, POPC_ERR_INVALID, "%s: %s %s: no such variable", path,
+				      option, name);
+	return 0;
+}
 
 /* A variable's elements as doubles, checked: N x M, real, class double,
  * every value finite. what names it in messages ("x.signals(2).values"). */
@@ -185,10 +222,8 @@ static int from_matrix(const char *path, mat_t *mat, const char *name, const mat
 				      POPC_LOG_MAX_COLUMNS);
 	matvar_t *nv = NULL;
 	if (names) {
-		nv = Mat_VarRead(mat, names);
-		if (!nv)
-			return popc_error_set(err, POPC_ERR_INVALID,
-					      "%s: --names %s: no such variable", path, names);
+		if ((st = read_checked(mat, path, names, "--names", &nv, err)) != 0)
+			return st;
 		size_t n_names = nv->class_type == MAT_C_CELL && nv->rank == 2
 					 ? nv->dims[0] * nv->dims[1] : 0;
 		if (n_names != cols) {
@@ -258,10 +293,9 @@ int ana_mat_to_csv(const char *path, const ana_foreign_options *o, FILE *out, po
 			return st;
 		}
 	}
-	matvar_t *v = Mat_VarRead(mat, name);
-	if (!v) {
-		st = popc_error_set(err, POPC_ERR_INVALID, "%s: --variable %s: no such variable",
-				    path, name);
+	matvar_t *v = NULL;
+	st = read_checked(mat, path, name, "--variable", &v, err);
+	if (st) {
 	} else if (v->class_type == MAT_C_STRUCT) {
 		st = from_structure_with_time(path, name, v, out, err);
 	} else {
