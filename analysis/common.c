@@ -510,6 +510,25 @@ static int header_checks(ana_log *l, const ana_input_options *o, popc_error *err
 	return 0;
 }
 
+/* An error the reader gave about the converted text names the user's file
+ * instead of the temporary one, and no line: the text's lines are not the
+ * file's (a MAT file has none; split files are joined row by row). */
+static void name_the_input(popc_error *err, const char *tmp, const char *path)
+{
+	const size_t n = strlen(tmp);
+	if (strncmp(err->msg, tmp, n) != 0)
+		return;
+	const char *rest = err->msg + n;
+	if (rest[0] == ':' && rest[1] >= '0' && rest[1] <= '9') {
+		rest++;
+		while (*rest >= '0' && *rest <= '9')
+			rest++;
+	}
+	char msg[sizeof err->msg];
+	snprintf(msg, sizeof msg, "%s%s", path, rest);
+	snprintf(err->msg, sizeof err->msg, "%s", msg);
+}
+
 int ana_log_open(ana_log *l, const char *path, const ana_input_options *o, popc_error *err)
 {
 	memset(l, 0, sizeof *l);
@@ -525,6 +544,8 @@ int ana_log_open(ana_log *l, const char *path, const ana_input_options *o, popc_
 	if (tmp[0]) {
 		unlink(tmp); /* open, or not needed */
 		snprintf(l->r.path, sizeof l->r.path, "%s", path);
+		if (st)
+			name_the_input(err, tmp, path);
 	}
 	if (st)
 		return st;

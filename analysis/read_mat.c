@@ -34,6 +34,8 @@ int ana_mat_to_csv(const char *path, const ana_foreign_options *o, FILE *out, po
 #include <matio.h>
 #include <sys/stat.h>
 
+#include "read_mat_check.h"
+
 /* A variable is read whole (Mat_VarRead allocates what its header declares),
  * so a header is checked first against what the file can hold: deflate,
  * which MAT v5's compressed variables use, expands at most 1032 to 1 (RFC
@@ -264,8 +266,14 @@ int ana_mat_to_csv(const char *path, const ana_foreign_options *o, FILE *out, po
 				      "%s: cannot read as a MAT file (a MAT v7.3 file needs libmatio "
 				      "built with HDF5; MATLAB's save -v7 writes one libmatio reads)",
 				      path);
+	/* every header, nested ones too, against the bytes that follow it,
+	 * before libmatio allocates what they declare */
+	int st = ana_mat_check_v5(path, err);
+	if (st) {
+		Mat_Close(mat);
+		return st;
+	}
 	char name[128] = "";
-	int st = 0;
 	if (o->variable) {
 		snprintf(name, sizeof name, "%s", o->variable);
 	} else {

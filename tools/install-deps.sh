@@ -40,7 +40,9 @@ paper=(gcc libc6-dev meson ninja-build pkg-config libinih-dev libmodbus-dev libc
 # prefix), so the tests run with it installed.
 # libmatio-dev: popc-analyze's MAT input and tests/analyze/test_mat.sh (which
 # writes its MAT files with it; -Dmatio=auto builds without it, the test then
-# skips); not in the paper set: command 1 reads no MAT file.
+# skips); not in the paper set: command 1 reads no MAT file. zlib1g-dev:
+# analysis/read_mat_check.c inflates a MAT v5 file's compressed variables to
+# check their headers before libmatio reads them (libmatio-dev depends on it).
 # g++ and libfast-float-dev: bench/fastfloat_reader, the reference reader of
 # docs/BENCHMARKS.md section 3 (built by every build where they are found);
 # g++ also compiles popc/popc.h as C++ (test lib-cxx).
@@ -50,7 +52,7 @@ paper=(gcc libc6-dev meson ninja-build pkg-config libinih-dev libmodbus-dev libc
 # python3-numpy: the popc Python module (python/popc, docs/LIBRARY.md) and
 # its tests (lib-python, install); python3-pandas depends on it, named here
 # because the module needs it on its own.
-test=("${paper[@]}" socat parallel slurm-wlm munge python3 clang libclang-rt-dev scdoc man-db python3-numpy python3-pandas nodejs g++ libfast-float-dev bash-completion libmatio-dev)
+test=("${paper[@]}" socat parallel slurm-wlm munge python3 clang libclang-rt-dev scdoc man-db python3-numpy python3-pandas nodejs g++ libfast-float-dev bash-completion libmatio-dev zlib1g-dev)
 command -v npm >/dev/null 2>&1 || test+=(npm)
 
 usage() { echo "usage: tools/install-deps.sh [--list] [paper|test]..." >&2; exit 2; }

@@ -3,7 +3,7 @@
  *
  *   make_mat VERSION KIND IN.csv OUT.mat
  *
- * VERSION: 5 (MAT_FT_MAT5) or 73 (MAT_FT_MAT73; exit 77 when this libmatio
+ * VERSION: 5 (MAT_FT_MAT5), 5z (the same, every variable compressed) or 73 (MAT_FT_MAT73; exit 77 when this libmatio
  * cannot create one: built without HDF5). KIND:
  *   matrix   variable 'log', N x M doubles, and 'names', a 1 x M cell of the
  *            CSV's column names
@@ -13,6 +13,9 @@
  *   nan      'log' as matrix with row 5 of column 2 NaN (refused)
  *   cube     'log' as N x M x 1... a 3-D array (refused: not a matrix)
  *   swt_rows 'log' as swt, with the last signal one row short (refused)
+ *   swt_huge 'log' as swt, then its nested 'signals' struct array's header
+ *            damaged to 1 x 2147483647 elements (refused before libmatio
+ *            allocates them: read_mat_check.c); v5 uncompressed only
  * The doubles are those strtod reads from the CSV's shortest round-trip text:
  * the very doubles the CSV path reads. */
 #include <matio.h>
@@ -130,10 +133,33 @@ static matvar_t *structure_with_time(int short_last)
 	return s;
 }
 
+/* The third 2-D dimensions subelement of a v5 file written on this machine
+ * (miINT32, 8 bytes: the tag 05 00 00 00 08 00 00 00 in little-endian), past
+ * the 128-byte header: in a StructureWithTime, 'log''s (1 x 1), 'time''s
+ * (N x 1), then 'signals'' (1 x K), whose K becomes 2147483647. */
+static int damage_third_dims(const char *path)
+{
+	static const unsigned char tag[8] = {5, 0, 0, 0, 8, 0, 0, 0};
+	FILE *f = fopen(path, "r+b");
+	if (!f)
+		return 1;
+	unsigned char buf[1 << 16];
+	size_t n = fread(buf, 1, sizeof buf, f);
+	int seen = 0, st = 1;
+	for (size_t i = 128; i + 16 <= n; i += 8) {
+		if (memcmp(buf + i, tag, 8) != 0 || ++seen < 3)
+			continue;
+		static const unsigned char huge[4] = {0xff, 0xff, 0xff, 0x7f};
+		st = fseek(f, (long)(i + 12), SEEK_SET) != 0 || fwrite(huge, 1, 4, f) != 4;
+		break;
+	}
+	return fclose(f) != 0 || st;
+}
+
 int main(int argc, char **argv)
 {
 	if (argc != 5) {
-		fprintf(stderr, "usage: make_mat 5|73 matrix|swt|int32|nan|cube|swt_rows IN.csv OUT.mat\n");
+		fprintf(stderr, "usage: make_mat 5|5z|73 matrix|swt|int32|nan|cube|swt_rows IN.csv OUT.mat\n");
 		return 2;
 	}
 	if (read_csv(argv[3]) != 0 || n_rows < 6 || n_cols < 2) {
@@ -141,6 +167,9 @@ int main(int argc, char **argv)
 		return 1;
 	}
 	const enum mat_ft ver = strcmp(argv[1], "73") == 0 ? MAT_FT_MAT73 : MAT_FT_MAT5;
+	/* 5z: v5 with every variable compressed (zlib), as MATLAB's save writes them */
+	const enum matio_compression z =
+		strcmp(argv[1], "5z") == 0 ? MAT_COMPRESSION_ZLIB : MAT_COMPRESSION_NONE;
 	mat_t *mat = Mat_CreateVer(argv[4], NULL, ver);
 	if (!mat) {
 		if (ver == MAT_FT_MAT73) {
@@ -151,16 +180,22 @@ int main(int argc, char **argv)
 		return 1;
 	}
 	const char *kind = argv[2];
+	if (strcmp(kind, "swt_huge") == 0 && (ver != MAT_FT_MAT5 || z != MAT_COMPRESSION_NONE)) {
+		fprintf(stderr, "make_mat: swt_huge: v5 uncompressed only (5)\n");
+		return 2;
+	}
 	matvar_t *v = strncmp(kind, "swt", 3) == 0 ? structure_with_time(strcmp(kind, "swt_rows") == 0)
 						   : matrix(kind);
-	int st = !v || Mat_VarWrite(mat, v, MAT_COMPRESSION_NONE) != 0;
+	int st = !v || Mat_VarWrite(mat, v, z) != 0;
 	if (!st && strcmp(kind, "matrix") == 0) {
 		matvar_t *c = names_cell();
-		st = Mat_VarWrite(mat, c, MAT_COMPRESSION_NONE) != 0;
+		st = Mat_VarWrite(mat, c, z) != 0;
 		Mat_VarFree(c);
 	}
 	Mat_VarFree(v);
 	Mat_Close(mat);
+	if (!st && strcmp(kind, "swt_huge") == 0)
+		st = damage_third_dims(argv[4]);
 	free(data);
 	free(ints);
 	if (st)

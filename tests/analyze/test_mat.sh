@@ -29,7 +29,8 @@ same_as() {
 # make VERSION KIND NAME: 0 made, 77 this libmatio writes no v7.3
 make() { "$MAKE_MAT" "$1" "$2" "$W/plain.csv" "$W/$3" 2>"$W/make.err"; }
 
-for ver in 5 73; do
+# 5z: v5 with compressed variables, as MATLAB's save writes them
+for ver in 5 5z 73; do
 	make "$ver" matrix m$ver.mat
 	rc=$?
 	if [ "$ver" = 73 ] && [ "$rc" = 77 ]; then
@@ -70,6 +71,16 @@ make 5 cube cube.mat && expect_rc 2 "$A" compare "$W/cube.mat" &&
 make 5 swt_rows short.mat && expect_rc 2 "$A" compare --column t=time "$W/short.mat" &&
 	grep -q "short.mat: variable log.signals(2).values: 1000 rows, and log.time has 1001" "$W/err" &&
 	ok "a signal of another length than time refused" || fail "swt rows: $(cat "$W/err")"
+# an error about the CSV text a MAT file becomes names the MAT file, not the
+# temporary file (libFuzzer found it naming /tmp/popc-analyze-XXXXXX:1)
+expect_rc 2 "$A" compare --variable log --column t=#1 --column x=nope "$W/m5.mat" &&
+	grep -q "popc-analyze compare: $W/m5.mat: --column x=nope: the file has no column 'nope'" "$W/err" &&
+	ok "a missing column named with the MAT file" || fail "column: $(cat "$W/err")"
+# a nested header damaged to 1 x 2147483647 struct elements: refused before
+# libmatio allocates them (it crashed on this file: read_mat_check.c)
+make 5 swt_huge huge.mat && expect_rc 2 "$A" compare --column t=time "$W/huge.mat" &&
+	grep -q "huge.mat: variable log: a nested cell or struct declares 6442450941 elements in [0-9]* bytes: a damaged file" "$W/err" &&
+	ok "a damaged nested header refused before it is read" || fail "huge: $(cat "$W/err")"
 # a file that only says it is one
 printf 'MATLAB 5.0 MAT-file, but cut\n' >"$W/cut.mat"
 expect_rc 2 "$A" compare "$W/cut.mat" && grep -q "cut.mat: cannot read as a MAT file" "$W/err" &&
