@@ -186,6 +186,15 @@ static int take_tag(mat_walk *w, uint64_t *left, mat_element *e, const char *wha
 	e->n = u32(w, t + 4);
 	if (padded(e->n) > *left)
 		return damaged(w, "an element larger than the array that holds it", -1, 0);
+	/* libmatio allocates a data element's declared bytes before it reads
+	 * them (an array's own size is not allocated, and libmatio's compressed
+	 * writer declares it too large: below) */
+	if (e->type != MI_MATRIX && e->n > bytes_after(w))
+		return popc_error_set(w->err, POPC_ERR_INVALID,
+				      "%s: variable %s: a data element declares %u bytes and %llu "
+				      "follow it: a damaged file",
+				      w->path, w->var[0] ? w->var : "?", e->n,
+				      (unsigned long long)bytes_after(w));
 	*left -= padded(e->n);
 	return 0;
 }
@@ -206,6 +215,18 @@ static int take_data(mat_walk *w, const mat_element *e, void *buf, size_t cap)
 }
 
 static int walk_matrix(mat_walk *w, uint64_t payload, int depth);
+
+/* count data elements, each held by take_tag to the bytes that follow */
+static int walk_data(mat_walk *w, uint64_t *left, int count)
+{
+	for (int i = 0; i < count; i++) {
+		mat_element e = {0};
+		int st = take_tag(w, left, &e, "an array without its data");
+		if (st || (st = take_data(w, &e, NULL, 0)) != 0)
+			return st;
+	}
+	return 0;
+}
 
 /* count arrays (a cell's elements, a struct's fields), each a miMATRIX */
 static int walk_children(mat_walk *w, uint64_t *left, double count, int depth)
@@ -247,6 +268,7 @@ static int walk_matrix(mat_walk *w, uint64_t payload, int depth)
 	if ((st = take_data(w, &e, b, 8)) != 0)
 		return st;
 	const unsigned cls = u32(w, b) & 0xffu;
+	const int complex = (u32(w, b) & 0x800u) != 0; /* the flags' complex bit */
 	const uint32_t nzmax = u32(w, b + 4);
 
 	if ((st = take_tag(w, &left, &e, "an array without its dimensions")) != 0)
@@ -307,6 +329,8 @@ static int walk_matrix(mat_walk *w, uint64_t payload, int depth)
 		/* its dimensions are not stored; nzmax values and row indices are */
 		if ((double)nzmax > (double)at_most(left, bytes_after(w)))
 			st = damaged(w, "a sparse array", (double)nzmax, at_most(left, bytes_after(w)));
+		else
+			st = walk_data(w, &left, complex ? 4 : 3); /* ir, jc, pr, pi */
 		break;
 	case MX_FUNCTION:
 	case MX_OPAQUE:
@@ -315,6 +339,8 @@ static int walk_matrix(mat_walk *w, uint64_t payload, int depth)
 		if (elements > (double)at_most(left, bytes_after(w)))
 			st = damaged(w, depth ? "a nested array" : "the array", elements,
 				     at_most(left, bytes_after(w)));
+		else if (elements > 0)
+			st = walk_data(w, &left, complex ? 2 : 1); /* real, imaginary */
 		break;
 	}
 	if (st)

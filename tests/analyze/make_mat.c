@@ -16,6 +16,8 @@
  *   swt_huge 'log' as swt, then its nested 'signals' struct array's header
  *            damaged to 1 x 2147483647 elements (refused before libmatio
  *            allocates them: read_mat_check.c); v5 uncompressed only
+ *   data_huge as matrix, then the first string of 'names' damaged to
+ *            2147483640 bytes (refused likewise); v5 uncompressed only
  * The doubles are those strtod reads from the CSV's shortest round-trip text:
  * the very doubles the CSV path reads. */
 #include <matio.h>
@@ -133,6 +135,32 @@ static matvar_t *structure_with_time(int short_last)
 	return s;
 }
 
+/* The first miUTF8 data tag (10 00 00 00) in the second variable, past its
+ * 40 bytes of tag, flags and dimensions: the first string of
+ * 'names', whose size becomes 2147483640 bytes (libmatio allocates a
+ * string's declared bytes before it reads them). */
+static int damage_first_data(const char *path)
+{
+	FILE *f = fopen(path, "r+b");
+	if (!f)
+		return 1;
+	static unsigned char buf[1 << 20];
+	size_t n = fread(buf, 1, sizeof buf, f);
+	int st = 1;
+	/* past 'log', the first variable: its tag's size at byte 132 */
+	const size_t names_at = n >= 136 ? 136 + ((size_t)buf[132] | (size_t)buf[133] << 8 |
+						  (size_t)buf[134] << 16 | (size_t)buf[135] << 24)
+					 : n;
+	for (size_t i = names_at + 40; i + 8 <= n; i += 8) {
+		if (buf[i] != 16 || buf[i + 1] || buf[i + 2] || buf[i + 3])
+			continue;
+		static const unsigned char huge[4] = {0xf8, 0xff, 0xff, 0x7f};
+		st = fseek(f, (long)(i + 4), SEEK_SET) != 0 || fwrite(huge, 1, 4, f) != 4;
+		break;
+	}
+	return fclose(f) != 0 || st;
+}
+
 /* The third 2-D dimensions subelement of a v5 file written on this machine
  * (miINT32, 8 bytes: the tag 05 00 00 00 08 00 00 00 in little-endian), past
  * the 128-byte header: in a StructureWithTime, 'log''s (1 x 1), 'time''s
@@ -159,7 +187,7 @@ static int damage_third_dims(const char *path)
 int main(int argc, char **argv)
 {
 	if (argc != 5) {
-		fprintf(stderr, "usage: make_mat 5|5z|73 matrix|swt|int32|nan|cube|swt_rows IN.csv OUT.mat\n");
+		fprintf(stderr, "usage: make_mat 5|5z|73 matrix|swt|int32|nan|cube|swt_rows|swt_huge|data_huge IN.csv OUT.mat\n");
 		return 2;
 	}
 	if (read_csv(argv[3]) != 0 || n_rows < 6 || n_cols < 2) {
@@ -180,14 +208,15 @@ int main(int argc, char **argv)
 		return 1;
 	}
 	const char *kind = argv[2];
-	if (strcmp(kind, "swt_huge") == 0 && (ver != MAT_FT_MAT5 || z != MAT_COMPRESSION_NONE)) {
-		fprintf(stderr, "make_mat: swt_huge: v5 uncompressed only (5)\n");
+	const int damaged = strcmp(kind, "swt_huge") == 0 || strcmp(kind, "data_huge") == 0;
+	if (damaged && (ver != MAT_FT_MAT5 || z != MAT_COMPRESSION_NONE)) {
+		fprintf(stderr, "make_mat: %s: v5 uncompressed only (5)\n", kind);
 		return 2;
 	}
 	matvar_t *v = strncmp(kind, "swt", 3) == 0 ? structure_with_time(strcmp(kind, "swt_rows") == 0)
 						   : matrix(kind);
 	int st = !v || Mat_VarWrite(mat, v, z) != 0;
-	if (!st && strcmp(kind, "matrix") == 0) {
+	if (!st && (strcmp(kind, "matrix") == 0 || strcmp(kind, "data_huge") == 0)) {
 		matvar_t *c = names_cell();
 		st = Mat_VarWrite(mat, c, z) != 0;
 		Mat_VarFree(c);
@@ -196,6 +225,8 @@ int main(int argc, char **argv)
 	Mat_Close(mat);
 	if (!st && strcmp(kind, "swt_huge") == 0)
 		st = damage_third_dims(argv[4]);
+	if (!st && strcmp(kind, "data_huge") == 0)
+		st = damage_first_data(argv[4]);
 	free(data);
 	free(ints);
 	if (st)

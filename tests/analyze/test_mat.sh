@@ -81,6 +81,11 @@ expect_rc 2 "$A" compare --variable log --column t=#1 --column x=nope "$W/m5.mat
 make 5 swt_huge huge.mat && expect_rc 2 "$A" compare --column t=time "$W/huge.mat" &&
 	grep -q "huge.mat: variable log: a nested cell or struct declares 6442450941 elements in [0-9]* bytes: a damaged file" "$W/err" &&
 	ok "a damaged nested header refused before it is read" || fail "huge: $(cat "$W/err")"
+# a string's data damaged to 2147483640 bytes: refused at once (libmatio
+# allocated and cleared them for about 30 s, then called the cell no text)
+make 5 data_huge dh.mat && expect_rc 2 "$A" compare --variable log --names names "$W/dh.mat" &&
+	grep -q "dh.mat: variable names: an element larger than the array that holds it: a damaged file" "$W/err" &&
+	ok "a damaged data element refused before it is read" || fail "data_huge: $(cat "$W/err")"
 # a file that only says it is one
 printf 'MATLAB 5.0 MAT-file, but cut\n' >"$W/cut.mat"
 expect_rc 2 "$A" compare "$W/cut.mat" && grep -q "cut.mat: cannot read as a MAT file" "$W/err" &&
