@@ -4,11 +4,11 @@
  * recorded device log (--delimiter, --comment, --decimal, --no-header,
  * --column, --scale, --set, --jitter; a MAT file's --variable, --names and
  * --lever: an input whose log starts with a MAT header, "MATLAB ", is read
- * through libmatio as popc-analyze reads one, docs/ANALYSIS.md; no MAT seed
- * is in the corpus yet: from one, libFuzzer found in seconds a damaged cell
- * array that libmatio allocates and clears for about 10 s before
- * read_mat.c's header check can see it, a slowness that would fail the
- * 'libfuzzer' test at random until it is fixed). Properties:
+ * through libmatio as popc-analyze reads one, docs/ANALYSIS.md; the corpus
+ * holds MAT v5 seeds, plain and compressed, made by tests/analyze/make_mat:
+ * mat-v5*-names, -columns, -swt, and what libFuzzer found from them: damaged
+ * nested headers libmatio crashed on or allocated gigabytes for, now refused
+ * by analysis/read_mat_check.c). Properties:
  *   - an option popc-analyze refuses stops the run (exit 2), as it does;
  *   - an error names the log (and, for a row, a line of the file);
  *   - every row handed out is finite (no NaN or infinity reaches a force,
