@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "popc/core/port.h"
+#include "popc/core/random.h"
 
 const char *const popc_admittance_variant_names[] = {"none", "parallel-pc", "parallel-ignore",
 						     "parallel-hold", "parallel-improved", NULL};
@@ -13,22 +14,6 @@ const char *const popc_admittance_variant_names[] = {"none", "parallel-pc", "par
 const char *popc_admittance_variant_name(popc_admittance_variant v)
 {
 	return (unsigned)v < POPC_ADMITTANCE_VARIANT_COUNT ? popc_admittance_variant_names[v] : "?";
-}
-
-/* splitmix64 (Steele, Lea and Flood 2014): a 64-bit state stepped by the
- * golden-ratio increment and mixed; every seed, 0 included, is a good start. */
-static uint64_t splitmix64(uint64_t *state)
-{
-	uint64_t z = (*state += 0x9E3779B97F4A7C15ull);
-	z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-	z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-	return z ^ (z >> 31);
-}
-
-/* uniform in (0, 1]: 53 bits, never 0 (the logarithm below) */
-static double uniform_open0(uint64_t *state)
-{
-	return ((double)(splitmix64(state) >> 11) + 1.0) * 0x1.0p-53;
 }
 
 /* a standard normal deviate, Box-Muller's polar-free form: two per pair of
@@ -40,8 +25,8 @@ static double normal(popc_force_sensor *s)
 		return s->spare;
 	}
 	const double two_pi = 6.283185307179586476925286766559;
-	double r = sqrt(-2.0 * log(uniform_open0(&s->state)));
-	double th = two_pi * uniform_open0(&s->state);
+	double r = sqrt(-2.0 * log(popc_uniform_open0(&s->state)));
+	double th = two_pi * popc_uniform_open0(&s->state);
 	s->spare = r * sin(th);
 	s->has_spare = 1;
 	return r * cos(th);
