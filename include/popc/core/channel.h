@@ -1,0 +1,90 @@
+/* A one-way packet channel between the two sides of a teleoperator: the
+ * network of the two-port time-domain passivity approach (Ryu, Kwon and
+ * Hannaford, IEEE T-RA 20(2), 2004; Artigas, Ryu, Preusche et al., time-
+ * varying delay, 2010). Each tick a side sends one packet; the channel holds
+ * it for its delay and hands it over at the tick it arrives, or loses it.
+ *
+ *   - delay: a constant number of ticks, plus a whole number drawn uniformly
+ *     in [0, jitter_ticks] for each packet, or a trace of delays in ticks
+ *     (packet k takes trace[k mod n]);
+ *   - loss: each packet is lost with probability loss;
+ *   - order: with in_order, a packet never arrives before one sent earlier
+ *     (it waits for it, as over TCP); without, a packet that jitter delays
+ *     less than the one before it arrives first (as over UDP);
+ *   - the receiver holds the newest packet it got (hold-last): a packet older
+ *     than the held one arrives stale and is dropped, so a lost or reordered
+ *     packet never takes the receiver back in time.
+ * Every draw comes from one splitmix64 stream seeded by seed (random.h): a
+ * run is the same given its seed. Memory: one slot per tick of the longest
+ * delay, allocated by popc_channel_init; send and receive allocate nothing
+ * and take time in proportion to the spread of the delays, not their size. */
+#ifndef POPC_CORE_CHANNEL_H
+#define POPC_CORE_CHANNEL_H
+
+#include <stdint.h>
+
+#include "popc/util/error.h"
+
+#define POPC_PACKET_VALUES 4
+/* the longest delay a channel holds: 100 s at 1 kHz (5.6 MB of slots) */
+#define POPC_CHANNEL_MAX_DELAY_TICKS 100000
+
+typedef struct popc_packet {
+	long long seq;                    /* the tick it was sent at */
+	double value[POPC_PACKET_VALUES]; /* what a side sends: position, velocity, force, ... */
+	double energy_J;                  /* the sender's input energy so far (the TDPA's) */
+} popc_packet;
+
+typedef struct popc_channel_config {
+	int delay_ticks;        /* constant delay, >= 0 */
+	int jitter_ticks;       /* plus uniform in [0, jitter_ticks] a packet, >= 0 */
+	const int *trace_ticks; /* n_trace > 0: packet k's delay is trace_ticks[k mod n_trace] */
+	int n_trace;            /* (copied by init; delay_ticks and jitter_ticks then 0) */
+	double loss;            /* probability a packet is lost, in [0, 1) */
+	int in_order;           /* 1: first sent, first delivered; 0: reordering */
+	uint64_t seed;
+} popc_channel_config;
+
+typedef struct popc_channel_stats {
+	long long sent, lost, delivered, stale; /* delivered counts the stale ones too */
+} popc_channel_stats;
+
+typedef struct popc_channel_slot {
+	popc_packet p;
+	long long arrive; /* tick */
+	int pending;
+} popc_channel_slot;
+
+typedef struct popc_channel {
+	popc_channel_config c;
+	int *trace;              /* owned copy of trace_ticks */
+	int min_delay, max_delay;
+	popc_channel_slot *slot; /* max_delay + 1, packet seq at seq mod (max_delay + 1) */
+	uint64_t state;
+	long long last_sent;     /* -1 before the first */
+	long long last_arrive;   /* in order: the latest arrival scheduled */
+	popc_channel_stats stats;
+} popc_channel;
+
+/* Checks c (a refusal names the parameter and its allowed range) and
+ * allocates the slots; 0, or a POPC_ERR_*. */
+int popc_channel_init(popc_channel *ch, const popc_channel_config *c, popc_error *err);
+void popc_channel_free(popc_channel *ch);
+
+/* Sends p at tick k (k > the last send's; p->seq is set to k): 1 when the
+ * packet is lost, 0 when it travels. Send at k before receiving at k: a
+ * delay of 0 arrives in the same tick. */
+int popc_channel_send(popc_channel *ch, long long k, const popc_packet *p);
+
+/* Hands over what arrives at tick k (called every tick, k increasing): each
+ * arriving packet newer than *held (held->seq) replaces it, the others are
+ * stale. Returns the packets that arrived; *fresh (may be NULL) those that
+ * replaced the held one. Before the first arrival *held is what the caller
+ * set (seq -1: nothing yet). */
+int popc_channel_receive(popc_channel *ch, long long k, popc_packet *held, int *fresh);
+
+/* The delay (ticks) packet seq takes, given the draw u of its jitter: for
+ * tests and logs. */
+int popc_channel_delay_of(const popc_channel *ch, long long seq, uint32_t jitter_draw);
+
+#endif
