@@ -52,10 +52,16 @@ int report_write_overlay(FILE *f, const report_log *logs, int n, const report_sc
 	      "  set lmargin at screen 0.1\n"
 	      "  set rmargin at screen 0.72\n",
 	      f);
-	/* the small PC forces' right axis: the largest of their own scales */
-	double own = 0.0;
-	for (int i = 0; i < n; i++)
+	/* the small PC forces' right axis: the largest of their own scales;
+	 * time from the first log's first tick to the last one's last */
+	double own = 0.0, t0 = (double)INFINITY, t1 = -(double)INFINITY;
+	for (int i = 0; i < n; i++) {
 		own = fmax(own, report_own_f_pc_N(&logs[i], sc));
+		t0 = fmin(t0, logs[i].t_first_s);
+		t1 = fmax(t1, logs[i].t_last_s);
+	}
+	if (t0 < t1)
+		fprintf(f, "  set xrange [%.9g:%.9g]\n", t0, t1);
 	static const struct {
 		int col;
 		const char *label, *title, *unit;
