@@ -71,8 +71,9 @@ awk -v dat="$R/ref-energy.dat" '
 awk '!/^#/ { if ($6 < mn) mn = $6; if ($16 > mx) mx = $16 } END { exit !(mn == -5 && mx == 5) }' \
 	"$R/ref-energy.dat" && ok "the +-5 N band kept" || fail "the +-5 N band"
 
+# the scripts (test_report.sh draws them; gnuplot is run below)
 R=$W/report
-expect_rc 0 "$A" report -o "$R" "$W/none.csv" "$W/ref-energy.csv" "$W/improved.csv" || finish
+expect_rc 0 "$A" report --no-draw -o "$R" "$W/none.csv" "$W/ref-energy.csv" "$W/improved.csv" || finish
 # The whole-log panels draw the band: f_pc's min (6) and max (16) filled
 grep -q 'using 1:(column(6)):(column(16)) with filledcurves' "$R/ref-energy.gp" &&
 	grep -q 'using 1:(column(7)):(column(17)) with filledcurves' "$R/ref-energy.gp" &&
@@ -87,7 +88,8 @@ grep -q 'set ylabel "position x (mm)"' "$R/ref-energy.gp" && grep -q 'column(2)\
 	grep -q 'set ylabel "position (mm)"' "$R/ref-energy-fig5.gp" && grep -q 'measured position x (mm)' "$R/ref-energy-fig6.gp" &&
 	! grep -q '%.6f\|%.5f' "$R"/*.gp && ok "positions in mm" || fail "positions not in mm"
 # the whole-log position panel sets no y range: the approach (x0 = -6.5 mm) shows
-awk '/set label 98 "\(a\) position, whole log/ { a = 1 } a && /set yrange/ { exit 1 } a && /^  plot / { exit 0 }' \
+awk '/set label 98 "\(a\) position, whole log/ { a = 1 } a && /set yrange/ { exit 1 } a && /^  plot / { p = 1; exit 0 }
+	END { exit !p }' \
 	"$R/ref-energy.gp" && ok "the approach is not clipped" || fail "the position panel clips the approach"
 # improved's PC force (+-0.04 N) on its own scale beside the shared +-5.5 N; ref-energy needs none
 grep -q "this log's own f_pc scale" "$R/improved.gp" && grep -q 'shared f_pc scale' "$R/improved.gp" &&
@@ -96,9 +98,12 @@ grep -q "this log's own f_pc scale" "$R/improved.gp" && grep -q 'shared f_pc sca
 	ok "a small PC force gets its own scale" || fail "small PC force scale"
 # variants.gp: every curve's colour is the Okabe-Ito palette's, none yellow;
 # in the PC force panel ref-energy (the widest band) is drawn first
-! grep -o 'lc rgb "[^"]*"' "$R/variants.gp" | grep -v -e '"#0072B2"' -e '"#D55E00"' -e '"#009E73"' -e '"gray"' |
-	grep -q . && ! grep -qi 'F0E442\|yellow' "$R/variants.gp" && ok "palette" || fail "colours: $(grep -o 'lc rgb "[^"]*"' "$R/variants.gp" | sort -u | tr '\n' ' ')"
-awk '/set label 98 "\(c\) PC force/ { p = 1 } p && /^  plot / { exit !($0 ~ /"ref-energy.dat"/) }' "$R/variants.gp" &&
+# (each curve's items: "NAME.dat" using ..., each with its colour)
+awk '{ n = split($0, item, /, /); for (i = 1; i <= n; i++) if (item[i] ~ /\.dat" using/) {
+		c++; if (item[i] !~ /lc rgb "#(0072B2|D55E00|009E73)"/ && item[i] !~ /fc rgb "#(0072B2|D55E00|009E73)"/) bad++ } }
+	END { exit !(c >= 24 && bad == 0) }' "$R/variants.gp" && ! grep -qi 'F0E442\|yellow' "$R/variants.gp" &&
+	ok "palette" || fail "colours: $(grep -o 'lc rgb "[^"]*"' "$R/variants.gp" | sort -u | tr '\n' ' ')"
+awk '/set label 98 "\(c\) PC force/ { p = 1 } p && /^  plot / { f = 1; exit !($0 ~ /^  plot "ref-energy.dat"/) } END { exit !f }' "$R/variants.gp" &&
 	ok "ref-energy's band drawn first, under the others" || fail "draw order"
 # Fig. 7: one label per point, every tick -3..+3 named once
 awk '/^  set label [0-9]+ "[-+0-9 ]+" at / {
@@ -124,7 +129,8 @@ echo "line 3: a fake gnuplot's error" >&2
 exit 1
 SH
 chmod +x "$W/gp-warns" "$W/gp-fails"
-expect_rc 0 "$A" report -q -o "$W/q" "$W/none.csv" "$W/improved.csv" && [ ! -s "$W/out" ] && [ ! -s "$W/err" ] &&
+expect_rc 0 "$A" report -q --gnuplot "$W/gp-warns" --figure 4 --figure 6 -o "$W/q" "$W/none.csv" "$W/improved.csv" &&
+	[ ! -s "$W/out" ] && [ ! -s "$W/err" ] && [ -s "$W/q/improved-fig6.png" ] &&
 	ok "-q prints nothing" || fail "-q printed: $(cat "$W/out" "$W/err")"
 expect_rc 0 "$A" report --gnuplot "$W/gp-warns" --figure 4 -o "$W/w" "$W/none.csv" && [ ! -s "$W/err" ] &&
 	grep -q 'index.html' "$W/out" && ok "gnuplot's warnings kept off the terminal" || fail "warnings leaked: $(cat "$W/err")"
