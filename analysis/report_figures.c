@@ -421,16 +421,17 @@ static void write_zoom(FILE *f, report_fig fig, const report_log *lg)
 		lg->name, report_fig_suffix[fig], t - (REPORT_ZOOM_TICKS + 0.5) * T,
 		t + (REPORT_ZOOM_TICKS + 0.5) * T, t, t, t + T, t + T);
 	/* each tick's value holds until the next (ZOH): steps, with the ticks
-	 * marked; positions in mm, two decimals a 10 um count */
+	 * marked; positions in mm, "%g": a window of two counts has ticks a
+	 * quarter count apart (0.9525 mm), which fixed decimals would repeat */
 	char letter = 'a';
 	panel_title(f, letter++, "position");
+	fputs("  set ylabel \"position (mm)\"\n", f);
 	fprintf(f,
-		"  set ylabel \"position (mm)\"\n  set format y \"%%.%df\"\n"
+		"  set format y \"%%g\"\n"
 		"  plot data using 1:($2*1e3) with steps lw 2 lc rgb \"" REPORT_BLUE
 		"\" title \"measured x\"%s\n"
-		"  set format y \"%%g\"\n  unset label 99\n  unset title\n"
+		"  unset label 99\n  unset title\n"
 		"  set key outside right top vertical\n",
-		mm_decimals(s->enc_resolution_m),
 		lg->has_x_true ? ", data using 1:($3*1e3) with lines lw 1 dt 2 lc rgb \"" REPORT_RED
 				 "\" title \"true x_true\""
 			       : "");

@@ -83,9 +83,10 @@ grep -q 'using 1:(column(6)):(column(16)) with filledcurves' "$R/ref-energy.gp" 
 for p in '(a) position' '(b) velocity' '(c) energy' '(d) PC force'; do
 	grep -q "set label 98 \"$p" "$R/ref-energy.gp" && ok "panel $p" || fail "no panel '$p' in ref-energy.gp"
 done
-# positions in mm, no metre ticks such as 0.000950
+# positions in mm, no metre ticks such as 0.000950 (and in the zooms "%g":
+# ticks a quarter count apart, which fixed decimals print twice)
 grep -q 'set ylabel "position x (mm)"' "$R/ref-energy.gp" && grep -q 'column(2)\*1e3' "$R/ref-energy.gp" &&
-	grep -q 'set ylabel "position (mm)"' "$R/ref-energy-fig5.gp" && grep -q 'measured position x (mm)' "$R/ref-energy-fig6.gp" &&
+	grep -A1 'set ylabel "position (mm)"' "$R/ref-energy-fig5.gp" | grep -q 'set format y "%g"' && grep -q 'measured position x (mm)' "$R/ref-energy-fig6.gp" &&
 	! grep -q '%.6f\|%.5f' "$R"/*.gp && ok "positions in mm" || fail "positions not in mm"
 # the whole-log position panel sets no y range: the approach (x0 = -6.5 mm) shows
 awk '/set label 98 "\(a\) position, whole log/ { a = 1 } a && /set yrange/ { exit 1 } a && /^  plot / { p = 1; exit 0 }
