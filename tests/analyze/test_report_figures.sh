@@ -75,9 +75,9 @@ awk '!/^#/ { if ($6 < mn) mn = $6; if ($16 > mx) mx = $16 } END { exit !(mn == -
 R=$W/report
 expect_rc 0 "$A" report --no-draw -o "$R" "$W/none.csv" "$W/ref-energy.csv" "$W/improved.csv" || finish
 # The whole-log panels draw the band: f_pc's min (6) and max (16) filled
-grep -q 'using 1:(column(6)):(column(16)) with filledcurves' "$R/ref-energy.gp" &&
-	grep -q 'using 1:(column(7)):(column(17)) with filledcurves' "$R/ref-energy.gp" &&
-	grep -q 'using 1:(column(4)):(column(14)) with filledcurves' "$R/ref-energy-fig4.gp" &&
+grep -q 'using 1:6:16 with filledcurves' "$R/ref-energy.gp" &&
+	grep -q 'using 1:7:17 with filledcurves' "$R/ref-energy.gp" &&
+	grep -q 'using 1:4:14 with filledcurves' "$R/ref-energy-fig4.gp" &&
 	ok "f_pc, f_c and v drawn as min/max envelopes" || fail "no envelope in the scripts"
 # Panels lettered as the paper's: (a) position, (b) velocity, (c) energy, (d) PC force
 for p in '(a) position' '(b) velocity' '(c) energy' '(d) PC force'; do
