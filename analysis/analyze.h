@@ -444,8 +444,8 @@ void ana_summary_print_header(FILE *f, ana_format fmt);
 void ana_summary_print_row(FILE *f, ana_format fmt, const ana_summary *s);
 
 /* Min/max decimation for plots: at most max_buckets buckets, each keeping
- * the minimum and maximum of every column and which came first, so a
- * chattering signal still fills its band. When the buckets run out, pairs
+ * the minimum and maximum of every column, so a chattering signal is drawn
+ * as its envelope (the band it fills) and a quiet one as a line. When the buckets run out, pairs
  * are merged and the bucket width doubles: memory is bounded whatever the
  * length of the log. */
 #define ANA_DECIM_MAX_COLS 12
@@ -464,12 +464,16 @@ typedef struct ana_decimator {
 
 int ana_decim_init(ana_decimator *d, int n_cols, int max_buckets);
 void ana_decim_add(ana_decimator *d, double t_s, const double *values);
-/* Writes "t v1 v2 ..." rows (NaN for a missing value); returns 0 or -1. */
+/* Writes each bucket's envelope, "t min1 .. minN max1 .. maxN" (NaN for a
+ * missing value), at the bucket's first and last time (one row for a bucket
+ * of one tick); the values are the log's own, exactly. Returns 0 or -1. */
 int ana_decim_write(const ana_decimator *d, FILE *f);
 void ana_decim_free(ana_decimator *d);
 
-/* Runs "gnuplot SCRIPT" in directory dir (fork/exec); 0 when it exits 0. */
-int ana_run_gnuplot(const char *gnuplot, const char *dir, const char *script, char *why,
-		    size_t why_cap);
+/* Runs "gnuplot SCRIPT" in directory dir (fork/exec); 0 when it exits 0.
+ * gnuplot's messages are kept and shown on stderr when it fails, or always
+ * when verbose. */
+int ana_run_gnuplot(const char *gnuplot, const char *dir, const char *script, int verbose,
+		    char *why, size_t why_cap);
 
 #endif

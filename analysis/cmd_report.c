@@ -55,7 +55,11 @@ static void usage(FILE *f)
 	      "                           visible in long logs\n"
 	      "  --title TEXT             title of the index page\n"
 	      "  --gnuplot PATH           the gnuplot program (default: gnuplot)\n"
-	      "  --no-draw                write data, scripts, tables and index only\n"
+	      "  --no-draw                write data, scripts, tables and index only\n",
+	      f);
+	fputs("  -q, --quiet              print nothing but errors (no notes, no index path)\n"
+	      "  -v, --verbose            also show gnuplot's messages when it succeeds (they\n"
+	      "                           are shown when it fails)\n"
 	      "  --threshold NAME=VALUE   a chatter threshold (see 'chatter --help')\n" ANA_INPUT_HELP
 	      "  -h, --help               this help\n"
 	      "\n"
@@ -96,6 +100,10 @@ static void on_row(void *ctx, const ana_row *r)
 	v[D_WME] = r->w_known ? t->W_J - t->E_ref_J : (double)NAN;
 	v[D_E_PORT] = r->extra[0];
 	ana_decim_add(&p->dec, t->t_s, v);
+	for (int c = 0; c < D_COLS; c++) { /* fmin and fmax pass over a NaN */
+		lg->col_min[c] = fmin(lg->col_min[c], v[c]);
+		lg->col_max[c] = fmax(lg->col_max[c], v[c]);
+	}
 	/* contact: the wall pushes back (f_e != 0 only inside it) */
 	const int in_contact = t->f_e_N != 0.0;
 	report_capture_add(&p->cap, &s, in_contact);
@@ -257,7 +265,7 @@ static int file_ok(const char *dir, const char *name, const char *ext)
 	return stat(path, &st) == 0 && st.st_size > 0;
 }
 
-static int draw(const char *gnuplot, const report_out *ro, const char *name)
+static int draw(const char *gnuplot, const report_out *ro, const char *name, int verbose)
 {
 	const char *dir = ro->dir;
 	char script[300], why[600];
@@ -277,7 +285,7 @@ static int draw(const char *gnuplot, const report_out *ro, const char *name)
 			return -2;
 		}
 	}
-	if (ana_run_gnuplot(gnuplot, dir, script, why, sizeof why) != 0) {
+	if (ana_run_gnuplot(gnuplot, dir, script, verbose, why, sizeof why) != 0) {
 		fprintf(stderr, "popc-analyze report: %s/%s: %s\n", dir, script, why);
 		return -1;
 	}
@@ -349,6 +357,24 @@ static int write_window_data(const report_out *ro, const report_log *lg, report_
 	return report_close(f, path, bad);
 }
 
+/* Fig. 7's ticks k-3 .. k+3 around the Fig. 5 event (or --zoom), which its
+ * script labels: the window's rows from the event's. */
+static void fig7_ticks(report_log *lg, const report_capture *cap)
+{
+	const report_window *w = lg->has_window[RW_FIG5] ? &cap->w[RW_FIG5] : &cap->w[RW_ZOOM];
+	lg->fig7_n = 0;
+	lg->fig7_event_row = w->event_index;
+	if (w->event_index < 0)
+		return;
+	for (int k = w->event_index - 3; k <= w->event_index + 3; k++) {
+		if (k < 0 || k >= w->n)
+			continue;
+		lg->fig7_x_m[lg->fig7_n] = w->rows[k].v[D_X];
+		lg->fig7_f_c_N[lg->fig7_n] = w->rows[k].v[D_F_C];
+		lg->fig7_tick[lg->fig7_n++] = k - w->event_index;
+	}
+}
+
 /* The events of Figs. 4, 5 and 8 (and the settled stretch the contact
  * response's position axis shows), when the report draws them. */
 static int find_events(report_log *lg, const ana_input_options *in, unsigned figs, int *rc)
@@ -380,6 +406,8 @@ int ana_cmd_report(int argc, char **argv)
 		{"threshold", required_argument, NULL, OPT_THRESHOLD},
 		{"figure", required_argument, NULL, OPT_FIGURE},
 		{"zoom", required_argument, NULL, OPT_ZOOM},
+		{"quiet", no_argument, NULL, 'q'},
+		{"verbose", no_argument, NULL, 'v'},
 		{"help", no_argument, NULL, 'h'},
 		ANA_INPUT_LONG_OPTIONS,
 		{NULL, 0, NULL, 0},
@@ -394,15 +422,17 @@ int ana_cmd_report(int argc, char **argv)
 	popc_chatter_config_defaults(&cc);
 	const char *dir = NULL, *title = "popc report", *gnuplot = "gnuplot";
 	long long points = 2000;
-	int no_draw = 0, c, rc = 0, n = 0, fig_asked = 0;
+	int no_draw = 0, c, rc = 0, n = 0, fig_asked = 0, quiet = 0, verbose = 0;
 	unsigned figs = 0;
 	double zoom_s = (double)NAN;
 	report_log *logs = NULL;
 	report_name *names = NULL;
 	optind = 1;
-	while ((c = getopt_long(argc, argv, "o:h", opts, NULL)) != -1) {
+	while ((c = getopt_long(argc, argv, "o:qvh", opts, NULL)) != -1) {
 		switch (c) {
 		case 'o': dir = optarg; break;
+		case 'q': quiet = in.quiet = 1; break;
+		case 'v': verbose = 1; break;
 		case OPT_POINTS: {
 			if (popc_parse_ll_text(optarg, 10, 1000000, &points) != 0) {
 				fprintf(stderr, "popc-analyze report: --points '%s': 10 to 1000000\n", optarg);
@@ -485,6 +515,8 @@ int ana_cmd_report(int argc, char **argv)
 		lg->x_settled_min_m = lg->x_settled_max_m = (double)NAN;
 		lg->f_c_min_N = (double)INFINITY;
 		lg->f_c_max_N = -(double)INFINITY;
+		for (int k = 0; k < D_COLS; k++)
+			lg->col_min[k] = lg->col_max[k] = (double)NAN;
 		if (find_events(lg, &in, figs, &rc) != 0)
 			continue;
 		report_pass pass;
@@ -505,7 +537,9 @@ int ana_cmd_report(int argc, char **argv)
 			rc = ana_fail("report", st, &err);
 			continue;
 		}
-		if (!lg->sum.has_pc_force) {
+		if (quiet) {
+			/* -q: no notes */
+		} else if (!lg->sum.has_pc_force) {
 			ana_no_pc_force(&err, argv[i]);
 			fprintf(stderr, "popc-analyze report: note: %s; no PC force panel, its PC and "
 					"chatter columns%s are n/a\n",
@@ -515,7 +549,7 @@ int ana_cmd_report(int argc, char **argv)
 			fprintf(stderr, "popc-analyze report: note: %s; its chatter columns are n/a\n",
 				err.msg);
 		}
-		if (!ana_lc_checked(&lg->sum)) {
+		if (!quiet && !ana_lc_checked(&lg->sum)) {
 			ana_lc_too_short(&err, argv[i], &lg->sum);
 			fprintf(stderr,
 				"popc-analyze report: note: %s; its limit-cycle columns are n/a\n",
@@ -529,7 +563,8 @@ int ana_cmd_report(int argc, char **argv)
 		lg->t_event_s[RW_END] = pass.cap.w[RW_END].t_event_s;
 		if (lg->has_window[RW_PRESS])
 			lg->t_event_s[RW_PRESS] = pass.cap.w[RW_PRESS].t_event_s;
-		if (!isnan(zoom_s) && !lg->has_window[RW_ZOOM])
+		fig7_ticks(lg, &pass.cap);
+		if (!quiet && !isnan(zoom_s) && !lg->has_window[RW_ZOOM])
 			fprintf(stderr, "popc-analyze report: note: %s ends before --zoom %g s: no zoom\n",
 				argv[i], zoom_s);
 		char path[1400], file[300];
@@ -539,8 +574,9 @@ int ana_cmd_report(int argc, char **argv)
 			FILE *f = report_open(&ro, file, path, sizeof path);
 			bad = !f; /* report_open said why: an input, or errno */
 			if (f) {
-				fprintf(f, "# %s decimated (min/max per bucket of %lld ticks)\n"
-					   "# " REPORT_DAT_COLUMNS "\n",
+				fprintf(f, "# %s decimated: each column's min and max over "
+					   "buckets of %lld ticks, at a bucket's first and last t\n"
+					   "# " REPORT_ENV_COLUMNS "\n",
 					argv[i], pass.dec.width);
 				bad = report_close(f, path, ana_decim_write(&pass.dec, f) != 0) != 0;
 			}
@@ -628,13 +664,13 @@ int ana_cmd_report(int argc, char **argv)
 					continue;
 				char file[300];
 				snprintf(file, sizeof file, "%s%s", logs[i].name, report_fig_suffix[fg]);
-				int d = draw(gnuplot, &ro, file);
+				int d = draw(gnuplot, &ro, file, verbose);
 				failed |= d != 0;
 				refused |= d == -2;
 			}
 		}
 		if (tables) {
-			int d = draw(gnuplot, &ro, "variants");
+			int d = draw(gnuplot, &ro, "variants", verbose);
 			failed |= d != 0;
 			refused |= d == -2;
 		}
@@ -649,7 +685,8 @@ int ana_cmd_report(int argc, char **argv)
 		rc = 2;
 		goto out;
 	}
-	printf("%s/index.html\n", dir);
+	if (!quiet)
+		printf("%s/index.html\n", dir);
 out:
 	free(logs);
 	free(names);

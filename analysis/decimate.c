@@ -86,14 +86,15 @@ int ana_decim_write(const ana_decimator *d, FILE *f)
 {
 	for (int i = 0; i < d->n; i++) {
 		const ana_decim_bucket *b = &d->b[i];
-		/* two rows per bucket, at its first and last time: each column's
-		 * extreme that came first, then the other one */
+		/* the envelope: the bucket's minima then its maxima, at its first
+		 * and its last time, so that a filled band between them covers the
+		 * bucket's span (one row for a bucket of one tick) */
 		for (int r = 0; r < (b->n > 1 ? 2 : 1); r++) {
 			ana_put_double(f, r == 0 ? b->t0_s : b->t1_s);
-			for (int c = 0; c < d->n_cols; c++) {
-				int min_first = b->imn[c] <= b->imx[c];
-				put(f, (r == 0) == min_first ? b->mn[c] : b->mx[c]);
-			}
+			for (int c = 0; c < d->n_cols; c++)
+				put(f, b->mn[c]);
+			for (int c = 0; c < d->n_cols; c++)
+				put(f, b->mx[c]);
 			fputc('\n', f);
 		}
 	}

@@ -1,4 +1,7 @@
-/* Runs gnuplot as a child process (fork/exec) with its exit status checked. */
+/* Runs gnuplot as a child process (fork/exec) with its exit status checked.
+ * Its messages (stderr: warnings such as "empty y range", errors) go to a
+ * temporary file, shown after the run only when it failed or when asked
+ * (-v): a report that drew every figure prints nothing of gnuplot's. */
 #include <errno.h>
 #include <fcntl.h>
 #include <string.h>
@@ -8,9 +11,22 @@
 
 #include "analyze.h"
 
-int ana_run_gnuplot(const char *gnuplot, const char *dir, const char *script, char *why,
-		    size_t why_cap)
+/* Copies what gnuplot said to our stderr, each line after "gnuplot: ". */
+static void show_messages(FILE *msg, const char *script)
 {
+	char line[1024];
+	rewind(msg);
+	while (fgets(line, sizeof line, msg)) {
+		size_t n = strlen(line);
+		fprintf(stderr, "gnuplot %s: %s%s", script, line, n && line[n - 1] == '\n' ? "" : "\n");
+	}
+}
+
+static int run(const char *gnuplot, const char *dir, const char *script, FILE *msg, char *why,
+	       size_t why_cap)
+{
+	fflush(stdout); /* nothing buffered is written twice by the child */
+	fflush(stderr);
 	pid_t pid = fork();
 	if (pid < 0) {
 		snprintf(why, why_cap, "fork: %s", strerror(errno));
@@ -26,6 +42,8 @@ int ana_run_gnuplot(const char *gnuplot, const char *dir, const char *script, ch
 			dup2(devnull, STDIN_FILENO);
 			close(devnull);
 		}
+		if (msg)
+			dup2(fileno(msg), STDERR_FILENO);
 		execlp(gnuplot, gnuplot, script, (char *)NULL);
 		_exit(127);
 	}
@@ -49,4 +67,18 @@ int ana_run_gnuplot(const char *gnuplot, const char *dir, const char *script, ch
 		snprintf(why, why_cap, "%s %s killed by signal %d", gnuplot, script,
 			 WIFSIGNALED(status) ? WTERMSIG(status) : 0);
 	return -1;
+}
+
+int ana_run_gnuplot(const char *gnuplot, const char *dir, const char *script, int verbose,
+		    char *why, size_t why_cap)
+{
+	/* no temporary file (no space, no /tmp): gnuplot's messages go where ours do */
+	FILE *msg = tmpfile();
+	int rc = run(gnuplot, dir, script, msg, why, why_cap);
+	if (msg) {
+		if (rc != 0 || verbose)
+			show_messages(msg, script);
+		fclose(msg);
+	}
+	return rc;
 }

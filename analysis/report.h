@@ -9,9 +9,20 @@
 
 #include "analyze.h"
 
-/* The data files' columns after t (NAME.dat decimated, the windows raw). */
+/* The data files' columns after t: the windows' raw rows (NAME-figN.dat) hold
+ * them in this order; NAME.dat holds each column's minimum over a bucket in
+ * this order, then each one's maximum (ana_decim_write). */
 enum { D_X, D_X_TRUE, D_V, D_F_E, D_F_PC, D_F_C, D_W, D_E_REF, D_WME, D_E_PORT, D_COLS };
 #define REPORT_DAT_COLUMNS "t x x_true v f_e f_pc f_c W E_ref W-E_ref E_port"
+#define REPORT_ENV_COLUMNS                                                                         \
+	"t x_min x_true_min v_min f_e_min f_pc_min f_c_min W_min E_ref_min W-E_ref_min "          \
+	"E_port_min x_max x_true_max v_max f_e_max f_pc_max f_c_max W_max E_ref_max W-E_ref_max "  \
+	"E_port_max"
+/* gnuplot's column (from 1) of column c's minimum and maximum in NAME.dat */
+#define REPORT_ENV_MIN(c) (2 + (c))
+#define REPORT_ENV_MAX(c) (2 + D_COLS + (c))
+/* Fig. 7's ticks: k-3 .. k+3 around the Fig. 5 event tick k */
+#define REPORT_FIG7_TICKS 7
 
 /* The figures a report draws per log. RF_CONTACT is the contact response
  * (paper Figs. 3, 10, 14, 16 by variant), the others one paper figure each;
@@ -86,6 +97,12 @@ typedef struct report_log {
 	double t_contact_s;     /* the first tick with f_e != 0; NAN: never in contact */
 	double x_contact_min_m, x_contact_max_m; /* x and x_true from t_contact on */
 	double f_c_min_N, f_c_max_N;
+	double col_min[D_COLS], col_max[D_COLS]; /* each column over the log (NaN: never) */
+	/* Fig. 7's ticks k-3 .. k+3 (fig7_n of them): measured x and f_c */
+	int fig7_n;
+	double fig7_x_m[REPORT_FIG7_TICKS], fig7_f_c_N[REPORT_FIG7_TICKS];
+	int fig7_tick[REPORT_FIG7_TICKS]; /* -3 .. 3: the tick's place from the event */
+	int fig7_event_row;               /* the event's row in NAME-fig6.dat's index 1 */
 	/* Fig. 4 (ana_events): the velocity within one count for ANA_SETTLE_HOLD_S
 	 * from t_settle_s, to the end from t_settle_final_s; NAN: not found */
 	double t_settle_s, t_settle_final_s;
@@ -99,6 +116,28 @@ typedef struct report_scales {
 	double f_pc_N;          /* the PC force axes span -f_pc_N .. f_pc_N */
 	double f_c_min_N, f_c_max_N;
 } report_scales;
+
+/* The report's colours: the Okabe-Ito palette, strong and told apart with
+ * any colour vision (no faint yellow). */
+#define REPORT_BLUE "#0072B2"
+#define REPORT_RED "#D55E00"
+#define REPORT_GREEN "#009E73"
+#define REPORT_PURPLE "#CC79A7"
+#define REPORT_ORANGE "#E69F00"
+#define REPORT_SKY "#56B4E9"
+
+/* The terminal lines of a script that draws FILE.png and FILE.pdf. */
+void report_terminal_block(FILE *f, const char *file, const char *png_size, const char *pdf_size);
+/* Plot items (no "plot", no trailing comma) that draw column col of a
+ * NAME.dat as its envelope: the band from the bucket's minimum to its
+ * maximum lightly filled, and both edges as lines of colour rgb, dash dt;
+ * unit is appended to each column ("*1e3": m to mm; "" as logged); axes
+ * "x1y1" or "x1y2". */
+void report_envelope(FILE *f, const char *data, int col, const char *unit, const char *rgb,
+		     const char *dash, const char *title, const char *axes);
+/* A log's own PC force scale (+- this) when the report's shared one would
+ * draw it as a flat line, else 0. */
+double report_own_f_pc_N(const report_log *lg, const report_scales *sc);
 
 /* The paper figure a log's contact response reproduces (3, 10, 14, 16) by its
  * variant, or 0 (none, po-pc, hold: no such figure in the paper). */

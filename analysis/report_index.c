@@ -13,9 +13,10 @@ static const struct {
 	const char *shows;
 } fig_info[RF_COUNT] = {
 	{"Fig. 3 (ref-energy), 10 (filtered-velocity), 14 (ignore), 16 (improved)",
-	 "contact response: position measured and true (over the settled range, counts visible), "
-	 "velocity, W with "
-	 "E_ref (and E_port when logged), W - E_ref, f_pc, f_c"},
+	 "contact response: (a) position measured and true, whole log in mm and in counts over "
+	 "the settled range, (b) velocity, (c) W with E_ref (and E_port when logged), (d) f_pc "
+	 "(on its own scale too when small), then W - E_ref, f_c; whole-log signals as min/max "
+	 "envelopes"},
 	{"Fig. 4", "backward velocity, whole log and zoomed to +-4 counts per period"},
 	{"Fig. 5", "zoom at the first one-count velocity sign change while the PC acts after which "
 		   "W - E_ref falls"},

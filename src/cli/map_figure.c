@@ -67,9 +67,11 @@ int popc_map_figure_write(const popc_sweep_plan *p, const char *dir, const char 
 	fprintf(f, "# popc map's figure: K against %s per variant (boundary.csv)\n",
 		has_x ? p->axes[1].key : "the variant");
 	fputs("set datafile separator ','\nset key below maxcols 4\nset logscale y\nset grid\n", f);
-	fputs("set format y '10^{%T}'\n", f);
+	/* every decade labelled (gnuplot skips some over a wide range), minor
+	 * ticks at 2..9 times each */
+	fputs("set format y '10^{%T}'\nset ytics 10\nset mytics 10\n", f);
 	if (log_x)
-		fputs("set logscale x\n", f);
+		fputs("set logscale x\nset xtics 10\nset mxtics 10\n", f);
 	if (has_x)
 		fprintf(f, "set xlabel '%s.%s (%s)'\n", p->axes[1].section, p->axes[1].key,
 			unit_of(p->axes[1].section, p->axes[1].key));
@@ -78,6 +80,9 @@ int popc_map_figure_write(const popc_sweep_plan *p, const char *dir, const char 
 	fputs("set ylabel 'environment.stiffness K (N/m)'\n", f);
 	fputs("set title 'Stability map: the first failure per line, bar = bracket [K_{ok}, K_{bad}]; "
 	      "thick bar = acceptable again above it, up to the band top'\n", f);
+	/* plotted once for the range gnuplot chooses: over three decades or
+	 * less, 2 and 5 times each decade are labelled too (a map from 140 to
+	 * 2000 N/m has only the labels 10^2 and 10^3 otherwise), drawn again */
 	fputs("set terminal pngcairo size 1100,700 enhanced font ',10'\nset output 'map.png'\n", f);
 	fputs("plot \\\n", f);
 	const char *first_variant = p->axes[0].values[0];
@@ -107,6 +112,14 @@ int popc_map_figure_write(const popc_sweep_plan *p, const char *dir, const char 
 		"? %s : NaN):%d with lines lw 2 lc rgb 'black' dt 3 "
 		"title 'Colgate-Schenkel: b > K T/2 + |B|'\n",
 		first_variant, c_crit, criteria[0], c_cs, has_x ? "column(2)" : "0", c_cs);
+	fputs("if (GPVAL_Y_MIN > 0 && GPVAL_Y_MAX <= 1000 * GPVAL_Y_MIN) {\n"
+	      "  do for [d = -3:12] {\n"
+	      "    set ytics add (sprintf('2\u00d710^{%d}', d) 2 * 10.0**d, "
+	      "sprintf('5\u00d710^{%d}', d) 5 * 10.0**d)\n"
+	      "  }\n"
+	      "}\n",
+	      f);
+	fputs("set output 'map.png'\nreplot\n", f);
 	fputs("set terminal pdfcairo size 11in,7in enhanced font ',10'\nset output 'map.pdf'\nreplot\n",
 	      f);
 	fputs("unset output\n", f);

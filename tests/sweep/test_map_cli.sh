@@ -71,6 +71,12 @@ check "  with 6 lines" test "$(wc -l < "$T/a/boundary.csv")" -eq 7
 check "  the table is on stdout" grep -q "^none  *0.25  *passive  *bracket" "$T/out"
 check "  figure: map.gp, map.png, map.pdf" test -s "$T/a/map.gp" -a -s "$T/a/map.png" -a -s "$T/a/map.pdf"
 check "  map.png is a PNG" bash -c "head -c 8 '$T/a/map.png' | grep -q PNG"
+# the log K axis: every decade labelled, minor ticks; over three decades or
+# less 2 and 5 times each decade labelled too (issue 27: 10^2 and 10^3 only)
+check "  map.gp labels every decade, with minor ticks" grep -q "^set ytics 10$" "$T/a/map.gp"
+check "  and minor ticks" grep -q "^set mytics 10$" "$T/a/map.gp"
+check "  and 2 and 5 times a decade on a narrow range" grep -q "GPVAL_Y_MAX <= 1000 \* GPVAL_Y_MIN" "$T/a/map.gp"
+check "  gnuplot said nothing but its no-point curves" bash -c "! grep -v 'Skipping data file with no valid points' '$T/a/map.gp.log' | grep -q ."
 check "  every run once: rows = distinct ids" test "$(rows "$T/a")" -eq "$(ids "$T/a")"
 total=0
 # the grid: 350 points (3 decades at 2 %); the scan every 16th (23 points),
