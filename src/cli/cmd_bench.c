@@ -1,4 +1,4 @@
-/* popc bench integrators|loop|log: speed against error (DESIGN section 7).
+/* popc bench integrators|loop|log: speed against error (docs/BENCHMARKS.md).
  *
  * integrators  work-precision: for each integrator and substep count, the
  *              maximum position error over the logged samples against the
@@ -27,7 +27,7 @@ static void usage(FILE *f)
 {
 	fputs("usage: popc bench integrators|loop|log [options]\n"
 	      "\n"
-	      "Measures popc's speed against its error (DESIGN section 7).\n"
+	      "Measures popc's speed against its error (docs/BENCHMARKS.md).\n"
 	      "  integrators  work-precision table: per integrator and substep count, the max\n"
 	      "               position error against the exact discretization (same force\n"
 	      "               sequence for all: the exact run's f_c, replayed open loop) and\n"

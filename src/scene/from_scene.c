@@ -16,7 +16,7 @@
 void popc_plant_config_from_scene(popc_plant_config *cfg, const popc_scene *s)
 {
 	memset(cfg, 0, sizeof *cfg);
-	/* One rigid body (DESIGN section 3): the hand holds the device. */
+	/* One rigid body (README, "The plant"): the hand holds the device. */
 	cfg->mass_kg = s->op_mass_kg + s->dev_mass_kg;
 	cfg->damping_Nspm = s->op_damping_Nspm + s->dev_damping_Nspm;
 	cfg->stiffness_Npm = s->op_stiffness_Npm + s->dev_stiffness_Npm;
@@ -109,7 +109,7 @@ int popc_intent_table_load(const char *path, popc_table_quantity quantity, doubl
 	out->n = 0;
 	out->t_s = out->q = NULL;
 	/* the value column has the range of the scene key it stands for
-	 * (src/scene.c): a position as operator.x0, a force as operator.force */
+	 * (src/scene/scene.c): a position as operator.x0, a force as operator.force */
 	const double q_max = is_force ? 1e6 : 1e3;
 	const char *q_unit = is_force ? "N" : "m";
 	const char *q_key = is_force ? "operator.force" : "operator.x0";
