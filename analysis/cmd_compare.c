@@ -95,6 +95,7 @@ int ana_summarize(const char *path, const ana_input_options *o, const popc_chatt
 	popc_chatter det;
 	st = popc_chatter_init(&det, &cc, l.period_s, &l.env, err);
 	if (st) {
+		ana_chatter_name_options(err);
 		char msg[POPC_ERROR_MSG_MAX];
 		snprintf(msg, sizeof msg, "%s", err->msg);
 		popc_error_set(err, st, "%s: %s", path, msg);

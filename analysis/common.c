@@ -292,6 +292,19 @@ void ana_input_free(ana_input_options *o)
 	o->n_sets = 0;
 }
 
+static const popc_error_name chatter_options[] = {
+	{"window_s", "--threshold window=S"},
+	{"lc_window_s", "--threshold lc_window=S"},
+	{"period_s", "--set run.rate=HZ"},
+	{"resolution_m", "--set encoder.resolution=M"},
+	{"pc_bound_N", "controller.pc_bound"},
+};
+
+void ana_chatter_name_options(popc_error *err)
+{
+	popc_error_name_params(err, chatter_options, sizeof chatter_options / sizeof chatter_options[0]);
+}
+
 int ana_threshold_option(popc_chatter_config *cfg, char *arg, const char *verb)
 {
 	char *eq = strchr(arg, '=');
@@ -304,6 +317,7 @@ int ana_threshold_option(popc_chatter_config *cfg, char *arg, const char *verb)
 	int st = popc_chatter_config_set(cfg, arg, eq + 1, &err);
 	*eq = '=';
 	if (st) {
+		ana_chatter_name_options(&err);
 		fprintf(stderr, "popc-analyze %s: --threshold: %s\n", verb, err.msg);
 		return 2;
 	}
