@@ -161,14 +161,33 @@ static int set_key(popc_scene *s, const scene_key *k, const char *value, const c
 /* The paper's scene (seed Sec. III) with the ramp of README, "Scenes": every
  * key's default from the table, read as a scene file's value would be, so a
  * default is in its key's range by construction. */
-void popc_scene_defaults(popc_scene *s)
+static int set_defaults(popc_scene *s, popc_error *err)
 {
 	memset(s, 0, sizeof *s);
+	int bad = 0;
 	for (size_t i = 0; i < N_KEYS; i++) {
-		popc_error err;
-		if (set_key(s, &scene_keys[i], scene_keys[i].def, "default ", NULL, &err) != 0)
-			abort(); /* a default outside its own key's range: the table is wrong */
+		popc_error e;
+		int st = set_key(s, &scene_keys[i], scene_keys[i].def, "default ", NULL, &e);
+		if (st && !bad) {
+			bad = st;
+			popc_error_set(err, st, "%s", e.msg);
+		}
 	}
+	return bad;
+}
+
+void popc_scene_defaults(popc_scene *s)
+{
+	/* a default outside its own key's range is a wrong table, which
+	 * popc_scene_defaults_check finds (tests/unit/test_scene.c): the library
+	 * does not abort */
+	(void)set_defaults(s, NULL);
+}
+
+int popc_scene_defaults_check(popc_error *err)
+{
+	popc_scene s;
+	return set_defaults(&s, err);
 }
 
 static const scene_key *find_key(const char *section, const char *key, int *section_known)

@@ -84,6 +84,10 @@ typedef struct popc_scene {
 
 /* Fills s with every default (the paper's scene: README, "Scenes"). */
 void popc_scene_defaults(popc_scene *s);
+/* 0 when every key's default is in its key's range (the table is right),
+ * else the first refusal's status and message: popc_scene_defaults itself
+ * reports nothing, the tests call this. */
+int popc_scene_defaults_check(popc_error *err);
 
 /* Reads an INI scene file on top of the current contents of s (call
  * popc_scene_defaults first). Unknown sections or keys, duplicate keys,
