@@ -1,8 +1,8 @@
 /* popc-analyze: the offline analyser of popc and device logs. Verbs dispatch
  * to cmd_*.c. */
 #include "analyze.h"
-#include "popc/util/verb.h"
-#include "popc/util/stdfds.h"
+#include "popc/programs/verb.h"
+#include "popc/programs/stdfds.h"
 #include "popc_config.h"
 
 int main(int argc, char **argv)

@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "analyze.h"
-#include "popc/util/usage_hint.h"
+#include "popc/programs/usage_hint.h"
 
 static void usage(FILE *f)
 {

@@ -9,7 +9,7 @@
 #include "popc/core/metrics.h"
 #include "popc/util/json.h"
 #include "popc/util/parse.h"
-#include "popc/util/usage_hint.h"
+#include "popc/programs/usage_hint.h"
 
 /* Every number of the summary is finite: the rows are (ana_log_next), the
  * RMS is taken without overflow (popc_sum_squares), the rates per second are

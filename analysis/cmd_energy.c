@@ -8,7 +8,7 @@
 #include <string.h>
 
 #include "analyze.h"
-#include "popc/util/usage_hint.h"
+#include "popc/programs/usage_hint.h"
 
 typedef enum definition {
 	DEF_ONLINE,

@@ -14,7 +14,7 @@
 #include "popc/util/numfmt.h"
 #include "popc/scene/from_scene.h"
 #include "popc/util/atomic_file.h" /* popc_mkdir_p */
-#include "popc/util/usage_hint.h"
+#include "popc/programs/usage_hint.h"
 
 #define MAX_VARIANTS POPC_VARIANT_COUNT
 

@@ -14,7 +14,7 @@
 #include <sys/stat.h>
 
 #include "popc/util/parse.h"
-#include "popc/util/usage_hint.h"
+#include "popc/programs/usage_hint.h"
 #include "report.h"
 
 #define MAX_LOGS 256

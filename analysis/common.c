@@ -10,6 +10,7 @@
 
 #include "analyze.h"
 #include "popc/core/encoder.h"
+#include "popc/programs/arg_list.h"
 #include "popc/util/numfmt.h"
 #include "popc/util/same_file.h"
 #include "popc/util/parse.h"
@@ -68,16 +69,6 @@ void ana_put_double_point(FILE *f, double v)
 	char b[POPC_DOUBLE_TEXT_MAX + 1];
 	popc_format_double_point(v, b);
 	fputs(b, f);
-}
-
-static int push(char ***list, int *n, char *value)
-{
-	char **grown = realloc(*list, (size_t)(*n + 1) * sizeof **list);
-	if (!grown)
-		return -1;
-	grown[(*n)++] = value;
-	*list = grown;
-	return 0;
 }
 
 static int parse_char_option(const char *arg, char *out)
@@ -273,7 +264,7 @@ int ana_input_option(ana_input_options *o, int opt, char *arg, const char *verb)
 				verb, arg);
 			return POPC_EXIT_USAGE;
 		}
-		if (push(&o->sets, &o->n_sets, arg) != 0) {
+		if (popc_arg_push(&o->sets, &o->n_sets, arg) != 0) {
 			fprintf(stderr, "popc-analyze %s: out of memory\n", verb);
 			return POPC_EXIT_USAGE;
 		}

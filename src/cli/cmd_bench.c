@@ -21,7 +21,7 @@
 #include "bench.h"
 #include "cli.h"
 #include "popc/util/atomic_file.h" /* popc_mkdir_p */
-#include "popc/util/usage_hint.h"
+#include "popc/programs/usage_hint.h"
 
 static void usage(FILE *f)
 {
@@ -80,7 +80,7 @@ int popc_cmd_bench(int argc, char **argv)
 		switch (c) {
 		case OPT_SCENE: o.scene_path = optarg; break;
 		case OPT_SET:
-			if (popc_cli_push(&o.sets, &o.n_sets, optarg) != 0) {
+			if (popc_arg_push(&o.sets, &o.n_sets, optarg) != 0) {
 				fprintf(stderr, "popc bench: out of memory\n");
 				free(o.sets);
 				return POPC_EXIT_RUN_FAILED;

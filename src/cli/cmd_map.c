@@ -586,9 +586,9 @@ int popc_cmd_map(int argc, char **argv)
 	optind = 1;
 	while (rc < 0 && (c = getopt_long(argc, argv, "o:j:qh", opts, NULL)) != -1) {
 		switch (c) {
-		case OPT_VARIANT: oom |= popc_cli_push(&a.variants, &a.n_variants, optarg); break;
-		case OPT_VARY: oom |= popc_cli_push(&a.vary, &a.n_vary, optarg); break;
-		case OPT_SET: oom |= popc_cli_push(&a.sets, &a.n_sets, optarg); break;
+		case OPT_VARIANT: oom |= popc_arg_push(&a.variants, &a.n_variants, optarg); break;
+		case OPT_VARY: oom |= popc_arg_push(&a.vary, &a.n_vary, optarg); break;
+		case OPT_SET: oom |= popc_arg_push(&a.sets, &a.n_sets, optarg); break;
 		case OPT_STIFFNESS: a.stiffness = optarg; break;
 		case OPT_TOL:
 			if (popc_parse_double_text(optarg, &a.tol) != POPC_PARSE_OK || !(a.tol >= 1e-4) ||

@@ -15,7 +15,7 @@
 #include "popc/log/log.h"
 #include "popc/run/run.h"
 #include "popc/util/same_file.h"
-#include "popc/util/usage_hint.h"
+#include "popc/programs/usage_hint.h"
 #include "progress.h"
 
 static void usage(FILE *f)
@@ -339,7 +339,7 @@ int popc_cmd_run(int argc, char **argv)
 	while ((c = getopt_long(argc, argv, "qh", opts, NULL)) != -1) {
 		switch (c) {
 		case OPT_SET:
-			if (popc_cli_push(&sets, &n_sets, optarg) != 0) {
+			if (popc_arg_push(&sets, &n_sets, optarg) != 0) {
 				fprintf(stderr, "popc run: out of memory\n");
 				free(sets);
 				return POPC_EXIT_RUN_FAILED;

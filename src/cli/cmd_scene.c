@@ -9,7 +9,7 @@
 #include "popc/log/log_reader.h"
 #include "popc/scene/data_path.h"
 #include "popc/scene/from_scene.h"
-#include "popc/util/usage_hint.h"
+#include "popc/programs/usage_hint.h"
 
 static void usage(FILE *f)
 {
@@ -136,7 +136,7 @@ int popc_cmd_scene(int argc, char **argv)
 	while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
 		switch (c) {
 		case 's':
-			if (popc_cli_push(&sets, &n_sets, optarg) != 0) {
+			if (popc_arg_push(&sets, &n_sets, optarg) != 0) {
 				fprintf(stderr, "popc scene show: out of memory\n");
 				free(sets);
 				return POPC_EXIT_RUN_FAILED;

@@ -27,7 +27,7 @@
 #include "sweep_list.h"
 #include "sweep_pool.h"
 #include "sweep_progress.h"
-#include "popc/util/usage_hint.h"
+#include "popc/programs/usage_hint.h"
 
 static void usage(FILE *f)
 {
@@ -492,8 +492,8 @@ int popc_cmd_sweep(int argc, char **argv)
 	optind = 1;
 	while (rc < 0 && (c = getopt_long(argc, argv, "o:j:qh", opts, NULL)) != -1) {
 		switch (c) {
-		case OPT_VARY: oom |= popc_cli_push(&a.vary, &a.n_vary, optarg); break;
-		case OPT_SET: oom |= popc_cli_push(&a.sets, &a.n_sets, optarg); break;
+		case OPT_VARY: oom |= popc_arg_push(&a.vary, &a.n_vary, optarg); break;
+		case OPT_SET: oom |= popc_arg_push(&a.sets, &a.n_sets, optarg); break;
 		case 'o': a.dir = optarg; break;
 		case 'j':
 			if (popc_parse_ll_text(optarg, 1, 4096, &a.jobs) != 0) {

@@ -2,8 +2,8 @@
 #include <stdio.h>
 
 #include "cli.h"
-#include "popc/util/verb.h"
-#include "popc/util/stdfds.h"
+#include "popc/programs/verb.h"
+#include "popc/programs/stdfds.h"
 #include "popc_config.h"
 
 int main(int argc, char **argv)

@@ -31,8 +31,8 @@
 #include "popc/util/clock.h"
 #include "popc/util/parse.h"
 #include "popc/util/same_file.h"
-#include "popc/util/stdfds.h"
-#include "popc/util/usage_hint.h"
+#include "popc/programs/stdfds.h"
+#include "popc/programs/usage_hint.h"
 
 static volatile sig_atomic_t stop_requested = 0;
 

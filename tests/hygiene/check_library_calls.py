@@ -53,12 +53,6 @@ ALLOWED = {
         "popc_lib_scene_load; taking the search path from the caller needs "
         "an argument through popc_scene_load and the public API (left for "
         "an API 1.2)",
-    ("verb.c.o", "printf"): "programs' helper in util: leaves the library (issue 24 item 5)",
-    ("verb.c.o", "stdout"): "programs' helper in util: leaves the library (issue 24 item 5)",
-    ("verb.c.o", "stderr"): "programs' helper in util: leaves the library (issue 24 item 5)",
-    ("usage_hint.c.o", "stderr"): "programs' helper in util: leaves the library (issue 24 item 5)",
-    ("usage_hint.c.o", "optind"): "programs' helper in util: leaves the library (issue 24 item 5)",
-    ("usage_hint.c.o", "optopt"): "programs' helper in util: leaves the library (issue 24 item 5)",
 }
 
 
@@ -90,7 +84,6 @@ def self_test(nm, cc):
             "bad.c": "#include <stdio.h>\n#include <stdlib.h>\n"
                      "int b(void) { if (getenv(\"X\")) abort(); "
                      "return fprintf(stderr, \"x\"); }\n",
-            "verb.c": "#include <stdio.h>\nint v(void) { return printf(\"x\"); }\n",
         }
         objs = []
         for name, text in srcs.items():
