@@ -314,6 +314,10 @@ void ana_put_double_point(FILE *f, double v);
 
 /* Chatter thresholds from "--threshold name=value". */
 int ana_threshold_option(popc_chatter_config *cfg, char *arg, const char *verb);
+/* The chatter detector's messages name its parameters (window_s, period_s,
+ * resolution_m, pc_bound_N); this names them as popc-analyze's user sets them
+ * (--threshold window=S, --set run.rate=HZ, ...). */
+void ana_chatter_name_options(popc_error *err);
 
 /* The paper's timeline events in a log (docs/ANALYSIS.md, "Events"). Ticks
  * k = 0, 1, ... are the log's rows; dcount(k) = count(k) - count(k-1) is the

@@ -1,14 +1,14 @@
 /* popc-analyze: the offline analyser of popc and device logs. Verbs dispatch
  * to cmd_*.c. */
 #include "analyze.h"
-#include "popc/util/verb.h"
-#include "popc/util/stdfds.h"
+#include "popc/programs/verb.h"
+#include "popc/programs/stdfds.h"
 #include "popc_config.h"
 
 int main(int argc, char **argv)
 {
 	if (popc_stdfds_make_safe() != 0) /* a closed 0-2 on /dev/null, before any open (stdfds.h) */
-		return 1;
+		return POPC_EXIT_RUN_FAILED;
 	static const popc_verb verbs[] = {
 		{"energy", ana_cmd_energy, "LOG...", "recompute W and E_ref with each observer definition"},
 		{"chatter", ana_cmd_chatter, "LOG...", "flag PC chattering intervals and limit cycles"},

@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "analyze.h"
-#include "popc/util/usage_hint.h"
+#include "popc/programs/usage_hint.h"
 
 static void usage(FILE *f)
 {
@@ -170,7 +170,7 @@ int ana_cmd_chatter(int argc, char **argv)
 		case OPT_FORMAT:
 			if (ana_format_from_name(optarg, &fmt) != 0 || fmt == ANA_MARKDOWN || fmt == ANA_JSON) {
 				fprintf(stderr, "popc-analyze chatter: --format '%s': text or csv\n", optarg);
-				rc = 2;
+				rc = POPC_EXIT_USAGE;
 				goto out;
 			}
 			break;
@@ -184,13 +184,13 @@ int ana_cmd_chatter(int argc, char **argv)
 			if ((rc = ana_input_option(&in, c, optarg, "chatter")) != 0)
 				goto out;
 			break;
-		default: popc_option_hint(argv[0], opts, argc, argv); rc = 2; goto out;
+		default: popc_option_hint(argv[0], opts, argc, argv); rc = POPC_EXIT_USAGE; goto out;
 		}
 	}
 	if (optind >= argc) {
 		fprintf(stderr, "popc-analyze chatter: missing LOG\n");
 		popc_help_hint(argv[0], "options");
-		rc = 2;
+		rc = POPC_EXIT_USAGE;
 		goto out;
 	}
 	if (!quiet && fmt == ANA_CSV)
@@ -201,7 +201,7 @@ int ana_cmd_chatter(int argc, char **argv)
 		int st = ana_summarize(argv[i], &in, &cc, -1.0, &s, NULL, NULL, &err);
 		if (st) {
 			ana_fail("chatter", st, &err);
-			rc = 2;
+			rc = POPC_EXIT_USAGE;
 			continue;
 		}
 		if (s.chatter.n_intervals || s.chatter.limit_cycle)
@@ -214,13 +214,13 @@ int ana_cmd_chatter(int argc, char **argv)
 			ana_no_pc_force(&err, argv[i]);
 			fprintf(stderr, "popc-analyze chatter: %s; chatter not checked%s\n", err.msg,
 				lc_checked ? ", only the limit cycle" : "");
-			rc = 2;
+			rc = POPC_EXIT_USAGE;
 		} else if (!ana_chatter_checked(&s)) {
 			/* shorter than one detection window: no window was judged, so
 			 * "no chatter" would again be a verdict without data */
 			ana_chatter_too_short(&err, argv[i], &s);
 			fprintf(stderr, "popc-analyze chatter: %s\n", err.msg);
-			rc = 2;
+			rc = POPC_EXIT_USAGE;
 		}
 		if (!lc_checked) {
 			/* the exit status follows chatter, the verb's question (docs/
@@ -240,7 +240,7 @@ int ana_cmd_chatter(int argc, char **argv)
 			print_text(&s);
 	}
 	if (rc == 0 && flagged)
-		rc = 1;
+		rc = POPC_EXIT_RUN_FAILED;
 out:
 	ana_input_free(&in);
 	return rc;

@@ -9,7 +9,7 @@
 #include "popc/core/metrics.h"
 #include "popc/util/json.h"
 #include "popc/util/parse.h"
-#include "popc/util/usage_hint.h"
+#include "popc/programs/usage_hint.h"
 
 /* Every number of the summary is finite: the rows are (ana_log_next), the
  * RMS is taken without overflow (popc_sum_squares), the rates per second are
@@ -95,6 +95,7 @@ int ana_summarize(const char *path, const ana_input_options *o, const popc_chatt
 	popc_chatter det;
 	st = popc_chatter_init(&det, &cc, l.period_s, &l.env, err);
 	if (st) {
+		ana_chatter_name_options(err);
 		char msg[POPC_ERROR_MSG_MAX];
 		snprintf(msg, sizeof msg, "%s", err->msg);
 		popc_error_set(err, st, "%s: %s", path, msg);
@@ -417,7 +418,7 @@ int ana_cmd_compare(int argc, char **argv)
 			if (ana_format_from_name(optarg, &fmt) != 0) {
 				fprintf(stderr, "popc-analyze compare: --format '%s': text, csv, markdown or json\n",
 					optarg);
-				rc = 2;
+				rc = POPC_EXIT_USAGE;
 				goto out;
 			}
 			break;
@@ -425,7 +426,7 @@ int ana_cmd_compare(int argc, char **argv)
 			if (popc_parse_double_text(optarg, &late_from) != 0 || late_from < 0) {
 				fprintf(stderr, "popc-analyze compare: --late-from '%s': a time >= 0 s\n",
 					optarg);
-				rc = 2;
+				rc = POPC_EXIT_USAGE;
 				goto out;
 			}
 			break;
@@ -439,13 +440,13 @@ int ana_cmd_compare(int argc, char **argv)
 			if ((rc = ana_input_option(&in, c, optarg, "compare")) != 0)
 				goto out;
 			break;
-		default: popc_option_hint(argv[0], opts, argc, argv); rc = 2; goto out;
+		default: popc_option_hint(argv[0], opts, argc, argv); rc = POPC_EXIT_USAGE; goto out;
 		}
 	}
 	if (optind >= argc) {
 		fprintf(stderr, "popc-analyze compare: missing LOG\n");
 		popc_help_hint(argv[0], "options");
-		rc = 2;
+		rc = POPC_EXIT_USAGE;
 		goto out;
 	}
 	/* the log column tells the logs apart: a/improved.csv and b/improved.csv
@@ -454,7 +455,7 @@ int ana_cmd_compare(int argc, char **argv)
 	if (!names || ana_log_names(argv + optind, argc - optind, names) != 0) {
 		fprintf(stderr, "popc-analyze compare: out of memory\n");
 		free(names);
-		rc = 1;
+		rc = POPC_EXIT_RUN_FAILED;
 		goto out;
 	}
 	ana_summary_print_header(stdout, fmt);
@@ -489,7 +490,7 @@ int ana_cmd_compare(int argc, char **argv)
 	}
 	free(names);
 	if (fflush(stdout) != 0)
-		rc = 2;
+		rc = POPC_EXIT_USAGE;
 out:
 	ana_input_free(&in);
 	return rc;

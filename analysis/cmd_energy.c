@@ -8,7 +8,7 @@
 #include <string.h>
 
 #include "analyze.h"
-#include "popc/util/usage_hint.h"
+#include "popc/programs/usage_hint.h"
 
 typedef enum definition {
 	DEF_ONLINE,
@@ -154,7 +154,7 @@ static int energy_admittance(ana_log *l, const char *path, ana_format fmt, int c
 			"popc-analyze energy: %s: device.causality = admittance needs the columns "
 			"f_count, f_meas, v_ve, v_pc and W\n",
 			path);
-		return 2;
+		return POPC_EXIT_USAGE;
 	}
 	popc_admittance_observer o;
 	popc_admittance_observer_init(&o, l->scene.adm_variant);
@@ -236,7 +236,7 @@ static int energy_one(const char *path, const ana_input_options *in, const int *
 			"derived from the environment with damping %g N s/m times v = dx/T (log f_e "
 			"or v, or give the rate with --set run.rate=HZ)\n",
 			path, l.env.damping_Nspm);
-		return 2;
+		return POPC_EXIT_USAGE;
 	}
 	for (int i = 0; i < n_want_in; i++) {
 		definition d = (definition)want_in[i];
@@ -248,7 +248,7 @@ static int energy_one(const char *path, const ana_input_options *in, const int *
 					"uses the period T (W += f_c v T), which uneven time steps do not "
 					"have\n",
 					path, defs[d].name, d == DEF_ONLINE ? " (filtered, the log's variant)" : "");
-				return 2;
+				return POPC_EXIT_USAGE;
 			}
 			fprintf(stderr,
 				"popc-analyze energy: note: %s: --allow-uneven: observer '%s' left out: "
@@ -284,7 +284,7 @@ static int energy_one(const char *path, const ana_input_options *in, const int *
 		ana_log_close(&l);
 		fprintf(stderr, "popc-analyze energy: %s: --check needs the logged W and E_ref columns\n",
 			path);
-		return 2;
+		return POPC_EXIT_USAGE;
 	}
 	FILE *out = NULL;
 	if (out_path) {
@@ -294,13 +294,13 @@ static int energy_one(const char *path, const ana_input_options *in, const int *
 			fprintf(stderr,
 				"popc-analyze energy: -o %s is the input log %s: refusing to overwrite it\n",
 				out_path, path);
-			return 2;
+			return POPC_EXIT_USAGE;
 		}
 		out = strcmp(out_path, "-") == 0 ? stdout : fopen(out_path, "w");
 		if (!out) {
 			ana_log_close(&l);
 			fprintf(stderr, "popc-analyze energy: %s: cannot open for writing\n", out_path);
-			return 2;
+			return POPC_EXIT_USAGE;
 		}
 		fprintf(out, "# popc-analyze energy of %s\n# period = %.17g\n", path, l.period_s);
 		ana_foreign_provenance(out, &in->foreign);
@@ -385,7 +385,7 @@ static int energy_one(const char *path, const ana_input_options *in, const int *
 		return ana_fail("energy", st, &err);
 	if (write_failed) {
 		fprintf(stderr, "popc-analyze energy: %s: write failed\n", out_path);
-		return 2;
+		return POPC_EXIT_USAGE;
 	}
 	FILE *f = out == stdout ? stderr : stdout;
 	for (int i = 0; i < n_want; i++) {
@@ -472,7 +472,7 @@ int ana_cmd_energy(int argc, char **argv)
 			if (found < 0) {
 				fprintf(stderr, "popc-analyze energy: --observer '%s': unknown (see --help)\n",
 					optarg);
-				rc = 2;
+				rc = POPC_EXIT_USAGE;
 				goto out;
 			}
 			int dup = 0;
@@ -485,7 +485,7 @@ int ana_cmd_energy(int argc, char **argv)
 		case OPT_FORMAT:
 			if (ana_format_from_name(optarg, &fmt) != 0 || fmt == ANA_MARKDOWN || fmt == ANA_JSON) {
 				fprintf(stderr, "popc-analyze energy: --format '%s': text or csv\n", optarg);
-				rc = 2;
+				rc = POPC_EXIT_USAGE;
 				goto out;
 			}
 			break;
@@ -497,18 +497,18 @@ int ana_cmd_energy(int argc, char **argv)
 			if ((rc = ana_input_option(&in, c, optarg, "energy")) != 0)
 				goto out;
 			break;
-		default: popc_option_hint(argv[0], opts, argc, argv); rc = 2; goto out;
+		default: popc_option_hint(argv[0], opts, argc, argv); rc = POPC_EXIT_USAGE; goto out;
 		}
 	}
 	if (optind >= argc) {
 		fprintf(stderr, "popc-analyze energy: missing LOG\n");
 		popc_help_hint(argv[0], "options");
-		rc = 2;
+		rc = POPC_EXIT_USAGE;
 		goto out;
 	}
 	if (out_path && argc - optind != 1) {
 		fprintf(stderr, "popc-analyze energy: --output takes exactly one LOG\n");
-		rc = 2;
+		rc = POPC_EXIT_USAGE;
 		goto out;
 	}
 	if (out_path && (rc = ana_output_file_usable("energy", "-o", out_path)) != 0)
@@ -538,7 +538,7 @@ int ana_cmd_energy(int argc, char **argv)
 			rc = r;
 	}
 	if (rc == 0 && check_failed)
-		rc = 1;
+		rc = POPC_EXIT_RUN_FAILED;
 out:
 	ana_input_free(&in);
 	return rc;

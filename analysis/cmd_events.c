@@ -121,7 +121,7 @@ int ana_cmd_events(int argc, char **argv)
 		case OPT_FORMAT:
 			if (ana_format_from_name(optarg, &fmt) != 0 || fmt == ANA_MARKDOWN) {
 				fprintf(stderr, "popc-analyze events: --format '%s': text or csv\n", optarg);
-				rc = 2;
+				rc = POPC_EXIT_USAGE;
 				goto out;
 			}
 			break;
@@ -130,7 +130,7 @@ int ana_cmd_events(int argc, char **argv)
 			    !isfinite(hold_s)) {
 				fprintf(stderr, "popc-analyze events: --settle-hold '%s': a time in "
 						"[0, inf) s\n", optarg);
-				rc = 2;
+				rc = POPC_EXIT_USAGE;
 				goto out;
 			}
 			break;
@@ -139,13 +139,13 @@ int ana_cmd_events(int argc, char **argv)
 			if ((rc = ana_input_option(&in, c, optarg, "events")) != 0)
 				goto out;
 			break;
-		default: usage(stderr); rc = 2; goto out;
+		default: usage(stderr); rc = POPC_EXIT_USAGE; goto out;
 		}
 	}
 	if (optind >= argc) {
 		fprintf(stderr, "popc-analyze events: missing LOG\n");
 		usage(stderr);
-		rc = 2;
+		rc = POPC_EXIT_USAGE;
 		goto out;
 	}
 	if (fmt == ANA_CSV)
@@ -157,7 +157,7 @@ int ana_cmd_events(int argc, char **argv)
 		int st = ana_find_events(argv[i], &in, hold_s, &e, &err);
 		if (st) {
 			ana_fail("events", st, &err);
-			rc = 2;
+			rc = POPC_EXIT_USAGE;
 			continue;
 		}
 		char name[256];
@@ -167,7 +167,7 @@ int ana_cmd_events(int argc, char **argv)
 				"popc-analyze events: %s: %s, so the %s not checked\n", argv[i],
 				!e.pc_known ? "no PC force (f_pc or f_c)" : "no W",
 				!e.pc_known ? "Fig. 5 and Fig. 8 events are" : "Fig. 5 event is");
-			rc = 2;
+			rc = POPC_EXIT_USAGE;
 		}
 		if (fmt == ANA_CSV)
 			print_csv(name, &e);

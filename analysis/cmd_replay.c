@@ -14,7 +14,7 @@
 #include "popc/util/numfmt.h"
 #include "popc/scene/from_scene.h"
 #include "popc/util/atomic_file.h" /* popc_mkdir_p */
-#include "popc/util/usage_hint.h"
+#include "popc/programs/usage_hint.h"
 
 #define MAX_VARIANTS POPC_VARIANT_COUNT
 
@@ -86,7 +86,7 @@ int ana_cmd_replay(int argc, char **argv)
 					"filtered-velocity, ignore, hold, improved, pc-off-reversals, "
 					"energy-bounding, windowed-po or all\n",
 					optarg);
-				rc = 2;
+				rc = POPC_EXIT_USAGE;
 				goto out;
 			}
 			for (int k = 0; k < POPC_VARIANT_COUNT; k++) {
@@ -108,7 +108,7 @@ int ana_cmd_replay(int argc, char **argv)
 			if ((rc = ana_input_option(&in, c, optarg, "replay")) != 0)
 				goto out;
 			break;
-		default: popc_option_hint(argv[0], opts, argc, argv); rc = 2; goto out;
+		default: popc_option_hint(argv[0], opts, argc, argv); rc = POPC_EXIT_USAGE; goto out;
 		}
 	}
 	if (optind + 1 != argc || n_var == 0 || (dir && prefix)) {
@@ -118,14 +118,14 @@ int ana_cmd_replay(int argc, char **argv)
 			: n_var == 0         ? "missing --variant"
 					     : "--output-dir and --prefix exclude each other");
 		popc_help_hint(argv[0], "options");
-		rc = 2;
+		rc = POPC_EXIT_USAGE;
 		goto out;
 	}
 	const char *path = argv[optind];
 	outs = calloc((size_t)n_var, sizeof *outs);
 	if (!outs) {
 		fprintf(stderr, "popc-analyze replay: out of memory\n");
-		rc = 2;
+		rc = POPC_EXIT_USAGE;
 		goto out;
 	}
 	/* every output path first, before the log is read: a directory that is
@@ -137,7 +137,7 @@ int ana_cmd_replay(int argc, char **argv)
 		popc_error merr;
 		if (popc_mkdir_p(dir, &merr) != 0) {
 			fprintf(stderr, "popc-analyze replay: -o %s: %s\n", dir, merr.msg);
-			rc = 2;
+			rc = POPC_EXIT_USAGE;
 			goto out;
 		}
 		if ((rc = ana_output_dir_usable("replay", "-o", dir, 0)) != 0)
@@ -158,7 +158,7 @@ int ana_cmd_replay(int argc, char **argv)
 				"popc-analyze replay: %s is the input log %s: refusing to overwrite it "
 				"(choose another -o DIR or --prefix)\n",
 				o->path, path);
-			rc = 2;
+			rc = POPC_EXIT_USAGE;
 			goto out;
 		}
 		if ((rc = ana_output_file_usable("replay", prefix ? "--prefix" : "-o", o->path)) != 0)
@@ -177,7 +177,7 @@ int ana_cmd_replay(int argc, char **argv)
 			fprintf(stderr, "popc-analyze replay: %s: cannot tell the period from the time "
 					"column; give --set run.rate=HZ\n",
 				path);
-			rc = 2;
+			rc = POPC_EXIT_USAGE;
 			goto out;
 		}
 		/* the replay logs' header holds the rate, which must read back as a
@@ -193,7 +193,7 @@ int ana_cmd_replay(int argc, char **argv)
 					"as run.rate (give --set run.rate=HZ if the time column is not in "
 					"seconds)\n",
 				err.msg);
-			rc = 2;
+			rc = POPC_EXIT_USAGE;
 			goto out;
 		}
 	}

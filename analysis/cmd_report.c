@@ -14,7 +14,7 @@
 #include <sys/stat.h>
 
 #include "popc/util/parse.h"
-#include "popc/util/usage_hint.h"
+#include "popc/programs/usage_hint.h"
 #include "report.h"
 
 #define MAX_LOGS 256
@@ -215,10 +215,10 @@ static int name_outputs(const report_out *ro, report_name *names, unsigned figs,
 	static const char *const per_fig[] = {"dat", "gp", "png", "pdf", "eps"};
 	char file[400];
 	if (usable(ro, "index.md") || usable(ro, "index.html"))
-		return 2;
+		return POPC_EXIT_USAGE;
 	for (size_t k = 0; tables && k < sizeof fixed / sizeof fixed[0]; k++)
 		if (usable(ro, fixed[k]))
-			return 2;
+			return POPC_EXIT_USAGE;
 	for (int i = 0; i < ro->n_inputs; i++) {
 		char log_name[256], base[256];
 		ana_log_name(ro->inputs[i], log_name, sizeof log_name);
@@ -238,7 +238,7 @@ static int name_outputs(const report_out *ro, report_name *names, unsigned figs,
 				snprintf(file, sizeof file, "%s%s.%s", names[i].name, report_fig_suffix[fg],
 					 per_fig[k]);
 				if (usable(ro, file))
-					return 2;
+					return POPC_EXIT_USAGE;
 			}
 		}
 	}
@@ -323,7 +323,7 @@ static int figure_option(const char *arg, unsigned *figs, int *fig_asked)
 			"4, 5, 6 (or 7), 8, 10, 11, 14, 16 (one figure draws 6 and 7; 3, 10, 14, 16 "
 			"are the contact response)\n",
 			arg);
-		return 2;
+		return POPC_EXIT_USAGE;
 	}
 }
 
@@ -436,7 +436,7 @@ int ana_cmd_report(int argc, char **argv)
 		case OPT_POINTS: {
 			if (popc_parse_ll_text(optarg, 10, 1000000, &points) != 0) {
 				fprintf(stderr, "popc-analyze report: --points '%s': 10 to 1000000\n", optarg);
-				rc = 2;
+				rc = POPC_EXIT_USAGE;
 				goto out;
 			}
 			break;
@@ -449,7 +449,7 @@ int ana_cmd_report(int argc, char **argv)
 			if (popc_parse_double_text(optarg, &zoom_s) != 0 || !isfinite(zoom_s)) {
 				fprintf(stderr, "popc-analyze report: --zoom '%s': a time in seconds\n",
 					optarg);
-				rc = 2;
+				rc = POPC_EXIT_USAGE;
 				goto out;
 			}
 			break;
@@ -465,14 +465,14 @@ int ana_cmd_report(int argc, char **argv)
 			if ((rc = ana_input_option(&in, c, optarg, "report")) != 0)
 				goto out;
 			break;
-		default: popc_option_hint(argv[0], opts, argc, argv); rc = 2; goto out;
+		default: popc_option_hint(argv[0], opts, argc, argv); rc = POPC_EXIT_USAGE; goto out;
 		}
 	}
 	if (!dir || optind >= argc || argc - optind > MAX_LOGS) {
 		fprintf(stderr, "popc-analyze report: %s\n",
 			!dir ? "missing -o DIR" : optind >= argc ? "missing LOG" : "at most 256 logs");
 		popc_help_hint(argv[0], "options");
-		rc = 2;
+		rc = POPC_EXIT_USAGE;
 		goto out;
 	}
 	/* the default report: every figure, the overlay and the tables */
@@ -485,14 +485,14 @@ int ana_cmd_report(int argc, char **argv)
 	if ((rc = ana_output_dir_usable("report", "-o", dir, 1)) != 0)
 		goto out;
 	if (make_dir(dir) != 0) {
-		rc = 2;
+		rc = POPC_EXIT_USAGE;
 		goto out;
 	}
 	const report_out ro = {dir, argv + optind, argc - optind};
 	logs = calloc((size_t)(argc - optind), sizeof *logs);
 	names = calloc((size_t)(argc - optind), sizeof *names);
 	if (!logs || !names) {
-		rc = 2;
+		rc = POPC_EXIT_USAGE;
 		goto out;
 	}
 	/* every file the report writes, before any log is read: a path there
@@ -526,7 +526,7 @@ int ana_cmd_report(int argc, char **argv)
 		    report_capture_init(&pass.cap, lg->t_event_s) != 0) {
 			ana_decim_free(&pass.dec);
 			fprintf(stderr, "popc-analyze report: out of memory\n");
-			rc = 2;
+			rc = POPC_EXIT_USAGE;
 			goto out;
 		}
 		popc_error err;
@@ -588,7 +588,7 @@ int ana_cmd_report(int argc, char **argv)
 		report_capture_free(&pass.cap);
 		/* each failure has printed its one message (which file, why) */
 		if (bad) {
-			rc = 2;
+			rc = POPC_EXIT_USAGE;
 			goto out;
 		}
 		n++;
@@ -625,7 +625,7 @@ int ana_cmd_report(int argc, char **argv)
 			if (!f || report_close(f, path,
 					       report_write_figure(f, (report_fig)fg, &logs[i], &sc,
 								   fig_asked) != 0) != 0) {
-				rc = 2;
+				rc = POPC_EXIT_USAGE;
 				goto out;
 			}
 		}
@@ -635,7 +635,7 @@ int ana_cmd_report(int argc, char **argv)
 		FILE *f = report_open(&ro, "variants.gp", path, sizeof path);
 		if (!f || report_close(f, path, report_write_overlay(f, logs, n, &sc) != 0) != 0 ||
 		    write_tables(&ro, logs, n) != 0) {
-			rc = 2;
+			rc = POPC_EXIT_USAGE;
 			goto out;
 		}
 	}
@@ -652,7 +652,7 @@ int ana_cmd_report(int argc, char **argv)
 				fg == RF_FIG5 ? 5 : fg == RF_FIG8 ? 8 : fg == RF_FIG11 ? 11 : 6,
 				fg == RF_FIG6 ? "no contact" : "no such event");
 			if (rc == 0)
-				rc = 1;
+				rc = POPC_EXIT_RUN_FAILED;
 		}
 	}
 	int drawn = 0;
@@ -675,14 +675,14 @@ int ana_cmd_report(int argc, char **argv)
 			refused |= d == -2;
 		}
 		if (refused)
-			rc = 2;
+			rc = POPC_EXIT_USAGE;
 		else if (failed && rc == 0)
-			rc = 1;
+			rc = POPC_EXIT_RUN_FAILED;
 		drawn = !failed;
 	}
 	const report_index ix = {title, tables, drawn, figs};
 	if (report_write_index(&ro, &ix, logs, n) != 0) {
-		rc = 2;
+		rc = POPC_EXIT_USAGE;
 		goto out;
 	}
 	if (!quiet)

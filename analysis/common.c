@@ -10,6 +10,7 @@
 
 #include "analyze.h"
 #include "popc/core/encoder.h"
+#include "popc/programs/arg_list.h"
 #include "popc/util/numfmt.h"
 #include "popc/util/same_file.h"
 #include "popc/util/parse.h"
@@ -68,16 +69,6 @@ void ana_put_double_point(FILE *f, double v)
 	char b[POPC_DOUBLE_TEXT_MAX + 1];
 	popc_format_double_point(v, b);
 	fputs(b, f);
-}
-
-static int push(char ***list, int *n, char *value)
-{
-	char **grown = realloc(*list, (size_t)(*n + 1) * sizeof **list);
-	if (!grown)
-		return -1;
-	grown[(*n)++] = value;
-	*list = grown;
-	return 0;
 }
 
 static int parse_char_option(const char *arg, char *out)
@@ -144,18 +135,18 @@ static int scale_option(ana_input_options *o, char *arg, const char *verb)
 			verb, arg, eq ? "=" : "", eq ? eq + 1 : "", column_names(names, sizeof names, 1));
 		if (eq)
 			*eq = '=';
-		return 2;
+		return POPC_EXIT_USAGE;
 	}
 	for (int i = 0; i < o->n_scales; i++)
 		if (strcmp(o->scale_name[i], arg) == 0) {
 			fprintf(stderr, "popc-analyze %s: --scale %s=%s: %s is already scaled\n", verb, arg,
 				eq + 1, arg);
 			*eq = '=';
-			return 2;
+			return POPC_EXIT_USAGE;
 		}
 	if (o->n_scales >= ANA_MAX_SCALES) {
 		fprintf(stderr, "popc-analyze %s: --scale: at most %d\n", verb, ANA_MAX_SCALES);
-		return 2;
+		return POPC_EXIT_USAGE;
 	}
 	o->scale_name[o->n_scales] = arg; /* arg stays split at '=': the name */
 	o->scale[o->n_scales++] = f;
@@ -169,7 +160,7 @@ int ana_input_option(ana_input_options *o, int opt, char *arg, const char *verb)
 	case ANA_OPT_COLUMN: {
 		if (popc_log_reader_add_mapping(&o->reader, arg, &err) != 0) {
 			fprintf(stderr, "popc-analyze %s: %s\n", verb, err.msg);
-			return 2;
+			return POPC_EXIT_USAGE;
 		}
 		/* a misspelt name (F_c, fc) would map nothing and leave the log
 		 * without that column, silently: only popc's names, each once */
@@ -181,7 +172,7 @@ int ana_input_option(ana_input_options *o, int opt, char *arg, const char *verb)
 				"popc-analyze %s: --column %s=%s: '%s' is not a popc column name (%s)\n",
 				verb, name, o->reader.map_header[last], name,
 				column_names(names, sizeof names, 0) + 1);
-			return 2;
+			return POPC_EXIT_USAGE;
 		}
 		for (int i = 0; i < last; i++)
 			if (strcmp(o->reader.map_name[i], name) == 0) {
@@ -189,7 +180,7 @@ int ana_input_option(ana_input_options *o, int opt, char *arg, const char *verb)
 					"popc-analyze %s: --column %s=%s: %s is already mapped to '%s'\n",
 					verb, name, o->reader.map_header[last], name,
 					o->reader.map_header[i]);
-				return 2;
+				return POPC_EXIT_USAGE;
 			}
 		return 0;
 	}
@@ -201,14 +192,14 @@ int ana_input_option(ana_input_options *o, int opt, char *arg, const char *verb)
 				"popc-analyze %s: --%s '%s': expected one character (or 'tab', "
 				"'space'), not a digit, '.', '+' or '-'\n",
 				verb, opt == ANA_OPT_DELIMITER ? "delimiter" : "comment", arg);
-			return 2;
+			return POPC_EXIT_USAGE;
 		}
 		if (opt == ANA_OPT_DELIMITER && c == ',' && o->reader.decimal == ',') {
 			fprintf(stderr,
 				"popc-analyze %s: --delimiter ',' with --decimal ',': a decimal-comma log "
 				"needs another delimiter (';', tab)\n",
 				verb);
-			return 2;
+			return POPC_EXIT_USAGE;
 		}
 		/* one character cannot be both: a row whose first cell is empty
 		 * (",1e-5,0.1") would read as a comment (in either order; a
@@ -220,7 +211,7 @@ int ana_input_option(ana_input_options *o, int opt, char *arg, const char *verb)
 				"cannot be both (a row whose first cell is empty would read as a "
 				"comment)\n",
 				verb, arg, arg);
-			return 2;
+			return POPC_EXIT_USAGE;
 		}
 		/* blanks before a comment mark are skipped: a blank would mark none */
 		if (opt == ANA_OPT_COMMENT && (c == ' ' || c == '\t')) {
@@ -228,7 +219,7 @@ int ana_input_option(ana_input_options *o, int opt, char *arg, const char *verb)
 				"popc-analyze %s: --comment '%s': a comment mark is no blank (blanks "
 				"before one are skipped, so it would mark no line)\n",
 				verb, arg);
-			return 2;
+			return POPC_EXIT_USAGE;
 		}
 		if (opt == ANA_OPT_DELIMITER)
 			o->reader.delimiter = c;
@@ -239,14 +230,14 @@ int ana_input_option(ana_input_options *o, int opt, char *arg, const char *verb)
 	case ANA_OPT_DECIMAL:
 		if (strcmp(arg, ".") != 0 && strcmp(arg, ",") != 0) {
 			fprintf(stderr, "popc-analyze %s: --decimal '%s': '.' or ','\n", verb, arg);
-			return 2;
+			return POPC_EXIT_USAGE;
 		}
 		if (arg[0] == ',' && o->reader.delimiter == ',') {
 			fprintf(stderr,
 				"popc-analyze %s: --decimal ',' with --delimiter ',': a decimal-comma log "
 				"needs another delimiter (';', tab)\n",
 				verb);
-			return 2;
+			return POPC_EXIT_USAGE;
 		}
 		o->reader.decimal = arg[0];
 		return 0;
@@ -262,7 +253,7 @@ int ana_input_option(ana_input_options *o, int opt, char *arg, const char *verb)
 				"popc-analyze %s: --jitter '%s': expected a fraction of the period in "
 				"(0, %g], e.g. 0.05 for steps within 5 %% of T\n",
 				verb, arg, ANA_JITTER_MAX);
-			return 2;
+			return POPC_EXIT_USAGE;
 		}
 		o->jitter = f;
 		return 0;
@@ -271,17 +262,17 @@ int ana_input_option(ana_input_options *o, int opt, char *arg, const char *verb)
 		if (!strchr(arg, '=') || !strchr(arg, '.')) {
 			fprintf(stderr, "popc-analyze %s: --set '%s': expected section.key=value\n",
 				verb, arg);
-			return 2;
+			return POPC_EXIT_USAGE;
 		}
-		if (push(&o->sets, &o->n_sets, arg) != 0) {
+		if (popc_arg_push(&o->sets, &o->n_sets, arg) != 0) {
 			fprintf(stderr, "popc-analyze %s: out of memory\n", verb);
-			return 2;
+			return POPC_EXIT_USAGE;
 		}
 		return 0;
 	ANA_FOREIGN_OPTION_CASES:
 		return ana_foreign_option(&o->foreign, opt, arg, verb);
 	default:
-		return 2;
+		return POPC_EXIT_USAGE;
 	}
 }
 
@@ -292,20 +283,34 @@ void ana_input_free(ana_input_options *o)
 	o->n_sets = 0;
 }
 
+static const popc_error_name chatter_options[] = {
+	{"window_s", "--threshold window=S"},
+	{"lc_window_s", "--threshold lc_window=S"},
+	{"period_s", "--set run.rate=HZ"},
+	{"resolution_m", "--set encoder.resolution=M"},
+	{"pc_bound_N", "controller.pc_bound"},
+};
+
+void ana_chatter_name_options(popc_error *err)
+{
+	popc_error_name_params(err, chatter_options, sizeof chatter_options / sizeof chatter_options[0]);
+}
+
 int ana_threshold_option(popc_chatter_config *cfg, char *arg, const char *verb)
 {
 	char *eq = strchr(arg, '=');
 	popc_error err;
 	if (!eq) {
 		fprintf(stderr, "popc-analyze %s: --threshold '%s': expected name=value\n", verb, arg);
-		return 2;
+		return POPC_EXIT_USAGE;
 	}
 	*eq = '\0';
 	int st = popc_chatter_config_set(cfg, arg, eq + 1, &err);
 	*eq = '=';
 	if (st) {
+		ana_chatter_name_options(&err);
 		fprintf(stderr, "popc-analyze %s: --threshold: %s\n", verb, err.msg);
-		return 2;
+		return POPC_EXIT_USAGE;
 	}
 	return 0;
 }

@@ -25,7 +25,7 @@ static int refuse(const char *verb, const char *opt, const char *path, const cha
 {
 	fprintf(stderr, "popc-analyze %s: %s %s: %s%s%s\n", verb, opt, path, why, detail ? ": " : "",
 		detail ? detail : "");
-	return 2;
+	return POPC_EXIT_USAGE;
 }
 
 /* dir exists, is a directory, and files can be made in it */

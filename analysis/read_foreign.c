@@ -19,7 +19,7 @@ int ana_foreign_option(ana_foreign_options *o, int opt, const char *arg, const c
 		if (!arg[0]) {
 			fprintf(stderr, "popc-analyze %s: --%s: expected a MAT variable's name\n",
 				verb, opt == ANA_OPT_VARIABLE ? "variable" : "names");
-			return 2;
+			return POPC_EXIT_USAGE;
 		}
 		if (opt == ANA_OPT_VARIABLE)
 			o->variable = arg;
@@ -30,7 +30,7 @@ int ana_foreign_option(ana_foreign_options *o, int opt, const char *arg, const c
 		if (o->n_join >= ANA_MAX_JOIN) {
 			fprintf(stderr, "popc-analyze %s: --join: at most %d files\n", verb,
 				ANA_MAX_JOIN);
-			return 2;
+			return POPC_EXIT_USAGE;
 		}
 		o->join[o->n_join++] = arg;
 		return 0;
@@ -42,13 +42,13 @@ int ana_foreign_option(ana_foreign_options *o, int opt, const char *arg, const c
 				"popc-analyze %s: --lever '%s': expected the lever arm in m, a number "
 				"in (0, 1e6] (x = r theta, f = tau / r)\n",
 				verb, arg);
-			return 2;
+			return POPC_EXIT_USAGE;
 		}
 		o->lever_m = r;
 		return 0;
 	}
 	default:
-		return 2;
+		return POPC_EXIT_USAGE;
 	}
 }
 

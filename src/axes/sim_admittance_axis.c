@@ -180,6 +180,7 @@ int popc_sim_admittance_axis_create(popc_axis **out, const popc_scene *sc, popc_
 	popc_admittance_plant_config_from_scene(&pc, sc, s->x0_m);
 	st = popc_admittance_plant_init(&s->plant, &pc, err);
 	if (st) {
+		popc_plant_name_keys(sc, err); /* the plant's parameters as the scene's keys */
 		popc_intent_free(&s->intent);
 		free(s);
 		free(a);

@@ -590,6 +590,8 @@ int popc_sim_axis_create(popc_axis **out, const popc_scene *sc, popc_error *err)
 	popc_plant_config cfg;
 	popc_plant_config_from_scene(&cfg, sc);
 	int st = popc_plant_init(&s->plant, &cfg, err);
+	if (st)
+		popc_plant_name_keys(sc, err); /* the plant's parameters as the scene's keys */
 	s->exact_linear = !st && cfg.method == POPC_INTEGRATOR_EXACT && !s->plant.friction;
 	/* the dissipation is exact where the trajectory is: exact and linear;
 	 * a fixed-step integrator's or a friction plant's is not offered */
@@ -606,6 +608,8 @@ int popc_sim_axis_create(popc_axis **out, const popc_scene *sc, popc_error *err)
 		popc_plant_config ex = cfg;
 		ex.method = POPC_INTEGRATOR_EXACT;
 		st = popc_plant_init(&s->exact, &ex, err);
+		if (st)
+			popc_plant_name_keys(sc, err);
 		if (!st) {
 			const popc_plant_step_coeffs *ec = &s->exact.full;
 			double rho_exact = spectral_radius(ec->phi[0][0], ec->phi[0][1], ec->phi[1][0],

@@ -191,8 +191,10 @@ int popc_bench_tick_floor(const popc_scene *s, const double *f_c_ref, long long 
 	popc_plant_config cfg;
 	popc_plant_config_from_scene(&cfg, s);
 	int st = popc_plant_init(&f.plant, &cfg, err);
-	if (st)
+	if (st) {
+		popc_plant_name_keys(s, err); /* the plant's parameters as the scene's keys */
 		return st;
+	}
 	if ((st = popc_intent_from_scene(&f.intent, s, err)) != 0)
 		return st;
 	popc_environment_from_scene(&f.env, s);

@@ -237,6 +237,6 @@ int bench_integrators(const popc_scene *s, const bench_opts *o)
 	free(rec.f_c);
 	if (o->plot_dir && write_plot(o->plot_dir, (const wp_point(*)[N_SWEEP])pts, npts, order,
 				      exact_ns, floor_m) != 0)
-		return 1;
+		return POPC_EXIT_RUN_FAILED;
 	return 0;
 }

@@ -323,7 +323,7 @@ int bench_log(const popc_scene *s, const bench_opts *o)
 		       r_strtod / r_popc);
 		printf("reader_peak_rss_kib,%ld,%ld,\n", rss_small, rss_big);
 		printf("recompute_bitwise,%d,,\n", exact);
-		return exact ? 0 : 1;
+		return exact ? POPC_EXIT_OK : POPC_EXIT_RUN_FAILED;
 	}
 	printf("popc bench log: %ld rows of the scene's run (%.1f MB as popc writes them), one "
 	       "core, fastest of %d, files in %s\n",
@@ -340,5 +340,5 @@ int bench_log(const popc_scene *s, const bench_opts *o)
 	printf("reader peak memory: %ld KiB for %.1f MB, %ld KiB for %.1f MB (whole process)\n",
 	       rss_small, mb, rss_big, 1e-6 * (double)bytes_big);
 	printf("recomputed W and E_ref equal the online values bitwise: %s\n", exact ? "yes" : "NO");
-	return exact ? 0 : 1;
+	return exact ? POPC_EXIT_OK : POPC_EXIT_RUN_FAILED;
 }

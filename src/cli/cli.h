@@ -5,6 +5,7 @@
 #include <signal.h>
 
 #include "popc/util/error.h"
+#include "popc/programs/arg_list.h" /* --set and --vary lists */
 #include "popc/util/parse.h" /* every number an option takes */
 #include "popc/scene/scene.h"
 
@@ -40,9 +41,6 @@ typedef struct popc_cli_key_option {
 int popc_cli_load_scene_options(popc_scene *s, const char *path, char **sets, int n_sets,
 				const popc_cli_key_option *opts, int n_opts, popc_error *err);
 
-/* Collects a --set argument (the array grows as needed; freed by the caller).
- * Returns 0, or -1 when out of memory (the list is left as it was). */
-int popc_cli_push(char ***list, int *n, char *value);
 
 /* Whether the --set assignment "section.key=value" names this key (names
  * compared without the blanks around them, as popc_scene_set reads them). */

@@ -5,7 +5,7 @@
 
 #include "cli.h"
 #include "popc/util/atomic_file.h"
-#include "popc/util/stdfds.h"
+#include "popc/programs/stdfds.h"
 #include "popc/util/text.h"
 
 volatile sig_atomic_t popc_cli_stop = 0;
@@ -151,16 +151,6 @@ int popc_cli_commit_memstream(FILE *f, char **buf, size_t *n, const char *dir, c
 	free(*buf);
 	*buf = NULL;
 	return st;
-}
-
-int popc_cli_push(char ***list, int *n, char *value)
-{
-	char **grown = realloc(*list, (size_t)(*n + 1) * sizeof **list);
-	if (!grown)
-		return -1;
-	grown[(*n)++] = value;
-	*list = grown;
-	return 0;
 }
 
 int popc_cli_stdout_closed(const char *verb, const char *option, const char *path)

@@ -1,4 +1,4 @@
-/* popc bench integrators|loop|log: speed against error (DESIGN section 7).
+/* popc bench integrators|loop|log: speed against error (docs/BENCHMARKS.md).
  *
  * integrators  work-precision: for each integrator and substep count, the
  *              maximum position error over the logged samples against the
@@ -21,13 +21,13 @@
 #include "bench.h"
 #include "cli.h"
 #include "popc/util/atomic_file.h" /* popc_mkdir_p */
-#include "popc/util/usage_hint.h"
+#include "popc/programs/usage_hint.h"
 
 static void usage(FILE *f)
 {
 	fputs("usage: popc bench integrators|loop|log [options]\n"
 	      "\n"
-	      "Measures popc's speed against its error (DESIGN section 7).\n"
+	      "Measures popc's speed against its error (docs/BENCHMARKS.md).\n"
 	      "  integrators  work-precision table: per integrator and substep count, the max\n"
 	      "               position error against the exact discretization (same force\n"
 	      "               sequence for all: the exact run's f_c, replayed open loop) and\n"
@@ -80,10 +80,10 @@ int popc_cmd_bench(int argc, char **argv)
 		switch (c) {
 		case OPT_SCENE: o.scene_path = optarg; break;
 		case OPT_SET:
-			if (popc_cli_push(&o.sets, &o.n_sets, optarg) != 0) {
+			if (popc_arg_push(&o.sets, &o.n_sets, optarg) != 0) {
 				fprintf(stderr, "popc bench: out of memory\n");
 				free(o.sets);
-				return 1;
+				return POPC_EXIT_RUN_FAILED;
 			}
 			break;
 		case OPT_FORMAT:
@@ -92,7 +92,7 @@ int popc_cmd_bench(int argc, char **argv)
 			else if (strcmp(optarg, "text") != 0) {
 				fprintf(stderr, "popc bench: --format %s: expected text or csv\n", optarg);
 				free(o.sets);
-				return 2;
+				return POPC_EXIT_USAGE;
 			}
 			break;
 		case OPT_PLOT: o.plot_dir = optarg; break;
@@ -102,7 +102,7 @@ int popc_cmd_bench(int argc, char **argv)
 				fprintf(stderr, "popc bench: --min-time %s: expected seconds in [0, 60]\n",
 					optarg);
 				free(o.sets);
-				return 2;
+				return POPC_EXIT_USAGE;
 			}
 			break;
 		case OPT_REPEAT:
@@ -110,7 +110,7 @@ int popc_cmd_bench(int argc, char **argv)
 				fprintf(stderr, "popc bench: --repeat %s: expected an integer in [1, 100]\n",
 					optarg);
 				free(o.sets);
-				return 2;
+				return POPC_EXIT_USAGE;
 			}
 			o.repeats = (int)lv;
 			break;
@@ -119,13 +119,13 @@ int popc_cmd_bench(int argc, char **argv)
 				fprintf(stderr, "popc bench: --rows %s: expected an integer in [1000, 1e8]\n",
 					optarg);
 				free(o.sets);
-				return 2;
+				return POPC_EXIT_USAGE;
 			}
 			o.rows = lv;
 			break;
 		case OPT_DIR: o.dir = optarg; break;
 		case 'h': usage(stdout); free(o.sets); return 0;
-		default: popc_option_hint(argv[0], opts, argc, argv); free(o.sets); return 2;
+		default: popc_option_hint(argv[0], opts, argc, argv); free(o.sets); return POPC_EXIT_USAGE;
 		}
 	}
 	if (optind + 1 != argc) {
@@ -134,13 +134,13 @@ int popc_cmd_bench(int argc, char **argv)
 				       : "one thing to measure at a time");
 		popc_help_hint(argv[0], "options");
 		free(o.sets);
-		return 2;
+		return POPC_EXIT_USAGE;
 	}
 	const char *what = argv[optind];
 	if (strcmp(what, "integrators") != 0 && strcmp(what, "loop") != 0 && strcmp(what, "log") != 0) {
 		fprintf(stderr, "popc bench: unknown benchmark '%s' (integrators, loop or log)\n", what);
 		free(o.sets);
-		return 2;
+		return POPC_EXIT_USAGE;
 	}
 	popc_scene s;
 	popc_error err;
@@ -150,13 +150,13 @@ int popc_cmd_bench(int argc, char **argv)
 		return popc_cli_fail("bench", st, &err);
 	if (!popc_axis_is_simulated(&s)) {
 		fprintf(stderr, "popc bench: the benchmarks run the simulated axis (axis = %s)\n", s.axis);
-		return 2;
+		return POPC_EXIT_USAGE;
 	}
 	/* the figure's directory is made (or refused) before half a minute of
 	 * measuring, as report -o and sweep -o make theirs */
 	if (o.plot_dir && (st = popc_mkdir_p(o.plot_dir, &err)) != 0) {
 		fprintf(stderr, "popc bench: --plot %s: %s\n", o.plot_dir, err.msg);
-		return 2; /* an unusable output named on the command line: nothing ran */
+		return POPC_EXIT_USAGE; /* an unusable output named on the command line: nothing ran */
 	}
 	/* a name that is already a file passes mkdir (EEXIST): the figure's
 	 * files would fail to open after the measurement */
@@ -166,7 +166,7 @@ int popc_cmd_bench(int argc, char **argv)
 		fprintf(stderr, "popc bench: --plot %s: %s (the figure's files go into a directory)\n",
 			o.plot_dir, stat(o.plot_dir, &sb) == 0 && !S_ISDIR(sb.st_mode) ? "not a directory"
 												  : "cannot write into it");
-		return 2;
+		return POPC_EXIT_USAGE;
 	}
 	if (strcmp(what, "integrators") == 0)
 		return bench_integrators(&s, &o);

@@ -586,42 +586,42 @@ int popc_cmd_map(int argc, char **argv)
 	optind = 1;
 	while (rc < 0 && (c = getopt_long(argc, argv, "o:j:qh", opts, NULL)) != -1) {
 		switch (c) {
-		case OPT_VARIANT: oom |= popc_cli_push(&a.variants, &a.n_variants, optarg); break;
-		case OPT_VARY: oom |= popc_cli_push(&a.vary, &a.n_vary, optarg); break;
-		case OPT_SET: oom |= popc_cli_push(&a.sets, &a.n_sets, optarg); break;
+		case OPT_VARIANT: oom |= popc_arg_push(&a.variants, &a.n_variants, optarg); break;
+		case OPT_VARY: oom |= popc_arg_push(&a.vary, &a.n_vary, optarg); break;
+		case OPT_SET: oom |= popc_arg_push(&a.sets, &a.n_sets, optarg); break;
 		case OPT_STIFFNESS: a.stiffness = optarg; break;
 		case OPT_TOL:
 			if (popc_parse_double_text(optarg, &a.tol) != POPC_PARSE_OK || !(a.tol >= 1e-4) ||
 			    !(a.tol <= 1)) {
 				fprintf(stderr, "popc map: --tol '%s': a number in [1e-4, 1]\n", optarg);
-				rc = 2;
+				rc = POPC_EXIT_USAGE;
 			}
 			break;
 		case OPT_SCAN:
 			if (popc_parse_ll_text(optarg, 1, POPC_SWEEP_RANGE_MAX, &a.scan_steps) != 0) {
 				fprintf(stderr, "popc map: --scan '%s': grid steps, a whole number in [1, %ld]\n",
 					optarg, POPC_SWEEP_RANGE_MAX);
-				rc = 2;
+				rc = POPC_EXIT_USAGE;
 			}
 			break;
 		case OPT_PORT_TOL:
 			if (popc_parse_double_text(optarg, &a.port_tol_J) != POPC_PARSE_OK ||
 			    !(a.port_tol_J >= 0) || !(a.port_tol_J <= 1e6)) {
 				fprintf(stderr, "popc map: --port-tol '%s': joules in [0, 1e6]\n", optarg);
-				rc = 2;
+				rc = POPC_EXIT_USAGE;
 			}
 			break;
 		case OPT_CRITERION:
 			if (popc_map_criteria_parse(optarg, &a.criteria, &err) != 0) {
 				fprintf(stderr, "popc map: %s\n", err.msg);
-				rc = 2;
+				rc = POPC_EXIT_USAGE;
 			}
 			break;
 		case 'o': a.dir = optarg; break;
 		case 'j':
 			if (popc_parse_ll_text(optarg, 1, 4096, &a.jobs) != 0) {
 				fprintf(stderr, "popc map: -j '%s': a whole number in [1, 4096]\n", optarg);
-				rc = 2;
+				rc = POPC_EXIT_USAGE;
 			}
 			break;
 		case OPT_SHARD: a.shard_text = optarg; break;
@@ -630,7 +630,7 @@ int popc_cmd_map(int argc, char **argv)
 		case OPT_ISOLATE: a.isolate = 1; break;
 		case 'q': a.quiet = 1; break;
 		case 'h': usage(stdout); rc = 0; break;
-		default: usage(stderr); rc = 2; break;
+		default: usage(stderr); rc = POPC_EXIT_USAGE; break;
 		}
 	}
 	if (rc < 0) {
@@ -642,11 +642,11 @@ int popc_cmd_map(int argc, char **argv)
 						       : NULL;
 		if (oom) {
 			fprintf(stderr, "popc map: out of memory\n");
-			rc = 1;
+			rc = POPC_EXIT_RUN_FAILED;
 		} else if (why) {
 			fprintf(stderr, "popc map: %s\n", why);
 			usage(stderr);
-			rc = 2;
+			rc = POPC_EXIT_USAGE;
 		} else {
 			a.scene_path = argv[optind];
 			rc = map_main(&a);

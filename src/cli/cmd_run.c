@@ -15,7 +15,7 @@
 #include "popc/log/log.h"
 #include "popc/run/run.h"
 #include "popc/util/same_file.h"
-#include "popc/util/usage_hint.h"
+#include "popc/programs/usage_hint.h"
 #include "progress.h"
 
 static void usage(FILE *f)
@@ -339,10 +339,10 @@ int popc_cmd_run(int argc, char **argv)
 	while ((c = getopt_long(argc, argv, "qh", opts, NULL)) != -1) {
 		switch (c) {
 		case OPT_SET:
-			if (popc_cli_push(&sets, &n_sets, optarg) != 0) {
+			if (popc_arg_push(&sets, &n_sets, optarg) != 0) {
 				fprintf(stderr, "popc run: out of memory\n");
 				free(sets);
-				return 1;
+				return POPC_EXIT_RUN_FAILED;
 			}
 			break;
 		case OPT_VARIANT: variant = optarg; break;
@@ -352,7 +352,7 @@ int popc_cmd_run(int argc, char **argv)
 			if (strcmp(optarg, "csv") != 0 && strcmp(optarg, "json") != 0) {
 				fprintf(stderr, "popc run: --summary-format '%s': csv or json\n", optarg);
 				free(sets);
-				return 2;
+				return POPC_EXIT_USAGE;
 			}
 			summary_json = strcmp(optarg, "json") == 0;
 			break;
@@ -363,7 +363,7 @@ int popc_cmd_run(int argc, char **argv)
 		case OPT_RT: axis_create.realtime = 1; break;
 		case 'q': quiet = 1; break;
 		case 'h': usage(stdout); free(sets); return 0;
-		default: popc_option_hint(argv[0], opts, argc, argv); free(sets); return 2;
+		default: popc_option_hint(argv[0], opts, argc, argv); free(sets); return POPC_EXIT_USAGE;
 		}
 	}
 	int summary_stdout = summary_path && strcmp(summary_path, "-") == 0;
@@ -375,12 +375,12 @@ int popc_cmd_run(int argc, char **argv)
 		fprintf(stderr, "popc run: %s\n", why);
 		popc_help_hint(argv[0], "options");
 		free(sets);
-		return 2;
+		return POPC_EXIT_USAGE;
 	}
 	if (popc_cli_stdout_closed("run", "--log", log_path) ||
 	    popc_cli_stdout_closed("run", "--summary", summary_path)) {
 		free(sets);
-		return 2;
+		return POPC_EXIT_USAGE;
 	}
 	popc_scene s;
 	popc_error err;
@@ -399,7 +399,7 @@ int popc_cmd_run(int argc, char **argv)
 		return popc_cli_fail("run", st, &err);
 	if (refuse_overwriting_inputs(&s, argv[optind], log_path, summary_path) != 0 ||
 	    refuse_mixed_summary(summary_path, summary_json) != 0)
-		return 2;
+		return POPC_EXIT_USAGE;
 	/* --map and --connect set keys that only a Modbus axis reads: on the
 	 * simulated one they would do nothing, silently */
 	for (int o = 1; o <= 2; o++)
@@ -408,7 +408,7 @@ int popc_cmd_run(int argc, char **argv)
 				"popc run: %s %s: only for axis.kind = modbus, and axis.kind is %s "
 				"(give --axis modbus, or leave %s out)\n",
 				key_opts[o + 1].option, axis_opt[o], s.axis, key_opts[o + 1].option);
-			return 2;
+			return POPC_EXIT_USAGE;
 		}
 
 	popc_axis *axis = NULL;
@@ -477,7 +477,7 @@ int popc_cmd_run(int argc, char **argv)
 		fprintf(stderr, "popc run: %s: cannot write the summary: %s\n", summary_path,
 			strerror(errno));
 		if (!run_st)
-			return 1;
+			return POPC_EXIT_RUN_FAILED;
 	}
 	if (run_st)
 		return popc_cli_fail("run", run_st, &err);

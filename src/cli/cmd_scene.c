@@ -9,7 +9,7 @@
 #include "popc/log/log_reader.h"
 #include "popc/scene/data_path.h"
 #include "popc/scene/from_scene.h"
-#include "popc/util/usage_hint.h"
+#include "popc/programs/usage_hint.h"
 
 static void usage(FILE *f)
 {
@@ -89,22 +89,22 @@ static int scene_list(int argc, char **argv)
 		switch (c) {
 		case 'm': maps = 1; break;
 		case 'h': usage(stdout); return 0;
-		default: popc_option_hint(argv[0], opts, argc, argv); return 2;
+		default: popc_option_hint(argv[0], opts, argc, argv); return POPC_EXIT_USAGE;
 		}
 	}
 	if (optind < argc) {
 		fprintf(stderr, "popc scene list: unexpected argument '%s'\n", argv[optind]);
-		return 2;
+		return POPC_EXIT_USAGE;
 	}
 	popc_data_list(maps ? POPC_DATA_DRIVES : POPC_DATA_SCENES, stdout, stderr, "popc scene list");
-	return fflush(stdout) == 0 && !ferror(stdout) ? 0 : 1;
+	return fflush(stdout) == 0 && !ferror(stdout) ? POPC_EXIT_OK : POPC_EXIT_RUN_FAILED;
 }
 
 int popc_cmd_scene(int argc, char **argv)
 {
 	if (argc < 2 || strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
 		usage(argc < 2 ? stderr : stdout);
-		return argc < 2 ? 2 : 0;
+		return argc < 2 ? POPC_EXIT_USAGE : POPC_EXIT_OK;
 	}
 	int keys = strcmp(argv[1], "keys") == 0, list = strcmp(argv[1], "list") == 0;
 	if (list)
@@ -118,7 +118,7 @@ int popc_cmd_scene(int argc, char **argv)
 					"the actions)\n", near);
 		else
 			popc_help_hint("popc scene", "actions");
-		return 2;
+		return POPC_EXIT_USAGE;
 	}
 	static const struct option show_opts[] = {
 		{"set", required_argument, NULL, 's'},
@@ -136,21 +136,21 @@ int popc_cmd_scene(int argc, char **argv)
 	while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
 		switch (c) {
 		case 's':
-			if (popc_cli_push(&sets, &n_sets, optarg) != 0) {
+			if (popc_arg_push(&sets, &n_sets, optarg) != 0) {
 				fprintf(stderr, "popc scene show: out of memory\n");
 				free(sets);
-				return 1;
+				return POPC_EXIT_RUN_FAILED;
 			}
 			break;
 		case 'h': usage(stdout); free(sets); return 0;
-		default: popc_option_hint(argv[0], opts, argc, argv); free(sets); return 2;
+		default: popc_option_hint(argv[0], opts, argc, argv); free(sets); return POPC_EXIT_USAGE;
 		}
 	}
 	if (keys) {
 		if (optind < argc) {
 			fprintf(stderr, "popc scene keys: unexpected argument '%s'\n", argv[optind]);
 			popc_help_hint(argv[0], "options");
-			return 2;
+			return POPC_EXIT_USAGE;
 		}
 		popc_scene_print_keys(stdout);
 		return 0;
@@ -161,7 +161,7 @@ int popc_cmd_scene(int argc, char **argv)
 	if (optind < argc) {
 		fprintf(stderr, "popc scene show: unexpected argument '%s'\n", argv[optind]);
 		free(sets);
-		return 2;
+		return POPC_EXIT_USAGE;
 	}
 	popc_scene s;
 	popc_error err;

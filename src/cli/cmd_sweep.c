@@ -27,7 +27,7 @@
 #include "sweep_list.h"
 #include "sweep_pool.h"
 #include "sweep_progress.h"
-#include "popc/util/usage_hint.h"
+#include "popc/programs/usage_hint.h"
 
 static void usage(FILE *f)
 {
@@ -166,12 +166,12 @@ static int cmd_merge(int argc, char **argv)
 		case OPT_ALLOW_OTHER_BUILD: allow_other_build = 1; break;
 		case 'q': quiet = 1; break;
 		case 'h': usage(stdout); return 0;
-		default: popc_option_hint(argv[0], opts, argc, argv); return 2;
+		default: popc_option_hint(argv[0], opts, argc, argv); return POPC_EXIT_USAGE;
 		}
 	}
 	if (optind >= argc) {
 		fprintf(stderr, "popc sweep merge: no sweep directory given\n");
-		return 2;
+		return POPC_EXIT_USAGE;
 	}
 	const char *const *dirs = (const char *const *)argv + optind;
 	int n_dirs = argc - optind;
@@ -189,7 +189,7 @@ static int cmd_merge(int argc, char **argv)
 	if (!builds) {
 		popc_sweep_plan_free(&plan);
 		fprintf(stderr, "popc sweep merge: out of memory\n");
-		return 1;
+		return POPC_EXIT_RUN_FAILED;
 	}
 	for (int d = 1; d < n_dirs; d++) {
 		popc_sweep_plan other;
@@ -220,7 +220,7 @@ static int cmd_merge(int argc, char **argv)
 				dirs[0], first, dirs[d], this);
 			popc_sweep_plan_free(&plan);
 			free(builds);
-			return 2;
+			return POPC_EXIT_USAGE;
 		}
 		if (id != plan.plan_id) {
 			fprintf(stderr,
@@ -229,7 +229,7 @@ static int cmd_merge(int argc, char **argv)
 				dirs[0], dirs[d], plan.plan_id, id);
 			popc_sweep_plan_free(&plan);
 			free(builds);
-			return 2;
+			return POPC_EXIT_USAGE;
 		}
 	}
 	/* the output directory gets the plan too, so that it is a sweep
@@ -291,7 +291,7 @@ static int cmd_merge(int argc, char **argv)
 	if (!quiet || t.failed || t.missing)
 		fprintf(stderr, "popc sweep merge: %s: %lld of %lld runs, %lld failed, %lld without a result\n",
 			path, t.ok + t.failed, t.planned, t.failed, t.missing);
-	return t.failed || t.missing ? 1 : 0;
+	return t.failed || t.missing ? POPC_EXIT_RUN_FAILED : POPC_EXIT_OK;
 }
 
 /* The command line of a sweep (not merge), checked. */
@@ -327,7 +327,7 @@ static int sweep_main(const sweep_args *a)
 	popc_sweep_axis *axes = calloc((size_t)n_vary, sizeof *axes);
 	if (!axes) {
 		fprintf(stderr, "popc sweep: out of memory\n");
-		return 1;
+		return POPC_EXIT_RUN_FAILED;
 	}
 	for (int k = 0; k < n_vary && !st; k++)
 		st = popc_sweep_axis_parse(a->vary[k], &axes[k], &err);
@@ -394,7 +394,7 @@ static int sweep_main(const sweep_args *a)
 	if (!todo) {
 		popc_sweep_plan_free(&plan);
 		fprintf(stderr, "popc sweep: out of memory\n");
-		return 1;
+		return POPC_EXIT_RUN_FAILED;
 	}
 	const char *dirs[1] = {a->dir};
 	popc_sweep_results res;
@@ -492,13 +492,13 @@ int popc_cmd_sweep(int argc, char **argv)
 	optind = 1;
 	while (rc < 0 && (c = getopt_long(argc, argv, "o:j:qh", opts, NULL)) != -1) {
 		switch (c) {
-		case OPT_VARY: oom |= popc_cli_push(&a.vary, &a.n_vary, optarg); break;
-		case OPT_SET: oom |= popc_cli_push(&a.sets, &a.n_sets, optarg); break;
+		case OPT_VARY: oom |= popc_arg_push(&a.vary, &a.n_vary, optarg); break;
+		case OPT_SET: oom |= popc_arg_push(&a.sets, &a.n_sets, optarg); break;
 		case 'o': a.dir = optarg; break;
 		case 'j':
 			if (popc_parse_ll_text(optarg, 1, 4096, &a.jobs) != 0) {
 				fprintf(stderr, "popc sweep: -j '%s': a whole number in [1, 4096]\n", optarg);
-				rc = 2;
+				rc = POPC_EXIT_USAGE;
 			}
 			break;
 		case OPT_NO_LOG: a.keep_log = 0; break;
@@ -509,7 +509,7 @@ int popc_cmd_sweep(int argc, char **argv)
 		case OPT_ISOLATE: a.isolate = 1; break;
 		case 'q': a.quiet = 1; break;
 		case 'h': usage(stdout); rc = 0; break;
-		default: popc_option_hint(argv[0], opts, argc, argv); rc = 2; break;
+		default: popc_option_hint(argv[0], opts, argc, argv); rc = POPC_EXIT_USAGE; break;
 		}
 	}
 	if (rc < 0) {
@@ -533,11 +533,11 @@ int popc_cmd_sweep(int argc, char **argv)
 					  : NULL;
 		if (oom) {
 			fprintf(stderr, "popc sweep: out of memory\n");
-			rc = 1;
+			rc = POPC_EXIT_RUN_FAILED;
 		} else if (why) {
 			fprintf(stderr, "popc sweep: %s\n", why);
 			popc_help_hint(argv[0], "options");
-			rc = 2;
+			rc = POPC_EXIT_USAGE;
 		} else {
 			a.scene_path = argv[optind];
 			rc = sweep_main(&a);

@@ -2,14 +2,14 @@
 #include <stdio.h>
 
 #include "cli.h"
-#include "popc/util/verb.h"
-#include "popc/util/stdfds.h"
+#include "popc/programs/verb.h"
+#include "popc/programs/stdfds.h"
 #include "popc_config.h"
 
 int main(int argc, char **argv)
 {
 	if (popc_stdfds_make_safe() != 0) /* a closed 0-2 on /dev/null, before any open (stdfds.h) */
-		return 1;
+		return POPC_EXIT_RUN_FAILED;
 	popc_cli_keep_argv(argc, argv);
 	static const popc_verb verbs[] = {
 		{"run", popc_cmd_run, "SCENE", "run one experiment"},

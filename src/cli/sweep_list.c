@@ -44,7 +44,7 @@ int sweep_list_print(const popc_sweep_plan *p, const popc_sweep_shard *sh, const
 		if (popc_sweep_run_dir(p, dir_abs, i, rdir, sizeof rdir) != 0 ||
 		    (mkdir(rdir, 0777) != 0 && errno != EEXIST)) {
 			fprintf(stderr, "popc sweep: %s: %s\n", rdir, strerror(errno));
-			return 1;
+			return POPC_EXIT_RUN_FAILED;
 		}
 		popc_scene s;
 		popc_error err;
@@ -74,5 +74,5 @@ int sweep_list_print(const popc_sweep_plan *p, const popc_sweep_shard *sh, const
 		put_word(stdout, path);
 		fputs(" -q\n", stdout);
 	}
-	return fflush(stdout) != 0 || ferror(stdout) ? 1 : 0;
+	return fflush(stdout) != 0 || ferror(stdout) ? POPC_EXIT_RUN_FAILED : POPC_EXIT_OK;
 }

@@ -200,7 +200,7 @@ static int make_runs(pool_ctx *c, int slot)
 		if (fd >= 0)
 			close_rows(fd);
 		free(held);
-		return 1;
+		return POPC_EXIT_RUN_FAILED;
 	}
 	held->n = 0;
 	held->wall_s = 0.0;

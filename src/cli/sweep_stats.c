@@ -216,11 +216,11 @@ int popc_cmd_sweep_stats(int argc, char **argv)
 			else {
 				fprintf(stderr, "popc sweep stats: --format '%s': text, csv or markdown\n",
 					optarg);
-				return 2;
+				return POPC_EXIT_USAGE;
 			}
 			break;
 		case 'h': usage(stdout); return 0;
-		default: usage(stderr); return 2;
+		default: usage(stderr); return POPC_EXIT_USAGE;
 		}
 	}
 	if (optind + 1 != argc || !by_text) {
@@ -228,7 +228,7 @@ int popc_cmd_sweep_stats(int argc, char **argv)
 			optind >= argc ? "missing DIR" : optind + 1 != argc ? "more than one DIR"
 									 : "missing --by KEY[,KEY...]");
 		usage(stderr);
-		return 2;
+		return POPC_EXIT_USAGE;
 	}
 	const char *dir = argv[optind];
 	char *by[STATS_MAX_BY], *metric[STATS_MAX_METRICS];
@@ -236,12 +236,12 @@ int popc_cmd_sweep_stats(int argc, char **argv)
 	int n_m = split_list(metrics_text ? metrics_text : default_metrics, metric, STATS_MAX_METRICS,
 			     "--metrics");
 	if (n_by < 0 || n_m < 0)
-		return 2;
+		return POPC_EXIT_USAGE;
 	for (int m = 0; m < n_m; m++)
 		if (!metric_known(metric[m])) {
 			fprintf(stderr, "popc sweep stats: --metrics: '%s' is not a metric column of a "
 					"sweep summary (see --help)\n", metric[m]);
-			return 2;
+			return POPC_EXIT_USAGE;
 		}
 
 	char path[4096];
@@ -249,7 +249,7 @@ int popc_cmd_sweep_stats(int argc, char **argv)
 	FILE *f = fopen(path, "r");
 	if (!f) {
 		fprintf(stderr, "popc sweep stats: %s: %s\n", path, strerror(errno));
-		return 2;
+		return POPC_EXIT_USAGE;
 	}
 	char *line = NULL;
 	size_t cap = 0;
@@ -435,7 +435,7 @@ int popc_cmd_sweep_stats(int argc, char **argv)
 	goto out;
 oom:
 	fprintf(stderr, "popc sweep stats: out of memory\n");
-	rc = 1;
+	rc = POPC_EXIT_RUN_FAILED;
 out:
 	for (int g = 0; g < n_groups; g++) {
 		free(groups[g].key);

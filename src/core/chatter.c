@@ -65,16 +65,18 @@ static const threshold_key keys[] = {
 	{"lc_sustain", offsetof(popc_chatter_config, lc_sustain_min), 0.0, 1e9},
 };
 
-/* The absolute thresholds of before and what replaces each. */
+/* The absolute thresholds of before and what replaces each. A hint names this
+ * module's own parameters (popc_chatter_config's and the control period);
+ * a program names them as its user sets them (popc_error_name_params). */
 static const struct {
 	const char *old_name, *hint;
 } renamed[] = {
-	{"pc_rms", "pc_rms_share (a share of controller.pc_bound; 0.05: 0.25 N at 5 N)"},
+	{"pc_rms", "pc_rms_share (a share of pc_bound_N; 0.05: 0.25 N at 5 N)"},
 	{"pc_flip_rate", "pc_flip_share (flips per control tick; 0.1: 100 /s at 1 kHz)"},
 	{"vsign_rate", "vsign_share (sign changes per control tick; 0.1: 100 /s at 1 kHz)"},
 	{"lc_freq_min", "lc_cycles (full cycles in lc_window; 2: 1 Hz in 2 s)"},
 	{"lc_freq_max", "lc_freq_share (a share of the control rate; 0.1: 100 Hz at 1 kHz)"},
-	{"resolution", "--set encoder.resolution=M (the scene's, not a threshold)"},
+	{"resolution", "resolution_m (the scene's, not a threshold)"},
 };
 
 int popc_chatter_config_set(popc_chatter_config *c, const char *name, const char *value,
@@ -139,8 +141,8 @@ int popc_chatter_init(popc_chatter *d, const popc_chatter_config *cfg, double pe
 		return popc_error_set(err, POPC_ERR_INVALID,
 				      "chatter detector: window %g s and lc_window %g s at a period of "
 				      "%g s are %.3g and %.3g ticks, more than 1e13 (at most 1e12 ticks "
-				      "per sub-block): give shorter windows (--threshold window=S, "
-				      "lc_window=S) or the log's true rate (--set run.rate=HZ)",
+				      "per sub-block): give shorter windows (window_s, lc_window_s) or the "
+				      "log's true period (period_s)",
 				      cfg->window_s, cfg->lc_window_s, period_s, cfg->window_s / period_s,
 				      cfg->lc_window_s / period_s);
 	d->sub_ticks = sub < 1.0 ? 1 : llround(sub);

@@ -1,4 +1,4 @@
-/* PO/PC variants (controller.h; DESIGN section 4; seed eq. 3 and Table I). */
+/* PO/PC variants (controller.h; seed eq. 3 and Table I; README, "Controller variants"). */
 #include "popc/core/controller.h"
 #include "popc/core/compensated.h"
 #include "popc/core/port.h"

@@ -279,26 +279,25 @@ int popc_plant_init(popc_plant *p, const popc_plant_config *cfg, popc_error *err
 				      "plant: substeps must be >= 1 and the period > 0");
 	/* Every method divides by M and the exact one scales A h; a ratio that
 	 * overflows is no plant double precision can step (e.g. K = 1e9 N/m on
-	 * M = 2.3e-308 kg: K/M = inf). The scene keys behind each quantity are
-	 * named, since popc_plant_config_from_scene sums them. */
+	 * M = 2.3e-308 kg: K/M = inf). The messages name this module's own
+	 * parameters (popc_plant_config's fields); the scene layer, which sums
+	 * keys into them, names the keys (popc_plant_name_keys, from_scene.h). */
 	double m = cfg->mass_kg, h = cfg->period_s;
 	double k_m = cfg->stiffness_Npm / m, b_m = cfg->damping_Nspm / m;
 	if (!isfinite(1.0 / m))
 		return popc_error_set(err, POPC_ERR_INVALID,
-				      "plant: 1/M is not finite for M = operator.mass + device.mass = "
-				      "%g kg; raise operator.mass + device.mass",
+				      "plant: 1/M is not finite for M = mass_kg = %g kg; raise mass_kg",
 				      m);
 	if (!isfinite(k_m) || !isfinite(k_m * h * h))
 		return popc_error_set(err, POPC_ERR_INVALID,
-				      "plant: K/M = (operator.stiffness + device.stiffness) / (operator.mass "
-				      "+ device.mass) = %g N/m / %g kg%s is not finite; raise operator.mass + "
-				      "device.mass or lower operator.stiffness + device.stiffness",
-				      cfg->stiffness_Npm, m, isfinite(k_m) ? " times T^2 (1 / run.rate)^2" : "");
+				      "plant: K/M = stiffness_Npm / mass_kg = %g N/m / %g kg%s is not "
+				      "finite; raise mass_kg or lower stiffness_Npm",
+				      cfg->stiffness_Npm, m,
+				      isfinite(k_m) ? " times T^2 (T = period_s)" : "");
 	if (!isfinite(b_m))
 		return popc_error_set(err, POPC_ERR_INVALID,
-				      "plant: B/M = (operator.damping + device.damping) / (operator.mass + "
-				      "device.mass) = %g N s/m / %g kg is not finite; raise operator.mass + "
-				      "device.mass or lower operator.damping + device.damping",
+				      "plant: B/M = damping_Nspm / mass_kg = %g N s/m / %g kg is not "
+				      "finite; raise mass_kg or lower damping_Nspm",
 				      cfg->damping_Nspm, m);
 	if (cfg->method == POPC_INTEGRATOR_EXACT && !overdamped_stiff(cfg, h)) {
 		double turn = underdamped_turn(cfg, h);
@@ -306,23 +305,22 @@ int popc_plant_init(popc_plant *p, const popc_plant_config *cfg, popc_error *err
 			return popc_error_set(
 				err, POPC_ERR_INVALID,
 				"plant: the plant turns %.3g rad per period, above %.3g rad (w_d T e^(-B T "
-				"/ 2M), w_d = sqrt(4KM - B^2) / 2M; K = operator.stiffness + "
-				"device.stiffness = %g N/m, M = operator.mass + device.mass = %g kg, B = "
-				"operator.damping + device.damping = %g N s/m, T = 1 / run.rate = %g s): "
+				"/ 2M), w_d = sqrt(4KM - B^2) / 2M; K = stiffness_Npm = %g N/m, M = "
+				"mass_kg = %g kg, B = damping_Nspm = %g N s/m, T = period_s = %g s): "
 				"the exact step would keep under half of double precision; raise M or B, "
-				"lower K, or raise run.rate",
+				"lower K, or shorten T",
 				turn, POPC_PLANT_TURN_MAX_RAD, cfg->stiffness_Npm, m, cfg->damping_Nspm, h);
 	}
 	if (!(cfg->coulomb_N >= 0) || !isfinite(cfg->coulomb_N) || !(cfg->stiction_N >= 0) ||
 	    !isfinite(cfg->stiction_N))
 		return popc_error_set(err, POPC_ERR_INVALID,
-				      "plant: device.coulomb = %g N and device.stiction = %g N must be "
+				      "plant: coulomb_N = %g N and stiction_N = %g N must be "
 				      "finite and >= 0",
 				      cfg->coulomb_N, cfg->stiction_N);
 	if (cfg->stiction_N > 0 && cfg->stiction_N < cfg->coulomb_N)
 		return popc_error_set(err, POPC_ERR_INVALID,
-				      "plant: device.stiction = %g N is below device.coulomb = %g N; "
-				      "allowed device.stiction >= device.coulomb (or 0: equal to it)",
+				      "plant: stiction_N = %g N is below coulomb_N = %g N; "
+				      "allowed stiction_N >= coulomb_N (or 0: equal to it)",
 				      cfg->stiction_N, cfg->coulomb_N);
 	memset(p, 0, sizeof *p);
 	p->cfg = *cfg;
@@ -343,8 +341,8 @@ int popc_plant_init(popc_plant *p, const popc_plant_config *cfg, popc_error *err
 	if (popc_plant_coeffs(cfg, cfg->period_s, &p->full) != 0)
 		return popc_error_set(err, POPC_ERR_NUMERIC,
 				      "plant: the %s step matrices for T = %g s are not finite (K/M = %g "
-				      "1/s^2, B/M = %g 1/s): the plant (operator.* + device.* mass, damping, "
-				      "stiffness) is too stiff for double precision at this run.rate",
+				      "1/s^2, B/M = %g 1/s): the plant (mass_kg, damping_Nspm, "
+				      "stiffness_Npm) is too stiff for double precision at T = period_s",
 				      popc_integrator_name(cfg->method), h, k_m, b_m);
 	return 0;
 }

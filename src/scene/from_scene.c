@@ -16,7 +16,7 @@
 void popc_plant_config_from_scene(popc_plant_config *cfg, const popc_scene *s)
 {
 	memset(cfg, 0, sizeof *cfg);
-	/* One rigid body (DESIGN section 3): the hand holds the device. */
+	/* One rigid body (README, "The plant"): the hand holds the device. */
 	cfg->mass_kg = s->op_mass_kg + s->dev_mass_kg;
 	cfg->damping_Nspm = s->op_damping_Nspm + s->dev_damping_Nspm;
 	cfg->stiffness_Npm = s->op_stiffness_Npm + s->dev_stiffness_Npm;
@@ -89,6 +89,41 @@ void popc_admittance_plant_config_from_scene(popc_admittance_plant_config *c, co
 	c->x_origin_m = x_origin_m;
 }
 
+/* The keys behind each popc_plant_config field, as the two adapters above sum
+ * them (a sum in parentheses: the message divides by it). */
+static const popc_error_name impedance_plant_keys[] = {
+	{"mass_kg", "(operator.mass + device.mass)"},
+	{"damping_Nspm", "(operator.damping + device.damping)"},
+	{"stiffness_Npm", "(operator.stiffness + device.stiffness)"},
+	{"period_s", "1 / run.rate"},
+	{"coulomb_N", "device.coulomb"},
+	{"stiction_N", "device.stiction"},
+};
+static const popc_error_name admittance_position_plant_keys[] = {
+	{"mass_kg", "(operator.mass + device.mass)"},
+	{"damping_Nspm", "(operator.damping + device.damping + admittance.servo_damping)"},
+	{"stiffness_Npm", "(operator.stiffness + device.stiffness + admittance.servo_stiffness)"},
+	{"period_s", "1 / run.rate"},
+};
+static const popc_error_name admittance_velocity_plant_keys[] = {
+	{"mass_kg", "(operator.mass + device.mass)"},
+	{"damping_Nspm", "(operator.damping + device.damping + admittance.servo_damping)"},
+	{"stiffness_Npm", "(operator.stiffness + device.stiffness)"},
+	{"period_s", "1 / run.rate"},
+};
+
+void popc_plant_name_keys(const popc_scene *s, popc_error *err)
+{
+#define NAME_WITH(t) popc_error_name_params(err, t, sizeof t / sizeof t[0])
+	if (s->causality != POPC_CAUSALITY_ADMITTANCE)
+		NAME_WITH(impedance_plant_keys);
+	else if (s->adm_servo == POPC_SERVO_POSITION)
+		NAME_WITH(admittance_position_plant_keys);
+	else
+		NAME_WITH(admittance_velocity_plant_keys);
+#undef NAME_WITH
+}
+
 static const char *skip_blanks(const char *p)
 {
 	while (*p == ' ' || *p == '\t')
@@ -109,7 +144,7 @@ int popc_intent_table_load(const char *path, popc_table_quantity quantity, doubl
 	out->n = 0;
 	out->t_s = out->q = NULL;
 	/* the value column has the range of the scene key it stands for
-	 * (src/scene.c): a position as operator.x0, a force as operator.force */
+	 * (src/scene/scene.c): a position as operator.x0, a force as operator.force */
 	const double q_max = is_force ? 1e6 : 1e3;
 	const char *q_unit = is_force ? "N" : "m";
 	const char *q_key = is_force ? "operator.force" : "operator.x0";

@@ -96,7 +96,7 @@ static const scene_key scene_keys[] = {
 	NUM("encoder", "resolution", enc_resolution_m, "1e-5", 0, 1, 1, "m", "delta: x_meas = delta floor(x/delta)"),
 
 	{"controller", "variant", KEY_ENUM, OFF(variant), 0, 0, 0, "", popc_variant_names,
-	 "PO/PC variant (DESIGN section 4)", "ref-energy", 0},
+	 "PO/PC variant", "ref-energy", 0},
 	NUM("controller", "pc_bound", pc_bound_N, "5", 0, 1e6, 1, "N", "bound on |f_pc|"),
 	{"controller", "ignore_mode", KEY_ENUM, OFF(ignore_mode), 0, 0, 0, "", popc_ignore_mode_names,
 	 "Table I Prev_fc: undo f_c(k-1) (Fig. 7) or literal f_e(k) (docs/TABLE1.md)", "undo", 0},
@@ -158,17 +158,36 @@ static const scene_key scene_keys[] = {
 static int set_key(popc_scene *s, const scene_key *k, const char *value, const char *where,
 		   const char *option, popc_error *err);
 
-/* The paper's scene (seed Sec. III) with the ramp of DESIGN section 3: every
+/* The paper's scene (seed Sec. III) with the ramp of README, "Scenes": every
  * key's default from the table, read as a scene file's value would be, so a
  * default is in its key's range by construction. */
-void popc_scene_defaults(popc_scene *s)
+static int set_defaults(popc_scene *s, popc_error *err)
 {
 	memset(s, 0, sizeof *s);
+	int bad = 0;
 	for (size_t i = 0; i < N_KEYS; i++) {
-		popc_error err;
-		if (set_key(s, &scene_keys[i], scene_keys[i].def, "default ", NULL, &err) != 0)
-			abort(); /* a default outside its own key's range: the table is wrong */
+		popc_error e;
+		int st = set_key(s, &scene_keys[i], scene_keys[i].def, "default ", NULL, &e);
+		if (st && !bad) {
+			bad = st;
+			popc_error_set(err, st, "%s", e.msg);
+		}
 	}
+	return bad;
+}
+
+void popc_scene_defaults(popc_scene *s)
+{
+	/* a default outside its own key's range is a wrong table, which
+	 * popc_scene_defaults_check finds (tests/unit/test_scene.c): the library
+	 * does not abort */
+	(void)set_defaults(s, NULL);
+}
+
+int popc_scene_defaults_check(popc_error *err)
+{
+	popc_scene s;
+	return set_defaults(&s, err);
 }
 
 static const scene_key *find_key(const char *section, const char *key, int *section_known)
@@ -780,7 +799,7 @@ int popc_scene_validate(const popc_scene *s, popc_error *err)
 				      "%s: axis.kind = modbus needs axis.map and axis.connect", src);
 	/* Positions travel as integer counts in doubles (encoder.h): every
 	 * position the run may reach must be a count below 2^53. The reach is the
-	 * simulated axis' divergence bound (src/sim_axis.c): 10 x the largest
+	 * simulated axis' divergence bound (src/axes/sim_axis.c): 10 x the largest
 	 * position key + 1 m. */
 	double x_keys = fmax(fabs(s->op_x0_m), fabs(s->env_position_m));
 	if (s->intent == POPC_INTENT_RAMP)

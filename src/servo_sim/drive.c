@@ -59,7 +59,7 @@ static int advance(servo_drive *d)
 {
 	double f_dev = d->enabled && !d->fault ? d->force_N : 0.0;
 	popc_error err;
-	/* the device receives -f_c (DESIGN section 3), so f_c = -f_dev; exact */
+	/* the device receives -f_c (README, "The plant"), so f_c = -f_dev; exact */
 	if (d->plant->ops->exchange(d->plant, -f_dev, &d->smp, &err) != 0) {
 		fprintf(stderr, "popc-servo-sim: %s\n", err.msg);
 		drive_set_fault(d, "plant diverged", 1);

@@ -6,7 +6,7 @@
  *   exactly the count the simulated encoder gives, so a lockstep run equals
  *   the simulated run bit for bit.
  * - The command register holds the force on the device (the runner writes
- *   -f_c: the device receives -f_c, DESIGN section 3); it acts only while the
+ *   -f_c: the device receives -f_c, README, "The plant"); it acts only while the
  *   drive is enabled and not faulted.
  * - Lockstep: each command write while enabled advances the plant exactly one
  *   control period. With a command sequence register in the map, only a

@@ -31,8 +31,8 @@
 #include "popc/util/clock.h"
 #include "popc/util/parse.h"
 #include "popc/util/same_file.h"
-#include "popc/util/stdfds.h"
-#include "popc/util/usage_hint.h"
+#include "popc/programs/stdfds.h"
+#include "popc/programs/usage_hint.h"
 
 static volatile sig_atomic_t stop_requested = 0;
 
@@ -533,7 +533,7 @@ static int run_server(server *sv)
 		if (!sv->ctx || modbus_set_slave(sv->ctx, sv->drive.map.slave) != 0 ||
 		    modbus_connect(sv->ctx) != 0) {
 			fprintf(stderr, "popc-servo-sim: %s: %s\n", sv->uri.device, modbus_strerror(errno));
-			return 1;
+			return POPC_EXIT_RUN_FAILED;
 		}
 		print_ready(sv);
 		while (!stop_requested && !sv->exiting)
@@ -543,13 +543,13 @@ static int run_server(server *sv)
 	sv->ctx = modbus_new_tcp_pi(sv->uri.host, sv->uri.port);
 	if (!sv->ctx) {
 		fprintf(stderr, "popc-servo-sim: %s\n", modbus_strerror(errno));
-		return 1;
+		return POPC_EXIT_RUN_FAILED;
 	}
 	sv->listen_fd = modbus_tcp_pi_listen(sv->ctx, 1);
 	if (sv->listen_fd < 0) {
 		fprintf(stderr, "popc-servo-sim: listen on %s:%s: %s\n", sv->uri.host, sv->uri.port,
 			modbus_strerror(errno));
-		return 1;
+		return POPC_EXIT_RUN_FAILED;
 	}
 	print_ready(sv);
 	while (!stop_requested && !sv->exiting) {
@@ -577,7 +577,7 @@ enum { OPT_MAP = 256, OPT_LISTEN, OPT_SCENE, OPT_LOCKSTEP, OPT_SET, OPT_WATCHDOG
 int main(int argc, char **argv)
 {
 	if (popc_stdfds_make_safe() != 0)
-		return 1; /* no /dev/null: a socket could land on a closed 0-2 */
+		return POPC_EXIT_RUN_FAILED; /* no /dev/null: a socket could land on a closed 0-2 */
 	static const struct option opts[] = {
 		{"map", required_argument, NULL, OPT_MAP},
 		{"listen", required_argument, NULL, OPT_LISTEN},
@@ -656,19 +656,19 @@ int main(int argc, char **argv)
 		case OPT_WRONG_LENGTH: bad = parse_range(optarg, 0, &sv.wrong_length); break;
 		case 'h': usage(stdout); return 0;
 		case 'V': printf("popc-servo-sim %s\n", POPC_VERSION); return 0;
-		default: popc_option_hint("popc-servo-sim", opts, argc, argv); return 2;
+		default: popc_option_hint("popc-servo-sim", opts, argc, argv); return POPC_EXIT_USAGE;
 		}
 		if (bad) {
 			fprintf(stderr, "popc-servo-sim: bad value '%s' for --%s\n", optarg,
 				opts[c - OPT_MAP].name);
-			return 2;
+			return POPC_EXIT_USAGE;
 		}
 	}
 	if (optind != argc || !map_path || !listen || !scene_path) {
 		fprintf(stderr, "popc-servo-sim: %s\n",
 			optind != argc ? "unexpected argument" : "--map, --listen and --scene are required");
 		popc_help_hint("popc-servo-sim", "options");
-		return 2;
+		return POPC_EXIT_USAGE;
 	}
 	popc_error err;
 	popc_register_map map;
@@ -707,7 +707,7 @@ int main(int argc, char **argv)
 				    "frames have no MBAP header)");
 	if (st) {
 		fprintf(stderr, "popc-servo-sim: %s\n", err.msg);
-		return st == POPC_ERR_INVALID || st == POPC_ERR_IO ? 2 : 1;
+		return st == POPC_ERR_INVALID || st == POPC_ERR_IO ? POPC_EXIT_USAGE : POPC_EXIT_RUN_FAILED;
 	}
 	/* --record truncates its file when it opens it (below): never one of
 	 * the inputs, which it would empty (popc_same_file: a link or another
@@ -726,7 +726,7 @@ int main(int argc, char **argv)
 				"popc-servo-sim: --record %s is %s %s: refusing to overwrite an input "
 				"(choose another --record)\n",
 				record_path, inputs[i].what, inputs[i].path);
-			return 2;
+			return POPC_EXIT_USAGE;
 		}
 	/* the record file is opened now, so that a path that cannot be written
 	 * is bad usage before the drive serves anyone, not found at exit */
@@ -734,20 +734,20 @@ int main(int argc, char **argv)
 	if (record_path && !(record = fopen(record_path, "w"))) {
 		fprintf(stderr, "popc-servo-sim: --record %s: cannot open for writing: %s\n",
 			record_path, strerror(errno));
-		return 2;
+		return POPC_EXIT_USAGE;
 	}
 	if (watchdog >= 0)
 		map.watchdog_ms = (int)watchdog;
 	if ((st = drive_init(&sv.drive, &map, &scene, lockstep, &err))) {
 		fprintf(stderr, "popc-servo-sim: %s\n", err.msg);
-		return 1;
+		return POPC_EXIT_RUN_FAILED;
 	}
 	sv.drive.never_ready = never_ready;
 	if (start_faulted)
 		drive_set_fault(&sv.drive, "start-faulted", 1);
 	if (socketpair(AF_UNIX, SOCK_STREAM, 0, sv.capture) != 0) {
 		perror("popc-servo-sim: socketpair");
-		return 1;
+		return POPC_EXIT_RUN_FAILED;
 	}
 	/* termination signals are blocked except inside pselect: no lost wake-up */
 	struct sigaction sa;
@@ -783,7 +783,7 @@ int main(int argc, char **argv)
 		drive_write_record(&sv.drive, record);
 		if (fclose(record) != 0) {
 			fprintf(stderr, "popc-servo-sim: %s: cannot write the record\n", record_path);
-			rc = 1;
+			rc = POPC_EXIT_RUN_FAILED;
 		}
 	}
 	if (sv.ctx) {

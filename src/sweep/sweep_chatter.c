@@ -15,7 +15,17 @@ int popc_sweep_chatter_init(popc_chatter *det, const popc_scene *s,
 	/* the thresholds are relative to the scene run (docs/ANALYSIS.md) */
 	cc.resolution_m = s->enc_resolution_m;
 	cc.pc_bound_N = s->pc_bound_N;
-	return popc_chatter_init(det, &cc, popc_scene_period_s(s), &ccfg->env, err);
+	int st = popc_chatter_init(det, &cc, popc_scene_period_s(s), &ccfg->env, err);
+	if (st) {
+		/* the detector's parameters that come from the scene, as its keys */
+		static const popc_error_name keys[] = {
+			{"period_s", "1 / run.rate"},
+			{"resolution_m", "encoder.resolution"},
+			{"pc_bound_N", "controller.pc_bound"},
+		};
+		popc_error_name_params(err, keys, sizeof keys / sizeof keys[0]);
+	}
+	return st;
 }
 
 int popc_sweep_chatter_from_log(const char *log_path, popc_chatter_result *res, popc_error *err)

@@ -393,6 +393,33 @@ static void config_set_and_init_errors(void **state)
 	assert_int_equal(popc_chatter_init(&d, &cfg, T_S, &env, &err), POPC_ERR_INVALID);
 }
 
+/* The detector's messages name its own parameters (popc_chatter_config's
+ * fields, the period), never a program's option or a scene key: popc-analyze
+ * names those (ana_chatter_name_options; tests/analyze/test_chatter.sh). */
+static void messages_name_the_detector_parameters(void **state)
+{
+	(void)state;
+	popc_chatter_config cfg;
+	popc_chatter_config_defaults(&cfg);
+	popc_error err;
+	assert_int_equal(popc_chatter_config_set(&cfg, "resolution", "1e-5", &err),
+			 POPC_ERR_INVALID);
+	assert_non_null(strstr(err.msg, "use resolution_m (the scene's, not a threshold)"));
+	assert_int_equal(popc_chatter_config_set(&cfg, "pc_rms", "1", &err), POPC_ERR_INVALID);
+	assert_non_null(strstr(err.msg, "a share of pc_bound_N"));
+	cfg.resolution_m = 1e-5;
+	cfg.pc_bound_N = 5.0;
+	popc_chatter d;
+	popc_environment env = wall();
+	/* the 0.1 s window at T = 1e-15 s: 1e14 ticks, above 1e12 per sub-block */
+	assert_int_equal(popc_chatter_init(&d, &cfg, 1e-15, &env, &err), POPC_ERR_INVALID);
+	assert_non_null(strstr(err.msg, "give shorter windows (window_s, lc_window_s) or the "
+					"log's true period (period_s)"));
+	static const char *const not_here[] = {"--", "run.", "encoder.", "controller."};
+	for (size_t i = 0; i < sizeof not_here / sizeof not_here[0]; i++)
+		assert_null(strstr(err.msg, not_here[i]));
+}
+
 /* The RMS accumulation (popc/core/sum_squares.h): bit for bit a plain sum of
  * squares for ordinary values, finite and accurate (within n eps / 2 of a
  * sum of n squares) from 1e-320 to 1.7e308, where a plain sum overflows or
@@ -473,6 +500,7 @@ int main(void)
 		cmocka_unit_test(approach_from_rest_is_not_a_limit_cycle),
 		cmocka_unit_test(decaying_bounce_is_not_a_limit_cycle_at_any_length),
 		cmocka_unit_test(config_set_and_init_errors),
+		cmocka_unit_test(messages_name_the_detector_parameters),
 		cmocka_unit_test(sum_squares_edges),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);

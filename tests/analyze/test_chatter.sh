@@ -147,6 +147,15 @@ expect_rc 0 "$A" chatter -q --threshold pc_rms_share=2 "$W/ref-energy.csv" && ok
 expect_rc 2 "$A" chatter --threshold pc_rms=10 "$W/ref-energy.csv" &&
 	grep -q "threshold 'pc_rms' is relative to the scene now: use pc_rms_share" "$W/err" &&
 	ok "--threshold pc_rms: refused, naming pc_rms_share" || fail "pc_rms: $(cat "$W/err")"
+# the detector names its parameters (resolution_m, pc_bound_N); popc-analyze
+# names them as its user sets them
+expect_rc 2 "$A" chatter --threshold resolution=1e-5 "$W/ref-energy.csv" &&
+	grep -qF "threshold 'resolution' is relative to the scene now: use --set encoder.resolution=M (the scene's, not a threshold)" "$W/err" &&
+	! grep -q "resolution_m" "$W/err" &&
+	ok "--threshold resolution: refused, naming --set encoder.resolution" || fail "resolution: $(cat "$W/err")"
+expect_rc 2 "$A" chatter --threshold pc_rms=10 "$W/ref-energy.csv" &&
+	grep -qF "(a share of controller.pc_bound;" "$W/err" && ! grep -q "pc_bound_N" "$W/err" &&
+	ok "--threshold pc_rms: the hint names controller.pc_bound" || fail "pc_rms hint: $(cat "$W/err")"
 expect_rc 2 "$A" chatter --threshold bogus=1 "$W/ref-energy.csv" && ok "unknown threshold: exit 2"
 expect_rc 2 "$A" chatter --threshold pc_rms_share=-1 "$W/ref-energy.csv" && ok "negative threshold: exit 2"
 expect_rc 0 "$A" chatter --help && ok "--help"

@@ -1,5 +1,5 @@
 # popc-analyze compare: one row per log with the documented columns; values
-# agree with the measured paper scenes (DESIGN section 4).
+# agree with the measured paper scenes (README, "Controller variants").
 . "$2"
 for v in none ref-energy improved; do run_scene paper.ini "$W/$v.csv" --variant "$v"; done
 

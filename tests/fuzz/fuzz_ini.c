@@ -1,6 +1,6 @@
 /* INI harnesses: scene files (popc_scene_load), drive register maps
  * (popc_register_map_load) and the line reader under both
- * (popc_ini_read_line, src/ini_lines.h).
+ * (popc_ini_read_line, include/popc/scene/ini_lines.h).
  *
  * Properties: an error names the file and, where it names a line, a line of
  * the file; a scene that loads and validates writes a text that loads to the

@@ -12,7 +12,7 @@
 #   deadline and skips the grid points it has missed, so over n periods with
 #   S skipped the logged periods add up to at least (n + S) T and to less
 #   than (n + S + 1) T plus the last period (an exact consequence of
-#   wait_deadline in src/modbus_axis.c, not a margin).
+#   wait_deadline in src/axes/modbus/modbus_axis.c, not a margin).
 # The margins that are timing: the drive's watchdog and popc's response
 # timeout. Measured here with the sanitized build, two CPU-bound processes
 # and the rest of the suite beside it: periods up to 16.9 ms (p99.9 11.7 ms),

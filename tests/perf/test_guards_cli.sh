@@ -22,6 +22,7 @@ check "  names the keys" err_has "(operator.stiffness + device.stiffness) / (ope
 expect_exit 2 "B/M not finite is refused" "$POPC" run "$PAPER" -q --set operator.mass=0 \
   --set device.mass=2.3e-308 --set operator.stiffness=0 --set operator.damping=1e6
 check "  names the keys" err_has "(operator.damping + device.damping) / (operator.mass + device.mass)"
+check "  names no parameter of the core" bash -c "! grep -qE 'mass_kg|_Npm|_Nspm|period_s' '$T/err'"
 
 # RK4 x 100 on K = 1e9 N/m, M = 1e-3 kg grows 400^100 per period: the product
 # of the matrices overflowed, rho was NaN and the verdict "stable but too

@@ -780,9 +780,9 @@ static void test_light_plant_grid(void **state)
 						int st = popc_plant_init(&p, &cfg, &err);
 						if (st) {
 							if (st != POPC_ERR_INVALID ||
-							    !strstr(err.msg, "operator.mass + device.mass") ||
-							    !strstr(err.msg, "operator.stiffness + device.stiffness") ||
-							    !strstr(err.msg, "operator.damping + device.damping") ||
+							    !strstr(err.msg, "M = mass_kg") ||
+							    !strstr(err.msg, "K = stiffness_Npm") ||
+							    !strstr(err.msg, "B = damping_Nspm") ||
 							    !strstr(err.msg, "rad per period"))
 								fail_msg("M %g, B %g, K %g, %g Hz: status %d: %s",
 									 cfg.mass_kg, cfg.damping_Nspm,

@@ -11,6 +11,8 @@
 #include <cmocka.h>
 
 #include "popc/core/plant.h"
+#include "popc/scene/from_scene.h"
+#include "popc/scene/scene.h"
 
 static popc_plant make(double m, double b, double k, popc_integrator method, int substeps, double T)
 {
@@ -247,32 +249,73 @@ static void test_init_rejects_bad_config(void **state)
 		assert_int_equal(popc_plant_init(&p, &bad[i], &err), POPC_ERR_INVALID);
 }
 
-/* A ratio that overflows is refused at init, naming the scene keys behind it
- * (K = 1e9 N/m on M = 2.3e-308 kg: K/M = inf; the run used to go on with
- * inf/NaN matrices, exit 0, and garbage encoder counts). */
+/* A ratio that overflows is refused at init, naming the plant's own
+ * parameters (K = 1e9 N/m on M = 2.3e-308 kg: K/M = inf; the run used to go
+ * on with inf/NaN matrices, exit 0, and garbage encoder counts); the scene
+ * layer names the keys behind them (popc_plant_name_keys): the core's message
+ * names no scene key, the scene's no core field. */
 static void test_init_rejects_overflowing_ratios(void **state)
 {
 	(void)state;
 	popc_plant p;
 	popc_error err;
+	popc_scene s;
+	popc_scene_defaults(&s);
 	const popc_integrator methods[] = {POPC_INTEGRATOR_EXACT, POPC_INTEGRATOR_TRAPEZOID,
 					   POPC_INTEGRATOR_RK4};
 	for (size_t i = 0; i < sizeof methods / sizeof methods[0]; i++) {
-		popc_plant_config k_over = {.mass_kg = 2.3e-308, .stiffness_Npm = 1e9,
-					    .method = methods[i], .substeps = 1, .period_s = 1e-3};
-		err.msg[0] = '\0';
-		assert_int_equal(popc_plant_init(&p, &k_over, &err), POPC_ERR_INVALID);
-		assert_non_null(strstr(err.msg, "operator.mass + device.mass"));
-		assert_non_null(strstr(err.msg, "operator.stiffness + device.stiffness"));
-		popc_plant_config b_over = {.mass_kg = 2.3e-308, .damping_Nspm = 1e6,
-					    .method = methods[i], .substeps = 1, .period_s = 1e-3};
-		assert_int_equal(popc_plant_init(&p, &b_over, &err), POPC_ERR_INVALID);
-		assert_non_null(strstr(err.msg, "operator.damping + device.damping"));
-		popc_plant_config m_tiny = {.mass_kg = 1e-310, .method = methods[i], .substeps = 1,
-					    .period_s = 1e-3};
-		assert_int_equal(popc_plant_init(&p, &m_tiny, &err), POPC_ERR_INVALID);
-		assert_non_null(strstr(err.msg, "operator.mass + device.mass"));
+		const struct {
+			popc_plant_config cfg;
+			const char *core[2], *keys[2];
+		} cases[] = {
+			{{.mass_kg = 2.3e-308, .stiffness_Npm = 1e9, .method = methods[i],
+			  .substeps = 1, .period_s = 1e-3},
+			 {"stiffness_Npm / mass_kg", "raise mass_kg"},
+			 {"(operator.stiffness + device.stiffness) / (operator.mass + device.mass)",
+			  "raise (operator.mass + device.mass)"}},
+			{{.mass_kg = 2.3e-308, .damping_Nspm = 1e6, .method = methods[i],
+			  .substeps = 1, .period_s = 1e-3},
+			 {"damping_Nspm / mass_kg", "lower damping_Nspm"},
+			 {"(operator.damping + device.damping) / (operator.mass + device.mass)",
+			  "lower (operator.damping + device.damping)"}},
+			{{.mass_kg = 1e-310, .method = methods[i], .substeps = 1, .period_s = 1e-3},
+			 {"M = mass_kg = ", "raise mass_kg"},
+			 {"M = (operator.mass + device.mass) = ",
+			  "raise (operator.mass + device.mass)"}},
+		};
+		for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+			err.msg[0] = '\0';
+			assert_int_equal(popc_plant_init(&p, &cases[c].cfg, &err), POPC_ERR_INVALID);
+			for (size_t k = 0; k < 2; k++)
+				assert_non_null(strstr(err.msg, cases[c].core[k]));
+			assert_null(strstr(err.msg, "operator."));
+			assert_null(strstr(err.msg, "device."));
+			popc_plant_name_keys(&s, &err);
+			for (size_t k = 0; k < 2; k++)
+				assert_non_null(strstr(err.msg, cases[c].keys[k]));
+			assert_null(strstr(err.msg, "mass_kg"));
+			assert_null(strstr(err.msg, "_Npm"));
+			assert_null(strstr(err.msg, "_Nspm"));
+		}
 	}
+	/* friction and the period, and an admittance device's servo gains */
+	popc_plant_config fr = {.mass_kg = 1, .method = POPC_INTEGRATOR_EXACT, .substeps = 1,
+				.period_s = 1e-3, .coulomb_N = 2, .stiction_N = 1};
+	assert_int_equal(popc_plant_init(&p, &fr, &err), POPC_ERR_INVALID);
+	assert_non_null(strstr(err.msg, "stiction_N = 1 N is below coulomb_N = 2 N"));
+	popc_plant_name_keys(&s, &err);
+	assert_non_null(strstr(err.msg, "device.stiction = 1 N is below device.coulomb = 2 N"));
+	/* K/M finite, K/M T^2 not */
+	popc_plant_config kt = {.mass_kg = 1, .stiffness_Npm = 1e300,
+				.method = POPC_INTEGRATOR_EXACT, .substeps = 1, .period_s = 1e10};
+	assert_int_equal(popc_plant_init(&p, &kt, &err), POPC_ERR_INVALID);
+	assert_non_null(strstr(err.msg, "times T^2 (T = period_s) is not finite"));
+	s.causality = POPC_CAUSALITY_ADMITTANCE;
+	s.adm_servo = POPC_SERVO_POSITION;
+	popc_plant_name_keys(&s, &err);
+	assert_non_null(strstr(err.msg, "times T^2 (T = 1 / run.rate) is not finite"));
+	assert_non_null(strstr(err.msg, "(operator.stiffness + device.stiffness + "
+					"admittance.servo_stiffness) / (operator.mass + device.mass)"));
 }
 
 /* The matrix exponential reports what it cannot compute instead of handing

@@ -43,6 +43,7 @@ static void test_defaults_are_the_paper_scene(void **state)
 	(void)state;
 	popc_scene s;
 	popc_error err;
+	assert_int_equal(popc_scene_defaults_check(&err), 0); /* every default in its range */
 	popc_scene_defaults(&s);
 	assert_int_equal(popc_scene_validate(&s, &err), 0);
 	assert_true(s.op_mass_kg == 0.1 && s.op_damping_Nspm == 0.5 && s.op_stiffness_Npm == 50.0);

@@ -1,4 +1,4 @@
-/* The simulated axis' period splitting (src/sim_axis.c, advance()): a
+/* The simulated axis' period splitting (src/axes/sim_axis.c, advance()): a
  * breakpoint of the operator's profile just after the start of a step is a
  * segment of its own, never a line the rest of the period follows.
  *

@@ -1,7 +1,7 @@
 /* The Modbus axis: a servo drive over Modbus TCP or RTU (libmodbus), described
  * by a register map file (register_map.h), with the safety supervisor built in.
  *
- * What the axis does on every tick (DESIGN section 6):
+ * What the axis does on every tick (docs/MODBUS.md, "What a tick does"):
  * - pacing: absolute deadlines on CLOCK_MONOTONIC (clock_nanosleep with
  *   TIMER_ABSTIME) at run.rate; the measured period dt and the Modbus
  *   transaction time rtt go to the log; overruns are counted, and a tick late

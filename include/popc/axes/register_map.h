@@ -1,5 +1,5 @@
 /* A servo drive's Modbus register map, read from an INI file (one file per
- * drive layout, data/drives/). DESIGN section 6: drives differ in word order,
+ * drive layout, data/drives/). docs/MODBUS.md: drives differ in word order,
  * units and enable/fault words, so the layout is data, never code.
  *
  *   [drive]    name, slave, fc23, timeout_ms, max_failures, enable_timeout_ms, watchdog_ms,
@@ -21,7 +21,7 @@
  *
  * Addresses are zero-based protocol addresses. Word conversion is done here, by
  * hand: libmodbus 3.1.6's float getters and setters disagree and its
- * MODBUS_GET_INT32_FROM_INT16 is wrong for negative values (DESIGN section 6). */
+ * MODBUS_GET_INT32_FROM_INT16 is wrong for negative values; docs/MODBUS.md). */
 #ifndef POPC_REGISTER_MAP_H
 #define POPC_REGISTER_MAP_H
 

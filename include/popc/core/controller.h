@@ -1,5 +1,6 @@
 /* The passivity observer (PO) and passivity controller (PC) variants of
- * DESIGN section 4, series PC in impedance causality.
+ * the paper (seed eq. 3, Table I; README, "Controller variants"), series PC
+ * in impedance causality.
  *
  * A control tick k takes the measured position (count and metres) and gives
  * the command f_c(k) = f_e(k) + f_pc(k). The observer half (W, E_ref) is a
@@ -26,8 +27,8 @@ typedef enum popc_variant {
 	POPC_VARIANT_COUNT
 } popc_variant;
 
-/* The variants' names in scenes, logs and on the command line (DESIGN
- * section 4; stable), index = value, NULL-terminated. */
+/* The variants' names in scenes, logs and on the command line (README,
+ * "Controller variants"; stable), index = value, NULL-terminated. */
 extern const char *const popc_variant_names[];
 const char *popc_variant_name(popc_variant v);
 int popc_variant_from_name(const char *name, popc_variant *out);
@@ -68,7 +69,7 @@ typedef struct popc_tick {
 	unsigned flags;
 } popc_tick;
 
-/* PO and reference energy state (DESIGN section 4; seed eq. 3, Table I). */
+/* PO and reference energy state (seed eq. 3, Table I; README, "Controller variants"). */
 typedef struct popc_observer {
 	popc_variant variant;
 	popc_ignore_mode ignore_mode;

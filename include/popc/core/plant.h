@@ -1,4 +1,4 @@
-/* The simulated plant of DESIGN section 3: the operator's hand and the device
+/* The simulated plant (README, "The plant"): the operator's hand and the device
  * as one rigid body,
  *
  *     M x'' = u(t) - B x' - K x,   M = M_HO + M_HI, B = B_HO + B_HI, K = K_HO + K_HI,
@@ -148,7 +148,7 @@ int popc_plant_augmented(const popc_plant_config *cfg, double a[36]);
  * error below 2^-53 for ||A|| / 2^s <= 0.54). A matrix that needs squarings
  * (||A||_1 > 0.54) is balanced first by a diagonal similarity of powers of two
  * (exact; Parlett-Reinsch), so that a stiff plant's mixed units do not
- * multiply the squarings' rounding (src/expm.c). Returns 0, POPC_ERR_INVALID
+ * multiply the squarings' rounding (src/core/expm.c). Returns 0, POPC_ERR_INVALID
  * for n out of range, or POPC_ERR_NUMERIC when A or the result is not finite. */
 int popc_expm(int n, const double *a, double *out);
 

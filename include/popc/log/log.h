@@ -1,4 +1,4 @@
-/* The CSV log of DESIGN section 5.
+/* The CSV log (README, "The log"; docs/READING.md).
  *
  *   # popc log
  *   # format = 1

@@ -25,6 +25,14 @@ void popc_admittance_config_from_scene(popc_admittance_config *c, const popc_sce
 void popc_admittance_plant_config_from_scene(popc_admittance_plant_config *c, const popc_scene *s,
 					     double x_origin_m);
 
+/* popc_plant_init (and popc_admittance_plant_init, which calls it) names the
+ * plant's own parameters, popc_plant_config's mass_kg, damping_Nspm,
+ * stiffness_Npm, period_s, coulomb_N, stiction_N: this names in err's message
+ * the scene keys that s sums into each (mass_kg: "(operator.mass +
+ * device.mass)"; an admittance device's servo gains included), so the user
+ * reads the keys to change. */
+void popc_plant_name_keys(const popc_scene *s, popc_error *err);
+
 /* A table intent's points, owned (free with popc_intent_points_free). */
 typedef struct popc_intent_points {
 	size_t n;

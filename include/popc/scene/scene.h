@@ -2,7 +2,7 @@
  * --set section.key=value, validated, with every default explicit.
  *
  * Keys, their units, defaults and allowed ranges live in one table
- * (scene_keys[] in src/scene.c); popc_scene_defaults, popc_scene_load, popc_scene_set and
+ * (scene_keys[] in src/scene/scene.c); popc_scene_defaults, popc_scene_load, popc_scene_set and
  * popc_scene_write all work from it, so a key is declared exactly once. */
 #ifndef POPC_SCENE_H
 #define POPC_SCENE_H
@@ -82,8 +82,12 @@ typedef struct popc_scene {
 	char source[POPC_PATH_MAX];
 } popc_scene;
 
-/* Fills s with every default (the paper's scene, DESIGN section 3). */
+/* Fills s with every default (the paper's scene: README, "Scenes"). */
 void popc_scene_defaults(popc_scene *s);
+/* 0 when every key's default is in its key's range (the table is right),
+ * else the first refusal's status and message: popc_scene_defaults itself
+ * reports nothing, the tests call this. */
+int popc_scene_defaults_check(popc_error *err);
 
 /* Reads an INI scene file on top of the current contents of s (call
  * popc_scene_defaults first). Unknown sections or keys, duplicate keys,

@@ -1,4 +1,4 @@
-/* Parameter sweeps (DESIGN section 8): everything `popc sweep` and `popc sweep
+/* Parameter sweeps (docs/SWEEPS.md): everything `popc sweep` and `popc sweep
  * merge` use, one header per file of src/sweep/, in the order they call each
  * other (each calls only those above it; tests/layers/call_cycles.py checks
  * there is no cycle):

@@ -1,4 +1,4 @@
-/* The sweep planner (DESIGN section 8): value lists and ranges, the cartesian
+/* The sweep planner (docs/SWEEPS.md): value lists and ranges, the cartesian
  * product, run ids, plan ids and shards (src/sweep/sweep_plan.c).
  *
  * A sweep is a base scene and a list of axes, each a scene key with a list of

@@ -44,6 +44,20 @@ int popc_error_set(popc_error *err, int status, const char *fmt, ...)
 #endif
 	;
 
+/* A layer's message names its own parameters (popc_plant_init: mass_kg,
+ * period_s; popc_chatter_init: window_s); the layer that made them from a
+ * scene or a command line names them as its user wrote them (scene keys,
+ * options). One parameter and the words that replace it: */
+typedef struct popc_error_name {
+	const char *param; /* an identifier of the lower layer's message */
+	const char *name;  /* what the user wrote: "operator.mass + device.mass" */
+} popc_error_name;
+
+/* Replaces every whole identifier (letters, digits, '_') of err's message
+ * that is a table's param by its name, in one pass (a name is not read
+ * again), cut at POPC_ERROR_MSG_MAX - 1 bytes. err may be NULL. */
+void popc_error_name_params(popc_error *err, const popc_error_name *names, size_t n);
+
 /* Maps a popc_status to the process exit code the CLI uses. */
 int popc_status_exit_code(int status);
 

@@ -150,7 +150,7 @@ static int link_open(mb_axis *a, popc_error *err)
 		if (!a->ctx)
 			return popc_error_set(err, POPC_ERR_COMM, "%s: cannot create the Modbus context: %s",
 					      a->uri_text, modbus_strerror(errno));
-		/* LINK recovery can retry forever and doubles every timeout (DESIGN 6) */
+		/* LINK recovery can retry forever and doubles every timeout (docs/MODBUS.md) */
 		modbus_set_error_recovery(a->ctx, MODBUS_ERROR_RECOVERY_NONE);
 		modbus_set_slave(a->ctx, a->map.slave);
 		set_timeouts(a);
@@ -629,7 +629,7 @@ static int read_state(mb_axis *a, uint16_t *blk, uint16_t *status, popc_error *e
 /* A new command: the words of one command write (the block of
  * popc_register_map_command_block). The command register holds the force on
  * the device. The runner's f_c is the force into the virtual environment and
- * the device receives -f_c (DESIGN section 3), so exchange() passes -f_c (an
+ * the device receives -f_c (README, "The plant"), so exchange() passes -f_c (an
  * exact negation: a lockstep server negates it back bit for bit) and
  * start/stop pass +0. With a sequence register, each new command carries the
  * next sequence value; a retry resends these same words, so the drive sees

@@ -9,8 +9,8 @@
  * misdirected), and the program remembers which were closed, so that a
  * request to write output to standard output that is not there (`--log -`
  * with `>&-`) can be refused instead of vanishing. */
-#ifndef POPC_UTIL_STDFDS_H
-#define POPC_UTIL_STDFDS_H
+#ifndef POPC_PROGRAMS_STDFDS_H
+#define POPC_PROGRAMS_STDFDS_H
 
 /* Reopens each closed descriptor 0, 1, 2 on /dev/null (0 for reading, 1 and
  * 2 for writing). Returns 0, or -1 when one could not be reopened (no

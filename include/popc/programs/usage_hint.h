@@ -6,9 +6,10 @@
  *   popc run: unrecognized option '--varient'
  *   popc run: did you mean --variant? ('popc run --help' lists the options)
  *
- * Generic (tables of names, getopt's struct option), so it lives in util. */
-#ifndef POPC_UTIL_USAGE_HINT_H
-#define POPC_UTIL_USAGE_HINT_H
+ * Generic (tables of names, getopt's struct option); it prints and reads
+ * getopt's globals, so it is the programs' (src/programs/), not the library's. */
+#ifndef POPC_PROGRAMS_USAGE_HINT_H
+#define POPC_PROGRAMS_USAGE_HINT_H
 
 #include <getopt.h>
 #include <stddef.h>

@@ -1,5 +1,5 @@
 /* Standard descriptors made safe at start (stdfds.h). */
-#include "popc/util/stdfds.h"
+#include "popc/programs/stdfds.h"
 
 #include <errno.h>
 #include <fcntl.h>

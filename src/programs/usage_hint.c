@@ -1,5 +1,5 @@
 /* One hint line after a usage error (usage_hint.h). */
-#include "popc/util/usage_hint.h"
+#include "popc/programs/usage_hint.h"
 
 #include <stdio.h>
 #include <stdlib.h>

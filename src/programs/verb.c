@@ -1,11 +1,11 @@
 /* The verb dispatcher (verb.h). */
-#include "popc/util/verb.h"
+#include "popc/programs/verb.h"
 
 #include <stdio.h>
 #include <string.h>
 
 #include "popc/util/error.h"
-#include "popc/util/usage_hint.h"
+#include "popc/programs/usage_hint.h"
 
 static void usage(const popc_program *p, FILE *f)
 {

@@ -1,9 +1,10 @@
 /* The verb dispatcher of popc's programs ("popc run ...", "popc-analyze
  * energy ..."): one table of verbs, one usage text made from it, one
- * "unknown verb" error. Generic (it knows no verb), so it lives in util;
+ * "unknown verb" error. Generic (it knows no verb); it prints, so it is the
+ * programs' (src/programs/), never the library's;
  * only the programs' main() call it. */
-#ifndef POPC_UTIL_VERB_H
-#define POPC_UTIL_VERB_H
+#ifndef POPC_PROGRAMS_VERB_H
+#define POPC_PROGRAMS_VERB_H
 
 #include <stddef.h>
 
