@@ -43,13 +43,19 @@ struct popc_log_cell_cache {
 	cache_slot slot[POPC_LOG_N_COLUMNS][CACHE_SLOTS];
 };
 
-static struct popc_log_cell_cache *cache_new(void)
+/* The slots of the double columns the log writes (the others are never
+ * read: a sweep's run opens a log, and a run that writes 12 columns need
+ * not touch the 19 columns' 58 kB). */
+static struct popc_log_cell_cache *cache_new(unsigned columns)
 {
 	struct popc_log_cell_cache *c = malloc(sizeof *c);
 	if (!c)
 		return NULL;
 	for (int col = 0; col < POPC_LOG_N_COLUMNS; col++)
 		for (unsigned i = 0; i < CACHE_SLOTS; i++) {
+			if (popc_log_columns[col].format != POPC_LOG_CELL_DOUBLE ||
+			    !popc_log_column_written(popc_log_columns[col].fill, columns))
+				break;
 			cache_slot *s = &c->slot[col][i];
 			memset(s, 0, sizeof *s);
 			memcpy(s->text, "0.0", 3);
@@ -80,7 +86,7 @@ int popc_log_open(popc_log_writer *w, const char *path, unsigned columns, popc_e
 	}
 	w->cap = LOG_BUFFER_BYTES;
 	w->buf = malloc(w->cap);
-	w->cells = cache_new();
+	w->cells = cache_new(columns);
 	if (!w->buf || !w->cells) {
 		free(w->buf);
 		free(w->cells);
