@@ -772,7 +772,7 @@ static inline void write_digits(char *out, uint64_t f, int n)
  * move or two instead of a call to memcpy with a length (three or four calls
  * a number were a third of this function's time). Bytes past the NUL are
  * left as they fall. */
-static size_t write_decimal(char *buf, int neg, uint64_t f, int e)
+static size_t write_decimal(char *buf, int neg, uint64_t f, int e, int point)
 {
 	char *p = buf;
 	/* n digits in digits[0..n), '0's after them: the copies below read up
@@ -807,6 +807,10 @@ static size_t write_decimal(char *buf, int neg, uint64_t f, int e)
 			 * buf + 18) */
 			memcpy(p, digits, 17);
 			p += x + 1;
+			if (point) { /* p + 2 <= buf + 20 */
+				memcpy(p, ".0", 2);
+				p += 2;
+			}
 		} else {
 			/* dd.ddd, 0 <= x < n - 1 <= 16: the first x + 1 digits,
 			 * the point, the other n - x - 1 (p + 16 <= buf + 17; for
@@ -824,7 +828,7 @@ static size_t write_decimal(char *buf, int neg, uint64_t f, int e)
 		p[0] = digits[0];
 		p[1] = '.';
 		memcpy(p + 2, digits + 1, 16);
-		p += n > 1 ? n + 1 : 1;
+		p += n > 1 ? n + 1 : point ? 3 : 1; /* "d.0": digits[1] is '0' */
 		*p++ = 'e';
 		if (x < 0) {
 			*p++ = '-';
@@ -848,7 +852,7 @@ static size_t write_decimal(char *buf, int neg, uint64_t f, int e)
  * Unlike Java's Double.toString we do not scale the two smallest subnormals by
  * 10 (Java's "dk = -1" case): Java's specification asks for two digits there
  * (4.9E-324), while we want the shortest, 5e-324 and 1e-323. */
-static size_t to_decimal(char *buf, int neg, int q, uint64_t c)
+static size_t to_decimal(char *buf, int neg, int q, uint64_t c, int point)
 {
 	uint64_t out = c & 1; /* odd c: the interval ends round away from v */
 	uint64_t cb = c << 2;
@@ -886,20 +890,24 @@ static size_t to_decimal(char *buf, int neg, int q, uint64_t c)
 		int upin = vbl + out <= sp10 << 2;
 		int wpin = (tp10 << 2) + out <= vbr;
 		if (upin != wpin)
-			return write_decimal(buf, neg, upin ? sp10 : tp10, k);
+			return write_decimal(buf, neg, upin ? sp10 : tp10, k, point);
 	}
 	/* Otherwise s * 10^k or (s + 1) * 10^k: one of them is in the interval. */
 	uint64_t t = s + 1;
 	int uin = vbl + out <= s << 2;
 	int win = (t << 2) + out <= vbr;
 	if (uin != win)
-		return write_decimal(buf, neg, uin ? s : t, k);
+		return write_decimal(buf, neg, uin ? s : t, k, point);
 	/* Both are: take the nearer to v, the even one on a tie. */
 	int64_t cmp = (int64_t)(vb - ((s + t) << 1));
-	return write_decimal(buf, neg, (cmp < 0 || (cmp == 0 && (s & 1) == 0)) ? s : t, k);
+	return write_decimal(buf, neg, (cmp < 0 || (cmp == 0 && (s & 1) == 0)) ? s : t, k,
+			     point);
 }
 
-size_t popc_format_double(double v, char *buf)
+/* popc_format_double, and with point popc_format_double_point: the ".0"
+ * is laid out with the digits (write_decimal), not inserted after them by a
+ * scan of the text (a tenth of a logged run's instructions). */
+static inline size_t format(double v, char *buf, int point)
 {
 	uint64_t bits;
 	memcpy(&bits, &v, sizeof bits);
@@ -923,32 +931,27 @@ size_t popc_format_double(double v, char *buf)
 		if (q < 0 && q > -53) {
 			uint64_t f = c >> -q;
 			if (f << -q == c)
-				return write_decimal(buf, neg, f, 0);
+				return write_decimal(buf, neg, f, 0, point);
 		}
-		return to_decimal(buf, neg, q, c);
+		return to_decimal(buf, neg, q, c, point);
 	}
 	if (t != 0) {
 		/* Subnormal: v = t * 2^-1074. */
-		return to_decimal(buf, neg, DBL_Q_MIN, t);
+		return to_decimal(buf, neg, DBL_Q_MIN, t, point);
 	}
-	if (neg) {
-		memcpy(buf, "-0", 3);
-		return 2;
-	}
-	memcpy(buf, "0", 2);
-	return 1;
+	/* zero: "0", "-0"; with point "0.0", "-0.0" */
+	memcpy(buf, neg ? "-0.0" : "0.0", neg ? 5 : 4);
+	size_t n = (size_t)neg + 1 + (point ? 2u : 0u);
+	buf[n] = '\0';
+	return n;
+}
+
+size_t popc_format_double(double v, char *buf)
+{
+	return format(v, buf, 0);
 }
 
 size_t popc_format_double_point(double v, char *buf)
 {
-	size_t n = popc_format_double(v, buf);
-	size_t e = 0; /* where ".0" goes: before the exponent, else at the end */
-	while (e < n && buf[e] != '.' && buf[e] != 'e' && buf[e] != 'n' && buf[e] != 'i')
-		e++;
-	if (e < n && buf[e] != 'e')
-		return n; /* a point already, or nan / inf */
-	memmove(buf + e + 2, buf + e, n - e + 1); /* the exponent and the NUL */
-	buf[e] = '.';
-	buf[e + 1] = '0';
-	return n + 2;
+	return format(v, buf, 1);
 }

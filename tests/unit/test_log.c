@@ -16,6 +16,7 @@
 
 #include "popc/log/log.h"
 #include "popc/log/log_reader.h"
+#include "popc/util/numfmt.h"
 
 #include "test_tmpdir.h"
 
@@ -255,6 +256,77 @@ static const char *write_file(const char *name, const char *text)
 	fputs(text, f);
 	fclose(f);
 	return path;
+}
+
+
+/* The writer's cell cache (log_writer.c: a column's recent texts by a hash
+ * of the bits) gives every cell the text popc_format_double_point gives it:
+ * each double cell drawn from a pool of 300 values per column, so that
+ * values repeat, evict each other from their slots and come back, among
+ * them +0.0 (every slot's first text), -0.0, subnormals, a NaN and the
+ * infinities (never logged, but the writer must write them as they are).
+ * Every line is compared with the text made cell by cell. */
+static void test_writer_cell_cache(void **state)
+{
+	(void)state;
+	enum { N = 6000, POOL = 300 };
+	static double pool[POPC_LOG_N_COLUMNS][POOL];
+	const double odd[] = {0.0, -0.0, 5e-324, -2.2250738585072014e-308, (double)NAN, (double)INFINITY,
+			      -(double)INFINITY, 1e17, 0.1, 1.0};
+	for (int id = 0; id < POPC_LOG_N_COLUMNS; id++)
+		for (int j = 0; j < POOL; j++)
+			pool[id][j] = j < (int)(sizeof odd / sizeof odd[0]) ? odd[j]
+				      : (j & 1)			     ? random_double()
+								     : (double)(j - 150) * 1e-5;
+	const unsigned set = POPC_LOG_COL_X_TRUE | POPC_LOG_COL_TIMING;
+	char path[512];
+	snprintf(path, sizeof path, "%s/cache.csv", tmpdir);
+	popc_scene s;
+	popc_scene_defaults(&s);
+	popc_log_writer w;
+	popc_error err;
+	assert_int_equal(popc_log_open(&w, path, set, &err), 0);
+	assert_int_equal(popc_log_write_header(&w, "sim", &s, NULL, &err), 0);
+	static char want[N][POPC_LOG_N_COLUMNS * (POPC_DOUBLE_TEXT_MAX + 1) + 1];
+	for (int i = 0; i < N; i++) {
+		popc_log_row r;
+		memset(&r, 0, sizeof r);
+		char *o = want[i];
+		for (int id = 0; id < POPC_LOG_N_COLUMNS; id++) {
+			if (!popc_log_column_written(popc_log_columns[id].fill, set))
+				continue;
+			const popc_log_cell_format format = popc_log_columns[id].format;
+			/* mostly the first few values of the pool (hits), now and
+			 * then any of them (misses, evictions) */
+			uint64_t u = next_u64();
+			double v = format == POPC_LOG_CELL_DOUBLE ? pool[id][(u & 3) ? u % 12 : u % POOL]
+								  : (double)(u % 1000);
+			popc_log_row_set(&r, (popc_log_column_id)id, v);
+			if (o != want[i])
+				*o++ = ',';
+			if (format == POPC_LOG_CELL_DOUBLE)
+				o += popc_format_double_point(v, o);
+			else
+				o += sprintf(o, "%d", (int)v);
+		}
+		assert_int_equal(popc_log_write_row(&w, &r, &err), 0);
+	}
+	assert_int_equal(popc_log_close(&w, &err), 0);
+	FILE *f = fopen(path, "r");
+	assert_non_null(f);
+	static char line[4096];
+	while (fgets(line, sizeof line, f) && line[0] == '#')
+		; /* the names line */
+	for (int i = 0; i < N; i++) {
+		assert_non_null(fgets(line, sizeof line, f));
+		line[strcspn(line, "\n")] = '\0';
+		if (strcmp(line, want[i]) != 0) {
+			print_error("row %d: \"%s\", want \"%s\"\n", i, line, want[i]);
+			fail();
+		}
+	}
+	assert_null(fgets(line, sizeof line, f));
+	fclose(f);
 }
 
 /* Reads every row; returns the first error status, with its message. */
@@ -903,6 +975,7 @@ int main(void)
 		cmocka_unit_test(test_column_table),
 		cmocka_unit_test(test_column_names_line),
 		cmocka_unit_test(test_round_trip_bitwise),
+		cmocka_unit_test(test_writer_cell_cache),
 		cmocka_unit_test(test_reader_errors),
 		cmocka_unit_test(test_reader_one_pass_and_split),
 		cmocka_unit_test(test_reader_rows_across_blocks),

@@ -659,6 +659,113 @@ static void test_format_point(void **state)
 	}
 }
 
+/* An independent layout of the shortest form: the digits of the first
+ * "%.{p}e" (p = 0, 1, ...) that strtod reads back to v, laid out by the
+ * rules of numfmt.h (plain for a decimal exponent in [-4, 17), else
+ * d.ddde+XX), with point's ".0" where there is no point. At the bottom of a
+ * binade the nearest p-digit decimal can miss the interval's narrow lower
+ * half while another p-digit one is in it, so the caller skips those (the
+ * shortest checks above cover them). */
+static void reference_layout(double v, int point, char *out)
+{
+	char e_text[64];
+	for (int p = 0; p <= 16; p++) {
+		snprintf(e_text, sizeof e_text, "%.*e", p, v);
+		if (bits_of(strtod(e_text, NULL)) == bits_of(v))
+			break;
+	}
+	char digits[32];
+	int x;
+	decompose(e_text, digits, &x);
+	int n = (int)strlen(digits);
+	char *o = out;
+	if (signbit(v))
+		*o++ = '-';
+	if (x >= -4 && x < 17) {
+		if (x < 0) {
+			o += sprintf(o, "0.");
+			for (int i = 0; i < -x - 1; i++)
+				*o++ = '0';
+			o += sprintf(o, "%s", digits);
+		} else {
+			for (int i = 0; i <= x || i < n; i++) {
+				if (i == x + 1)
+					*o++ = '.';
+				*o++ = i < n ? digits[i] : '0';
+			}
+			if (x >= n - 1 && point)
+				o += sprintf(o, ".0");
+		}
+	} else {
+		*o++ = digits[0];
+		if (n > 1)
+			o += sprintf(o, ".%s", digits + 1);
+		else if (point)
+			o += sprintf(o, ".0");
+		o += sprintf(o, "e%c%02d", x < 0 ? '-' : '+', x < 0 ? -x : x);
+	}
+	*o = '\0';
+}
+
+static void expect_layout(double v)
+{
+	char ref[64], buf[POPC_DOUBLE_TEXT_MAX + 1];
+	for (int point = 0; point <= 1; point++) {
+		reference_layout(v, point, ref);
+		size_t n = point ? popc_format_double_point(v, buf) : popc_format_double(v, buf);
+		if (n != strlen(ref) || strcmp(buf, ref) != 0) {
+			print_error("format%s(%.17g) = \"%s\", want \"%s\"\n", point ? "_point" : "", v,
+				    buf, ref);
+			fail();
+		}
+	}
+}
+
+/* The whole text against reference_layout: random bit patterns, short
+ * decimals at every decimal exponent from -330 to 310 with 1 to 17 digits
+ * (every layout branch and every place of the point), and integers whose
+ * 4-digit groups take every value 0..9999 (write_decimal makes 8 digits at
+ * a time in lanes of 4, 2 and 1 digit: each lane sees all its values). */
+static void test_layout_reference(void **state)
+{
+	(void)state;
+	rng_seed(UINT64_C(0x6a09e667f3bcc908));
+	long n = iterations() / 20;
+	for (long i = 0; i < n; i++) {
+		double v = double_of(rng());
+		if (isfinite(v) && (bits_of(v) & UINT64_C(0x000fffffffffffff)) != 0)
+			expect_layout(v);
+	}
+	for (int x = -330; x <= 310; x++)
+		for (int nd = 1; nd <= 17; nd++) {
+			char t[64];
+			uint64_t m = rng() % UINT64_C(100000000000000000);
+			snprintf(t, sizeof t, "%s%.*e", (rng() & 1) ? "-" : "", nd - 1,
+				 (double)(m | 1) / 1e17 * 9.0 + 1.0);
+			char *e = strchr(t, 'e');
+			snprintf(e, 16, "e%d", x);
+			double v = strtod(t, NULL);
+			if (isfinite(v) && v != 0.0 && (bits_of(v) & UINT64_C(0x000fffffffffffff)) != 0)
+				expect_layout(v);
+		}
+	for (uint64_t h = 0; h < 10000; h++) {
+		uint64_t l = (h * 7919) % 10000;
+		uint64_t y = h * 10000 + l, z = l * 10000 + h; /* each < 10^8 */
+		/* integers below 2^53 ~ 9.007e15, exact as doubles */
+		double ints[] = {(double)y, -(double)(z * 10000000 + y), (double)(z * 1000 + 7),
+				 (double)((h < 9000 ? y : z % 90000000) * 100000000 + z)};
+		for (size_t k = 0; k < sizeof ints / sizeof ints[0]; k++) {
+			char ref[64], buf[POPC_DOUBLE_TEXT_MAX + 1];
+			snprintf(ref, sizeof ref, "%.0f", ints[k]); /* exact below 2^53 */
+			popc_format_double(ints[k], buf);
+			if (strcmp(buf, ref) != 0) {
+				print_error("format(%s) = \"%s\"\n", ref, buf);
+				fail();
+			}
+		}
+	}
+}
+
 /* ---- (e) the digit scanner's own paths ----------------------------------- */
 
 /* %.17g texts of random doubles (the form a C logger writes), and the same
@@ -842,6 +949,7 @@ int main(void)
 		cmocka_unit_test(test_shortest),
 		cmocka_unit_test(test_shortest_subnormals_and_binades),
 		cmocka_unit_test(test_format_point),
+		cmocka_unit_test(test_layout_reference),
 		cmocka_unit_test(test_parse_digit_runs),
 		cmocka_unit_test(test_parse_row),
 	};

@@ -48,6 +48,7 @@ typedef struct popc_log_writer {
 	long long whole_bytes; /* bytes of whole lines in the file */
 	int at_line_start;     /* the file ends with a whole line (or is empty) */
 	int failed_errno;      /* a write failed: errno (0: none); no more rows go out */
+	struct popc_log_cell_cache *cells; /* texts of recent values (log_writer.c) */
 	char path[1024];
 } popc_log_writer;
 
