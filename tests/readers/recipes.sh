@@ -4,7 +4,7 @@
 # the recipe read with the file popc wrote: numbers bit for bit, text as text
 # (check_dump.py).
 #
-#   recipes.sh READER   (pandas numpy duckdb r datatable readr octave jq gnuplot;
+#   recipes.sh READER   (pandas numpy duckdb polars r datatable readr octave jq gnuplot;
 #                        POPC, POPC_SOURCE_ROOT, POPC_BUILD_ROOT from the environment)
 #
 # A recipe is the fenced block after a line `<!-- recipe: ID -->` in
@@ -15,14 +15,16 @@
 # first half is variant none, 0.0 in its PC and chatter columns) in a scratch
 # directory and runs there. A log recipe leaves what it read in `d` (Octave:
 # `names` and `d`), a summary recipe in `s` (Octave: `names`, `s` the text
-# and `x` the numbers), DuckDB's node recipe in `rows`, jq prints, gnuplot
+# and `x` the numbers), DuckDB's node recipe in `rows`, polars' in a
+# DataFrame `d` or `s`, jq prints, gnuplot
 # plots; the test appends to each the few lines that write that back as CSV,
 # a number as "%.17g" (17 digits read back to the same double), and
 # check_dump.py compares.
 #
 # Exit 77 (skip), naming what is missing, when the reader is not installed:
 # Debian's python3-pandas, python3-numpy, r-base-core, r-cran-data.table,
-# r-cran-readr, octave, jq, gnuplot-nox; for DuckDB node/npm or the npm
+# r-cran-readr, octave, jq, gnuplot-nox; for DuckDB and polars (npm packages
+# pinned in package-lock.json here and in polars/) node/npm or the npm
 # registry (duckdb_npm.sh).
 set -u
 READER=${1:?reader}
@@ -74,6 +76,10 @@ duckdb)
 	NPM=${POPC_BUILD_ROOT:?}/tests/recipes-npm
 	. "$HERE/duckdb_npm.sh"
 	cp "$HERE/dump_duckdb.mjs" "$NPM/" ;; # node finds node_modules beside the script
+polars)
+	NPM=${POPC_BUILD_ROOT:?}/tests/recipes-polars-npm NPM_LOCK_DIR=$HERE/polars NPM_PACKAGE=nodejs-polars
+	. "$HERE/duckdb_npm.sh"
+	;;
 *) die "unknown reader $READER" ;;
 esac
 
@@ -225,6 +231,25 @@ duckdb)
 	} >"$NPM/recipe-duckdb-node-log.mjs"
 	node "$NPM/recipe-duckdb-node-log.mjs" || die "duckdb-node-log: the recipe failed"
 	check duckdb-node "$LOG" duckdb-node-log.dump ;;
+polars)
+	# each recipe a module beside node_modules, run here; the DataFrame's
+	# columns written back
+	for spec in "polars-log d $LOG" "polars-summary-csv s $CSV" "polars-summary-json s $JSONL"; do
+		set -- $spec
+		recipe "$1"
+		{
+			cat "$W/$1.recipe"
+			cat <<-EOF
+			import { writeFileSync as _write } from 'node:fs';
+			const _cell = (v) => (v === null || v === undefined ? ''
+			  : typeof v === 'number' ? (Object.is(v, -0) ? '-0' : String(v)) : String(v));
+			const _rows = $2.toRecords();
+			_write('$1.dump', [$2.columns.join(','), ..._rows.map((r) => $2.columns.map((n) => _cell(r[n])).join(','))].join('\n') + '\n');
+			EOF
+		} >"$NPM/recipe-$1.mjs"
+		node "$NPM/recipe-$1.mjs" || die "$1: the recipe failed"
+		check polars "$3" "$1.dump"
+	done ;;
 esac
 [ $status -eq 0 ] && echo "$READER: every recipe of docs/READING.md read every cell as popc wrote it"
 exit $status
