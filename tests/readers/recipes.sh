@@ -91,9 +91,15 @@ cd "$W" || die "cannot enter $W"
 grep -q '"pc_rms":0.0,' out/sweep/summary.jsonl || die "the sweep's first rows have no zero pc_rms"
 LOG=improved.csv CSV=out/sweep/summary.csv JSONL=out/sweep/summary.jsonl
 
-# Python (pandas, numpy): the recipe, then VAR written back
-py_run() { # ID VAR SOURCE
+# Python (pandas, numpy) and R: the reader's recipes go into one script, each
+# followed by the lines that write its VAR back to ID.dump (one start of the
+# interpreter and its library, not one a recipe: on a busy machine each takes
+# seconds); run() runs it and checks each dump against its SOURCE
+checks=()
+# Python: the recipe, then VAR written back
+py_add() { # ID VAR SOURCE
 	recipe "$1"
+	checks+=("$1" "$3")
 	{
 		cat "$W/$1.recipe"
 		if [ "$READER" = pandas ]; then
@@ -107,13 +113,12 @@ py_run() { # ID VAR SOURCE
 			                          '%.17g' % v if isinstance(v, float) else str(v) for v in _r) + '\n')
 			EOF
 		fi
-	} >"$1.py"
-	"$PY" "$1.py" || die "$1: the recipe failed"
-	check "$READER" "$3" "$1.dump"
+	} >>recipes.py  # not $READER.py: numpy.py would shadow numpy
 }
 # R (base, data.table, readr): a data frame, doubles as %.17g, NA as ""
-r_run() { # ID VAR SOURCE
+r_add() { # ID VAR SOURCE
 	recipe "$1"
+	checks+=("$1" "$3")
 	{
 		cat "$W/$1.recipe"
 		cat <<-EOF
@@ -125,29 +130,37 @@ r_run() { # ID VAR SOURCE
 		              col.names = FALSE, append = TRUE)
 		})
 		EOF
-	} >"$1.R"
-	Rscript --vanilla "$1.R" >"$1.out" 2>&1 || { cat "$1.out" >&2; die "$1: the recipe failed"; }
-	# R's parsers are 1 ulp off in about a cell in 100,000 (READING.md, "R")
-	check --max-ulp 1 "$READER" "$3" "$1.dump"
+	} >>recipes.R
 }
+run() { # the script's interpreter, then check_dump.py's options
+	"$@" >"$READER.out" 2>&1 || { cat "$READER.out" >&2; die "$READER: the recipes failed (${*: -1}: each recipe, then the lines writing it back)"; }
+}
+py_run() { run "$PY" recipes.py; for ((i = 0; i < ${#checks[@]}; i += 2)); do check "$READER" "${checks[i + 1]}" "${checks[i]}.dump"; done; }
+# R's parsers are 1 ulp off in about a cell in 100,000 (READING.md, "R")
+r_run() { run Rscript --vanilla recipes.R; for ((i = 0; i < ${#checks[@]}; i += 2)); do check --max-ulp 1 "$READER" "${checks[i + 1]}" "${checks[i]}.dump"; done; }
 
 case $READER in
 pandas)
-	py_run pandas-log d "$LOG"
-	py_run pandas-summary-csv s "$CSV"
-	py_run pandas-summary-json s "$JSONL" ;;
+	py_add pandas-log d "$LOG"
+	py_add pandas-summary-csv s "$CSV"
+	py_add pandas-summary-json s "$JSONL"
+	py_run ;;
 numpy)
-	py_run numpy-log d "$LOG"
-	py_run numpy-summary s "$CSV" ;;
+	py_add numpy-log d "$LOG"
+	py_add numpy-summary s "$CSV"
+	py_run ;;
 r)
-	r_run r-log d "$LOG"
-	r_run r-summary s "$CSV" ;;
+	r_add r-log d "$LOG"
+	r_add r-summary s "$CSV"
+	r_run ;;
 datatable)
-	r_run datatable-log d "$LOG"
-	r_run datatable-summary s "$CSV" ;;
+	r_add datatable-log d "$LOG"
+	r_add datatable-summary s "$CSV"
+	r_run ;;
 readr)
-	r_run readr-log d "$LOG"
-	r_run readr-summary s "$CSV" ;;
+	r_add readr-log d "$LOG"
+	r_add readr-summary s "$CSV"
+	r_run ;;
 octave)
 	for id in octave-log octave-summary; do
 		recipe "$id"
