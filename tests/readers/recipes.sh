@@ -43,6 +43,11 @@ recipe() {
 		f == 1 && /^```/ { f = 2; next } f == 2 && /^```/ { exit } f == 2 { print }' "$DOC" >"$W/$1.recipe"
 	[ -s "$W/$1.recipe" ] || die "docs/READING.md has no recipe '$1' (a line <!-- recipe: $1 --> before a fenced block)"
 }
+# every code block of READING.md is a recipe a test runs, but MATLAB's (no
+# licence here; the page says it is untested)
+untagged=$(awk '/^```[a-z]/ && $0 != "```matlab" && prev !~ /^<!-- recipe: / { print NR ": " $0 }
+	$0 != "" { prev = $0 }' "$DOC")
+[ -z "$untagged" ] || die "docs/READING.md: a code block with no <!-- recipe: ID --> line before it, so no test runs it: $untagged"
 # Debian's python3 (another python3 first in PATH, e.g. pyenv's, may lack the module)
 python_with() {
 	PY=
