@@ -51,8 +51,12 @@ paper=(gcc libc6-dev meson ninja-build pkg-config libinih-dev libmodbus-dev libc
 # of tests/fuzz for a few seconds (it skips, exit 77, without it).
 # python3-numpy: the popc Python module (python/popc, docs/LIBRARY.md) and
 # its tests (lib-python, install); python3-pandas depends on it, named here
-# because the module needs it on its own.
-test=("${paper[@]}" socat parallel slurm-wlm munge python3 clang libclang-rt-dev scdoc man-db python3-numpy python3-pandas nodejs g++ libfast-float-dev bash-completion libmatio-dev zlib1g-dev)
+# because the module needs it on its own. It is also a reader of
+# docs/READING.md (test recipes_numpy).
+# octave, r-base-core, r-cran-data.table, r-cran-readr, jq: the other readers
+# of docs/READING.md, whose recipes tests/readers/recipes.sh runs as written
+# (recipes_octave, _r, _datatable, _readr, _jq; each skips without its reader).
+test=("${paper[@]}" socat parallel slurm-wlm munge python3 clang libclang-rt-dev scdoc man-db python3-numpy python3-pandas nodejs g++ libfast-float-dev bash-completion libmatio-dev octave r-base-core r-cran-data.table r-cran-readr jq zlib1g-dev)
 command -v npm >/dev/null 2>&1 || test+=(npm)
 
 usage() { echo "usage: tools/install-deps.sh [--list] [paper|test]..." >&2; exit 2; }
