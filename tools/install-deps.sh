@@ -50,7 +50,11 @@ paper=(gcc libc6-dev meson ninja-build pkg-config libinih-dev libmodbus-dev libc
 # python3-numpy: the popc Python module (python/popc, docs/LIBRARY.md) and
 # its tests (lib-python, install); python3-pandas depends on it, named here
 # because the module needs it on its own.
-test=("${paper[@]}" socat parallel slurm-wlm munge python3 clang libclang-rt-dev scdoc man-db python3-numpy python3-pandas nodejs g++ libfast-float-dev bash-completion libmatio-dev)
+# python3-numba: bench/tick_jit.py, the JIT reference of the tick (issue 23):
+# the test tick-jit checks its end values against popc run's bit for bit
+# (without numba it checks the same Python plain and skips, exit 77), and
+# bench/tick_vs_jit.sh times popc's tick beside it (docs/BENCHMARKS.md).
+test=("${paper[@]}" socat parallel slurm-wlm munge python3 clang libclang-rt-dev scdoc man-db python3-numpy python3-numba python3-pandas nodejs g++ libfast-float-dev bash-completion libmatio-dev)
 command -v npm >/dev/null 2>&1 || test+=(npm)
 
 usage() { echo "usage: tools/install-deps.sh [--list] [paper|test]..." >&2; exit 2; }
