@@ -41,6 +41,11 @@ int bench_replay_error(const popc_scene *s0, popc_integrator m, int substeps, co
 int bench_loop_ns_per_tick(const popc_scene *s0, popc_integrator m, int substeps,
 			   const bench_opts *o, double *ns, popc_error *err);
 
+/* The CPU time (user + system) of `popc run` as a whole process: this
+ * program run on o->scene_path with o->sets and run.duration = duration_s,
+ * -q (bench_process.c). Needs o->scene_path. */
+int bench_process_cpu_s(const bench_opts *o, double duration_s, double *cpu_s, popc_error *err);
+
 /* The benchmarks: exit codes. */
 int bench_integrators(const popc_scene *s, const bench_opts *o);
 int bench_loop(const popc_scene *s0, const bench_opts *o);
