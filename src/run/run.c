@@ -50,6 +50,10 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 	/* the true port energy, for an axis that knows its true position (the
 	 * log's E_port column is filled by the same axes as x_true) */
 	const int has_true_x = (axis->ops->log_columns & POPC_LOG_COL_X_TRUE) != 0;
+	/* scenes that ask for less pay for less (issue 23): without a reader of
+	 * the summary, no metrics and no energies but the log's E_port */
+	const int summary_read = !(opt && opt->summary_unread);
+	const int port_needed = has_true_x && (summary_read || log);
 	popc_port_energy port;
 	popc_port_energy_init(&port);
 	sum->has_port_energy = has_true_x;
@@ -88,11 +92,13 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 		}
 		row.x_true_m = smp.x_true_m;
 		row.E_port_J = 0.0;
-		if (has_true_x) {
+		if (port_needed) {
 			/* the port's energy is that of the force the plant really
 			 * receives over the period: the delayed command */
 			row.E_port_J = popc_port_energy_update(&port, smp.x_true_m);
 			popc_port_energy_commit(&port, command_N);
+		}
+		if (has_true_x && summary_read) {
 			/* W(k) - E_port(k): the observer's error at tick k */
 			double e = row.tick.W_J - row.E_port_J;
 			sum->port_energy_J = row.E_port_J;
@@ -117,7 +123,8 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 		}
 		row.dt_s = smp.dt_s;
 		row.rtt_s = smp.rtt_s;
-		popc_metrics_add(&sum->metrics, &row.tick);
+		if (summary_read)
+			popc_metrics_add(&sum->metrics, &row.tick);
 		if (opt && opt->on_tick)
 			opt->on_tick(opt->tick_user, &row.tick);
 		if (log && (st = popc_log_write_row(log, &row, err)) != 0) {
