@@ -56,7 +56,11 @@ paper=(gcc libc6-dev meson ninja-build pkg-config libinih-dev libmodbus-dev libc
 # octave, r-base-core, r-cran-data.table, r-cran-readr, jq: the other readers
 # of docs/READING.md, whose recipes tests/readers/recipes.sh runs as written
 # (recipes_octave, _r, _datatable, _readr, _jq; each skips without its reader).
-test=("${paper[@]}" socat parallel slurm-wlm munge python3 clang libclang-rt-dev scdoc man-db python3-numpy python3-pandas nodejs g++ libfast-float-dev bash-completion libmatio-dev octave r-base-core r-cran-data.table r-cran-readr jq zlib1g-dev)
+# python3-numba: bench/tick_jit.py, the JIT reference of the tick (issue 23):
+# the test tick-jit checks its end values against popc run's bit for bit
+# (without numba it checks the same Python plain and skips, exit 77), and
+# bench/tick_vs_jit.sh times popc's tick beside it (docs/BENCHMARKS.md).
+test=("${paper[@]}" socat parallel slurm-wlm munge python3 clang libclang-rt-dev scdoc man-db python3-numpy python3-numba python3-pandas nodejs g++ libfast-float-dev bash-completion libmatio-dev octave r-base-core r-cran-data.table r-cran-readr jq zlib1g-dev)
 command -v npm >/dev/null 2>&1 || test+=(npm)
 
 usage() { echo "usage: tools/install-deps.sh [--list] [paper|test]..." >&2; exit 2; }

@@ -73,14 +73,28 @@ if tools/install-deps.sh test; then clang_build || status=1
 else echo "build-clang: clang could not be installed"; status=1
 fi
 # --- end of the clang block ---------------------------------------------------
+
+# --- the tick beside a JIT (issue 23; docs/BENCHMARKS.md, "The tick beside a JIT")
+# Once, briefly (600 s of the paper scene, one round) on build-release: popc run
+# beside the numba reference and the chain, figures printed, never judged.
+# Counts as one test that fails only when one of its commands fails.
+t0=$(now)
+tick_bench=1
+[ -x build-release/src/popc ] && bench/tick_vs_jit.sh build-release 600 1 && tick_bench=0
+[ "$tick_bench" -eq 0 ] || { echo "bench/tick_vs_jit.sh: a command failed"; status=1; }
+times+=("$(awk -v a="$t0" -v b="$(now)" 'BEGIN { printf "bench/tick_vs_jit.sh: %.1f s", b - a }')")
 printf '%s\n' "${times[@]}"
 
 # meson test names its log after the setup
 python3 - build-release/meson-logs/testlog.json build-sanitize/meson-logs/testlog-sanitize.json \
-  build-clang/meson-logs/testlog.json <<'PY' || status=1
+  build-clang/meson-logs/testlog.json "tick-bench=$tick_bench" <<'PY' || status=1
 import json, os, sys
 passed = failed = skipped = 0
 for path in sys.argv[1:]:
+    if path.startswith("tick-bench="):  # bench/tick_vs_jit.sh's exit status
+        if path.endswith("=0"): passed += 1
+        else: failed += 1
+        continue
     d = path.split("/")[0]
     if not os.path.exists(path):
         print(f"{d}: no test log (the build failed)"); failed += 1; continue

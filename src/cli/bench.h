@@ -36,10 +36,16 @@ int bench_reference_forces(const popc_scene *s0, recorder *rec, popc_error *err)
 int bench_replay_error(const popc_scene *s0, popc_integrator m, int substeps, const recorder *rec,
 		       double *err_m, long long *tick_out, popc_error *err);
 
-/* Closed-loop time per control step (ns), no log, shadow off: the fastest of
+/* Closed-loop time per control step (ns), no log, shadow off, the summary
+ * unread (popc run -q): the fastest of
  * o->repeats measurements, each repeating the run until o->min_time_s passed. */
 int bench_loop_ns_per_tick(const popc_scene *s0, popc_integrator m, int substeps,
 			   const bench_opts *o, double *ns, popc_error *err);
+
+/* The CPU time (user + system) of `popc run` as a whole process: this
+ * program run on o->scene_path with o->sets and run.duration = duration_s,
+ * -q (bench_process.c). Needs o->scene_path. */
+int bench_process_cpu_s(const bench_opts *o, double duration_s, double *cpu_s, popc_error *err);
 
 /* The benchmarks: exit codes. */
 int bench_integrators(const popc_scene *s, const bench_opts *o);

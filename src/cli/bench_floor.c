@@ -79,10 +79,6 @@ static int applies(const popc_scene *s, const char **why)
 	return 0;
 }
 
-/* The f_c sequence of the stripped tick. ref != NULL: compares each command
- * with ref[k] bit for bit and returns the first tick that differs (or the
- * number of commands when all agree); ref == NULL: returns the number of
- * commands. -1: a split step failed (its matrices are not finite). */
 /* A period with a breakpoint of the intent inside: exact sub-steps up to
  * each breakpoint, the same operations as the sim axis' advance() (once per
  * breakpoint, so no part of the timed chain's cost). */
@@ -104,31 +100,37 @@ static int split_period(fused_scene *f, popc_plant_state *st, double t, double t
 	}
 }
 
-/* cloned like the sim axis' exchange: the same floor instruction in both */
-POPC_FLOOR_CLONES
-static long long run_chain(fused_scene *f, const double *ref, double *x_end)
+/* The chain's body, specialized by its callers below: the variant's
+ * branches (Table I's halves, the threshold, the PC at all) and the check
+ * against the real loop's commands are constants there, so the timed loop
+ * carries no test of them and no variable they would keep alive. A generic
+ * body kept a dozen of its doubles on the stack (register pressure), each a
+ * store and a reload on the tick's dependency chain: 23-31 ns where the
+ * arithmetic alone takes about 14 (issue 23). The plant state and the sums
+ * are locals whose address is never taken (a split period steps a copy),
+ * so they stay in registers. */
+static inline __attribute__((always_inline)) long long
+chain_body(fused_scene *f, const double *ref, double *x_end, const int pc, const int thr_zero,
+	   const int ignore, const int hold)
 {
-	const double T = f->period_s, delta = f->delta_m, bound = f->pc_bound_N;
+	const double T = f->period_s, delta = f->delta_m, bound = f->pc_bound_N, x0 = f->x0_m;
+	const double k_x0 = f->k_x0_N, tol = f->tol_s;
 	const popc_plant_step_coeffs *c = &f->plant.full;
-	const popc_variant var = f->variant;
-	/* Table I's two halves: ignore the energy of one-count reversals, hold
-	 * f_pc while no count moves */
-	const int ignore = var == POPC_VARIANT_IGNORE || var == POPC_VARIANT_IMPROVED;
-	const int hold = var == POPC_VARIANT_HOLD || var == POPC_VARIANT_IMPROVED;
 	const int literal = f->ignore_mode == POPC_IGNORE_LITERAL;
+	const long long n = f->n_ticks;
 	popc_intent_segment g = {0};
-	popc_plant_state st = {0.0, 0.0}; /* y = x - x0 */
+	double y = 0.0, yv = 0.0; /* the plant's state, y = x - x0 */
 	double x_prev = 0.0, f_e_prev = 0.0, f_c_prev = 0.0, f_pc_prev = 0.0;
 	double prev_fc = 0.0, prev_dx = 0.0;
 	long long count_prev = 0, prev_dcount = 0;
-	double W = 0.0, W_sum = 0.0, W_comp = 0.0, E = 0.0, E_sum = 0.0, E_comp = 0.0;
+	double W_sum = 0.0, W_comp = 0.0, E_sum = 0.0, E_comp = 0.0;
 	long long k;
-	for (k = 0; k + 1 < f->n_ticks; k++) {
+	for (k = 0; k + 1 < n; k++) {
 		/* sample: the encoder's count and the measured position */
-		long long count = (long long)floor((f->x0_m + st.x_m) / delta);
+		long long count = (long long)floor((x0 + y) / delta);
 		double xm = popc_encoder_position(count, delta);
 		double f_e, f_c, f_pc = 0.0;
-		if (k == 0) {
+		if (__builtin_expect(k == 0, 0)) {
 			/* tick 0: v = 0, W(0) = E_ref(0) = 0, no PC */
 			f_e = popc_environment_force(&f->env, xm, 0.0);
 			f_c = f_e;
@@ -137,15 +139,16 @@ static long long run_chain(fused_scene *f, const double *ref, double *x_end)
 			f_e = popc_environment_force(&f->env, xm, v);
 			double dx = xm - x_prev;
 			long long dcount = count - count_prev;
-			E = popc_compensated_add(&E_sum, &E_comp, (f_e + f_e_prev) * dx / 2.0);
+			double E = popc_compensated_add(&E_sum, &E_comp, (f_e + f_e_prev) * dx / 2.0);
+			double W;
 			if (ignore && dcount != 0 && dcount == -prev_dcount && (dcount == 1 || dcount == -1))
 				W = popc_compensated_add(&W_sum, &W_comp, -(prev_fc * prev_dx));
 			else
 				W = popc_compensated_add(&W_sum, &W_comp, f_c_prev * dx);
-			double thr = var == POPC_VARIANT_PO_PC ? 0.0 : E;
+			double thr = thr_zero ? 0.0 : E;
 			if (hold && dcount == 0)
 				f_pc = f_pc_prev;
-			else if (var != POPC_VARIANT_NONE && W < thr && dx != 0.0)
+			else if (pc && W < thr && dx != 0.0)
 				f_pc = (thr - W) / dx;
 			if (f_pc > bound)
 				f_pc = bound;
@@ -168,15 +171,58 @@ static long long run_chain(fused_scene *f, const double *ref, double *x_end)
 		/* the plant over the period, f_c held, from the intent's segment */
 		double t = (double)k * T, t_end = (double)(k + 1) * T;
 		popc_plant_input u;
-		if (popc_intent_period_input(&f->intent, &g, t, t_end, f->tol_s, &u)) {
-			u.u0_N = (u.u0_N - f->k_x0_N) - f_c;
+		if (popc_intent_period_input(&f->intent, &g, t, t_end, tol, &u)) {
+			u.u0_N = (u.u0_N - k_x0) - f_c;
+			popc_plant_state st = {y, yv};
 			popc_plant_step_exact(c, &st, &u);
-		} else if (split_period(f, &st, t, t_end, f_c) != 0) {
-			return -1;
+			y = st.x_m;
+			yv = st.v_mps;
+		} else {
+			popc_plant_state st = {y, yv};
+			if (split_period(f, &st, t, t_end, f_c) != 0)
+				return -1;
+			y = st.x_m;
+			yv = st.v_mps;
 		}
 	}
-	*x_end = f->x0_m + st.x_m;
+	*x_end = x0 + y;
 	return k;
+}
+
+/* The f_c sequence of the stripped tick, checked: compares each command
+ * with ref[k] bit for bit and returns the first tick that differs (or the
+ * number of commands when all agree). -1: a split step failed (its matrices
+ * are not finite). */
+static long long check_chain(fused_scene *f, const double *ref, double *x_end)
+{
+	const popc_variant v = f->variant;
+	return chain_body(f, ref, x_end, v != POPC_VARIANT_NONE, v == POPC_VARIANT_PO_PC,
+			  v == POPC_VARIANT_IGNORE || v == POPC_VARIANT_IMPROVED,
+			  v == POPC_VARIANT_HOLD || v == POPC_VARIANT_IMPROVED);
+}
+
+/* The timed chain, one specialization per variant (no check); cloned like
+ * the sim axis' exchange: the same floor instruction in both. Returns the
+ * number of commands, or -1 as check_chain. */
+#define TIMED_CHAIN(name, pc, thr_zero, ignore, hold)                                              	POPC_FLOOR_CLONES static long long name(fused_scene *f, double *x_end)                      	{                                                                                           		return chain_body(f, NULL, x_end, pc, thr_zero, ignore, hold);                      	}
+TIMED_CHAIN(chain_none, 0, 0, 0, 0)
+TIMED_CHAIN(chain_po_pc, 1, 1, 0, 0)
+TIMED_CHAIN(chain_ref_energy, 1, 0, 0, 0)
+TIMED_CHAIN(chain_ignore, 1, 0, 1, 0)
+TIMED_CHAIN(chain_hold, 1, 0, 0, 1)
+TIMED_CHAIN(chain_improved, 1, 0, 1, 1)
+#undef TIMED_CHAIN
+
+static long long run_chain(fused_scene *f, double *x_end)
+{
+	switch (f->variant) {
+	case POPC_VARIANT_NONE: return chain_none(f, x_end);
+	case POPC_VARIANT_PO_PC: return chain_po_pc(f, x_end);
+	case POPC_VARIANT_IGNORE: return chain_ignore(f, x_end);
+	case POPC_VARIANT_HOLD: return chain_hold(f, x_end);
+	case POPC_VARIANT_IMPROVED: return chain_improved(f, x_end);
+	default: return chain_ref_energy(f, x_end); /* ref-energy (applies() admits no other) */
+	}
 }
 
 int popc_bench_tick_floor(const popc_scene *s, const double *f_c_ref, long long n_ref,
@@ -210,7 +256,7 @@ int popc_bench_tick_floor(const popc_scene *s, const double *f_c_ref, long long 
 	f.k_x0_N = cfg.stiffness_Npm * f.x0_m;
 	double x_end;
 	/* same commands as the real loop, bit for bit, or no figure */
-	long long agree = run_chain(&f, f_c_ref, &x_end);
+	long long agree = check_chain(&f, f_c_ref, &x_end);
 	if (agree < 0) {
 		out->not_covered = "a step split at a breakpoint has no finite matrices";
 		goto done;
@@ -221,13 +267,21 @@ int popc_bench_tick_floor(const popc_scene *s, const double *f_c_ref, long long 
 		out->first_difference = agree;
 		goto done;
 	}
+	/* the timed chain is the checked one specialized: it ends where the
+	 * checked one ended, bit for bit, or no figure */
+	double x_timed;
+	if (run_chain(&f, &x_timed) != agree || memcmp(&x_timed, &x_end, sizeof x_end) != 0) {
+		out->bitwise_equal = 0;
+		out->first_difference = agree;
+		goto done;
+	}
 	double best = (double)INFINITY;
 	for (int r = 0; r < repeats; r++) {
 		double wall = 0.0, sink = 0.0;
 		long long ticks = 0;
 		do {
 			double t0 = popc_thread_cpu_s();
-			ticks += run_chain(&f, NULL, &x_end) + 1;
+			ticks += run_chain(&f, &x_end) + 1;
 			wall += popc_thread_cpu_s() - t0;
 			sink += x_end;
 		} while (wall < min_time_s);

@@ -58,6 +58,8 @@ static void usage(FILE *f)
 
 enum { OPT_SCENE = 256, OPT_SET, OPT_FORMAT, OPT_PLOT, OPT_MIN_TIME, OPT_REPEAT, OPT_ROWS, OPT_DIR };
 
+static int bench_what(const popc_scene *s0, const bench_opts *op, const char *what);
+
 int popc_cmd_bench(int argc, char **argv)
 {
 	static const struct option opts[] = {
@@ -145,9 +147,23 @@ int popc_cmd_bench(int argc, char **argv)
 	popc_scene s;
 	popc_error err;
 	int st = popc_cli_load_scene(&s, o.scene_path, o.sets, o.n_sets, &err);
-	free(o.sets);
-	if (st)
+	if (st) {
+		free(o.sets);
 		return popc_cli_fail("bench", st, &err);
+	}
+	/* o.sets lives on: bench loop runs `popc run` with them (bench_process.c) */
+	int rc = bench_what(&s, &o, what);
+	free(o.sets);
+	return rc;
+}
+
+/* The benchmark WHAT of the loaded scene s: an exit code. */
+static int bench_what(const popc_scene *s0, const bench_opts *op, const char *what)
+{
+	popc_scene s = *s0;
+	bench_opts o = *op;
+	popc_error err;
+	int st;
 	if (!popc_axis_is_simulated(&s)) {
 		fprintf(stderr, "popc bench: the benchmarks run the simulated axis (axis = %s)\n", s.axis);
 		return POPC_EXIT_USAGE;

@@ -428,7 +428,9 @@ int popc_cmd_run(int argc, char **argv)
 		return popc_cli_fail("run", st, &err);
 	}
 	popc_log_writer log;
-	popc_run_options ro = {.log = NULL, .stop_flag = &popc_cli_stop};
+	/* -q without --summary: nobody reads the summary's metrics (run.h) */
+	popc_run_options ro = {.log = NULL, .stop_flag = &popc_cli_stop,
+			       .summary_unread = quiet && !summary_path};
 	if (log_path) {
 		st = popc_log_open(&log, log_path, axis->ops->log_columns, &err);
 		/* which build, when, what command: the header says how to make

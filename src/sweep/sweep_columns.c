@@ -11,7 +11,7 @@
 	{ name, POPC_SWEEP_CELL_RUN_SUMMARY, POPC_SWEEP_FORMAT_TEXT, POPC_SWEEP_EMPTY_WITHOUT_SUMMARY }
 
 /* The metrics are the compare metrics of a run, by their names in the popc run
- * summary (run.c: popc_run_summary_csv_header); the figures of merit
+ * summary (run_summary.c: popc_run_summary_csv_header); the figures of merit
  * of README, "popc-analyze" (compare). */
 const popc_sweep_column popc_sweep_columns[] = {
 	{"run", POPC_SWEEP_CELL_RUN_ID, POPC_SWEEP_FORMAT_TEXT, POPC_SWEEP_EMPTY_NEVER},

@@ -80,6 +80,22 @@ for v in none po-pc ref-energy ignore hold improved; do
     done
   done
 done
+# the loop beside `popc run SCENE -q` as a whole process (issue 23): its CPU
+# per tick, its start-up and the ratio, printed with a verdict (never
+# asserted: the figures are the machine's); the --set values reach the
+# process (a scene it could not run would fail the benchmark)
+expect_exit 0 "bench loop beside popc run as a process, CSV" "$POPC" bench loop --format csv \
+  --min-time 0 --repeat 1 --scene "$SRC/data/scenes/paper.ini" --set run.duration=100
+check "  the process's ns per tick, a number" grep -Eq "^process_ns_per_tick,[0-9.e+-]+,,$" "$T/out"
+check "  its start-up, a number" grep -Eq "^process_startup_ms,[0-9.e+-]+,,$" "$T/out"
+check "  the loop over the process, a number" grep -Eq "^loop_over_process,[0-9.e+-]+,,$" "$T/out"
+expect_exit 0 "bench loop beside popc run as a process, text" "$POPC" bench loop --min-time 0 \
+  --repeat 1 --scene "$SRC/data/scenes/paper.ini" --set run.duration=100
+check "  names the process's figure" grep -q "^popc run -q as a process: [0-9.]* ns per tick over 100001 ticks" "$T/out"
+check "  and says whether the two agree within 10 % or why not" \
+  grep -Eq "they agree within 10 %|they differ by more than 10 %" "$T/out"
+expect_exit 0 "bench loop of the built-in scene" "$POPC" bench loop --min-time 0 --repeat 1
+check "  says why no process is timed" grep -q "popc run as a process: not measured (the built-in scene; give --scene FILE)" "$T/out"
 expect_exit 0 "bench loop, a variant the chain does not cover" "$POPC" bench loop --min-time 0 \
   --repeat 1 --set controller.variant=filtered-velocity
 check "  says why it is not measured" grep -q "not measured for this scene (every variant but filtered-velocity" "$T/out"

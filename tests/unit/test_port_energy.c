@@ -157,10 +157,81 @@ static void test_constant_command_against_quadrature(void **state)
 	assert_true(sum.device_energy_min_J <= sum.device_energy_J);
 }
 
+/* One run of s, logged to path when path is not NULL, with the summary read
+ * or unread (popc_run_options.summary_unread). */
+static void run_once(const popc_scene *s, const char *path, int unread, popc_run_summary *sum)
+{
+	popc_axis *axis;
+	popc_error err;
+	popc_log_writer w;
+	if (popc_sim_axis_create(&axis, s, &err) ||
+	    (path && (popc_log_open(&w, path, axis->ops->log_columns, &err) ||
+		      popc_log_write_header(&w, "sim", s, NULL, &err))))
+		fail_msg("%s", err.msg);
+	popc_run_options ro = {.log = path ? &w : NULL, .summary_unread = unread};
+	if (popc_run(s, axis, &ro, sum, &err) || (path && popc_log_close(&w, &err)))
+		fail_msg("%s", err.msg);
+	popc_axis_destroy(&axis);
+}
+
+static char *slurp(const char *path, long *n)
+{
+	FILE *f = fopen(path, "rb");
+	assert_non_null(f);
+	fseek(f, 0, SEEK_END);
+	*n = ftell(f);
+	rewind(f);
+	char *b = malloc((size_t)*n + 1);
+	assert_non_null(b);
+	assert_int_equal(fread(b, 1, (size_t)*n, f), (size_t)*n);
+	fclose(f);
+	return b;
+}
+
+/* Scenes that ask for less pay for less (issue 23): a run whose summary
+ * nobody reads (popc run -q without --summary) computes no metrics and no
+ * summary energies, and its log (E_port included) is the same bytes as the
+ * log of a run that computes everything. */
+static void test_summary_unread(void **state)
+{
+	(void)state;
+	popc_scene s;
+	popc_scene_defaults(&s);
+	s.duration_s = 2.0; /* the ramp's end splits a period at 0.689 s */
+	char full[1024], lean[1024];
+	snprintf(full, sizeof full, "%s/full.csv", tmpdir);
+	snprintf(lean, sizeof lean, "%s/lean.csv", tmpdir);
+	popc_run_summary a, b, c;
+	run_once(&s, full, 0, &a);
+	run_once(&s, lean, 1, &b);
+	run_once(&s, NULL, 1, &c);
+	long na, nb;
+	char *ta = slurp(full, &na), *tb = slurp(lean, &nb);
+	assert_int_equal(na, nb);
+	assert_memory_equal(ta, tb, (size_t)na);
+	free(ta);
+	free(tb);
+	/* the run itself is the same: ticks, status, stop reason */
+	assert_int_equal(a.ticks, 2001);
+	assert_int_equal(b.ticks, a.ticks);
+	assert_int_equal(c.ticks, a.ticks);
+	assert_int_equal(b.status, a.status);
+	assert_string_equal(c.stop_reason, a.stop_reason);
+	/* the full run computed its metrics and energies, the unread ones not */
+	assert_int_equal(a.metrics.all.ticks, 2001);
+	assert_true(a.device_energy_J != 0.0 && a.metrics.pc_energy_J != 0.0);
+	assert_int_equal(b.metrics.all.ticks, 0);
+	assert_int_equal(c.metrics.all.ticks, 0);
+	assert_true(b.metrics.pc_energy_J == 0.0 && b.device_energy_J == 0.0 &&
+		    b.po_error_max_J == 0.0);
+	assert_true(c.metrics.pc_energy_J == 0.0 && c.device_energy_J == 0.0);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_constant_command_against_quadrature),
+		cmocka_unit_test(test_summary_unread),
 	};
 	return cmocka_run_group_tests_name("port energy", tests, setup, teardown);
 }

@@ -48,6 +48,11 @@ typedef struct popc_run_options {
 	 * analyses such as the chatter detector of a sweep */
 	void (*on_tick)(void *user, const popc_tick *tick);
 	void *tick_user;
+	/* 1: nobody reads the summary's metrics and energies (popc run -q
+	 * without --summary): the run does not compute them, and E_port only
+	 * for the log's column; its status, stop reason, ticks and times are
+	 * filled as always. 0 (the default): everything. */
+	int summary_unread;
 } popc_run_options;
 
 /* Runs the scene on the axis. Always calls the axis' stop() and writes the
