@@ -55,6 +55,15 @@ static void usage(FILE *f)
 
 enum { OPT_FORMAT = 256, OPT_THRESHOLD };
 
+static const popc_option chatter_options[] = {
+	{"format", 0, OPT_FORMAT, "text|csv"},
+	{"threshold", 0, OPT_THRESHOLD, "NAME=VALUE"},
+	{"quiet", 'q', 'q', NULL},
+	{"help", 'h', 'h', NULL},
+	POPC_OPTION_END,
+};
+const popc_option *const ana_chatter_opts[] = {chatter_options, ana_input_option_table, NULL};
+
 static void print_text(const ana_summary *s)
 {
 	const popc_chatter_result *r = &s->chatter;
@@ -149,14 +158,9 @@ static void print_csv(const ana_summary *s)
 
 int ana_cmd_chatter(int argc, char **argv)
 {
-	static const struct option opts[] = {
-		{"format", required_argument, NULL, OPT_FORMAT},
-		{"threshold", required_argument, NULL, OPT_THRESHOLD},
-		{"quiet", no_argument, NULL, 'q'},
-		{"help", no_argument, NULL, 'h'},
-		ANA_INPUT_LONG_OPTIONS,
-		{NULL, 0, NULL, 0},
-	};
+	struct option opts[ANA_MAX_OPTIONS];
+	char shorts[2 * ANA_MAX_OPTIONS];
+	ana_getopt_tables(ana_chatter_opts, opts, shorts);
 	ana_input_options in;
 	memset(&in, 0, sizeof in);
 	in.verb = "chatter";
@@ -165,7 +169,7 @@ int ana_cmd_chatter(int argc, char **argv)
 	ana_format fmt = ANA_TEXT;
 	int c, rc = 0, quiet = 0, flagged = 0;
 	optind = 1;
-	while ((c = getopt_long(argc, argv, "qh", opts, NULL)) != -1) {
+	while ((c = getopt_long(argc, argv, shorts, opts, NULL)) != -1) {
 		switch (c) {
 		case OPT_FORMAT:
 			if (ana_format_from_name(optarg, &fmt) != 0 || fmt == ANA_MARKDOWN || fmt == ANA_JSON) {

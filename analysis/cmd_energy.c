@@ -74,6 +74,17 @@ static void usage(FILE *f)
 
 enum { OPT_OBSERVER = 256, OPT_FORMAT, OPT_CHECK, OPT_ALLOW_UNEVEN };
 
+static const popc_option energy_options[] = {
+	{"observer", 0, OPT_OBSERVER, "online|eq3|eq2|filtered|ignore|ignore-undo"},
+	{"format", 0, OPT_FORMAT, "text|csv"},
+	{"output", 'o', 'o', "FILE"},
+	{"check", 0, OPT_CHECK, NULL},
+	{"allow-uneven", 0, OPT_ALLOW_UNEVEN, NULL},
+	{"help", 'h', 'h', NULL},
+	POPC_OPTION_END,
+};
+const popc_option *const ana_energy_opts[] = {energy_options, ana_input_option_table, NULL};
+
 typedef struct energy_state {
 	definition def;
 	popc_observer obs;
@@ -445,16 +456,9 @@ static int energy_one(const char *path, const ana_input_options *in, const int *
 
 int ana_cmd_energy(int argc, char **argv)
 {
-	static const struct option opts[] = {
-		{"observer", required_argument, NULL, OPT_OBSERVER},
-		{"format", required_argument, NULL, OPT_FORMAT},
-		{"output", required_argument, NULL, 'o'},
-		{"check", no_argument, NULL, OPT_CHECK},
-		{"allow-uneven", no_argument, NULL, OPT_ALLOW_UNEVEN},
-		{"help", no_argument, NULL, 'h'},
-		ANA_INPUT_LONG_OPTIONS,
-		{NULL, 0, NULL, 0},
-	};
+	struct option opts[ANA_MAX_OPTIONS];
+	char shorts[2 * ANA_MAX_OPTIONS];
+	ana_getopt_tables(ana_energy_opts, opts, shorts);
 	ana_input_options in;
 	memset(&in, 0, sizeof in);
 	in.verb = "energy";
@@ -462,7 +466,7 @@ int ana_cmd_energy(int argc, char **argv)
 	ana_format fmt = ANA_TEXT;
 	const char *out_path = NULL;
 	optind = 1;
-	while ((c = getopt_long(argc, argv, "o:h", opts, NULL)) != -1) {
+	while ((c = getopt_long(argc, argv, shorts, opts, NULL)) != -1) {
 		switch (c) {
 		case OPT_OBSERVER: {
 			int found = -1;

@@ -41,6 +41,14 @@ static void usage(FILE *f)
 
 enum { OPT_FORMAT = 256, OPT_SETTLE_HOLD };
 
+static const popc_option events_options[] = {
+	{"format", 0, OPT_FORMAT, "text|csv"},
+	{"settle-hold", 0, OPT_SETTLE_HOLD, "S"},
+	{"help", 'h', 'h', NULL},
+	POPC_OPTION_END,
+};
+const popc_option *const ana_events_opts[] = {events_options, ana_input_option_table, NULL};
+
 static void put_cell(double v)
 {
 	putchar(',');
@@ -102,13 +110,9 @@ static void print_text(const char *name, const ana_events *e)
 
 int ana_cmd_events(int argc, char **argv)
 {
-	static const struct option opts[] = {
-		{"format", required_argument, NULL, OPT_FORMAT},
-		{"settle-hold", required_argument, NULL, OPT_SETTLE_HOLD},
-		{"help", no_argument, NULL, 'h'},
-		ANA_INPUT_LONG_OPTIONS,
-		{NULL, 0, NULL, 0},
-	};
+	struct option opts[ANA_MAX_OPTIONS];
+	char shorts[2 * ANA_MAX_OPTIONS];
+	ana_getopt_tables(ana_events_opts, opts, shorts);
 	ana_input_options in;
 	memset(&in, 0, sizeof in);
 	in.verb = "events";
@@ -116,7 +120,7 @@ int ana_cmd_events(int argc, char **argv)
 	double hold_s = ANA_SETTLE_HOLD_S;
 	int c, rc = 0;
 	optind = 1;
-	while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
+	while ((c = getopt_long(argc, argv, shorts, opts, NULL)) != -1) {
 		switch (c) {
 		case OPT_FORMAT:
 			if (ana_format_from_name(optarg, &fmt) != 0 || fmt == ANA_MARKDOWN) {

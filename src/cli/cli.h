@@ -5,6 +5,7 @@
 #include <signal.h>
 
 #include "popc/util/error.h"
+#include "popc/util/options.h"
 #include "popc/util/parse.h" /* every number an option takes */
 #include "popc/scene/scene.h"
 
@@ -73,6 +74,25 @@ const char *popc_cli_build_id(void);
  * differ from run to run: whoever compares logs leaves out exactly these
  * three lines (README, "The log"). */
 char *popc_cli_provenance(void);
+
+/* getopt_long's arrays made from a verb's option tables (options.h): opts
+ * and shorts of these sizes hold every verb's. */
+#define POPC_CLI_MAX_OPTIONS 64
+void popc_cli_getopt_tables(const popc_option *const *tables,
+			    struct option opts[POPC_CLI_MAX_OPTIONS], char shorts[2 * POPC_CLI_MAX_OPTIONS]);
+
+/* Each verb's option tables (its getopt_long's options, what `popc --complete`
+ * lists): popc_main.c's verb table points at them. */
+extern const popc_option *const popc_cli_run_opts[];
+extern const popc_option *const popc_cli_scene_show_opts[];
+extern const popc_option *const popc_cli_scene_keys_opts[];
+extern const popc_option *const popc_cli_scene_list_opts[];
+extern const popc_option *const popc_cli_scene_opts[];
+extern const popc_option *const popc_cli_bench_opts[];
+extern const popc_option *const popc_cli_sweep_opts[];
+extern const popc_option *const popc_cli_sweep_merge_opts[];
+extern const popc_option *const popc_cli_sweep_stats_opts[];
+extern const popc_option *const popc_cli_map_opts[];
 
 int popc_cmd_run(int argc, char **argv);
 int popc_cmd_scene(int argc, char **argv);

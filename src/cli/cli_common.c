@@ -90,6 +90,15 @@ void popc_cli_install_signals(int drive)
 	signal(SIGXFSZ, SIG_IGN);
 }
 
+void popc_cli_getopt_tables(const popc_option *const *tables,
+			    struct option opts[POPC_CLI_MAX_OPTIONS], char shorts[2 * POPC_CLI_MAX_OPTIONS])
+{
+	/* the sizes hold every verb's tables: a table that outgrows them is a
+	 * programming error, which the first run of that verb shows */
+	if (popc_options_getopt(tables, opts, POPC_CLI_MAX_OPTIONS, shorts, 2 * POPC_CLI_MAX_OPTIONS) != 0)
+		abort();
+}
+
 int popc_cli_fail(const char *verb, int status, const popc_error *err)
 {
 	fprintf(stderr, "popc %s: %s\n", verb, err->msg);

@@ -58,25 +58,30 @@ static void usage(FILE *f)
 
 enum { OPT_SCENE = 256, OPT_SET, OPT_FORMAT, OPT_PLOT, OPT_MIN_TIME, OPT_REPEAT, OPT_ROWS, OPT_DIR };
 
+static const popc_option bench_options[] = {
+	{"scene", 0, OPT_SCENE, "SCENE"},
+	{"set", 0, OPT_SET, "KEY=VALUE"},
+	{"format", 0, OPT_FORMAT, "text|csv"},
+	{"plot", 0, OPT_PLOT, "DIR"},
+	{"min-time", 0, OPT_MIN_TIME, "S"},
+	{"repeat", 0, OPT_REPEAT, "N"},
+	{"rows", 0, OPT_ROWS, "N"},
+	{"dir", 0, OPT_DIR, "DIR"},
+	{"help", 'h', 'h', NULL},
+	POPC_OPTION_END,
+};
+const popc_option *const popc_cli_bench_opts[] = {bench_options, NULL};
+
 int popc_cmd_bench(int argc, char **argv)
 {
-	static const struct option opts[] = {
-		{"scene", required_argument, NULL, OPT_SCENE},
-		{"set", required_argument, NULL, OPT_SET},
-		{"format", required_argument, NULL, OPT_FORMAT},
-		{"plot", required_argument, NULL, OPT_PLOT},
-		{"min-time", required_argument, NULL, OPT_MIN_TIME},
-		{"repeat", required_argument, NULL, OPT_REPEAT},
-		{"rows", required_argument, NULL, OPT_ROWS},
-		{"dir", required_argument, NULL, OPT_DIR},
-		{"help", no_argument, NULL, 'h'},
-		{NULL, 0, NULL, 0},
-	};
+	struct option opts[POPC_CLI_MAX_OPTIONS];
+	char shorts[2 * POPC_CLI_MAX_OPTIONS];
+	popc_cli_getopt_tables(popc_cli_bench_opts, opts, shorts);
 	bench_opts o = {.min_time_s = 0.2, .repeats = 3, .rows = 200000};
 	int c;
 	long long lv;
 	optind = 1;
-	while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
+	while ((c = getopt_long(argc, argv, shorts, opts, NULL)) != -1) {
 		switch (c) {
 		case OPT_SCENE: o.scene_path = optarg; break;
 		case OPT_SET:

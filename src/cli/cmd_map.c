@@ -83,6 +83,28 @@ static void usage(FILE *f)
 enum { OPT_VARIANT = 256, OPT_VARY, OPT_SET, OPT_STIFFNESS, OPT_TOL, OPT_CRITERION, OPT_PORT_TOL,
        OPT_SHARD, OPT_KEEP_LOG, OPT_ALLOW_OTHER_BUILD, OPT_ISOLATE, OPT_SCAN };
 
+static const popc_option map_options[] = {
+	{"variant", 0, OPT_VARIANT, "VARIANT"},
+	{"vary", 0, OPT_VARY, "KEY=LIST"},
+	{"set", 0, OPT_SET, "KEY=VALUE"},
+	{"stiffness", 0, OPT_STIFFNESS, "LO:HI"},
+	{"tol", 0, OPT_TOL, "R"},
+	{"scan", 0, OPT_SCAN, "N"},
+	/* popc_map_criterion_name's names (sweep_map.c), a comma list */
+	{"criterion", 0, OPT_CRITERION, "diverged|limit-cycle|chatter|passive|device-passive"},
+	{"port-tol", 0, OPT_PORT_TOL, "J"},
+	{"output", 'o', 'o', "DIR"},
+	{"jobs", 'j', 'j', "N"},
+	{"isolate", 0, OPT_ISOLATE, NULL},
+	{"shard", 0, OPT_SHARD, "I/N"},
+	{"keep-log", 0, OPT_KEEP_LOG, NULL},
+	{"allow-other-build", 0, OPT_ALLOW_OTHER_BUILD, NULL},
+	{"quiet", 'q', 'q', NULL},
+	{"help", 'h', 'h', NULL},
+	POPC_OPTION_END,
+};
+const popc_option *const popc_cli_map_opts[] = {map_options, NULL};
+
 typedef struct map_args {
 	char **variants, **vary, **sets;
 	int n_variants, n_vary, n_sets;
@@ -560,31 +582,15 @@ out:
 
 int popc_cmd_map(int argc, char **argv)
 {
-	static const struct option opts[] = {
-		{"variant", required_argument, NULL, OPT_VARIANT},
-		{"vary", required_argument, NULL, OPT_VARY},
-		{"set", required_argument, NULL, OPT_SET},
-		{"stiffness", required_argument, NULL, OPT_STIFFNESS},
-		{"tol", required_argument, NULL, OPT_TOL},
-		{"scan", required_argument, NULL, OPT_SCAN},
-		{"criterion", required_argument, NULL, OPT_CRITERION},
-		{"port-tol", required_argument, NULL, OPT_PORT_TOL},
-		{"output", required_argument, NULL, 'o'},
-		{"jobs", required_argument, NULL, 'j'},
-		{"isolate", no_argument, NULL, OPT_ISOLATE},
-		{"shard", required_argument, NULL, OPT_SHARD},
-		{"keep-log", no_argument, NULL, OPT_KEEP_LOG},
-		{"allow-other-build", no_argument, NULL, OPT_ALLOW_OTHER_BUILD},
-		{"quiet", no_argument, NULL, 'q'},
-		{"help", no_argument, NULL, 'h'},
-		{NULL, 0, NULL, 0},
-	};
+	struct option opts[POPC_CLI_MAX_OPTIONS];
+	char shorts[2 * POPC_CLI_MAX_OPTIONS];
+	popc_cli_getopt_tables(popc_cli_map_opts, opts, shorts);
 	map_args a = {.tol = 0.02, .port_tol_J = 1e-6, .criteria = 1u << POPC_MAP_PASSIVE,
 		      .scan_steps = POPC_MAP_SCAN_STEPS_DEFAULT};
 	int c, rc = -1, oom = 0;
 	popc_error err;
 	optind = 1;
-	while (rc < 0 && (c = getopt_long(argc, argv, "o:j:qh", opts, NULL)) != -1) {
+	while (rc < 0 && (c = getopt_long(argc, argv, shorts, opts, NULL)) != -1) {
 		switch (c) {
 		case OPT_VARIANT: oom |= popc_cli_push(&a.variants, &a.n_variants, optarg); break;
 		case OPT_VARY: oom |= popc_cli_push(&a.vary, &a.n_vary, optarg); break;

@@ -74,6 +74,23 @@ static void usage(FILE *f)
 enum { OPT_SET = 256, OPT_VARIANT, OPT_LOG, OPT_SUMMARY, OPT_SUMMARY_FORMAT, OPT_AXIS, OPT_MAP,
        OPT_CONNECT, OPT_FREE_RUN, OPT_RT };
 
+static const popc_option run_options[] = {
+	{"set", 0, OPT_SET, "KEY=VALUE"},
+	{"variant", 0, OPT_VARIANT, "VARIANT"},
+	{"log", 0, OPT_LOG, "FILE"},
+	{"summary", 0, OPT_SUMMARY, "FILE"},
+	{"summary-format", 0, OPT_SUMMARY_FORMAT, "csv|json"},
+	{"axis", 0, OPT_AXIS, "sim|modbus"},
+	{"map", 0, OPT_MAP, "MAP"},
+	{"connect", 0, OPT_CONNECT, "URI"},
+	{"free-run", 0, OPT_FREE_RUN, NULL},
+	{"rt", 0, OPT_RT, NULL},
+	{"quiet", 'q', 'q', NULL},
+	{"help", 'h', 'h', NULL},
+	POPC_OPTION_END,
+};
+const popc_option *const popc_cli_run_opts[] = {run_options, NULL};
+
 /* The summary as one JSON object on one line: the CSV header's names and the
  * row's cells, typed by the summary table (popc_run_summary_json_kind). */
 static int write_summary_json(FILE *f, const char *header, const char *axis_names,
@@ -313,21 +330,9 @@ static void progress_end(run_progress *p, int completed)
 
 int popc_cmd_run(int argc, char **argv)
 {
-	static const struct option opts[] = {
-		{"set", required_argument, NULL, OPT_SET},
-		{"variant", required_argument, NULL, OPT_VARIANT},
-		{"log", required_argument, NULL, OPT_LOG},
-		{"summary", required_argument, NULL, OPT_SUMMARY},
-		{"summary-format", required_argument, NULL, OPT_SUMMARY_FORMAT},
-		{"axis", required_argument, NULL, OPT_AXIS},
-		{"map", required_argument, NULL, OPT_MAP},
-		{"connect", required_argument, NULL, OPT_CONNECT},
-		{"free-run", no_argument, NULL, OPT_FREE_RUN},
-		{"rt", no_argument, NULL, OPT_RT},
-		{"quiet", no_argument, NULL, 'q'},
-		{"help", no_argument, NULL, 'h'},
-		{NULL, 0, NULL, 0},
-	};
+	struct option opts[POPC_CLI_MAX_OPTIONS];
+	char shorts[2 * POPC_CLI_MAX_OPTIONS];
+	popc_cli_getopt_tables(popc_cli_run_opts, opts, shorts);
 	char **sets = NULL;
 	int n_sets = 0, quiet = 0, c;
 	const char *variant = NULL, *log_path = NULL, *summary_path = NULL;
@@ -336,7 +341,7 @@ int popc_cmd_run(int argc, char **argv)
 	/* a signal ends a real axis' retries and waits too */
 	popc_axis_create_options axis_create = {.notes = stderr, .stop_flag = &popc_cli_stop};
 	optind = 1;
-	while ((c = getopt_long(argc, argv, "qh", opts, NULL)) != -1) {
+	while ((c = getopt_long(argc, argv, shorts, opts, NULL)) != -1) {
 		switch (c) {
 		case OPT_SET:
 			if (popc_cli_push(&sets, &n_sets, optarg) != 0) {

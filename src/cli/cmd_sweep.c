@@ -96,6 +96,31 @@ static void usage(FILE *f)
 enum { OPT_VARY = 256, OPT_SET, OPT_NO_LOG, OPT_SHARD, OPT_LIST, OPT_PROGRAM, OPT_ALLOW_OTHER_BUILD,
        OPT_ISOLATE };
 
+static const popc_option sweep_options[] = {
+	{"vary", 0, OPT_VARY, "KEY=LIST"},
+	{"set", 0, OPT_SET, "KEY=VALUE"},
+	{"output", 'o', 'o', "DIR"},
+	{"jobs", 'j', 'j', "N"},
+	{"isolate", 0, OPT_ISOLATE, NULL},
+	{"no-log", 0, OPT_NO_LOG, NULL},
+	{"shard", 0, OPT_SHARD, "I/N"},
+	{"list", 0, OPT_LIST, NULL},
+	{"program", 0, OPT_PROGRAM, "FILE"},
+	{"allow-other-build", 0, OPT_ALLOW_OTHER_BUILD, NULL},
+	{"quiet", 'q', 'q', NULL},
+	{"help", 'h', 'h', NULL},
+	POPC_OPTION_END,
+};
+static const popc_option merge_options[] = {
+	{"output", 'o', 'o', "DIR"},
+	{"allow-other-build", 0, OPT_ALLOW_OTHER_BUILD, NULL},
+	{"quiet", 'q', 'q', NULL},
+	{"help", 'h', 'h', NULL},
+	POPC_OPTION_END,
+};
+const popc_option *const popc_cli_sweep_opts[] = {sweep_options, NULL};
+const popc_option *const popc_cli_sweep_merge_opts[] = {merge_options, NULL};
+
 /* ---- failures listed at the end ------------------------------------------------- */
 
 typedef struct failure_list {
@@ -150,17 +175,13 @@ static void abs_path(const char *path, char *out, size_t cap)
 
 static int cmd_merge(int argc, char **argv)
 {
-	static const struct option opts[] = {
-		{"output", required_argument, NULL, 'o'},
-		{"allow-other-build", no_argument, NULL, OPT_ALLOW_OTHER_BUILD},
-		{"quiet", no_argument, NULL, 'q'},
-		{"help", no_argument, NULL, 'h'},
-		{NULL, 0, NULL, 0},
-	};
+	struct option opts[POPC_CLI_MAX_OPTIONS];
+	char shorts[2 * POPC_CLI_MAX_OPTIONS];
+	popc_cli_getopt_tables(popc_cli_sweep_merge_opts, opts, shorts);
 	const char *out = NULL;
 	int quiet = 0, allow_other_build = 0, c;
 	optind = 1;
-	while ((c = getopt_long(argc, argv, "o:qh", opts, NULL)) != -1) {
+	while ((c = getopt_long(argc, argv, shorts, opts, NULL)) != -1) {
 		switch (c) {
 		case 'o': out = optarg; break;
 		case OPT_ALLOW_OTHER_BUILD: allow_other_build = 1; break;
@@ -472,25 +493,13 @@ int popc_cmd_sweep(int argc, char **argv)
 		argv[1] = prog;
 		return cmd_merge(argc - 1, argv + 1);
 	}
-	static const struct option opts[] = {
-		{"vary", required_argument, NULL, OPT_VARY},
-		{"set", required_argument, NULL, OPT_SET},
-		{"output", required_argument, NULL, 'o'},
-		{"jobs", required_argument, NULL, 'j'},
-		{"isolate", no_argument, NULL, OPT_ISOLATE},
-		{"no-log", no_argument, NULL, OPT_NO_LOG},
-		{"shard", required_argument, NULL, OPT_SHARD},
-		{"list", no_argument, NULL, OPT_LIST},
-		{"program", required_argument, NULL, OPT_PROGRAM},
-		{"allow-other-build", no_argument, NULL, OPT_ALLOW_OTHER_BUILD},
-		{"quiet", no_argument, NULL, 'q'},
-		{"help", no_argument, NULL, 'h'},
-		{NULL, 0, NULL, 0},
-	};
+	struct option opts[POPC_CLI_MAX_OPTIONS];
+	char shorts[2 * POPC_CLI_MAX_OPTIONS];
+	popc_cli_getopt_tables(popc_cli_sweep_opts, opts, shorts);
 	sweep_args a = {.keep_log = 1};
 	int c, rc = -1, oom = 0;
 	optind = 1;
-	while (rc < 0 && (c = getopt_long(argc, argv, "o:j:qh", opts, NULL)) != -1) {
+	while (rc < 0 && (c = getopt_long(argc, argv, shorts, opts, NULL)) != -1) {
 		switch (c) {
 		case OPT_VARY: oom |= popc_cli_push(&a.vary, &a.n_vary, optarg); break;
 		case OPT_SET: oom |= popc_cli_push(&a.sets, &a.n_sets, optarg); break;

@@ -188,21 +188,26 @@ static void put_number(double v, int shortest)
 	}
 }
 
+static const popc_option stats_options[] = {
+	{"by", 0, 'b', "KEY[,KEY...]"},
+	{"metrics", 0, 'm', "NAME[,NAME...]"},
+	{"format", 0, 'f', "text|csv|markdown"},
+	{"help", 'h', 'h', NULL},
+	POPC_OPTION_END,
+};
+const popc_option *const popc_cli_sweep_stats_opts[] = {stats_options, NULL};
+
 int popc_cmd_sweep_stats(int argc, char **argv)
 {
-	static const struct option opts[] = {
-		{"by", required_argument, NULL, 'b'},
-		{"metrics", required_argument, NULL, 'm'},
-		{"format", required_argument, NULL, 'f'},
-		{"help", no_argument, NULL, 'h'},
-		{NULL, 0, NULL, 0},
-	};
+	struct option opts[POPC_CLI_MAX_OPTIONS];
+	char shorts[2 * POPC_CLI_MAX_OPTIONS];
+	popc_cli_getopt_tables(popc_cli_sweep_stats_opts, opts, shorts);
 	char *by_text = NULL, *metrics_text = NULL;
 	char default_metrics[] = STATS_DEFAULT_METRICS;
 	int format = 0; /* 0 text, 1 csv, 2 markdown */
 	int c;
 	optind = 1;
-	while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
+	while ((c = getopt_long(argc, argv, shorts, opts, NULL)) != -1) {
 		switch (c) {
 		case 'b': by_text = optarg; break;
 		case 'm': metrics_text = optarg; break;
