@@ -96,10 +96,30 @@ for prog in $progs; do
   page=$SRC/man/$prog.1.scd
   "$prog" --complete >"$T/table" 2>"$T/err"
   check "$prog --complete: exit 0, a table" test $? -eq 0 -a -s "$T/table"
-  mapfile -t paths < <(awk -F'\t' '$1 == "verb" { print $2 }' "$T/table")
+  # the table in bash's own arrays (few processes: a loaded machine runs this)
+  declare -A LONGS=() SHORTS=() LETTER=() VALUES=() FAMILY=()
+  paths=() top=
+  prev_path= prev_opt=
+  while IFS= read -r line; do
+    IFS=$'\x1f' read -r kind path opt arg <<<"${line//$'\t'/$'\x1f'}"
+    if [ "$kind" = verb ]; then
+      paths+=("$path")
+      [[ $path != *" "* ]] && top+="$path "
+      continue
+    fi
+    FAMILY[${path%% *}.]+="$opt "
+    if [[ $opt == --* ]]; then
+      LONGS[_$path]+="$opt "
+      # a short form is listed just before its long name
+      [[ $prev_path == "$path" && $prev_opt != --* ]] && LETTER[$path $opt]=$prev_opt
+      [[ $arg =~ ^[a-z0-9-]+(\|[a-z0-9-]+)+$ ]] && VALUES[$path $opt]=$arg
+    else
+      SHORTS[_$path]+="$opt "
+    fi
+    prev_path=$path prev_opt=$opt
+  done <"$T/table"
   # a program without verbs has its options under the empty path
   [ ${#paths[@]} -eq 0 ] && paths=("")
-  top=$(awk -F'\t' '$1 == "verb" && $2 !~ / / { print $2 }' "$T/table" | tr '\n' ' ')
   if [ -n "$top" ]; then
     help_verbs=$("$prog" --help | awk '/^verbs:/ { on = 1; next } on && /^  [a-z]/ { print $1 } on && /^$/ { on = 0 }' | tr '\n' ' ')
     same "$prog --help lists the table's verbs" "$top" "$help_verbs"
@@ -111,45 +131,50 @@ for prog in $progs; do
   # options every verb has: popc-analyze's input options (documented once)
   shared=
   if [ -n "$top" ]; then
-    shared=$(for v in $top; do awk -F'\t' -v p="$v" '$1 == "opt" && $2 == p && $3 ~ /^--/ { print $3 }' "$T/table" | sort -u; done |
+    shared=$(for v in $top; do tr ' ' '\n' <<<"${LONGS[_$v]}" | sed '/^$/d' | sort -u; done |
              sort | uniq -c | awk -v n="$(wc -w <<<"$top")" '$1 == n { print $2 }' | tr '\n' ' ')
   fi
   for path in "${paths[@]}"; do
     name="$prog${path:+ $path}"
-    longs=$(awk -F'\t' -v p="$path" '$1 == "opt" && $2 == p && $3 ~ /^--/ { print $3 }' "$T/table" | tr '\n' ' ')
-    shorts=$(awk -F'\t' -v p="$path" '$1 == "opt" && $2 == p && $3 !~ /^--/ { print $3 }' "$T/table" | tr '\n' ' ')
+    longs=${LONGS[_$path]-} shorts=${SHORTS[_$path]-}
     # --help
     # shellcheck disable=SC2086 # the path's words are the verb and sub-verb
     "$prog" $path --help >"$T/help" 2>&1
     check "$name --help: exit 0" test $? -eq 0
+    help_text=$(<"$T/help")
     missing=
-    for o in $longs $shorts; do grep -qE -- "(^|[^a-z-])$o([^a-z-]|$)" "$T/help" || missing+=" $o"; done
+    for o in $longs $shorts; do
+      [[ $help_text =~ (^|[^a-z-])$o([^a-z-]|$) ]] || missing+=" $o"
+    done
     check "$name --help names every option of the table${missing:+ (missing:$missing)}" test -z "$missing"
     help_opts=$(sed -nE 's/^ +(-[a-zA-Z0-9], )?(--[a-z][a-z0-9-]*).*/\1 \2/p' "$T/help" | tr -d ',' | tr '\n' ' ')
     # a verb's help may be its sub-verbs' too (popc sweep merge --help is
     # popc sweep's): the options of the verb and its sub-verbs
-    family=$(awk -F'\t' -v v="${path%% *}" '$1 == "opt" && ($2 == v || index($2, v " ") == 1) { print $3 }' "$T/table" | tr '\n' ' ')
+    family=
+    family=${FAMILY[${path%% *}.]-}
     extra=
     for o in $help_opts; do [[ " $family " == *" $o "* ]] || extra+=" $o"; done
     check "  every option line of the help is the table's${extra:+ (not in the table:$extra)}" test -z "$extra"
-    while IFS=$'\t' read -r opt values; do
+    for o in $longs; do
+      values=${VALUES[$path $o]-}
+      [ -n "$values" ] || continue
       missing=
-      for w in ${values//|/ }; do grep -qw -- "$w" "$T/help" || missing+=" $w"; done
-      check "  $opt: the help names each of $values${missing:+ (missing:$missing)}" test -z "$missing"
-    done < <(awk -F'\t' -v p="$path" '$1 == "opt" && $2 == p && $3 ~ /^--/ && $4 ~ /^[a-z0-9-]+(\|[a-z0-9-]+)+$/ { print $3 "\t" $4 }' "$T/table")
+      for w in ${values//|/ }; do [[ $help_text =~ (^|[^a-z-])$w([^a-z-]|$) ]] || missing+=" $w"; done
+      check "  $o: the help names each of $values${missing:+ (missing:$missing)}" test -z "$missing"
+    done
     # the man page
     if [ -n "$path" ]; then
-      subs=$(awk -F'\t' -v p="$path" '$1 == "verb" && index($2, p " ") == 1 { print substr($2, length(p) + 2) }' "$T/table" | tr '\n' ' ')
+      subs=
+      for p in "${paths[@]}"; do [[ $p == "$path "* ]] && subs+="${p#"$path "} "; done
       man_text=$( { man_synopsis "$page" "$prog" "$path" "$subs"; man_entry "$page" "$path"; } )
+      syn_opts=$(man_synopsis "$page" "$prog" "$path" "$subs" | man_options)
       # a sub-verb with its verb's options (bench integrators) is documented with the verb
       parent=${path% *}
-      parent_longs=$(awk -F'\t' -v p="$parent" '$1 == "opt" && $2 == p && $3 ~ /^--/ { print $3 }' "$T/table" | tr '\n' ' ')
-      if [[ $parent != "$path" && $parent_longs == "$longs" ]]; then
+      if [[ $parent != "$path" && ${LONGS[_$parent]-} == "$longs" ]]; then
         man_text+=$'\n'$( { man_synopsis "$page" "$prog" "$parent" ""; man_entry "$page" "$parent"; } )
       fi
-      syn_opts=$(man_synopsis "$page" "$prog" "$path" "$subs" | man_options)
     else
-      man_text=$(cat "$page")
+      man_text=$(<"$page")
       syn_opts=
     fi
     in_man=$(man_options <<<"$man_text")
@@ -157,8 +182,7 @@ for prog in $progs; do
     for o in $longs; do
       case $o in --help | --version) continue ;; esac
       # an option with a short form may go by it (*-q*)
-      letter=$(awk -F'\t' -v p="$path" -v o="$o" '$1 == "opt" && $2 == p { if ($3 == o) print prev; prev = $3 }' "$T/table")
-      [[ $letter == --* ]] && letter=
+      letter=${LETTER[$path $o]-}
       if [[ " $shared " == *" $o "* ]]; then grep -qF -- "*$o*" "$page" && continue
       else
         [[ " $in_man " == *" $o "* ]] && continue
@@ -171,8 +195,8 @@ for prog in $progs; do
     for o in $syn_opts; do [[ " $longs $shorts " == *" $o "* ]] || extra+=" $o"; done
     check "  its SYNOPSIS of '$name' names only the table's options${extra:+ (not in the table:$extra)}" test -z "$extra"
     # the completion: the words after the verb's
-    # shellcheck disable=SC2086
     same "the completion of '$name -' offers the table's long options" "$longs" "$(completion "$prog" "${path:+$path }x -")"
   done
+  unset LONGS SHORTS LETTER VALUES FAMILY
 done
 check_summary
