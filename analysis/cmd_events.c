@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "analyze.h"
+#include "popc/util/json.h"
 #include "popc/util/parse.h"
 
 static void usage(FILE *f)
@@ -24,12 +25,14 @@ static void usage(FILE *f)
 	      "          so W - E_ref does not move at k+1 (seed Fig. 8: 2.957 s);\n"
 	      "          fig8_first: the first anywhere\n"
 	      "\n"
-	      "  --format text|csv        text (default), or CSV with the header\n"
+	      "  --format text|csv|json   text (default), or CSV with the header\n"
 	      "                           log,settle_s,settle_end_s,settle_final_s,fig5_s,\n"
 	      "                           fig5_dw_J,fig8_s,fig5_first_s,fig8_first_s,\n"
 	      "                           n_fast,n_fig5,n_fig8,\n"
 	      "                           x_settled_min_m,x_settled_max_m,ticks\n"
-	      "                           (an empty cell: no such event, or not checkable)\n"
+	      "                           (an empty cell: no such event, or not checkable);\n"
+	      "                           json: one object per log on one line, the CSV's\n"
+	      "                           names and digits, null for an empty cell\n"
 	      "  --settle-hold S          least length of the settled stretch, s (default 0.5)\n" ANA_INPUT_HELP
 	      "  -h, --help               this help\n"
 	      "\n"
@@ -42,35 +45,39 @@ static void usage(FILE *f)
 enum { OPT_FORMAT = 256, OPT_SETTLE_HOLD };
 
 static const popc_option events_options[] = {
-	{"format", 0, OPT_FORMAT, "text|csv"},
+	{"format", 0, OPT_FORMAT, "text|csv|json"},
 	{"settle-hold", 0, OPT_SETTLE_HOLD, "S"},
 	{"help", 'h', 'h', NULL},
 	POPC_OPTION_END,
 };
 const popc_option *const ana_events_opts[] = {events_options, ana_input_option_table, NULL};
 
-static void put_cell(double v)
+static void put_cell(FILE *f, double v)
 {
-	putchar(',');
+	fputc(',', f);
 	if (isfinite(v))
-		ana_put_double(stdout, v);
+		ana_put_double(f, v);
 }
 
-static void print_csv(const char *name, const ana_events *e)
+static const char csv_header[] =
+	"log,settle_s,settle_end_s,settle_final_s,fig5_s,fig5_dw_J,fig8_s,fig5_first_s,"
+	"fig8_first_s,n_fast,n_fig5,n_fig8,x_settled_min_m,x_settled_max_m,ticks";
+
+static void print_csv(FILE *f, const char *name, const ana_events *e)
 {
-	ana_put_csv_text(stdout, name);
-	put_cell(e->settle_s);
-	put_cell(e->settle_end_s);
-	put_cell(e->settle_final_s);
-	put_cell(e->fig5_s);
-	put_cell(e->fig5_dw_J);
-	put_cell(e->fig8_s);
-	put_cell(e->fig5_first_s);
-	put_cell(e->fig8_first_s);
-	printf(",%lld,%lld,%lld", e->n_fast, e->n_fig5, e->n_fig8);
-	put_cell(e->x_min_settled_m);
-	put_cell(e->x_max_settled_m);
-	printf(",%lld\n", e->ticks);
+	ana_put_csv_text(f, name);
+	put_cell(f, e->settle_s);
+	put_cell(f, e->settle_end_s);
+	put_cell(f, e->settle_final_s);
+	put_cell(f, e->fig5_s);
+	put_cell(f, e->fig5_dw_J);
+	put_cell(f, e->fig8_s);
+	put_cell(f, e->fig5_first_s);
+	put_cell(f, e->fig8_first_s);
+	fprintf(f, ",%lld,%lld,%lld", e->n_fast, e->n_fig5, e->n_fig8);
+	put_cell(f, e->x_min_settled_m);
+	put_cell(f, e->x_max_settled_m);
+	fprintf(f, ",%lld\n", e->ticks);
 }
 
 static void print_text(const char *name, const ana_events *e)
@@ -124,7 +131,8 @@ int ana_cmd_events(int argc, char **argv)
 		switch (c) {
 		case OPT_FORMAT:
 			if (ana_format_from_name(optarg, &fmt) != 0 || fmt == ANA_MARKDOWN) {
-				fprintf(stderr, "popc-analyze events: --format '%s': text or csv\n", optarg);
+				fprintf(stderr, "popc-analyze events: --format '%s': text, csv or json\n",
+					optarg);
 				rc = 2;
 				goto out;
 			}
@@ -152,9 +160,15 @@ int ana_cmd_events(int argc, char **argv)
 		rc = 2;
 		goto out;
 	}
-	if (fmt == ANA_CSV)
-		puts("log,settle_s,settle_end_s,settle_final_s,fig5_s,fig5_dw_J,fig8_s,fig5_first_s,"
-		     "fig8_first_s,n_fast,n_fig5,n_fig8,x_settled_min_m,x_settled_max_m,ticks");
+	/* json: the CSV's rows as objects, the same cells (popc_table_out) */
+	static const char *const text_columns[] = {"log", NULL};
+	popc_table_out table;
+	int tabled = fmt == ANA_CSV || fmt == ANA_JSON;
+	if (tabled && popc_table_out_begin(&table, stdout, fmt == ANA_JSON, csv_header, text_columns) != 0) {
+		fprintf(stderr, "popc-analyze events: out of memory\n");
+		rc = 2;
+		goto out;
+	}
 	for (int i = optind; i < argc; i++) {
 		ana_events e;
 		popc_error err;
@@ -173,11 +187,18 @@ int ana_cmd_events(int argc, char **argv)
 				!e.pc_known ? "Fig. 5 and Fig. 8 events are" : "Fig. 5 event is");
 			rc = 2;
 		}
-		if (fmt == ANA_CSV)
-			print_csv(name, &e);
-		else
+		if (tabled) {
+			print_csv(popc_table_out_row(&table), name, &e);
+			if (popc_table_out_flush(&table) != 0) {
+				fprintf(stderr, "popc-analyze events: out of memory\n");
+				rc = 2;
+			}
+		} else {
 			print_text(name, &e);
+		}
 	}
+	if (tabled)
+		popc_table_out_end(&table);
 out:
 	ana_input_free(&in);
 	return rc;
