@@ -27,6 +27,7 @@
 #include "popc/sweep/sweep_results.h"
 #include "popc/util/numfmt.h"
 #include "popc/util/parse.h"
+#include "sweep_dry_run.h"
 #include "sweep_pool.h"
 #include "sweep_progress.h"
 
@@ -71,6 +72,9 @@ static void usage(FILE *f)
 	      "                           DIR/boundary.csv exists (docs/MAPS.md)\n"
 	      "  --keep-log               keep every run's log.csv (default: rows only)\n"
 	      "  --allow-other-build      resume a map that another popc build made\n"
+	      "  --dry-run                print the map's grid, scan and lines (one\n"
+	      "                           'LINE<TAB>values' each) and what DIR holds, and\n"
+	      "                           write nothing: no DIR, plan, lock or row\n"
 	      "  -q, --quiet              no progress\n"
 	      "  -h, --help               this help\n"
 	      "\n"
@@ -81,7 +85,7 @@ static void usage(FILE *f)
 }
 
 enum { OPT_VARIANT = 256, OPT_VARY, OPT_SET, OPT_STIFFNESS, OPT_TOL, OPT_CRITERION, OPT_PORT_TOL,
-       OPT_SHARD, OPT_KEEP_LOG, OPT_ALLOW_OTHER_BUILD, OPT_ISOLATE, OPT_SCAN };
+       OPT_SHARD, OPT_KEEP_LOG, OPT_ALLOW_OTHER_BUILD, OPT_ISOLATE, OPT_SCAN, OPT_DRY_RUN };
 
 static const popc_option map_options[] = {
 	{"variant", 0, OPT_VARIANT, "VARIANT"},
@@ -99,6 +103,7 @@ static const popc_option map_options[] = {
 	{"shard", 0, OPT_SHARD, "I/N"},
 	{"keep-log", 0, OPT_KEEP_LOG, NULL},
 	{"allow-other-build", 0, OPT_ALLOW_OTHER_BUILD, NULL},
+	{"dry-run", 0, OPT_DRY_RUN, NULL},
 	{"quiet", 'q', 'q', NULL},
 	{"help", 'h', 'h', NULL},
 	POPC_OPTION_END,
@@ -112,7 +117,7 @@ typedef struct map_args {
 	double tol, port_tol_J;
 	unsigned criteria;
 	long long jobs, scan_steps;
-	int quiet, keep_log, allow_other_build, isolate;
+	int quiet, keep_log, allow_other_build, isolate, dry_run;
 } map_args;
 
 /* The searches of every line and criterion, from the rows in DIR. */
@@ -464,6 +469,42 @@ static int make_plan(const map_args *a, popc_sweep_plan *plan, popc_error *err)
 	return st;
 }
 
+/* --dry-run: the grid, the scan, the criteria and the lines on stdout (what
+ * the map would search), what DIR holds; nothing written. Returns the exit
+ * code: 2 when DIR holds another sweep (the map would be refused). */
+static int dry_run(const map_args *a, const popc_sweep_plan *p, const popc_sweep_shard *sh)
+{
+	const popc_sweep_axis *kax = &p->axes[p->n_axes - 1];
+	long n_k = kax->n_values;
+	long scan = a->scan_steps < n_k - 1 ? (long)a->scan_steps : n_k - 1;
+	long n_lines = (long)(p->n_runs / n_k);
+	printf("# popc map --dry-run: %ld lines x %ld stiffness points (%s to %s N/m, log grid, "
+	       "neighbours within %g); a scan of %ld points a line (every %ld-th), then bisection "
+	       "to one grid step; criteria",
+	       n_lines, n_k, kax->values[0], kax->values[n_k - 1], a->tol,
+	       popc_map_scan_points(n_k, scan), scan);
+	for (int c = 0; c < POPC_MAP_N_CRITERIA; c++)
+		if (a->criteria & (1u << c))
+			printf(" %s", popc_map_criterion_name((popc_map_criterion)c));
+	if (sh->count > 1)
+		printf("; shard %lld of %lld", sh->index + 1, sh->count);
+	printf("; ");
+	int refused = sweep_dry_run_dir(stdout, p, a->dir);
+	printf("; nothing written\n");
+	char values[4096];
+	for (long line = 0; line < n_lines; line++) {
+		/* the line's values: its first run's, less the stiffness (the last axis) */
+		popc_sweep_run_describe(p, (long long)line * n_k, values, sizeof values);
+		char *k = strstr(values, " environment.stiffness=");
+		if (k)
+			*k = '\0';
+		printf("%ld\t%s\n", line, values);
+	}
+	if (fflush(stdout) != 0 || ferror(stdout))
+		return 1;
+	return refused ? 2 : 0;
+}
+
 static int map_main(const map_args *a)
 {
 	popc_error err;
@@ -483,6 +524,12 @@ static int map_main(const map_args *a)
 	if (st < 0) {
 		popc_sweep_plan_free(&plan);
 		return popc_cli_fail("map", st, &err);
+	}
+	if (a->dry_run) {
+		/* before the directory is opened: nothing is made, locked or written */
+		int r = dry_run(a, &plan, &shard);
+		popc_sweep_plan_free(&plan);
+		return r;
 	}
 	char scene_abs[PATH_MAX];
 	char *r = realpath(plan.base.source, NULL);
@@ -632,6 +679,7 @@ int popc_cmd_map(int argc, char **argv)
 			break;
 		case OPT_SHARD: a.shard_text = optarg; break;
 		case OPT_KEEP_LOG: a.keep_log = 1; break;
+		case OPT_DRY_RUN: a.dry_run = 1; break;
 		case OPT_ALLOW_OTHER_BUILD: a.allow_other_build = 1; break;
 		case OPT_ISOLATE: a.isolate = 1; break;
 		case 'q': a.quiet = 1; break;

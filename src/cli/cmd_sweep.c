@@ -24,6 +24,7 @@
 #include "popc/sweep/sweep_results.h"
 #include "popc/util/atomic_file.h"
 #include "popc/util/text.h"
+#include "sweep_dry_run.h"
 #include "sweep_list.h"
 #include "sweep_pool.h"
 #include "sweep_progress.h"
@@ -72,6 +73,10 @@ static void usage(FILE *f)
 	      "                           DIR/runs/<id>/scene.ini (later edits of SCENE do\n"
 	      "                           not reach it); then 'popc sweep merge DIR'\n"
 	      "                           gathers their results\n"
+	      "  --dry-run                print the plan and its runs (one 'ID<TAB>values' line\n"
+	      "                           each, of the shard) and what DIR holds (a resume?),\n"
+	      "                           and write nothing: no DIR, plan, lock or run\n"
+	      "                           directory (--list writes each run's scene.ini)\n"
 	      "  --program PATH           the popc that --list lines call (default: this one)\n"
 	      "  --allow-other-build      resume (or merge) a sweep that another popc version\n"
 	      "                           or build made; refused otherwise (exit 2), since\n"
@@ -94,7 +99,7 @@ static void usage(FILE *f)
 }
 
 enum { OPT_VARY = 256, OPT_SET, OPT_NO_LOG, OPT_SHARD, OPT_LIST, OPT_PROGRAM, OPT_ALLOW_OTHER_BUILD,
-       OPT_ISOLATE };
+       OPT_ISOLATE, OPT_DRY_RUN };
 
 static const popc_option sweep_options[] = {
 	{"vary", 0, OPT_VARY, "KEY=LIST"},
@@ -105,6 +110,7 @@ static const popc_option sweep_options[] = {
 	{"no-log", 0, OPT_NO_LOG, NULL},
 	{"shard", 0, OPT_SHARD, "I/N"},
 	{"list", 0, OPT_LIST, NULL},
+	{"dry-run", 0, OPT_DRY_RUN, NULL},
 	{"program", 0, OPT_PROGRAM, "FILE"},
 	{"allow-other-build", 0, OPT_ALLOW_OTHER_BUILD, NULL},
 	{"quiet", 'q', 'q', NULL},
@@ -319,7 +325,7 @@ static int cmd_merge(int argc, char **argv)
 typedef struct sweep_args {
 	char **vary, **sets;          /* pointers into argv */
 	int n_vary, n_sets;
-	int quiet, keep_log, list, allow_other_build, isolate;
+	int quiet, keep_log, list, allow_other_build, isolate, dry_run;
 	long long jobs;               /* 0: sweep_pool_default_jobs() */
 	const char *scene_path, *dir, *shard_text, *program;
 } sweep_args;
@@ -378,6 +384,12 @@ static int sweep_main(const sweep_args *a)
 	if (st < 0) {
 		popc_sweep_plan_free(&plan);
 		return popc_cli_fail("sweep", st, &err);
+	}
+	if (a->dry_run) {
+		/* before the directory is opened: nothing is made, locked or written */
+		int r = sweep_dry_run_print(&plan, &shard, a->dir);
+		popc_sweep_plan_free(&plan);
+		return r;
 	}
 	char scene_abs[PATH_MAX], dir_abs[PATH_MAX];
 	abs_path(base.source, scene_abs, sizeof scene_abs); /* an installed scene's, when found by name */
@@ -513,6 +525,7 @@ int popc_cmd_sweep(int argc, char **argv)
 		case OPT_NO_LOG: a.keep_log = 0; break;
 		case OPT_SHARD: a.shard_text = optarg; break;
 		case OPT_LIST: a.list = 1; break;
+		case OPT_DRY_RUN: a.dry_run = 1; break;
 		case OPT_PROGRAM: a.program = optarg; break;
 		case OPT_ALLOW_OTHER_BUILD: a.allow_other_build = 1; break;
 		case OPT_ISOLATE: a.isolate = 1; break;
@@ -539,6 +552,9 @@ int popc_cmd_sweep(int argc, char **argv)
 				  : a.program && !a.list
 					  ? "--program applies to --list only (the popc the listed lines "
 					    "call); a sweep runs in this process"
+				  : a.dry_run && a.list
+					  ? "--dry-run and --list: --list writes each run's scene.ini; "
+					    "give one of them"
 					  : NULL;
 		if (oom) {
 			fprintf(stderr, "popc sweep: out of memory\n");
