@@ -84,8 +84,10 @@ static void usage(FILE *f)
 	      "                           plan records every build that added results\n"
 	      "  -q, --quiet              no progress\n"
 	      "  -h, --help               this help\n"
-	      "\n"
-	      "stats: median, quartiles and range of the metrics per group of runs\n"
+	      "\n",
+	      f);
+	/* its own string: C99 promises 4095 characters */
+	fputs("stats: median, quartiles and range of the metrics per group of runs\n"
 	      "('popc sweep stats --help').\n"
 	      "\n"
 	      "merge: gathers the runs of shard outputs (or of --list runs) into one\n"
@@ -534,6 +536,9 @@ int popc_cmd_sweep(int argc, char **argv)
 		default: popc_option_hint(argv[0], opts, argc, argv); rc = 2; break;
 		}
 	}
+	if (rc < 0 && !oom && (popc_cli_assignment_split("sweep", "--set", a.sets, a.n_sets) ||
+				popc_cli_assignment_split("sweep", "--vary", a.vary, a.n_vary)))
+		rc = 2;
 	if (rc < 0) {
 		/* options that would be silently ignored are refused */
 		const char *why = optind >= argc       ? "missing SCENE file"
