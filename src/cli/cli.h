@@ -41,6 +41,13 @@ typedef struct popc_cli_key_option {
 int popc_cli_load_scene_options(popc_scene *s, const char *path, char **sets, int n_sets,
 				const popc_cli_key_option *opts, int n_opts, popc_error *err);
 
+/* An assignment option's argument without '=' ("--set environment.stiffness
+ * 2000": the shell gave two words, and the second would be taken for a second
+ * SCENE file): says on stderr to give "OPTION KEY=VALUE" as one word, with the
+ * word that followed it on the command line (popc_cli_argv) when there is
+ * one, and returns 1 (the caller exits 2); 0 when every value has a '='. */
+int popc_cli_assignment_split(const char *verb, const char *option, char *const *values, int n);
+
 /* Collects a --set argument (the array grows as needed; freed by the caller).
  * Returns 0, or -1 when out of memory (the list is left as it was). */
 int popc_cli_push(char ***list, int *n, char *value);

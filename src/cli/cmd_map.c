@@ -687,6 +687,9 @@ int popc_cmd_map(int argc, char **argv)
 		default: usage(stderr); rc = 2; break;
 		}
 	}
+	if (rc < 0 && !oom && (popc_cli_assignment_split("map", "--set", a.sets, a.n_sets) ||
+				popc_cli_assignment_split("map", "--vary", a.vary, a.n_vary)))
+		rc = 2;
 	if (rc < 0) {
 		const char *why = optind >= argc       ? "missing SCENE file"
 				  : optind + 1 != argc ? "more than one SCENE file"

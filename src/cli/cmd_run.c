@@ -328,6 +328,28 @@ static void progress_end(run_progress *p, int completed)
 		draw_progress(p, 1);
 }
 
+/* A log of 100 MB or more is announced before the run starts (a mistyped
+ * run.duration=5000 wrote 852 MB without a word): its rows and size, at 14
+ * bytes a cell as measured (the paper scene's 5 s log: 834160 bytes, 5001
+ * rows of 12 cells). */
+static void note_log_size(const char *path, const popc_scene *s, unsigned columns)
+{
+	char names[2048];
+	popc_log_column_names(columns, names, sizeof names);
+	int cells = 1;
+	for (const char *c = names; *c; c++)
+		cells += *c == ',';
+	double rows = (double)popc_scene_ticks(s) + 1.0;
+	double bytes = rows * cells * 14.0;
+	if (bytes < 100e6)
+		return;
+	fprintf(stderr,
+		"popc run: note: the log %s will be about %.3g MB (%.0f rows of %d cells, "
+		"run.duration = %g s at %g Hz); a signal (Ctrl-C) stops the run with the rows "
+		"so far kept\n",
+		path, bytes / 1e6, rows, cells, s->duration_s, s->rate_Hz);
+}
+
 int popc_cmd_run(int argc, char **argv)
 {
 	struct option opts[POPC_CLI_MAX_OPTIONS];
@@ -370,6 +392,10 @@ int popc_cmd_run(int argc, char **argv)
 		case 'h': usage(stdout); free(sets); return 0;
 		default: popc_option_hint(argv[0], opts, argc, argv); free(sets); return 2;
 		}
+	}
+	if (popc_cli_assignment_split("run", "--set", sets, n_sets)) {
+		free(sets);
+		return 2;
 	}
 	int summary_stdout = summary_path && strcmp(summary_path, "-") == 0;
 	if (optind + 1 != argc || (summary_stdout && log_path && strcmp(log_path, "-") == 0)) {
@@ -416,6 +442,17 @@ int popc_cmd_run(int argc, char **argv)
 			return 2;
 		}
 
+	/* --free-run and --rt change how a Modbus axis keeps time: the simulated
+	 * one has no deadlines and no drive, so they would do nothing, silently */
+	if ((axis_create.free_run || axis_create.realtime) && strcmp(s.axis, "modbus") != 0) {
+		fprintf(stderr,
+			"popc run: %s: only for axis.kind = modbus, and axis.kind is %s (the simulated "
+			"axis keeps no deadlines and runs as fast as it can: leave %s out)\n",
+			axis_create.free_run ? "--free-run" : "--rt", s.axis,
+			axis_create.free_run ? "--free-run" : "--rt");
+		return 2;
+	}
+
 	popc_axis *axis = NULL;
 	st = popc_axis_create(&axis, &s, &axis_create, &err);
 	if (st)
@@ -454,6 +491,8 @@ int popc_cmd_run(int argc, char **argv)
 			return popc_cli_fail("run", st, &err);
 		}
 		ro.log = &log;
+		if (!quiet)
+			note_log_size(log_path, &s, axis->ops->log_columns);
 	}
 	popc_cli_install_signals(!popc_axis_is_simulated(&s));
 	/* the progress line: on a terminal, not with -q, once the run has taken
@@ -470,11 +509,18 @@ int popc_cmd_run(int argc, char **argv)
 	progress_end(&prog, run_st == 0 && !popc_cli_stop);
 	popc_error cerr;
 	int close_st = log_path ? popc_log_close(&log, &cerr) : 0;
-	if (!quiet)
+	/* a run that failed before its first tick (a drive that could not be
+	 * reached) has no statistics: ten lines of zeros would hide the error,
+	 * which popc_cli_fail prints below, with what to check */
+	int no_tick = run_st != 0 && sum.ticks == 0;
+	if (!quiet && !no_tick)
 		popc_run_summary_print(&sum, &s, stderr);
+	if (!quiet && !log_path) /* the rows are gone: say so, once */
+		fprintf(stderr, "popc run: note: no --log given, so the run's log was not kept "
+				"(--log FILE keeps it; -q says nothing)\n");
 	char axis_names[1024] = "", axis_values[1024] = "";
 	if (axis->ops->report) /* period and latency percentiles of a real axis */
-		axis->ops->report(axis, quiet ? NULL : stderr, axis_names, axis_values,
+		axis->ops->report(axis, quiet || no_tick ? NULL : stderr, axis_names, axis_values,
 				  sizeof axis_names);
 	popc_axis_destroy(&axis);
 	if (summary && write_summary_file(summary, summary_json, &sum, &s, argv[optind], axis_names,
@@ -484,8 +530,16 @@ int popc_cmd_run(int argc, char **argv)
 		if (!run_st)
 			return 1;
 	}
-	if (run_st)
-		return popc_cli_fail("run", run_st, &err);
+	if (run_st) {
+		int code = popc_cli_fail("run", run_st, &err);
+		if (no_tick && strstr(err.msg, "cannot connect"))
+			fprintf(stderr,
+				"popc run: hint: is the drive (or popc-servo-sim) on and listening at %s? "
+				"Check the host and port (or device and baud) in --connect / axis.connect "
+				"(docs/MODBUS.md)\n",
+				s.axis_connect);
+		return code;
+	}
 	if (close_st)
 		return popc_cli_fail("run", close_st, &cerr);
 	return 0;

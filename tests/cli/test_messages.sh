@@ -1,0 +1,62 @@
+#!/usr/bin/env bash
+# Messages that name what to do (issue 27):
+# - "--set KEY VALUE" (two words) named as such, with the one word to give,
+#   not "more than one SCENE file" (run, sweep, map; --vary too);
+# - a run without --log says the log was not kept (not with -q);
+# - a log of 100 MB or more is announced before the run, with its size;
+# - --free-run and --rt on the simulated axis are refused (exit 2), as
+#   --map and --connect are (they do nothing there);
+# - a drive that refuses the connection: the error and a hint naming the
+#   URI, not ten lines of zero statistics.
+set -u
+POPC=${POPC:?POPC must name the popc program}
+SRC=${POPC_SOURCE_ROOT:?}
+BUILD=${POPC_BUILD_ROOT:?}
+T=$(mktemp -d /tmp/popc-messages-XXXXXX)
+trap 'rm -rf "$T"' EXIT
+. "$SRC/tests/check.sh"
+export POPC_DATA_PATH="$SRC/data"
+cd "$T" || exit 1
+
+expect_exit 2 "run --set KEY VALUE (two words)" "$POPC" run paper --set environment.stiffness 2000
+check "  says to give --set KEY=VALUE as one word, with the fix" err_has "--set environment.stiffness 2000: give --set KEY=VALUE as one word, with '=': --set environment.stiffness=2000"
+check "  not 'more than one SCENE file'" bash -c "! grep -q 'more than one SCENE' '$T/err'"
+expect_exit 2 "  the value before the scene" "$POPC" run --set run.duration 3 paper
+check "  the word after the key is the value" err_has "--set run.duration=3"
+expect_exit 2 "sweep --vary KEY LIST" "$POPC" sweep paper --vary controller.variant none,improved -o sw
+check "  named, with the fix" err_has "--vary controller.variant=none,improved"
+check "  nothing made" test ! -e sw
+expect_exit 2 "map --set KEY VALUE" "$POPC" map paper --variant none --set run.duration 2 -o mp
+check "  named, with the fix" err_has "--set run.duration=2"
+
+expect_exit 0 "run without --log" "$POPC" run paper --set run.duration=0.2
+check "  says the log was not kept, and how to keep it" err_has "no --log given, so the run's log was not kept (--log FILE keeps it"
+expect_exit 0 "  with -q" "$POPC" run paper --set run.duration=0.2 -q
+check "  says nothing" test ! -s "$T/err"
+expect_exit 0 "run with --log" "$POPC" run paper --set run.duration=0.2 --log a.csv
+check "  no note about the log" bash -c "! grep -q 'note' '$T/err'"
+
+# a 5000 s run: its log is announced before the first row; the pipe's reader
+# leaves after 100 bytes, so the run ends on its first write error, whatever
+# the machine's speed
+set +o pipefail
+"$POPC" run paper --set run.duration=5000 --log - 2>"$T/big.err" | head -c 100 >/dev/null
+check "a long run announces its log's size before it starts" grep -q "note: the log - will be about 840 MB (5000001 rows of 12 cells, run.duration = 5000 s at 1000 Hz)" "$T/big.err"
+check "  first, before anything else" test "$(head -c 27 "$T/big.err")" = "popc run: note: the log - w"
+"$POPC" run paper --set run.duration=50 --log - 2>"$T/small.err" | head -c 100 >/dev/null
+check "  a 50 s log (8 MB) is not announced" bash -c "! grep -q 'will be about' '$T/small.err'"
+
+expect_exit 2 "--free-run on the simulated axis refused" "$POPC" run paper --set run.duration=0.2 --free-run
+check "  says it is for axis.kind = modbus" err_has "--free-run: only for axis.kind = modbus, and axis.kind is sim"
+expect_exit 2 "--rt on the simulated axis refused" "$POPC" run paper --set run.duration=0.2 --rt
+check "  says so" err_has "--rt: only for axis.kind = modbus"
+
+if [ -x "$BUILD/src/servo_sim/popc-servo-sim" ]; then
+  # a loopback port nothing listens on: bound, then closed, by python3
+  port=$(python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1]); s.close()')
+  expect_exit 4 "a refused connection: exit 4" "$POPC" run paper --axis modbus --map generic --connect "tcp:127.0.0.1:$port" --log c.csv
+  check "  the error" err_has "tcp:127.0.0.1:$port: cannot connect: Connection refused"
+  check "  a hint naming the URI to check" err_has "hint: is the drive (or popc-servo-sim) on and listening at tcp:127.0.0.1:$port?"
+  check "  no statistics of a run that never ticked" bash -c "! grep -qE 'PC active|period dt|latency rtt|real time' '$T/err'"
+fi
+check_summary
