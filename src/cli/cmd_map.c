@@ -351,9 +351,25 @@ static void print_table(const map_state *m, const popc_sweep_plan *p)
 	int *vi = malloc((size_t)p->n_axes * sizeof *vi);
 	if (!vi)
 		return;
+	/* a --vary axis' heading: its key, or section.key where another axis
+	 * has the same key (operator.damping and environment.damping are both
+	 * "damping"); a column as wide as its heading, at least 12 */
+	char head[POPC_SWEEP_AXES_MAX][130];
+	int width[POPC_SWEEP_AXES_MAX];
+	for (int a = 1; a < p->n_axes - 1 && a < POPC_SWEEP_AXES_MAX; a++) {
+		int shared = 0;
+		for (int b = 1; b < p->n_axes - 1; b++)
+			shared |= b != a && strcmp(p->axes[a].key, p->axes[b].key) == 0;
+		if (shared)
+			snprintf(head[a], sizeof head[a], "%s.%s", p->axes[a].section, p->axes[a].key);
+		else
+			snprintf(head[a], sizeof head[a], "%s", p->axes[a].key);
+		int len = (int)strlen(head[a]);
+		width[a] = len > 12 ? len : 12;
+	}
 	printf("%-16s", "variant");
 	for (int a = 1; a < p->n_axes - 1; a++)
-		printf(" %-12.12s", p->axes[a].key);
+		printf(" %-*.*s", width[a], width[a], head[a]);
 	printf(" %-12s %-13s %12s %12s %5s\n", "criterion", "outcome", "K_ok N/m", "K_bad N/m", "runs");
 	for (long line = 0; line < m->n_lines; line++) {
 		popc_sweep_run_values(p, line * m->n_k, vi);
@@ -361,7 +377,7 @@ static void print_table(const map_state *m, const popc_sweep_plan *p)
 			const popc_map_search *se = &m->search[line * m->n_crit + c];
 			printf("%-16s", p->axes[0].values[vi[0]]);
 			for (int a = 1; a < p->n_axes - 1; a++)
-				printf(" %-12.12s", p->axes[a].values[vi[a]]);
+				printf(" %-*.*s", width[a], width[a], p->axes[a].values[vi[a]]);
 			printf(" %-12s %-13s", popc_map_criterion_name(m->crit[c]), outcome_name(se->outcome));
 			long ok = se->ok_index, bad = se->bad_index;
 			if (ok >= 0)
@@ -578,6 +594,7 @@ static int map_main(const map_args *a)
 		step++;
 		sweep_progress prog;
 		sweep_progress_start(&prog, a->quiet, m.n_todo, 0);
+		prog.map = 1;
 		if (!a->quiet)
 			fprintf(stderr, "popc map: step %d: %lld runs\n", step, m.n_todo);
 		for (long long t = 0; t < m.n_todo; t++)

@@ -7,7 +7,12 @@
 # - --free-run and --rt on the simulated axis are refused (exit 2), as
 #   --map and --connect are (they do nothing there);
 # - a drive that refuses the connection: the error and a hint naming the
-#   URI, not ten lines of zero statistics.
+#   URI, not ten lines of zero statistics;
+# - map: a probe past the edge that diverges is a verdict, labelled as
+#   expected, not a failure; two --vary keys of one name (operator.damping,
+#   environment.damping) head their columns section.key;
+# - a directory named paper in the working directory does not hide the
+#   scene paper.
 set -u
 POPC=${POPC:?POPC must name the popc program}
 SRC=${POPC_SOURCE_ROOT:?}
@@ -59,4 +64,24 @@ if [ -x "$BUILD/src/servo_sim/popc-servo-sim" ]; then
   check "  a hint naming the URI to check" err_has "hint: is the drive (or popc-servo-sim) on and listening at tcp:127.0.0.1:$port?"
   check "  no statistics of a run that never ticked" bash -c "! grep -qE 'PC active|period dt|latency rtt|real time' '$T/err'"
 fi
+# a map whose scan passes the edge: the probes beyond it diverge (exit 6)
+"$POPC" map paper --variant none --stiffness 1e4:1e7 --tol 0.1 --criterion diverged -o edge -j 1 >edge.out 2>edge.err
+check "map past the edge: exit 0" test $? -eq 0
+check "  a diverged probe is labelled expected" grep -q 'diverged, as a probe past the edge is expected to: a verdict, not a failure' edge.err
+check "  no probe called failed" bash -c "! grep -q 'failed, exit 6' '$T/edge.err'"
+check "  the counts say diverged (verdicts)" grep -q 'diverged (verdicts) or failed' edge.err
+
+"$POPC" map paper --variant none --vary operator.damping=0.5,1 --vary environment.damping=0,0.2 \
+  --set run.duration=0.3 --stiffness 1e3:1e4 --tol 0.5 -o damp -q -j 1 >damp.out 2>damp.err
+check "map over two dampings: exit 0" test $? -eq 0
+check "  the table's headings tell them apart" grep -qE '^variant +operator.damping +environment.damping +criterion' damp.out
+check "  boundary.csv's too" grep -q '^controller.variant,operator.damping,environment.damping,criterion' damp/boundary.csv
+check "  the figure names the x axis' section" grep -q "K against operator.damping" damp/map.gp
+
+mkdir -p here/paper
+( cd here && "$POPC" run paper --set run.duration=0.2 -q ) 2>paper.err
+check "a directory named paper does not hide the scene paper" test $? -eq 0 -a ! -s paper.err
+mkdir -p here/nosuch
+( cd here && "$POPC" run nosuch -q ) 2>nosuch.err
+check "  a name found nowhere says the local one is a directory" grep -q 'nosuch: no such file in the working directory (a directory of that name, not a file)' nosuch.err
 check_summary
