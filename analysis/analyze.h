@@ -14,6 +14,7 @@
 #include "popc/core/controller.h"
 #include "popc/core/environment.h"
 #include "popc/util/error.h"
+#include "popc/programs/options.h"
 #include "popc/log/log_columns.h"
 #include "popc/log/log_reader.h"
 #include "popc/scene/scene.h"
@@ -111,16 +112,21 @@ enum {
 	case ANA_OPT_NO_HEADER:                                              \
 	case ANA_OPT_JITTER:                                                 \
 	ANA_FOREIGN_OPTION_CASES
-#define ANA_INPUT_LONG_OPTIONS                                               \
-	{"column", required_argument, NULL, ANA_OPT_COLUMN},                 \
-	{"delimiter", required_argument, NULL, ANA_OPT_DELIMITER},           \
-	{"comment", required_argument, NULL, ANA_OPT_COMMENT},               \
-	{"set", required_argument, NULL, ANA_OPT_SET},                       \
-	{"scale", required_argument, NULL, ANA_OPT_SCALE},                   \
-	{"decimal", required_argument, NULL, ANA_OPT_DECIMAL},               \
-	{"no-header", no_argument, NULL, ANA_OPT_NO_HEADER},                 \
-	{"jitter", required_argument, NULL, ANA_OPT_JITTER},                 \
-	ANA_FOREIGN_LONG_OPTIONS
+/* The input options' table (common.c), which every verb's list of option
+ * tables ends with (options.h). */
+extern const popc_option ana_input_option_table[];
+/* getopt_long's arrays made from a verb's option tables; opts and shorts of
+ * these sizes hold every verb's. */
+#define ANA_MAX_OPTIONS 64
+void ana_getopt_tables(const popc_option *const *tables, struct option opts[ANA_MAX_OPTIONS],
+		       char shorts[2 * ANA_MAX_OPTIONS]);
+/* Each verb's option tables (analyze_main.c's verb table points at them). */
+extern const popc_option *const ana_energy_opts[];
+extern const popc_option *const ana_chatter_opts[];
+extern const popc_option *const ana_compare_opts[];
+extern const popc_option *const ana_replay_opts[];
+extern const popc_option *const ana_events_opts[];
+extern const popc_option *const ana_report_opts[];
 /* popc's column names, each after a space: " t x count ..."; an admittance
  * log's own columns are left out (a recorded admittance device's log is a
  * later phase, docs/ADMITTANCE.md) */

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "analyze.h"
+#include "popc/programs/table_out.h"
 #include "popc/programs/usage_hint.h"
 
 static void usage(FILE *f)
@@ -18,7 +19,9 @@ static void usage(FILE *f)
 	      "keeps oscillating with an amplitude far above the encoder resolution).\n"
 	      "Metrics and thresholds: docs/ANALYSIS.md.\n"
 	      "\n"
-	      "  --format text|csv        text (default), or CSV rows log,kind,start_s,end_s,value\n"
+	      "  --format text|csv|json   text (default), or CSV rows log,kind,start_s,end_s,value\n"
+	      "                           (json: one object per row on one line, the CSV's\n"
+	      "                           names and digits, null for an empty cell)\n"
 	      "                           (kind chatter: value = largest window PC RMS, N;\n"
 	      "                           kind limit_cycle: value = amplitude, m;\n"
 	      "                           kind chatter_not_checked: the log has no PC force\n"
@@ -54,6 +57,15 @@ static void usage(FILE *f)
 }
 
 enum { OPT_FORMAT = 256, OPT_THRESHOLD };
+
+static const popc_option chatter_options[] = {
+	{"format", 0, OPT_FORMAT, "text|csv|json"},
+	{"threshold", 0, OPT_THRESHOLD, "NAME=VALUE"},
+	{"quiet", 'q', 'q', NULL},
+	{"help", 'h', 'h', NULL},
+	POPC_OPTION_END,
+};
+const popc_option *const ana_chatter_opts[] = {chatter_options, ana_input_option_table, NULL};
 
 static void print_text(const ana_summary *s)
 {
@@ -115,48 +127,43 @@ static void print_text(const ana_summary *s)
 		printf("W - E_ref drift n/a\n");
 }
 
-static void print_csv(const ana_summary *s)
+static void print_csv(FILE *f, const ana_summary *s)
 {
 	const popc_chatter_result *r = &s->chatter;
 	if (!ana_chatter_checked(s)) {
-		ana_put_csv_text(stdout, s->log);
-		printf(",chatter_not_checked,,,\n");
+		ana_put_csv_text(f, s->log);
+		fprintf(f, ",chatter_not_checked,,,\n");
 	}
 	for (int i = 0; i < r->n_stored; i++) {
-		ana_put_csv_text(stdout, s->log);
-		printf(",chatter,");
-		ana_put_double(stdout, r->intervals[i].start_s);
-		putchar(',');
-		ana_put_double(stdout, r->intervals[i].end_s);
-		putchar(',');
-		ana_put_double(stdout, r->intervals[i].pc_rms_max_N);
-		putchar('\n');
+		ana_put_csv_text(f, s->log);
+		fprintf(f, ",chatter,");
+		ana_put_double(f, r->intervals[i].start_s);
+		fputc(',', f);
+		ana_put_double(f, r->intervals[i].end_s);
+		fputc(',', f);
+		ana_put_double(f, r->intervals[i].pc_rms_max_N);
+		fputc('\n', f);
 	}
 	if (!ana_lc_checked(s)) {
-		ana_put_csv_text(stdout, s->log);
-		printf(",limit_cycle_not_checked,,,\n");
+		ana_put_csv_text(f, s->log);
+		fprintf(f, ",limit_cycle_not_checked,,,\n");
 	} else if (r->limit_cycle) {
-		ana_put_csv_text(stdout, s->log);
-		printf(",limit_cycle,");
-		ana_put_double(stdout, r->lc_start_s);
-		putchar(',');
-		ana_put_double(stdout, r->lc_end_s);
-		putchar(',');
-		ana_put_double(stdout, r->lc_amplitude_m);
-		putchar('\n');
+		ana_put_csv_text(f, s->log);
+		fprintf(f, ",limit_cycle,");
+		ana_put_double(f, r->lc_start_s);
+		fputc(',', f);
+		ana_put_double(f, r->lc_end_s);
+		fputc(',', f);
+		ana_put_double(f, r->lc_amplitude_m);
+		fputc('\n', f);
 	}
 }
 
 int ana_cmd_chatter(int argc, char **argv)
 {
-	static const struct option opts[] = {
-		{"format", required_argument, NULL, OPT_FORMAT},
-		{"threshold", required_argument, NULL, OPT_THRESHOLD},
-		{"quiet", no_argument, NULL, 'q'},
-		{"help", no_argument, NULL, 'h'},
-		ANA_INPUT_LONG_OPTIONS,
-		{NULL, 0, NULL, 0},
-	};
+	struct option opts[ANA_MAX_OPTIONS];
+	char shorts[2 * ANA_MAX_OPTIONS];
+	ana_getopt_tables(ana_chatter_opts, opts, shorts);
 	ana_input_options in;
 	memset(&in, 0, sizeof in);
 	in.verb = "chatter";
@@ -165,11 +172,12 @@ int ana_cmd_chatter(int argc, char **argv)
 	ana_format fmt = ANA_TEXT;
 	int c, rc = 0, quiet = 0, flagged = 0;
 	optind = 1;
-	while ((c = getopt_long(argc, argv, "qh", opts, NULL)) != -1) {
+	while ((c = getopt_long(argc, argv, shorts, opts, NULL)) != -1) {
 		switch (c) {
 		case OPT_FORMAT:
-			if (ana_format_from_name(optarg, &fmt) != 0 || fmt == ANA_MARKDOWN || fmt == ANA_JSON) {
-				fprintf(stderr, "popc-analyze chatter: --format '%s': text or csv\n", optarg);
+			if (ana_format_from_name(optarg, &fmt) != 0 || fmt == ANA_MARKDOWN) {
+				fprintf(stderr, "popc-analyze chatter: --format '%s': text, csv or json\n",
+					optarg);
 				rc = POPC_EXIT_USAGE;
 				goto out;
 			}
@@ -193,8 +201,16 @@ int ana_cmd_chatter(int argc, char **argv)
 		rc = POPC_EXIT_USAGE;
 		goto out;
 	}
-	if (!quiet && fmt == ANA_CSV)
-		puts("log,kind,start_s,end_s,value");
+	/* csv, and json: the CSV's rows as objects, the same cells (popc_table_out) */
+	static const char *const text_columns[] = {"log", "kind", NULL};
+	popc_table_out table;
+	int tabled = !quiet && (fmt == ANA_CSV || fmt == ANA_JSON);
+	if (tabled && popc_table_out_begin(&table, stdout, fmt == ANA_JSON,
+					   "log,kind,start_s,end_s,value", text_columns) != 0) {
+		fprintf(stderr, "popc-analyze chatter: out of memory\n");
+		rc = POPC_EXIT_USAGE;
+		goto out;
+	}
 	for (int i = optind; i < argc; i++) {
 		ana_summary s;
 		popc_error err;
@@ -234,11 +250,18 @@ int ana_cmd_chatter(int argc, char **argv)
 		}
 		if (quiet)
 			continue;
-		if (fmt == ANA_CSV)
-			print_csv(&s);
-		else
+		if (tabled) {
+			print_csv(popc_table_out_row(&table), &s);
+			if (popc_table_out_flush(&table) != 0) {
+				fprintf(stderr, "popc-analyze chatter: out of memory\n");
+				rc = POPC_EXIT_USAGE;
+			}
+		} else {
 			print_text(&s);
+		}
 	}
+	if (tabled)
+		popc_table_out_end(&table);
 	if (rc == 0 && flagged)
 		rc = POPC_EXIT_RUN_FAILED;
 out:

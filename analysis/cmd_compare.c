@@ -393,16 +393,20 @@ static void usage(FILE *f)
 
 enum { OPT_FORMAT = 256, OPT_LATE, OPT_THRESHOLD };
 
+static const popc_option compare_options[] = {
+	{"format", 0, OPT_FORMAT, "text|csv|markdown|json"},
+	{"late-from", 0, OPT_LATE, "S"},
+	{"threshold", 0, OPT_THRESHOLD, "NAME=VALUE"},
+	{"help", 'h', 'h', NULL},
+	POPC_OPTION_END,
+};
+const popc_option *const ana_compare_opts[] = {compare_options, ana_input_option_table, NULL};
+
 int ana_cmd_compare(int argc, char **argv)
 {
-	static const struct option opts[] = {
-		{"format", required_argument, NULL, OPT_FORMAT},
-		{"late-from", required_argument, NULL, OPT_LATE},
-		{"threshold", required_argument, NULL, OPT_THRESHOLD},
-		{"help", no_argument, NULL, 'h'},
-		ANA_INPUT_LONG_OPTIONS,
-		{NULL, 0, NULL, 0},
-	};
+	struct option opts[ANA_MAX_OPTIONS];
+	char shorts[2 * ANA_MAX_OPTIONS];
+	ana_getopt_tables(ana_compare_opts, opts, shorts);
 	ana_input_options in;
 	memset(&in, 0, sizeof in);
 	in.verb = "compare";
@@ -412,7 +416,7 @@ int ana_cmd_compare(int argc, char **argv)
 	double late_from = -1.0;
 	int c, rc = 0;
 	optind = 1;
-	while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
+	while ((c = getopt_long(argc, argv, shorts, opts, NULL)) != -1) {
 		switch (c) {
 		case OPT_FORMAT:
 			if (ana_format_from_name(optarg, &fmt) != 0) {

@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "analyze.h"
+#include "popc/programs/table_out.h"
 #include "popc/programs/usage_hint.h"
 
 typedef enum definition {
@@ -49,7 +50,8 @@ static void usage(FILE *f)
 		fprintf(f, "  %-12s %s\n", defs[i].name, defs[i].what);
 	fputs("\n"
 	      "  --observer NAME          a definition above (repeatable; default: all)\n"
-	      "  --format text|csv        summary format (default text)\n"
+	      "  --format text|csv|json   summary format (default text); json: one object\n"
+	      "                           per row on one line, the CSV's names and digits\n"
 	      "  -o, --output FILE        also write the recomputed columns of one LOG as CSV:\n"
 	      "                           t,x,f_c,W_logged,E_ref_logged,E_ref,W_<observer>...\n"
 	      "                           ending with '# stop = completed', or with\n"
@@ -73,6 +75,17 @@ static void usage(FILE *f)
 }
 
 enum { OPT_OBSERVER = 256, OPT_FORMAT, OPT_CHECK, OPT_ALLOW_UNEVEN };
+
+static const popc_option energy_options[] = {
+	{"observer", 0, OPT_OBSERVER, "online|eq3|eq2|filtered|ignore|ignore-undo"},
+	{"format", 0, OPT_FORMAT, "text|csv|json"},
+	{"output", 'o', 'o', "FILE"},
+	{"check", 0, OPT_CHECK, NULL},
+	{"allow-uneven", 0, OPT_ALLOW_UNEVEN, NULL},
+	{"help", 'h', 'h', NULL},
+	POPC_OPTION_END,
+};
+const popc_option *const ana_energy_opts[] = {energy_options, ana_input_option_table, NULL};
 
 typedef struct energy_state {
 	definition def;
@@ -144,7 +157,7 @@ static void step(energy_state *s, const ana_log *l, const ana_row *row)
  * and reading, the VE's velocity and the PC's with the observer that ran
  * online (popc_admittance_observer_*, the same code), each row's W against
  * the logged one bit for bit. Takes over l (closes it). */
-static int energy_admittance(ana_log *l, const char *path, ana_format fmt, int check,
+static int energy_admittance(ana_log *l, const char *path, popc_table_out *table, int check,
 			     int *check_failed)
 {
 	popc_error err;
@@ -189,17 +202,18 @@ static int energy_admittance(ana_log *l, const char *path, ana_format fmt, int c
 		return ana_fail("energy", st, &err);
 	char name[64];
 	snprintf(name, sizeof name, "online=%s", popc_admittance_variant_name(o.variant));
-	if (fmt == ANA_CSV) {
-		ana_put_csv_text(stdout, lname);
-		printf(",%s,%lld,", name, rows);
-		ana_put_double(stdout, o.W_J);
-		fputs(",0.0,", stdout);
-		ana_put_double(stdout, o.W_J);
-		putchar(',');
-		ana_put_double(stdout, W_min);
-		putchar(',');
-		ana_put_double(stdout, max_dW);
-		printf(",0.0,%lld\n", mismatches);
+	if (table) {
+		FILE *c = popc_table_out_row(table);
+		ana_put_csv_text(c, lname);
+		fprintf(c, ",%s,%lld,", name, rows);
+		ana_put_double(c, o.W_J);
+		fputs(",0.0,", c);
+		ana_put_double(c, o.W_J);
+		fputc(',', c);
+		ana_put_double(c, W_min);
+		fputc(',', c);
+		ana_put_double(c, max_dW);
+		fprintf(c, ",0.0,%lld\n", mismatches);
 	} else {
 		printf("%-24s %-20s W_end %11.4e  min %11.4e  max|dW| %.3g  rows differing %lld\n",
 		       lname, name, o.W_J, W_min, max_dW, mismatches);
@@ -210,7 +224,7 @@ static int energy_admittance(ana_log *l, const char *path, ana_format fmt, int c
 }
 
 static int energy_one(const char *path, const ana_input_options *in, const int *want_in,
-		      int n_want_in, int observers_given, ana_format fmt, const char *out_path,
+		      int n_want_in, int observers_given, popc_table_out *table, const char *out_path,
 		      int check, int *check_failed)
 {
 	ana_log l;
@@ -223,7 +237,7 @@ static int energy_one(const char *path, const ana_input_options *in, const int *
 			fprintf(stderr, "popc-analyze energy: note: %s: an admittance log: the online "
 					"observer only, no -o (docs/ADMITTANCE.md)\n",
 				path);
-		return energy_admittance(&l, path, fmt, check, check_failed);
+		return energy_admittance(&l, path, table, check, check_failed);
 	}
 	int want[DEF_COUNT], n_want = 0;
 	const int uneven = in->allow_uneven && l.period_from_time; /* steps not checked */
@@ -410,24 +424,25 @@ static int energy_one(const char *path, const ana_input_options *in, const int *
 				*check_failed = 1;
 		}
 		double wme_end = e->obs.W_J - e->obs.E_ref_J;
-		if (fmt == ANA_CSV) {
-			ana_put_csv_text(stdout, l.name);
-			printf(",%s,%lld,", name, rows);
-			ana_put_double(stdout, e->obs.W_J);
-			putchar(',');
-			ana_put_double(stdout, e->obs.E_ref_J);
-			putchar(',');
-			ana_put_double(stdout, wme_end);
-			putchar(',');
-			ana_put_double(stdout, isfinite(e->wme_min_J) ? e->wme_min_J : 0.0);
+		if (table) {
+			FILE *c = popc_table_out_row(table);
+			ana_put_csv_text(c, l.name);
+			fprintf(c, ",%s,%lld,", name, rows);
+			ana_put_double(c, e->obs.W_J);
+			fputc(',', c);
+			ana_put_double(c, e->obs.E_ref_J);
+			fputc(',', c);
+			ana_put_double(c, wme_end);
+			fputc(',', c);
+			ana_put_double(c, isfinite(e->wme_min_J) ? e->wme_min_J : 0.0);
 			if (logged) {
-				putchar(',');
-				ana_put_double(stdout, e->max_dW_J);
-				putchar(',');
-				ana_put_double(stdout, e->max_dE_J);
-				printf(",%lld\n", e->mismatches);
+				fputc(',', c);
+				ana_put_double(c, e->max_dW_J);
+				fputc(',', c);
+				ana_put_double(c, e->max_dE_J);
+				fprintf(c, ",%lld\n", e->mismatches);
 			} else {
-				fputs(",,,\n", stdout);
+				fputs(",,,\n", c);
 			}
 		} else {
 			fprintf(f, "%-24s %-20s W_end %11.4e  E_ref_end %11.4e  W-E_ref end %11.4e min %11.4e",
@@ -445,16 +460,9 @@ static int energy_one(const char *path, const ana_input_options *in, const int *
 
 int ana_cmd_energy(int argc, char **argv)
 {
-	static const struct option opts[] = {
-		{"observer", required_argument, NULL, OPT_OBSERVER},
-		{"format", required_argument, NULL, OPT_FORMAT},
-		{"output", required_argument, NULL, 'o'},
-		{"check", no_argument, NULL, OPT_CHECK},
-		{"allow-uneven", no_argument, NULL, OPT_ALLOW_UNEVEN},
-		{"help", no_argument, NULL, 'h'},
-		ANA_INPUT_LONG_OPTIONS,
-		{NULL, 0, NULL, 0},
-	};
+	struct option opts[ANA_MAX_OPTIONS];
+	char shorts[2 * ANA_MAX_OPTIONS];
+	ana_getopt_tables(ana_energy_opts, opts, shorts);
 	ana_input_options in;
 	memset(&in, 0, sizeof in);
 	in.verb = "energy";
@@ -462,7 +470,7 @@ int ana_cmd_energy(int argc, char **argv)
 	ana_format fmt = ANA_TEXT;
 	const char *out_path = NULL;
 	optind = 1;
-	while ((c = getopt_long(argc, argv, "o:h", opts, NULL)) != -1) {
+	while ((c = getopt_long(argc, argv, shorts, opts, NULL)) != -1) {
 		switch (c) {
 		case OPT_OBSERVER: {
 			int found = -1;
@@ -483,8 +491,9 @@ int ana_cmd_energy(int argc, char **argv)
 			break;
 		}
 		case OPT_FORMAT:
-			if (ana_format_from_name(optarg, &fmt) != 0 || fmt == ANA_MARKDOWN || fmt == ANA_JSON) {
-				fprintf(stderr, "popc-analyze energy: --format '%s': text or csv\n", optarg);
+			if (ana_format_from_name(optarg, &fmt) != 0 || fmt == ANA_MARKDOWN) {
+				fprintf(stderr, "popc-analyze energy: --format '%s': text, csv or json\n",
+					optarg);
 				rc = POPC_EXIT_USAGE;
 				goto out;
 			}
@@ -527,16 +536,31 @@ int ana_cmd_energy(int argc, char **argv)
 	for (int i = 0; i < n_want; i++)
 		if (want[i] == DEF_ONLINE) /* 'online' is the scene's variant's observer */
 			in.uses |= ANA_USES_VARIANT;
-	if (fmt == ANA_CSV)
-		puts("log,observer,rows,W_end,E_ref_end,w_minus_eref_end,w_minus_eref_min,max_abs_dW,"
-		     "max_abs_dE_ref,rows_differing");
+	/* csv, and json: the CSV's rows as objects, the same cells (popc_table_out) */
+	static const char *const text_columns[] = {"log", "observer", NULL};
+	popc_table_out table;
+	popc_table_out *tp = fmt == ANA_CSV || fmt == ANA_JSON ? &table : NULL;
+	if (tp && popc_table_out_begin(tp, stdout, fmt == ANA_JSON,
+				       "log,observer,rows,W_end,E_ref_end,w_minus_eref_end,"
+				       "w_minus_eref_min,max_abs_dW,max_abs_dE_ref,rows_differing",
+				       text_columns) != 0) {
+		fprintf(stderr, "popc-analyze energy: out of memory\n");
+		rc = POPC_EXIT_USAGE;
+		goto out;
+	}
 	int check_failed = 0;
 	for (int i = optind; i < argc; i++) {
-		int r = energy_one(argv[i], &in, want, n_want, observers_given, fmt, out_path, check,
+		int r = energy_one(argv[i], &in, want, n_want, observers_given, tp, out_path, check,
 				   &check_failed);
+		if (tp && popc_table_out_flush(tp) != 0) {
+			fprintf(stderr, "popc-analyze energy: out of memory\n");
+			r = 2;
+		}
 		if (r > rc)
 			rc = r;
 	}
+	if (tp)
+		popc_table_out_end(tp);
 	if (rc == 0 && check_failed)
 		rc = POPC_EXIT_RUN_FAILED;
 out:

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "analyze.h"
+#include "popc/programs/table_out.h"
 #include "popc/util/parse.h"
 
 static void usage(FILE *f)
@@ -24,12 +25,14 @@ static void usage(FILE *f)
 	      "          so W - E_ref does not move at k+1 (seed Fig. 8: 2.957 s);\n"
 	      "          fig8_first: the first anywhere\n"
 	      "\n"
-	      "  --format text|csv        text (default), or CSV with the header\n"
+	      "  --format text|csv|json   text (default), or CSV with the header\n"
 	      "                           log,settle_s,settle_end_s,settle_final_s,fig5_s,\n"
 	      "                           fig5_dw_J,fig8_s,fig5_first_s,fig8_first_s,\n"
 	      "                           n_fast,n_fig5,n_fig8,\n"
 	      "                           x_settled_min_m,x_settled_max_m,ticks\n"
-	      "                           (an empty cell: no such event, or not checkable)\n"
+	      "                           (an empty cell: no such event, or not checkable);\n"
+	      "                           json: one object per log on one line, the CSV's\n"
+	      "                           names and digits, null for an empty cell\n"
 	      "  --settle-hold S          least length of the settled stretch, s (default 0.5)\n" ANA_INPUT_HELP
 	      "  -h, --help               this help\n"
 	      "\n"
@@ -41,28 +44,40 @@ static void usage(FILE *f)
 
 enum { OPT_FORMAT = 256, OPT_SETTLE_HOLD };
 
-static void put_cell(double v)
+static const popc_option events_options[] = {
+	{"format", 0, OPT_FORMAT, "text|csv|json"},
+	{"settle-hold", 0, OPT_SETTLE_HOLD, "S"},
+	{"help", 'h', 'h', NULL},
+	POPC_OPTION_END,
+};
+const popc_option *const ana_events_opts[] = {events_options, ana_input_option_table, NULL};
+
+static void put_cell(FILE *f, double v)
 {
-	putchar(',');
+	fputc(',', f);
 	if (isfinite(v))
-		ana_put_double(stdout, v);
+		ana_put_double(f, v);
 }
 
-static void print_csv(const char *name, const ana_events *e)
+static const char csv_header[] =
+	"log,settle_s,settle_end_s,settle_final_s,fig5_s,fig5_dw_J,fig8_s,fig5_first_s,"
+	"fig8_first_s,n_fast,n_fig5,n_fig8,x_settled_min_m,x_settled_max_m,ticks";
+
+static void print_csv(FILE *f, const char *name, const ana_events *e)
 {
-	ana_put_csv_text(stdout, name);
-	put_cell(e->settle_s);
-	put_cell(e->settle_end_s);
-	put_cell(e->settle_final_s);
-	put_cell(e->fig5_s);
-	put_cell(e->fig5_dw_J);
-	put_cell(e->fig8_s);
-	put_cell(e->fig5_first_s);
-	put_cell(e->fig8_first_s);
-	printf(",%lld,%lld,%lld", e->n_fast, e->n_fig5, e->n_fig8);
-	put_cell(e->x_min_settled_m);
-	put_cell(e->x_max_settled_m);
-	printf(",%lld\n", e->ticks);
+	ana_put_csv_text(f, name);
+	put_cell(f, e->settle_s);
+	put_cell(f, e->settle_end_s);
+	put_cell(f, e->settle_final_s);
+	put_cell(f, e->fig5_s);
+	put_cell(f, e->fig5_dw_J);
+	put_cell(f, e->fig8_s);
+	put_cell(f, e->fig5_first_s);
+	put_cell(f, e->fig8_first_s);
+	fprintf(f, ",%lld,%lld,%lld", e->n_fast, e->n_fig5, e->n_fig8);
+	put_cell(f, e->x_min_settled_m);
+	put_cell(f, e->x_max_settled_m);
+	fprintf(f, ",%lld\n", e->ticks);
 }
 
 static void print_text(const char *name, const ana_events *e)
@@ -102,13 +117,9 @@ static void print_text(const char *name, const ana_events *e)
 
 int ana_cmd_events(int argc, char **argv)
 {
-	static const struct option opts[] = {
-		{"format", required_argument, NULL, OPT_FORMAT},
-		{"settle-hold", required_argument, NULL, OPT_SETTLE_HOLD},
-		{"help", no_argument, NULL, 'h'},
-		ANA_INPUT_LONG_OPTIONS,
-		{NULL, 0, NULL, 0},
-	};
+	struct option opts[ANA_MAX_OPTIONS];
+	char shorts[2 * ANA_MAX_OPTIONS];
+	ana_getopt_tables(ana_events_opts, opts, shorts);
 	ana_input_options in;
 	memset(&in, 0, sizeof in);
 	in.verb = "events";
@@ -116,11 +127,12 @@ int ana_cmd_events(int argc, char **argv)
 	double hold_s = ANA_SETTLE_HOLD_S;
 	int c, rc = 0;
 	optind = 1;
-	while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
+	while ((c = getopt_long(argc, argv, shorts, opts, NULL)) != -1) {
 		switch (c) {
 		case OPT_FORMAT:
 			if (ana_format_from_name(optarg, &fmt) != 0 || fmt == ANA_MARKDOWN) {
-				fprintf(stderr, "popc-analyze events: --format '%s': text or csv\n", optarg);
+				fprintf(stderr, "popc-analyze events: --format '%s': text, csv or json\n",
+					optarg);
 				rc = POPC_EXIT_USAGE;
 				goto out;
 			}
@@ -148,9 +160,15 @@ int ana_cmd_events(int argc, char **argv)
 		rc = POPC_EXIT_USAGE;
 		goto out;
 	}
-	if (fmt == ANA_CSV)
-		puts("log,settle_s,settle_end_s,settle_final_s,fig5_s,fig5_dw_J,fig8_s,fig5_first_s,"
-		     "fig8_first_s,n_fast,n_fig5,n_fig8,x_settled_min_m,x_settled_max_m,ticks");
+	/* json: the CSV's rows as objects, the same cells (popc_table_out) */
+	static const char *const text_columns[] = {"log", NULL};
+	popc_table_out table;
+	int tabled = fmt == ANA_CSV || fmt == ANA_JSON;
+	if (tabled && popc_table_out_begin(&table, stdout, fmt == ANA_JSON, csv_header, text_columns) != 0) {
+		fprintf(stderr, "popc-analyze events: out of memory\n");
+		rc = POPC_EXIT_USAGE;
+		goto out;
+	}
 	for (int i = optind; i < argc; i++) {
 		ana_events e;
 		popc_error err;
@@ -169,11 +187,18 @@ int ana_cmd_events(int argc, char **argv)
 				!e.pc_known ? "Fig. 5 and Fig. 8 events are" : "Fig. 5 event is");
 			rc = POPC_EXIT_USAGE;
 		}
-		if (fmt == ANA_CSV)
-			print_csv(name, &e);
-		else
+		if (tabled) {
+			print_csv(popc_table_out_row(&table), name, &e);
+			if (popc_table_out_flush(&table) != 0) {
+				fprintf(stderr, "popc-analyze events: out of memory\n");
+				rc = POPC_EXIT_USAGE;
+			}
+		} else {
 			print_text(name, &e);
+		}
 	}
+	if (tabled)
+		popc_table_out_end(&table);
 out:
 	ana_input_free(&in);
 	return rc;

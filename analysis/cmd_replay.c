@@ -43,6 +43,16 @@ static void usage(FILE *f)
 
 enum { OPT_VARIANT = 256, OPT_PREFIX };
 
+static const popc_option replay_options[] = {
+	{"variant", 0, OPT_VARIANT, "VARIANT|all"},
+	{"output-dir", 'o', 'o', "DIR"},
+	{"prefix", 0, OPT_PREFIX, "PATH"},
+	{"quiet", 'q', 'q', NULL},
+	{"help", 'h', 'h', NULL},
+	POPC_OPTION_END,
+};
+const popc_option *const ana_replay_opts[] = {replay_options, ana_input_option_table, NULL};
+
 typedef struct replay_out {
 	popc_scene scene;
 	popc_controller ctl;
@@ -53,15 +63,9 @@ typedef struct replay_out {
 
 int ana_cmd_replay(int argc, char **argv)
 {
-	static const struct option opts[] = {
-		{"variant", required_argument, NULL, OPT_VARIANT},
-		{"output-dir", required_argument, NULL, 'o'},
-		{"prefix", required_argument, NULL, OPT_PREFIX},
-		{"quiet", no_argument, NULL, 'q'},
-		{"help", no_argument, NULL, 'h'},
-		ANA_INPUT_LONG_OPTIONS,
-		{NULL, 0, NULL, 0},
-	};
+	struct option opts[ANA_MAX_OPTIONS];
+	char shorts[2 * ANA_MAX_OPTIONS];
+	ana_getopt_tables(ana_replay_opts, opts, shorts);
 	ana_input_options in;
 	memset(&in, 0, sizeof in);
 	in.verb = "replay";
@@ -75,7 +79,7 @@ int ana_cmd_replay(int argc, char **argv)
 	int log_open = 0;
 	popc_error err;
 	optind = 1;
-	while ((c = getopt_long(argc, argv, "o:qh", opts, NULL)) != -1) {
+	while ((c = getopt_long(argc, argv, shorts, opts, NULL)) != -1) {
 		switch (c) {
 		case OPT_VARIANT: {
 			popc_variant v;

@@ -71,6 +71,22 @@ static void usage(FILE *f)
 
 enum { OPT_POINTS = 256, OPT_TITLE, OPT_GNUPLOT, OPT_NO_DRAW, OPT_THRESHOLD, OPT_FIGURE, OPT_ZOOM };
 
+static const popc_option report_options[] = {
+	{"output-dir", 'o', 'o', "DIR"},
+	{"points", 0, OPT_POINTS, "N"},
+	{"title", 0, OPT_TITLE, "TEXT"},
+	{"gnuplot", 0, OPT_GNUPLOT, "FILE"},
+	{"no-draw", 0, OPT_NO_DRAW, NULL},
+	{"threshold", 0, OPT_THRESHOLD, "NAME=VALUE"},
+	{"figure", 0, OPT_FIGURE, "N"},
+	{"zoom", 0, OPT_ZOOM, "T"},
+	{"quiet", 'q', 'q', NULL},
+	{"verbose", 'v', 'v', NULL},
+	{"help", 'h', 'h', NULL},
+	POPC_OPTION_END,
+};
+const popc_option *const ana_report_opts[] = {report_options, ana_input_option_table, NULL};
+
 /* One log's pass: decimated whole-log data, windows of raw rows, ranges. */
 typedef struct report_pass {
 	ana_decimator dec;
@@ -397,21 +413,9 @@ static int find_events(report_log *lg, const ana_input_options *in, unsigned fig
 
 int ana_cmd_report(int argc, char **argv)
 {
-	static const struct option opts[] = {
-		{"output-dir", required_argument, NULL, 'o'},
-		{"points", required_argument, NULL, OPT_POINTS},
-		{"title", required_argument, NULL, OPT_TITLE},
-		{"gnuplot", required_argument, NULL, OPT_GNUPLOT},
-		{"no-draw", no_argument, NULL, OPT_NO_DRAW},
-		{"threshold", required_argument, NULL, OPT_THRESHOLD},
-		{"figure", required_argument, NULL, OPT_FIGURE},
-		{"zoom", required_argument, NULL, OPT_ZOOM},
-		{"quiet", no_argument, NULL, 'q'},
-		{"verbose", no_argument, NULL, 'v'},
-		{"help", no_argument, NULL, 'h'},
-		ANA_INPUT_LONG_OPTIONS,
-		{NULL, 0, NULL, 0},
-	};
+	struct option opts[ANA_MAX_OPTIONS];
+	char shorts[2 * ANA_MAX_OPTIONS];
+	ana_getopt_tables(ana_report_opts, opts, shorts);
 	ana_input_options in;
 	memset(&in, 0, sizeof in);
 	in.verb = "report";
@@ -428,7 +432,7 @@ int ana_cmd_report(int argc, char **argv)
 	report_log *logs = NULL;
 	report_name *names = NULL;
 	optind = 1;
-	while ((c = getopt_long(argc, argv, "o:qvh", opts, NULL)) != -1) {
+	while ((c = getopt_long(argc, argv, shorts, opts, NULL)) != -1) {
 		switch (c) {
 		case 'o': dir = optarg; break;
 		case 'q': quiet = in.quiet = 1; break;

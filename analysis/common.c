@@ -153,6 +153,28 @@ static int scale_option(ana_input_options *o, char *arg, const char *verb)
 	return 0;
 }
 
+const popc_option ana_input_option_table[] = {
+	{"column", 0, ANA_OPT_COLUMN, "NAME=HEADER"},
+	{"delimiter", 0, ANA_OPT_DELIMITER, "C"},
+	{"comment", 0, ANA_OPT_COMMENT, "C"},
+	{"set", 0, ANA_OPT_SET, "KEY=VALUE"},
+	{"scale", 0, ANA_OPT_SCALE, "NAME=FACTOR"},
+	{"decimal", 0, ANA_OPT_DECIMAL, "C"},
+	{"no-header", 0, ANA_OPT_NO_HEADER, NULL},
+	{"jitter", 0, ANA_OPT_JITTER, "FRACTION"},
+	ANA_FOREIGN_OPTION_TABLE,
+	POPC_OPTION_END,
+};
+
+void ana_getopt_tables(const popc_option *const *tables, struct option opts[ANA_MAX_OPTIONS],
+		       char shorts[2 * ANA_MAX_OPTIONS])
+{
+	/* the sizes hold every verb's tables: one that outgrows them is a
+	 * programming error, which the first run of that verb shows */
+	if (popc_options_getopt(tables, opts, ANA_MAX_OPTIONS, shorts, 2 * ANA_MAX_OPTIONS) != 0)
+		abort();
+}
+
 int ana_input_option(ana_input_options *o, int opt, char *arg, const char *verb)
 {
 	popc_error err;

@@ -35,11 +35,11 @@ enum {
 	case ANA_OPT_NAMES:                                                  \
 	case ANA_OPT_JOIN:                                                   \
 	case ANA_OPT_LEVER
-#define ANA_FOREIGN_LONG_OPTIONS                                             \
-	{"variable", required_argument, NULL, ANA_OPT_VARIABLE},             \
-	{"names", required_argument, NULL, ANA_OPT_NAMES},                   \
-	{"join", required_argument, NULL, ANA_OPT_JOIN},                     \
-	{"lever", required_argument, NULL, ANA_OPT_LEVER}
+#define ANA_FOREIGN_OPTION_TABLE                                             \
+	{"variable", 0, ANA_OPT_VARIABLE, "NAME"},                           \
+	{"names", 0, ANA_OPT_NAMES, "VAR"},                                  \
+	{"join", 0, ANA_OPT_JOIN, "FILE"},                                   \
+	{"lever", 0, ANA_OPT_LEVER, "R"}
 #define ANA_FOREIGN_HELP                                                                       \
 	"\nMAT files, signals split across files, rotary logs (with the options above):\n"     \
 	"  --variable NAME          a MAT file's variable to read: a matrix (N x M doubles)\n"  \

@@ -2,6 +2,8 @@
 #ifndef POPC_CLI_BENCH_H
 #define POPC_CLI_BENCH_H
 
+#include <stdio.h>
+
 #include "popc/axes/sim_axis.h"
 #include "popc/util/clock.h" /* popc_now_s: every timing */
 #include "popc/util/error.h"
@@ -11,7 +13,8 @@ typedef struct bench_opts {
 	const char *scene_path;   /* NULL: the built-in defaults (the paper's scene) */
 	char **sets;
 	int n_sets;
-	int csv;
+	int csv;                  /* --format csv or json: the CSV rows go to out */
+	FILE *out;                /* stdout; for json a buffer that cmd_bench.c turns into JSON Lines */
 	const char *plot_dir;
 	double min_time_s;        /* wall time each timing measurement accumulates */
 	int repeats;              /* timing repeats; the fastest is reported */

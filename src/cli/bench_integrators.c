@@ -194,12 +194,12 @@ int bench_integrators(const popc_scene *s, const bench_opts *o)
 		order[m] = fit_order(pts[m], npts[m], floor_m, &used[m]);
 	}
 	if (o->csv) {
-		puts("integrator,substeps,h_s,max_error_m,ns_per_step,status");
-		printf("exact,1,%.6g,0,%.6g,reference\n", popc_scene_period_s(s), exact_ns);
+		fprintf(o->out, "%s\n", "integrator,substeps,h_s,max_error_m,ns_per_step,status");
+		fprintf(o->out, "exact,1,%.6g,0,%.6g,reference\n", popc_scene_period_s(s), exact_ns);
 		for (int m = 1; m < N_METHODS; m++)
 			for (int i = 0; i < npts[m]; i++) {
 				const wp_point *p = &pts[m][i];
-				printf("%s,%d,%.6g,%.6g,%.6g,%s\n", popc_integrator_name(methods[m]),
+				fprintf(o->out, "%s,%d,%.6g,%.6g,%.6g,%s\n", popc_integrator_name(methods[m]),
 				       p->substeps, popc_scene_period_s(s) / p->substeps, p->error_m, p->ns,
 				       p->unstable ? "stopped" : "ok");
 			}

@@ -316,13 +316,13 @@ int bench_log(const popc_scene *s, const bench_opts *o)
 		return popc_cli_fail("bench", st, &err);
 	double mb = 1e-6 * (double)bytes_popc;
 	if (o->csv) {
-		puts("what,popc_MBps,libc_MBps,ratio");
-		printf("write,%.6g,%.6g,%.4g\n", mb / w_popc, 1e-6 * (double)bytes_printf / w_printf,
+		fprintf(o->out, "%s\n", "what,popc_MBps,libc_MBps,ratio");
+		fprintf(o->out, "write,%.6g,%.6g,%.4g\n", mb / w_popc, 1e-6 * (double)bytes_printf / w_printf,
 		       w_printf / w_popc);
-		printf("read_recompute,%.6g,%.6g,%.4g\n", mb / r_popc, mb / r_strtod,
+		fprintf(o->out, "read_recompute,%.6g,%.6g,%.4g\n", mb / r_popc, mb / r_strtod,
 		       r_strtod / r_popc);
-		printf("reader_peak_rss_kib,%ld,%ld,\n", rss_small, rss_big);
-		printf("recompute_bitwise,%d,,\n", exact);
+		fprintf(o->out, "reader_peak_rss_kib,%ld,%ld,\n", rss_small, rss_big);
+		fprintf(o->out, "recompute_bitwise,%d,,\n", exact);
 		return exact ? POPC_EXIT_OK : POPC_EXIT_RUN_FAILED;
 	}
 	printf("popc bench log: %ld rows of the scene's run (%.1f MB as popc writes them), one "

@@ -91,8 +91,8 @@ static int bench_loop_admittance(const popc_scene *s0, const bench_opts *o)
 		best_imp = fmin(best_imp, 1e9 * ci / (double)ti);
 	}
 	if (o->csv) {
-		puts("what,admittance,impedance,ratio");
-		printf("loop_ns_per_tick,%.6g,%.6g,%.4g\n", best_adm, best_imp, best_adm / best_imp);
+		fprintf(o->out, "%s\n", "what,admittance,impedance,ratio");
+		fprintf(o->out, "loop_ns_per_tick,%.6g,%.6g,%.4g\n", best_adm, best_imp, best_adm / best_imp);
 		return 0;
 	}
 	printf("popc bench loop: %s, admittance against the same scene in impedance causality,\n"
@@ -221,21 +221,21 @@ int bench_loop(const popc_scene *s0, const bench_opts *o)
 	double fl_ns = fl.ns_per_tick;
 	double best_ratio = (fl_ns - pex + ptr) / fl_ns;
 	if (o->csv) {
-		puts("what,exact,trapezoid_100,ratio");
-		printf("loop_ns_per_tick,%.6g,%.6g,%.4g\n", ex_ns, tr_ns, tr_ns / ex_ns);
-		printf("plant_ns_per_period,%.6g,%.6g,%.4g\n", pex, ptr, ptr / pex);
-		printf("chain_floor_ns_per_tick,%.6g,%.6g,%.4g\n", fl_ns, fl_ns - pex + ptr, best_ratio);
-		printf("chain_commands_equal,%d,,\n", fl.bitwise_equal);
+		fprintf(o->out, "%s\n", "what,exact,trapezoid_100,ratio");
+		fprintf(o->out, "loop_ns_per_tick,%.6g,%.6g,%.4g\n", ex_ns, tr_ns, tr_ns / ex_ns);
+		fprintf(o->out, "plant_ns_per_period,%.6g,%.6g,%.4g\n", pex, ptr, ptr / pex);
+		fprintf(o->out, "chain_floor_ns_per_tick,%.6g,%.6g,%.4g\n", fl_ns, fl_ns - pex + ptr, best_ratio);
+		fprintf(o->out, "chain_commands_equal,%d,,\n", fl.bitwise_equal);
 		/* the whole loop against the flat loop of the same tick */
-		printf("loop_over_chain,%.4g,,\n", fl.bitwise_equal ? ex_ns / fl_ns : (double)NAN);
-		printf("max_error_m,0,%.6g,\n", tr_err);
-		printf("exact_ticks_per_s,%.6g,,\n", ticks_per_s);
+		fprintf(o->out, "loop_over_chain,%.4g,,\n", fl.bitwise_equal ? ex_ns / fl_ns : (double)NAN);
+		fprintf(o->out, "max_error_m,0,%.6g,\n", tr_err);
+		fprintf(o->out, "exact_ticks_per_s,%.6g,,\n", ticks_per_s);
 		if (pr.measured) {
 			/* popc run SCENE -q as a process: its CPU per tick, its start-up,
 			 * the loop figure over the process's */
-			printf("process_ns_per_tick,%.6g,,\n", pr.ns_per_tick);
-			printf("process_startup_ms,%.6g,,\n", pr.startup_ms);
-			printf("loop_over_process,%.4g,,\n", pr.loop_over_process);
+			fprintf(o->out, "process_ns_per_tick,%.6g,,\n", pr.ns_per_tick);
+			fprintf(o->out, "process_startup_ms,%.6g,,\n", pr.startup_ms);
+			fprintf(o->out, "loop_over_process,%.4g,,\n", pr.loop_over_process);
 		}
 		return 0;
 	}

@@ -6,6 +6,7 @@
 
 #include "popc/util/error.h"
 #include "popc/programs/arg_list.h" /* --set and --vary lists */
+#include "popc/programs/options.h"
 #include "popc/util/parse.h" /* every number an option takes */
 #include "popc/scene/scene.h"
 
@@ -41,6 +42,12 @@ typedef struct popc_cli_key_option {
 int popc_cli_load_scene_options(popc_scene *s, const char *path, char **sets, int n_sets,
 				const popc_cli_key_option *opts, int n_opts, popc_error *err);
 
+/* An assignment option's argument without '=' ("--set environment.stiffness
+ * 2000": the shell gave two words, and the second would be taken for a second
+ * SCENE file): says on stderr to give "OPTION KEY=VALUE" as one word, with the
+ * word that followed it on the command line (popc_cli_argv) when there is
+ * one, and returns 1 (the caller exits 2); 0 when every value has a '='. */
+int popc_cli_assignment_split(const char *verb, const char *option, char *const *values, int n);
 
 /* Whether the --set assignment "section.key=value" names this key (names
  * compared without the blanks around them, as popc_scene_set reads them). */
@@ -71,6 +78,25 @@ const char *popc_cli_build_id(void);
  * differ from run to run: whoever compares logs leaves out exactly these
  * three lines (README, "The log"). */
 char *popc_cli_provenance(void);
+
+/* getopt_long's arrays made from a verb's option tables (options.h): opts
+ * and shorts of these sizes hold every verb's. */
+#define POPC_CLI_MAX_OPTIONS 64
+void popc_cli_getopt_tables(const popc_option *const *tables,
+			    struct option opts[POPC_CLI_MAX_OPTIONS], char shorts[2 * POPC_CLI_MAX_OPTIONS]);
+
+/* Each verb's option tables (its getopt_long's options, what `popc --complete`
+ * lists): popc_main.c's verb table points at them. */
+extern const popc_option *const popc_cli_run_opts[];
+extern const popc_option *const popc_cli_scene_show_opts[];
+extern const popc_option *const popc_cli_scene_keys_opts[];
+extern const popc_option *const popc_cli_scene_list_opts[];
+extern const popc_option *const popc_cli_scene_opts[];
+extern const popc_option *const popc_cli_bench_opts[];
+extern const popc_option *const popc_cli_sweep_opts[];
+extern const popc_option *const popc_cli_sweep_merge_opts[];
+extern const popc_option *const popc_cli_sweep_stats_opts[];
+extern const popc_option *const popc_cli_map_opts[];
 
 int popc_cmd_run(int argc, char **argv);
 int popc_cmd_scene(int argc, char **argv);

@@ -90,6 +90,15 @@ void popc_cli_install_signals(int drive)
 	signal(SIGXFSZ, SIG_IGN);
 }
 
+void popc_cli_getopt_tables(const popc_option *const *tables,
+			    struct option opts[POPC_CLI_MAX_OPTIONS], char shorts[2 * POPC_CLI_MAX_OPTIONS])
+{
+	/* the sizes hold every verb's tables: a table that outgrows them is a
+	 * programming error, which the first run of that verb shows */
+	if (popc_options_getopt(tables, opts, POPC_CLI_MAX_OPTIONS, shorts, 2 * POPC_CLI_MAX_OPTIONS) != 0)
+		abort();
+}
+
 int popc_cli_fail(const char *verb, int status, const popc_error *err)
 {
 	fprintf(stderr, "popc %s: %s\n", verb, err->msg);
@@ -117,6 +126,32 @@ int popc_cli_load_scene_options(popc_scene *s, const char *path, char **sets, in
 int popc_cli_load_scene(popc_scene *s, const char *path, char **sets, int n_sets, popc_error *err)
 {
 	return popc_cli_load_scene_options(s, path, sets, n_sets, NULL, 0, err);
+}
+
+int popc_cli_assignment_split(const char *verb, const char *option, char *const *values, int n)
+{
+	for (int i = 0; i < n; i++) {
+		if (strchr(values[i], '='))
+			continue;
+		/* the word after "OPTION KEY" as started (getopt has moved the
+		 * operands since) */
+		const char *next = NULL;
+		for (int k = 0; popc_cli_argv && popc_cli_argv[k] && popc_cli_argv[k + 1]; k++)
+			if (strcmp(popc_cli_argv[k], option) == 0 && popc_cli_argv[k + 1] == values[i]) {
+				next = popc_cli_argv[k + 2];
+				break;
+			}
+		if (next && next[0] && next[0] != '-')
+			fprintf(stderr,
+				"popc %s: %s %s %s: give %s KEY=VALUE as one word, with '=': %s %s=%s\n",
+				verb, option, values[i], next, option, option, values[i], next);
+		else
+			fprintf(stderr, "popc %s: %s '%s' has no '=': give %s KEY=VALUE, e.g. %s "
+					"run.duration=10\n",
+				verb, option, values[i], option, option);
+		return 1;
+	}
+	return 0;
 }
 
 int popc_cli_set_names_key(const char *set, const char *section, const char *key)

@@ -21,6 +21,7 @@
 #include "bench.h"
 #include "cli.h"
 #include "popc/util/atomic_file.h" /* popc_mkdir_p */
+#include "popc/programs/table_out.h"
 #include "popc/programs/usage_hint.h"
 
 static void usage(FILE *f)
@@ -42,7 +43,8 @@ static void usage(FILE *f)
 	      "\n"
 	      "  --scene FILE             scene (default: the built-in paper scene)\n"
 	      "  --set section.key=value  override a scene key (repeatable)\n"
-	      "  --format text|csv        output format (default text)\n"
+	      "  --format text|csv|json   output format (default text); json: the csv's rows\n"
+	      "                           as one object each on one line, the same digits\n"
 	      "  --plot DIR               integrators: write DIR/integrators.{dat,gp,png}\n"
 	      "                           (DIR and its parents are made if missing)\n"
 	      "  --min-time S             wall time per timing (default 0.2 s)\n"
@@ -58,27 +60,62 @@ static void usage(FILE *f)
 
 enum { OPT_SCENE = 256, OPT_SET, OPT_FORMAT, OPT_PLOT, OPT_MIN_TIME, OPT_REPEAT, OPT_ROWS, OPT_DIR };
 
-static int bench_what(const popc_scene *s0, const bench_opts *op, const char *what);
+static int bench_what(const popc_scene *s0, const bench_opts *op, const char *what, int json);
+
+static const popc_option bench_options[] = {
+	{"scene", 0, OPT_SCENE, "SCENE"},
+	{"set", 0, OPT_SET, "KEY=VALUE"},
+	{"format", 0, OPT_FORMAT, "text|csv|json"},
+	{"plot", 0, OPT_PLOT, "DIR"},
+	{"min-time", 0, OPT_MIN_TIME, "S"},
+	{"repeat", 0, OPT_REPEAT, "N"},
+	{"rows", 0, OPT_ROWS, "N"},
+	{"dir", 0, OPT_DIR, "DIR"},
+	{"help", 'h', 'h', NULL},
+	POPC_OPTION_END,
+};
+const popc_option *const popc_cli_bench_opts[] = {bench_options, NULL};
+
+/* The CSV text a benchmark wrote into the buffer (its header line, then its
+ * rows) as JSON Lines on stdout; rc: the benchmark's exit status, kept
+ * unless out of memory. Closes f and frees the buffer. */
+static int json_from_csv(FILE *f, char **buf, size_t *len, int rc)
+{
+	int st = fclose(f) == 0 && *buf ? 0 : -1;
+	if (!st && *len) {
+		char *nl = strchr(*buf, '\n');
+		if (nl)
+			*nl = '\0';
+		/* the first column names the row ("what", "integrator"); "status" is a word */
+		static const char *const text_columns[] = {"what", "integrator", "status", NULL};
+		popc_table_out t;
+		st = popc_table_out_begin(&t, stdout, 1, *buf, text_columns);
+		if (!st && nl) {
+			fputs(nl + 1, popc_table_out_row(&t));
+			st = popc_table_out_end(&t);
+		} else if (!st) {
+			st = popc_table_out_end(&t);
+		}
+	}
+	free(*buf);
+	*buf = NULL;
+	if (st) {
+		fprintf(stderr, "popc bench: out of memory\n");
+		return POPC_EXIT_RUN_FAILED;
+	}
+	return rc;
+}
 
 int popc_cmd_bench(int argc, char **argv)
 {
-	static const struct option opts[] = {
-		{"scene", required_argument, NULL, OPT_SCENE},
-		{"set", required_argument, NULL, OPT_SET},
-		{"format", required_argument, NULL, OPT_FORMAT},
-		{"plot", required_argument, NULL, OPT_PLOT},
-		{"min-time", required_argument, NULL, OPT_MIN_TIME},
-		{"repeat", required_argument, NULL, OPT_REPEAT},
-		{"rows", required_argument, NULL, OPT_ROWS},
-		{"dir", required_argument, NULL, OPT_DIR},
-		{"help", no_argument, NULL, 'h'},
-		{NULL, 0, NULL, 0},
-	};
+	struct option opts[POPC_CLI_MAX_OPTIONS];
+	char shorts[2 * POPC_CLI_MAX_OPTIONS];
+	popc_cli_getopt_tables(popc_cli_bench_opts, opts, shorts);
 	bench_opts o = {.min_time_s = 0.2, .repeats = 3, .rows = 200000};
-	int c;
+	int c, json = 0;
 	long long lv;
 	optind = 1;
-	while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
+	while ((c = getopt_long(argc, argv, shorts, opts, NULL)) != -1) {
 		switch (c) {
 		case OPT_SCENE: o.scene_path = optarg; break;
 		case OPT_SET:
@@ -89,10 +126,11 @@ int popc_cmd_bench(int argc, char **argv)
 			}
 			break;
 		case OPT_FORMAT:
-			if (strcmp(optarg, "csv") == 0)
+			json = strcmp(optarg, "json") == 0;
+			if (strcmp(optarg, "csv") == 0 || json)
 				o.csv = 1;
 			else if (strcmp(optarg, "text") != 0) {
-				fprintf(stderr, "popc bench: --format %s: expected text or csv\n", optarg);
+				fprintf(stderr, "popc bench: --format %s: expected text, csv or json\n", optarg);
 				free(o.sets);
 				return POPC_EXIT_USAGE;
 			}
@@ -152,13 +190,14 @@ int popc_cmd_bench(int argc, char **argv)
 		return popc_cli_fail("bench", st, &err);
 	}
 	/* o.sets lives on: bench loop runs `popc run` with them (bench_process.c) */
-	int rc = bench_what(&s, &o, what);
+	int rc = bench_what(&s, &o, what, json);
 	free(o.sets);
 	return rc;
 }
 
-/* The benchmark WHAT of the loaded scene s: an exit code. */
-static int bench_what(const popc_scene *s0, const bench_opts *op, const char *what)
+/* The benchmark WHAT of the loaded scene s (json: its CSV rows as JSON
+ * Lines): an exit code. */
+static int bench_what(const popc_scene *s0, const bench_opts *op, const char *what, int json)
 {
 	popc_scene s = *s0;
 	bench_opts o = *op;
@@ -184,10 +223,20 @@ static int bench_what(const popc_scene *s0, const bench_opts *op, const char *wh
 												  : "cannot write into it");
 		return POPC_EXIT_USAGE;
 	}
-	if (strcmp(what, "integrators") == 0)
-		return bench_integrators(&s, &o);
-	if (strcmp(what, "loop") == 0)
-		return bench_loop(&s, &o);
-	return bench_log(&s, &o);
+	/* json: the CSV rows into a buffer, then each as one object with the
+	 * header's names and the same cells (popc_table_out) */
+	char *buf = NULL;
+	size_t len = 0;
+	o.out = json ? open_memstream(&buf, &len) : stdout;
+	if (!o.out) {
+		fprintf(stderr, "popc bench: out of memory\n");
+		return POPC_EXIT_RUN_FAILED;
+	}
+	int rc = strcmp(what, "integrators") == 0 ? bench_integrators(&s, &o)
+		 : strcmp(what, "loop") == 0	   ? bench_loop(&s, &o)
+						   : bench_log(&s, &o);
+	if (json)
+		rc = json_from_csv(o.out, &buf, &len, rc);
+	return rc;
 }
 

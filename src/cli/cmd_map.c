@@ -27,6 +27,7 @@
 #include "popc/sweep/sweep_results.h"
 #include "popc/util/numfmt.h"
 #include "popc/util/parse.h"
+#include "sweep_dry_run.h"
 #include "sweep_pool.h"
 #include "sweep_progress.h"
 
@@ -71,6 +72,9 @@ static void usage(FILE *f)
 	      "                           DIR/boundary.csv exists (docs/MAPS.md)\n"
 	      "  --keep-log               keep every run's log.csv (default: rows only)\n"
 	      "  --allow-other-build      resume a map that another popc build made\n"
+	      "  --dry-run                print the map's grid, scan and lines (one\n"
+	      "                           'LINE<TAB>values' each) and what DIR holds, and\n"
+	      "                           write nothing: no DIR, plan, lock or row\n"
 	      "  -q, --quiet              no progress\n"
 	      "  -h, --help               this help\n"
 	      "\n"
@@ -81,7 +85,30 @@ static void usage(FILE *f)
 }
 
 enum { OPT_VARIANT = 256, OPT_VARY, OPT_SET, OPT_STIFFNESS, OPT_TOL, OPT_CRITERION, OPT_PORT_TOL,
-       OPT_SHARD, OPT_KEEP_LOG, OPT_ALLOW_OTHER_BUILD, OPT_ISOLATE, OPT_SCAN };
+       OPT_SHARD, OPT_KEEP_LOG, OPT_ALLOW_OTHER_BUILD, OPT_ISOLATE, OPT_SCAN, OPT_DRY_RUN };
+
+static const popc_option map_options[] = {
+	{"variant", 0, OPT_VARIANT, "VARIANT"},
+	{"vary", 0, OPT_VARY, "KEY=LIST"},
+	{"set", 0, OPT_SET, "KEY=VALUE"},
+	{"stiffness", 0, OPT_STIFFNESS, "LO:HI"},
+	{"tol", 0, OPT_TOL, "R"},
+	{"scan", 0, OPT_SCAN, "N"},
+	/* popc_map_criterion_name's names (sweep_map.c), a comma list */
+	{"criterion", 0, OPT_CRITERION, "diverged|limit-cycle|chatter|passive|device-passive"},
+	{"port-tol", 0, OPT_PORT_TOL, "J"},
+	{"output", 'o', 'o', "DIR"},
+	{"jobs", 'j', 'j', "N"},
+	{"isolate", 0, OPT_ISOLATE, NULL},
+	{"shard", 0, OPT_SHARD, "I/N"},
+	{"keep-log", 0, OPT_KEEP_LOG, NULL},
+	{"allow-other-build", 0, OPT_ALLOW_OTHER_BUILD, NULL},
+	{"dry-run", 0, OPT_DRY_RUN, NULL},
+	{"quiet", 'q', 'q', NULL},
+	{"help", 'h', 'h', NULL},
+	POPC_OPTION_END,
+};
+const popc_option *const popc_cli_map_opts[] = {map_options, NULL};
 
 typedef struct map_args {
 	char **variants, **vary, **sets;
@@ -90,7 +117,7 @@ typedef struct map_args {
 	double tol, port_tol_J;
 	unsigned criteria;
 	long long jobs, scan_steps;
-	int quiet, keep_log, allow_other_build, isolate;
+	int quiet, keep_log, allow_other_build, isolate, dry_run;
 } map_args;
 
 /* The searches of every line and criterion, from the rows in DIR. */
@@ -324,9 +351,25 @@ static void print_table(const map_state *m, const popc_sweep_plan *p)
 	int *vi = malloc((size_t)p->n_axes * sizeof *vi);
 	if (!vi)
 		return;
+	/* a --vary axis' heading: its key, or section.key where another axis
+	 * has the same key (operator.damping and environment.damping are both
+	 * "damping"); a column as wide as its heading, at least 12 */
+	char head[POPC_SWEEP_AXES_MAX][130];
+	int width[POPC_SWEEP_AXES_MAX];
+	for (int a = 1; a < p->n_axes - 1 && a < POPC_SWEEP_AXES_MAX; a++) {
+		int shared = 0;
+		for (int b = 1; b < p->n_axes - 1; b++)
+			shared |= b != a && strcmp(p->axes[a].key, p->axes[b].key) == 0;
+		if (shared)
+			snprintf(head[a], sizeof head[a], "%s.%s", p->axes[a].section, p->axes[a].key);
+		else
+			snprintf(head[a], sizeof head[a], "%s", p->axes[a].key);
+		int len = (int)strlen(head[a]);
+		width[a] = len > 12 ? len : 12;
+	}
 	printf("%-16s", "variant");
 	for (int a = 1; a < p->n_axes - 1; a++)
-		printf(" %-12.12s", p->axes[a].key);
+		printf(" %-*.*s", width[a], width[a], head[a]);
 	printf(" %-12s %-13s %12s %12s %5s\n", "criterion", "outcome", "K_ok N/m", "K_bad N/m", "runs");
 	for (long line = 0; line < m->n_lines; line++) {
 		popc_sweep_run_values(p, line * m->n_k, vi);
@@ -334,7 +377,7 @@ static void print_table(const map_state *m, const popc_sweep_plan *p)
 			const popc_map_search *se = &m->search[line * m->n_crit + c];
 			printf("%-16s", p->axes[0].values[vi[0]]);
 			for (int a = 1; a < p->n_axes - 1; a++)
-				printf(" %-12.12s", p->axes[a].values[vi[a]]);
+				printf(" %-*.*s", width[a], width[a], p->axes[a].values[vi[a]]);
 			printf(" %-12s %-13s", popc_map_criterion_name(m->crit[c]), outcome_name(se->outcome));
 			long ok = se->ok_index, bad = se->bad_index;
 			if (ok >= 0)
@@ -442,6 +485,42 @@ static int make_plan(const map_args *a, popc_sweep_plan *plan, popc_error *err)
 	return st;
 }
 
+/* --dry-run: the grid, the scan, the criteria and the lines on stdout (what
+ * the map would search), what DIR holds; nothing written. Returns the exit
+ * code: 2 when DIR holds another sweep (the map would be refused). */
+static int dry_run(const map_args *a, const popc_sweep_plan *p, const popc_sweep_shard *sh)
+{
+	const popc_sweep_axis *kax = &p->axes[p->n_axes - 1];
+	long n_k = kax->n_values;
+	long scan = a->scan_steps < n_k - 1 ? (long)a->scan_steps : n_k - 1;
+	long n_lines = (long)(p->n_runs / n_k);
+	printf("# popc map --dry-run: %ld lines x %ld stiffness points (%s to %s N/m, log grid, "
+	       "neighbours within %g); a scan of %ld points a line (every %ld-th), then bisection "
+	       "to one grid step; criteria",
+	       n_lines, n_k, kax->values[0], kax->values[n_k - 1], a->tol,
+	       popc_map_scan_points(n_k, scan), scan);
+	for (int c = 0; c < POPC_MAP_N_CRITERIA; c++)
+		if (a->criteria & (1u << c))
+			printf(" %s", popc_map_criterion_name((popc_map_criterion)c));
+	if (sh->count > 1)
+		printf("; shard %lld of %lld", sh->index + 1, sh->count);
+	printf("; ");
+	int refused = sweep_dry_run_dir(stdout, p, a->dir);
+	printf("; nothing written\n");
+	char values[4096];
+	for (long line = 0; line < n_lines; line++) {
+		/* the line's values: its first run's, less the stiffness (the last axis) */
+		popc_sweep_run_describe(p, (long long)line * n_k, values, sizeof values);
+		char *k = strstr(values, " environment.stiffness=");
+		if (k)
+			*k = '\0';
+		printf("%ld\t%s\n", line, values);
+	}
+	if (fflush(stdout) != 0 || ferror(stdout))
+		return POPC_EXIT_RUN_FAILED;
+	return refused ? POPC_EXIT_USAGE : POPC_EXIT_OK;
+}
+
 static int map_main(const map_args *a)
 {
 	popc_error err;
@@ -461,6 +540,12 @@ static int map_main(const map_args *a)
 	if (st < 0) {
 		popc_sweep_plan_free(&plan);
 		return popc_cli_fail("map", st, &err);
+	}
+	if (a->dry_run) {
+		/* before the directory is opened: nothing is made, locked or written */
+		int r = dry_run(a, &plan, &shard);
+		popc_sweep_plan_free(&plan);
+		return r;
 	}
 	char scene_abs[PATH_MAX];
 	char *r = realpath(plan.base.source, NULL);
@@ -509,6 +594,7 @@ static int map_main(const map_args *a)
 		step++;
 		sweep_progress prog;
 		sweep_progress_start(&prog, a->quiet, m.n_todo, 0);
+		prog.map = 1;
 		if (!a->quiet)
 			fprintf(stderr, "popc map: step %d: %lld runs\n", step, m.n_todo);
 		for (long long t = 0; t < m.n_todo; t++)
@@ -560,31 +646,15 @@ out:
 
 int popc_cmd_map(int argc, char **argv)
 {
-	static const struct option opts[] = {
-		{"variant", required_argument, NULL, OPT_VARIANT},
-		{"vary", required_argument, NULL, OPT_VARY},
-		{"set", required_argument, NULL, OPT_SET},
-		{"stiffness", required_argument, NULL, OPT_STIFFNESS},
-		{"tol", required_argument, NULL, OPT_TOL},
-		{"scan", required_argument, NULL, OPT_SCAN},
-		{"criterion", required_argument, NULL, OPT_CRITERION},
-		{"port-tol", required_argument, NULL, OPT_PORT_TOL},
-		{"output", required_argument, NULL, 'o'},
-		{"jobs", required_argument, NULL, 'j'},
-		{"isolate", no_argument, NULL, OPT_ISOLATE},
-		{"shard", required_argument, NULL, OPT_SHARD},
-		{"keep-log", no_argument, NULL, OPT_KEEP_LOG},
-		{"allow-other-build", no_argument, NULL, OPT_ALLOW_OTHER_BUILD},
-		{"quiet", no_argument, NULL, 'q'},
-		{"help", no_argument, NULL, 'h'},
-		{NULL, 0, NULL, 0},
-	};
+	struct option opts[POPC_CLI_MAX_OPTIONS];
+	char shorts[2 * POPC_CLI_MAX_OPTIONS];
+	popc_cli_getopt_tables(popc_cli_map_opts, opts, shorts);
 	map_args a = {.tol = 0.02, .port_tol_J = 1e-6, .criteria = 1u << POPC_MAP_PASSIVE,
 		      .scan_steps = POPC_MAP_SCAN_STEPS_DEFAULT};
 	int c, rc = -1, oom = 0;
 	popc_error err;
 	optind = 1;
-	while (rc < 0 && (c = getopt_long(argc, argv, "o:j:qh", opts, NULL)) != -1) {
+	while (rc < 0 && (c = getopt_long(argc, argv, shorts, opts, NULL)) != -1) {
 		switch (c) {
 		case OPT_VARIANT: oom |= popc_arg_push(&a.variants, &a.n_variants, optarg); break;
 		case OPT_VARY: oom |= popc_arg_push(&a.vary, &a.n_vary, optarg); break;
@@ -626,6 +696,7 @@ int popc_cmd_map(int argc, char **argv)
 			break;
 		case OPT_SHARD: a.shard_text = optarg; break;
 		case OPT_KEEP_LOG: a.keep_log = 1; break;
+		case OPT_DRY_RUN: a.dry_run = 1; break;
 		case OPT_ALLOW_OTHER_BUILD: a.allow_other_build = 1; break;
 		case OPT_ISOLATE: a.isolate = 1; break;
 		case 'q': a.quiet = 1; break;
@@ -633,6 +704,9 @@ int popc_cmd_map(int argc, char **argv)
 		default: usage(stderr); rc = POPC_EXIT_USAGE; break;
 		}
 	}
+	if (rc < 0 && !oom && (popc_cli_assignment_split("map", "--set", a.sets, a.n_sets) ||
+				popc_cli_assignment_split("map", "--vary", a.vary, a.n_vary)))
+		rc = POPC_EXIT_USAGE;
 	if (rc < 0) {
 		const char *why = optind >= argc       ? "missing SCENE file"
 				  : optind + 1 != argc ? "more than one SCENE file"

@@ -74,6 +74,23 @@ static void usage(FILE *f)
 enum { OPT_SET = 256, OPT_VARIANT, OPT_LOG, OPT_SUMMARY, OPT_SUMMARY_FORMAT, OPT_AXIS, OPT_MAP,
        OPT_CONNECT, OPT_FREE_RUN, OPT_RT };
 
+static const popc_option run_options[] = {
+	{"set", 0, OPT_SET, "KEY=VALUE"},
+	{"variant", 0, OPT_VARIANT, "VARIANT"},
+	{"log", 0, OPT_LOG, "FILE"},
+	{"summary", 0, OPT_SUMMARY, "FILE"},
+	{"summary-format", 0, OPT_SUMMARY_FORMAT, "csv|json"},
+	{"axis", 0, OPT_AXIS, "sim|modbus"},
+	{"map", 0, OPT_MAP, "MAP"},
+	{"connect", 0, OPT_CONNECT, "URI"},
+	{"free-run", 0, OPT_FREE_RUN, NULL},
+	{"rt", 0, OPT_RT, NULL},
+	{"quiet", 'q', 'q', NULL},
+	{"help", 'h', 'h', NULL},
+	POPC_OPTION_END,
+};
+const popc_option *const popc_cli_run_opts[] = {run_options, NULL};
+
 /* The summary as one JSON object on one line: the CSV header's names and the
  * row's cells, typed by the summary table (popc_run_summary_json_kind). */
 static int write_summary_json(FILE *f, const char *header, const char *axis_names,
@@ -311,23 +328,33 @@ static void progress_end(run_progress *p, int completed)
 		draw_progress(p, 1);
 }
 
+/* A log of 100 MB or more is announced before the run starts (a mistyped
+ * run.duration=5000 wrote 852 MB without a word): its rows and size, at 14
+ * bytes a cell as measured (the paper scene's 5 s log: 834160 bytes, 5001
+ * rows of 12 cells). */
+static void note_log_size(const char *path, const popc_scene *s, unsigned columns)
+{
+	char names[2048];
+	popc_log_column_names(columns, names, sizeof names);
+	int cells = 1;
+	for (const char *c = names; *c; c++)
+		cells += *c == ',';
+	double rows = (double)popc_scene_ticks(s) + 1.0;
+	double bytes = rows * cells * 14.0;
+	if (bytes < 100e6)
+		return;
+	fprintf(stderr,
+		"popc run: note: the log %s will be about %.3g MB (%.0f rows of %d cells, "
+		"run.duration = %g s at %g Hz); a signal (Ctrl-C) stops the run with the rows "
+		"so far kept\n",
+		path, bytes / 1e6, rows, cells, s->duration_s, s->rate_Hz);
+}
+
 int popc_cmd_run(int argc, char **argv)
 {
-	static const struct option opts[] = {
-		{"set", required_argument, NULL, OPT_SET},
-		{"variant", required_argument, NULL, OPT_VARIANT},
-		{"log", required_argument, NULL, OPT_LOG},
-		{"summary", required_argument, NULL, OPT_SUMMARY},
-		{"summary-format", required_argument, NULL, OPT_SUMMARY_FORMAT},
-		{"axis", required_argument, NULL, OPT_AXIS},
-		{"map", required_argument, NULL, OPT_MAP},
-		{"connect", required_argument, NULL, OPT_CONNECT},
-		{"free-run", no_argument, NULL, OPT_FREE_RUN},
-		{"rt", no_argument, NULL, OPT_RT},
-		{"quiet", no_argument, NULL, 'q'},
-		{"help", no_argument, NULL, 'h'},
-		{NULL, 0, NULL, 0},
-	};
+	struct option opts[POPC_CLI_MAX_OPTIONS];
+	char shorts[2 * POPC_CLI_MAX_OPTIONS];
+	popc_cli_getopt_tables(popc_cli_run_opts, opts, shorts);
 	char **sets = NULL;
 	int n_sets = 0, quiet = 0, c;
 	const char *variant = NULL, *log_path = NULL, *summary_path = NULL;
@@ -336,7 +363,7 @@ int popc_cmd_run(int argc, char **argv)
 	/* a signal ends a real axis' retries and waits too */
 	popc_axis_create_options axis_create = {.notes = stderr, .stop_flag = &popc_cli_stop};
 	optind = 1;
-	while ((c = getopt_long(argc, argv, "qh", opts, NULL)) != -1) {
+	while ((c = getopt_long(argc, argv, shorts, opts, NULL)) != -1) {
 		switch (c) {
 		case OPT_SET:
 			if (popc_arg_push(&sets, &n_sets, optarg) != 0) {
@@ -365,6 +392,10 @@ int popc_cmd_run(int argc, char **argv)
 		case 'h': usage(stdout); free(sets); return 0;
 		default: popc_option_hint(argv[0], opts, argc, argv); free(sets); return POPC_EXIT_USAGE;
 		}
+	}
+	if (popc_cli_assignment_split("run", "--set", sets, n_sets)) {
+		free(sets);
+		return POPC_EXIT_USAGE;
 	}
 	int summary_stdout = summary_path && strcmp(summary_path, "-") == 0;
 	if (optind + 1 != argc || (summary_stdout && log_path && strcmp(log_path, "-") == 0)) {
@@ -411,6 +442,17 @@ int popc_cmd_run(int argc, char **argv)
 			return POPC_EXIT_USAGE;
 		}
 
+	/* --free-run and --rt change how a Modbus axis keeps time: the simulated
+	 * one has no deadlines and no drive, so they would do nothing, silently */
+	if ((axis_create.free_run || axis_create.realtime) && strcmp(s.axis, "modbus") != 0) {
+		fprintf(stderr,
+			"popc run: %s: only for axis.kind = modbus, and axis.kind is %s (the simulated "
+			"axis keeps no deadlines and runs as fast as it can: leave %s out)\n",
+			axis_create.free_run ? "--free-run" : "--rt", s.axis,
+			axis_create.free_run ? "--free-run" : "--rt");
+		return POPC_EXIT_USAGE;
+	}
+
 	popc_axis *axis = NULL;
 	st = popc_axis_create(&axis, &s, &axis_create, &err);
 	if (st)
@@ -451,6 +493,8 @@ int popc_cmd_run(int argc, char **argv)
 			return popc_cli_fail("run", st, &err);
 		}
 		ro.log = &log;
+		if (!quiet)
+			note_log_size(log_path, &s, axis->ops->log_columns);
 	}
 	popc_cli_install_signals(!popc_axis_is_simulated(&s));
 	/* the progress line: on a terminal, not with -q, once the run has taken
@@ -467,11 +511,18 @@ int popc_cmd_run(int argc, char **argv)
 	progress_end(&prog, run_st == 0 && !popc_cli_stop);
 	popc_error cerr;
 	int close_st = log_path ? popc_log_close(&log, &cerr) : 0;
-	if (!quiet)
+	/* a run that failed before its first tick (a drive that could not be
+	 * reached) has no statistics: ten lines of zeros would hide the error,
+	 * which popc_cli_fail prints below, with what to check */
+	int no_tick = run_st != 0 && sum.ticks == 0;
+	if (!quiet && !no_tick)
 		popc_run_summary_print(&sum, &s, stderr);
+	if (!quiet && !log_path) /* the rows are gone: say so, once */
+		fprintf(stderr, "popc run: note: no --log given, so the run's log was not kept "
+				"(--log FILE keeps it; -q says nothing)\n");
 	char axis_names[1024] = "", axis_values[1024] = "";
 	if (axis->ops->report) /* period and latency percentiles of a real axis */
-		axis->ops->report(axis, quiet ? NULL : stderr, axis_names, axis_values,
+		axis->ops->report(axis, quiet || no_tick ? NULL : stderr, axis_names, axis_values,
 				  sizeof axis_names);
 	popc_axis_destroy(&axis);
 	if (summary && write_summary_file(summary, summary_json, &sum, &s, argv[optind], axis_names,
@@ -481,8 +532,16 @@ int popc_cmd_run(int argc, char **argv)
 		if (!run_st)
 			return POPC_EXIT_RUN_FAILED;
 	}
-	if (run_st)
-		return popc_cli_fail("run", run_st, &err);
+	if (run_st) {
+		int code = popc_cli_fail("run", run_st, &err);
+		if (no_tick && strstr(err.msg, "cannot connect"))
+			fprintf(stderr,
+				"popc run: hint: is the drive (or popc-servo-sim) on and listening at %s? "
+				"Check the host and port (or device and baud) in --connect / axis.connect "
+				"(docs/MODBUS.md)\n",
+				s.axis_connect);
+		return code;
+	}
 	if (close_st)
 		return popc_cli_fail("run", close_st, &cerr);
 	return 0;

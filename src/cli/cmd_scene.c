@@ -11,6 +11,25 @@
 #include "popc/scene/from_scene.h"
 #include "popc/programs/usage_hint.h"
 
+static const popc_option list_options[] = {
+	{"maps", 0, 'm', NULL},
+	{"help", 'h', 'h', NULL},
+	POPC_OPTION_END,
+};
+static const popc_option show_options[] = {
+	{"set", 0, 's', "KEY=VALUE"},
+	{"help", 'h', 'h', NULL},
+	POPC_OPTION_END,
+};
+static const popc_option help_options[] = {
+	{"help", 'h', 'h', NULL},
+	POPC_OPTION_END,
+};
+const popc_option *const popc_cli_scene_list_opts[] = {list_options, NULL};
+const popc_option *const popc_cli_scene_show_opts[] = {show_options, NULL};
+const popc_option *const popc_cli_scene_keys_opts[] = {help_options, NULL};
+const popc_option *const popc_cli_scene_opts[] = {help_options, NULL};
+
 static void usage(FILE *f)
 {
 	fputs("usage: popc scene show [FILE] [--set section.key=value]...\n"
@@ -29,6 +48,10 @@ static void usage(FILE *f)
 	      "list  lists the installed scenes (--maps: the drive maps) that popc finds\n"
 	      "      by name, one 'NAME<tab>PATH' a line: the data directories' scenes/\n"
 	      "      (drives/), from POPC_DATA_PATH or the built-in directory.\n"
+	      "\n"
+	      "  --set section.key=value  show: override a scene key (repeatable)\n"
+	      "  --maps                   list: the drive maps, not the scenes\n"
+	      "  -h, --help               this help\n"
 	      "\n"
 	      "FILE (and popc run's SCENE, --map, axis.map) may be a name: one without a\n"
 	      "'/' that is no file in the working directory (for axis.map in a scene file:\n"
@@ -76,16 +99,14 @@ static int load_log_scene(popc_scene *s, const char *path, char **sets, int n_se
 /* popc scene list [--maps]: what the names find (completion reads it) */
 static int scene_list(int argc, char **argv)
 {
-	static const struct option opts[] = {
-		{"maps", no_argument, NULL, 'm'},
-		{"help", no_argument, NULL, 'h'},
-		{NULL, 0, NULL, 0},
-	};
+	struct option opts[POPC_CLI_MAX_OPTIONS];
+	char shorts[2 * POPC_CLI_MAX_OPTIONS];
+	popc_cli_getopt_tables(popc_cli_scene_list_opts, opts, shorts);
 	static char prog[] = "popc scene list";
 	argv[0] = prog; /* getopt's messages name argv[0] */
 	int maps = 0, c;
 	optind = 1;
-	while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
+	while ((c = getopt_long(argc, argv, shorts, opts, NULL)) != -1) {
 		switch (c) {
 		case 'm': maps = 1; break;
 		case 'h': usage(stdout); return 0;
@@ -120,12 +141,9 @@ int popc_cmd_scene(int argc, char **argv)
 			popc_help_hint("popc scene", "actions");
 		return POPC_EXIT_USAGE;
 	}
-	static const struct option show_opts[] = {
-		{"set", required_argument, NULL, 's'},
-		{"help", no_argument, NULL, 'h'},
-		{NULL, 0, NULL, 0},
-	};
-	const struct option *opts = show_opts + (keys ? 1 : 0); /* keys: --help only */
+	struct option opts[POPC_CLI_MAX_OPTIONS];
+	char shorts[2 * POPC_CLI_MAX_OPTIONS];
+	popc_cli_getopt_tables(keys ? popc_cli_scene_keys_opts : popc_cli_scene_show_opts, opts, shorts);
 	char **sets = NULL;
 	int n_sets = 0, c;
 	optind = 1;
@@ -133,7 +151,7 @@ int popc_cmd_scene(int argc, char **argv)
 	argv++;
 	static char prog_show[] = "popc scene show", prog_keys[] = "popc scene keys";
 	argv[0] = keys ? prog_keys : prog_show; /* getopt's messages name argv[0] */
-	while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
+	while ((c = getopt_long(argc, argv, shorts, opts, NULL)) != -1) {
 		switch (c) {
 		case 's':
 			if (popc_arg_push(&sets, &n_sets, optarg) != 0) {

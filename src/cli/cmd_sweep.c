@@ -24,6 +24,7 @@
 #include "popc/sweep/sweep_results.h"
 #include "popc/util/atomic_file.h"
 #include "popc/util/text.h"
+#include "sweep_dry_run.h"
 #include "sweep_list.h"
 #include "sweep_pool.h"
 #include "sweep_progress.h"
@@ -72,6 +73,10 @@ static void usage(FILE *f)
 	      "                           DIR/runs/<id>/scene.ini (later edits of SCENE do\n"
 	      "                           not reach it); then 'popc sweep merge DIR'\n"
 	      "                           gathers their results\n"
+	      "  --dry-run                print the plan and its runs (one 'ID<TAB>values' line\n"
+	      "                           each, of the shard) and what DIR holds (a resume?),\n"
+	      "                           and write nothing: no DIR, plan, lock or run\n"
+	      "                           directory (--list writes each run's scene.ini)\n"
 	      "  --program PATH           the popc that --list lines call (default: this one)\n"
 	      "  --allow-other-build      resume (or merge) a sweep that another popc version\n"
 	      "                           or build made; refused otherwise (exit 2), since\n"
@@ -79,8 +84,10 @@ static void usage(FILE *f)
 	      "                           plan records every build that added results\n"
 	      "  -q, --quiet              no progress\n"
 	      "  -h, --help               this help\n"
-	      "\n"
-	      "stats: median, quartiles and range of the metrics per group of runs\n"
+	      "\n",
+	      f);
+	/* its own string: C99 promises 4095 characters */
+	fputs("stats: median, quartiles and range of the metrics per group of runs\n"
 	      "('popc sweep stats --help').\n"
 	      "\n"
 	      "merge: gathers the runs of shard outputs (or of --list runs) into one\n"
@@ -94,7 +101,33 @@ static void usage(FILE *f)
 }
 
 enum { OPT_VARY = 256, OPT_SET, OPT_NO_LOG, OPT_SHARD, OPT_LIST, OPT_PROGRAM, OPT_ALLOW_OTHER_BUILD,
-       OPT_ISOLATE };
+       OPT_ISOLATE, OPT_DRY_RUN };
+
+static const popc_option sweep_options[] = {
+	{"vary", 0, OPT_VARY, "KEY=LIST"},
+	{"set", 0, OPT_SET, "KEY=VALUE"},
+	{"output", 'o', 'o', "DIR"},
+	{"jobs", 'j', 'j', "N"},
+	{"isolate", 0, OPT_ISOLATE, NULL},
+	{"no-log", 0, OPT_NO_LOG, NULL},
+	{"shard", 0, OPT_SHARD, "I/N"},
+	{"list", 0, OPT_LIST, NULL},
+	{"dry-run", 0, OPT_DRY_RUN, NULL},
+	{"program", 0, OPT_PROGRAM, "FILE"},
+	{"allow-other-build", 0, OPT_ALLOW_OTHER_BUILD, NULL},
+	{"quiet", 'q', 'q', NULL},
+	{"help", 'h', 'h', NULL},
+	POPC_OPTION_END,
+};
+static const popc_option merge_options[] = {
+	{"output", 'o', 'o', "DIR"},
+	{"allow-other-build", 0, OPT_ALLOW_OTHER_BUILD, NULL},
+	{"quiet", 'q', 'q', NULL},
+	{"help", 'h', 'h', NULL},
+	POPC_OPTION_END,
+};
+const popc_option *const popc_cli_sweep_opts[] = {sweep_options, NULL};
+const popc_option *const popc_cli_sweep_merge_opts[] = {merge_options, NULL};
 
 /* ---- failures listed at the end ------------------------------------------------- */
 
@@ -150,17 +183,13 @@ static void abs_path(const char *path, char *out, size_t cap)
 
 static int cmd_merge(int argc, char **argv)
 {
-	static const struct option opts[] = {
-		{"output", required_argument, NULL, 'o'},
-		{"allow-other-build", no_argument, NULL, OPT_ALLOW_OTHER_BUILD},
-		{"quiet", no_argument, NULL, 'q'},
-		{"help", no_argument, NULL, 'h'},
-		{NULL, 0, NULL, 0},
-	};
+	struct option opts[POPC_CLI_MAX_OPTIONS];
+	char shorts[2 * POPC_CLI_MAX_OPTIONS];
+	popc_cli_getopt_tables(popc_cli_sweep_merge_opts, opts, shorts);
 	const char *out = NULL;
 	int quiet = 0, allow_other_build = 0, c;
 	optind = 1;
-	while ((c = getopt_long(argc, argv, "o:qh", opts, NULL)) != -1) {
+	while ((c = getopt_long(argc, argv, shorts, opts, NULL)) != -1) {
 		switch (c) {
 		case 'o': out = optarg; break;
 		case OPT_ALLOW_OTHER_BUILD: allow_other_build = 1; break;
@@ -298,7 +327,7 @@ static int cmd_merge(int argc, char **argv)
 typedef struct sweep_args {
 	char **vary, **sets;          /* pointers into argv */
 	int n_vary, n_sets;
-	int quiet, keep_log, list, allow_other_build, isolate;
+	int quiet, keep_log, list, allow_other_build, isolate, dry_run;
 	long long jobs;               /* 0: sweep_pool_default_jobs() */
 	const char *scene_path, *dir, *shard_text, *program;
 } sweep_args;
@@ -357,6 +386,12 @@ static int sweep_main(const sweep_args *a)
 	if (st < 0) {
 		popc_sweep_plan_free(&plan);
 		return popc_cli_fail("sweep", st, &err);
+	}
+	if (a->dry_run) {
+		/* before the directory is opened: nothing is made, locked or written */
+		int r = sweep_dry_run_print(&plan, &shard, a->dir);
+		popc_sweep_plan_free(&plan);
+		return r;
 	}
 	char scene_abs[PATH_MAX], dir_abs[PATH_MAX];
 	abs_path(base.source, scene_abs, sizeof scene_abs); /* an installed scene's, when found by name */
@@ -472,25 +507,13 @@ int popc_cmd_sweep(int argc, char **argv)
 		argv[1] = prog;
 		return cmd_merge(argc - 1, argv + 1);
 	}
-	static const struct option opts[] = {
-		{"vary", required_argument, NULL, OPT_VARY},
-		{"set", required_argument, NULL, OPT_SET},
-		{"output", required_argument, NULL, 'o'},
-		{"jobs", required_argument, NULL, 'j'},
-		{"isolate", no_argument, NULL, OPT_ISOLATE},
-		{"no-log", no_argument, NULL, OPT_NO_LOG},
-		{"shard", required_argument, NULL, OPT_SHARD},
-		{"list", no_argument, NULL, OPT_LIST},
-		{"program", required_argument, NULL, OPT_PROGRAM},
-		{"allow-other-build", no_argument, NULL, OPT_ALLOW_OTHER_BUILD},
-		{"quiet", no_argument, NULL, 'q'},
-		{"help", no_argument, NULL, 'h'},
-		{NULL, 0, NULL, 0},
-	};
+	struct option opts[POPC_CLI_MAX_OPTIONS];
+	char shorts[2 * POPC_CLI_MAX_OPTIONS];
+	popc_cli_getopt_tables(popc_cli_sweep_opts, opts, shorts);
 	sweep_args a = {.keep_log = 1};
 	int c, rc = -1, oom = 0;
 	optind = 1;
-	while (rc < 0 && (c = getopt_long(argc, argv, "o:j:qh", opts, NULL)) != -1) {
+	while (rc < 0 && (c = getopt_long(argc, argv, shorts, opts, NULL)) != -1) {
 		switch (c) {
 		case OPT_VARY: oom |= popc_arg_push(&a.vary, &a.n_vary, optarg); break;
 		case OPT_SET: oom |= popc_arg_push(&a.sets, &a.n_sets, optarg); break;
@@ -504,6 +527,7 @@ int popc_cmd_sweep(int argc, char **argv)
 		case OPT_NO_LOG: a.keep_log = 0; break;
 		case OPT_SHARD: a.shard_text = optarg; break;
 		case OPT_LIST: a.list = 1; break;
+		case OPT_DRY_RUN: a.dry_run = 1; break;
 		case OPT_PROGRAM: a.program = optarg; break;
 		case OPT_ALLOW_OTHER_BUILD: a.allow_other_build = 1; break;
 		case OPT_ISOLATE: a.isolate = 1; break;
@@ -512,6 +536,9 @@ int popc_cmd_sweep(int argc, char **argv)
 		default: popc_option_hint(argv[0], opts, argc, argv); rc = POPC_EXIT_USAGE; break;
 		}
 	}
+	if (rc < 0 && !oom && (popc_cli_assignment_split("sweep", "--set", a.sets, a.n_sets) ||
+				popc_cli_assignment_split("sweep", "--vary", a.vary, a.n_vary)))
+		rc = POPC_EXIT_USAGE;
 	if (rc < 0) {
 		/* options that would be silently ignored are refused */
 		const char *why = optind >= argc       ? "missing SCENE file"
@@ -530,6 +557,9 @@ int popc_cmd_sweep(int argc, char **argv)
 				  : a.program && !a.list
 					  ? "--program applies to --list only (the popc the listed lines "
 					    "call); a sweep runs in this process"
+				  : a.dry_run && a.list
+					  ? "--dry-run and --list: --list writes each run's scene.ini; "
+					    "give one of them"
 					  : NULL;
 		if (oom) {
 			fprintf(stderr, "popc sweep: out of memory\n");

@@ -64,8 +64,12 @@ int popc_map_figure_write(const popc_sweep_plan *p, const char *dir, const char 
 		}
 		log_x = positive && hi >= 100 * lo;
 	}
-	fprintf(f, "# popc map's figure: K against %s per variant (boundary.csv)\n",
-		has_x ? p->axes[1].key : "the variant");
+	/* section.key: operator.damping and environment.damping are both "damping" */
+	if (has_x)
+		fprintf(f, "# popc map's figure: K against %s.%s per variant (boundary.csv)\n",
+			p->axes[1].section, p->axes[1].key);
+	else
+		fputs("# popc map's figure: K against the variant per variant (boundary.csv)\n", f);
 	fputs("set datafile separator ','\nset key below maxcols 4\nset logscale y\nset grid\n", f);
 	/* every decade labelled (gnuplot skips some over a wide range), minor
 	 * ticks at 2..9 times each */

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include "popc/util/clock.h"
+#include "popc/util/error.h"
 #include "progress.h"
 
 void sweep_progress_show(sweep_progress *p, int final)
@@ -23,8 +24,8 @@ void sweep_progress_show(sweep_progress *p, int final)
 		/* the bar of every long verb (progress.c) */
 		char counts[64], rest[128];
 		snprintf(counts, sizeof counts, "%lld/%lld", p->done, p->total);
-		snprintf(rest, sizeof rest, "%.1f runs/s ETA %s failed %lld", rate, eta_text,
-			 p->failed_now);
+		snprintf(rest, sizeof rest, "%.1f runs/s ETA %s %s %lld", rate, eta_text,
+			 p->map ? "diverged/failed" : "failed", p->failed_now);
 		cli_progress_bar(&p->line, "", (double)p->done / (double)p->total, counts, rest, final);
 		return;
 	}
@@ -34,8 +35,13 @@ void sweep_progress_show(sweep_progress *p, int final)
 		return;
 	p->last_decile = decile;
 	p->last_done = p->done;
-	fprintf(stderr, "popc sweep: %lld/%lld runs (%d%%), %lld failed, %.1f runs/s, ETA %s\n",
-		p->done, p->total, pct, p->failed_now, rate, eta_text);
+	if (p->map)
+		fprintf(stderr, "popc map: %lld/%lld runs (%d%%), %lld diverged (verdicts) or failed, "
+				"%.1f runs/s, ETA %s\n",
+			p->done, p->total, pct, p->failed_now, rate, eta_text);
+	else
+		fprintf(stderr, "popc sweep: %lld/%lld runs (%d%%), %lld failed, %.1f runs/s, ETA %s\n",
+			p->done, p->total, pct, p->failed_now, rate, eta_text);
 }
 
 void sweep_progress_start(sweep_progress *p, int quiet, long long total, long long done_before)
@@ -61,8 +67,15 @@ void sweep_progress_failure(const sweep_progress *p, const popc_sweep_plan *plan
 	char id[POPC_SWEEP_ID_MAX], what[512], line[1400];
 	popc_sweep_run_id(plan, i, id);
 	popc_sweep_run_describe(plan, i, what, sizeof what);
-	int n = snprintf(line, sizeof line, "popc sweep: run %s (%s) failed, exit %d: %s\n", id, what,
-			 exit_status, reason);
+	int n = p->map && exit_status == POPC_EXIT_UNSTABLE
+			? snprintf(line, sizeof line,
+				   "popc map: run %s (%s) diverged, as a probe past the edge is expected "
+				   "to: a verdict, not a failure\n",
+				   id, what)
+		: p->map ? snprintf(line, sizeof line, "popc map: run %s (%s) failed, exit %d: %s\n",
+				    id, what, exit_status, reason)
+			 : snprintf(line, sizeof line, "popc sweep: run %s (%s) failed, exit %d: %s\n",
+				    id, what, exit_status, reason);
 	if (n > 0 && write(STDERR_FILENO, line, (size_t)n < sizeof line ? (size_t)n : sizeof line - 1) < 0)
 		return;
 }

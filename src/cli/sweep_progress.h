@@ -9,6 +9,9 @@
 
 typedef struct sweep_progress {
 	int quiet, tty;
+	/* a map's runs: a probe past the edge diverges (exit 6), a verdict the
+	 * search asked for, labelled as expected, not as a failure */
+	int map;
 	long long total, done;         /* done includes runs finished before (resumed) */
 	long long done_now, failed_now; /* runs made by this invocation, failed among them */
 	double t_start;

@@ -13,6 +13,7 @@
 
 #include "cli.h"
 #include "popc/sweep/sweep_columns.h"
+#include "popc/programs/table_out.h"
 #include "popc/util/numfmt.h"
 
 #define STATS_MAX_BY 8
@@ -22,7 +23,7 @@
 static void usage(FILE *f)
 {
 	fputs("usage: popc sweep stats DIR --by KEY[,KEY...] [--metrics NAME[,NAME...]]\n"
-	      "                        [--format text|csv|markdown]\n"
+	      "                        [--format text|csv|markdown|json]\n"
 	      "\n"
 	      "Reads DIR/summary.csv and prints, for each group of runs that share the\n"
 	      "values of the --by keys (varied keys, as the summary's columns name them,\n"
@@ -37,9 +38,12 @@ static void usage(FILE *f)
 	      "                           any numeric column of summary.csv: pc_rms, pc_max,\n"
 	      "                           pc_active, pc_energy, w_minus_eref_min, vsign_rate,\n"
 	      "                           chatter_intervals, ...)\n"
-	      "  --format text|csv|markdown  text (default) and markdown: one row per group,\n"
-	      "                           each cell 'median [min, max]'; csv: one row per group\n"
-	      "                           and metric: KEYS...,metric,n,median,min,q1,q3,max\n"
+	      "  --format text|csv|markdown|json  text (default) and markdown: one row per\n"
+	      "                           group, each cell 'median [min, max]'; csv: one row\n"
+	      "                           per group and metric: KEYS...,metric,n,median,min,\n"
+	      "                           q1,q3,max (a cell with ',' or '\"' quoted, RFC 4180);\n"
+	      "                           json: the csv's rows as one object each on one line,\n"
+	      "                           the same names and digits, null for an empty cell\n"
 	      "  -h, --help               this help\n"
 	      "\n"
 	      "Exit status: 0, 2 bad usage or a summary without the columns asked for.\n",
@@ -177,32 +181,55 @@ static void put_markdown_cell(const char *v)
 	}
 }
 
-static void put_number(double v, int shortest)
+static void put_number(FILE *f, double v, int shortest)
 {
 	if (shortest) {
 		char b[POPC_DOUBLE_TEXT_MAX + 1];
 		popc_format_double(v, b);
-		fputs(b, stdout);
+		fputs(b, f);
 	} else {
-		printf("%.3g", v);
+		fprintf(f, "%.3g", v);
 	}
 }
 
+/* A CSV cell, quoted (RFC 4180) where it holds ',', '"' or a line break: a
+ * group's value is a --vary value as summary.csv holds it, and a table
+ * intent's path may hold a comma. */
+static void put_csv_cell(FILE *f, const char *cell)
+{
+	if (!strpbrk(cell, ",\"\r\n")) {
+		fputs(cell, f);
+		return;
+	}
+	fputc('"', f);
+	for (const char *p = cell; *p; p++) {
+		if (*p == '"')
+			fputc('"', f);
+		fputc(*p, f);
+	}
+	fputc('"', f);
+}
+
+static const popc_option stats_options[] = {
+	{"by", 0, 'b', "KEY[,KEY...]"},
+	{"metrics", 0, 'm', "NAME[,NAME...]"},
+	{"format", 0, 'f', "text|csv|markdown|json"},
+	{"help", 'h', 'h', NULL},
+	POPC_OPTION_END,
+};
+const popc_option *const popc_cli_sweep_stats_opts[] = {stats_options, NULL};
+
 int popc_cmd_sweep_stats(int argc, char **argv)
 {
-	static const struct option opts[] = {
-		{"by", required_argument, NULL, 'b'},
-		{"metrics", required_argument, NULL, 'm'},
-		{"format", required_argument, NULL, 'f'},
-		{"help", no_argument, NULL, 'h'},
-		{NULL, 0, NULL, 0},
-	};
+	struct option opts[POPC_CLI_MAX_OPTIONS];
+	char shorts[2 * POPC_CLI_MAX_OPTIONS];
+	popc_cli_getopt_tables(popc_cli_sweep_stats_opts, opts, shorts);
 	char *by_text = NULL, *metrics_text = NULL;
 	char default_metrics[] = STATS_DEFAULT_METRICS;
-	int format = 0; /* 0 text, 1 csv, 2 markdown */
+	int format = 0; /* 0 text, 1 csv, 2 markdown, 3 json (csv's rows as objects) */
 	int c;
 	optind = 1;
-	while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
+	while ((c = getopt_long(argc, argv, shorts, opts, NULL)) != -1) {
 		switch (c) {
 		case 'b': by_text = optarg; break;
 		case 'm': metrics_text = optarg; break;
@@ -213,9 +240,11 @@ int popc_cmd_sweep_stats(int argc, char **argv)
 				format = 1;
 			else if (strcmp(optarg, "markdown") == 0 || strcmp(optarg, "md") == 0)
 				format = 2;
+			else if (strcmp(optarg, "json") == 0)
+				format = 3;
 			else {
-				fprintf(stderr, "popc sweep stats: --format '%s': text, csv or markdown\n",
-					optarg);
+				fprintf(stderr, "popc sweep stats: --format '%s': text, csv, markdown or "
+						"json\n", optarg);
 				return POPC_EXIT_USAGE;
 			}
 			break;
@@ -351,11 +380,22 @@ int popc_cmd_sweep_stats(int argc, char **argv)
 		}
 	}
 
-	/* header */
-	if (format == 1) {
+	/* header; csv and json go through the table writer (json: the csv's rows
+	 * as objects, the same cells; a group's value as the summary.jsonl types
+	 * it, a number where it reads as one) */
+	popc_table_out table;
+	int tabled = format == 1 || format == 3;
+	if (tabled) {
+		char header[STATS_MAX_BY * 160 + 64];
+		size_t hl = 0;
 		for (int i = 0; i < n_by; i++)
-			printf("%s,", by[i]);
-		puts("metric,n,median,min,q1,q3,max");
+			hl += (size_t)snprintf(header + hl, sizeof header - hl, "%s,", by[i]);
+		snprintf(header + hl, sizeof header - hl, "metric,n,median,min,q1,q3,max");
+		static const char *const text_columns[] = {"metric", NULL};
+		if (popc_table_out_begin(&table, stdout, format == 3, header, text_columns) != 0)
+			goto oom;
+		for (int i = 0; i < n_by && format == 3; i++)
+			table.kinds[i] = POPC_JSON_AUTO;
 	} else {
 		const char *sep = format == 2 ? " | " : "  ";
 		printf("%s", format == 2 ? "| " : "");
@@ -384,31 +424,35 @@ int popc_cmd_sweep_stats(int argc, char **argv)
 		}
 		if (format == 2)
 			printf("| ");
-		for (int i = 0; i < n_by; i++) {
+		for (int i = 0; i < n_by && !tabled; i++) {
 			if (format == 2)
 				put_markdown_cell(kv[i]);
 			else
 				fputs(kv[i], stdout);
-			fputs(format == 1 ? "," : format == 2 ? " | " : "  ", stdout);
+			fputs(format == 2 ? " | " : "  ", stdout);
 		}
-		if (format != 1)
+		if (!tabled)
 			printf("%d", gr->n_runs);
 		for (int i = 0; i < n_m; i++) {
 			int n = gr->n[i];
 			if (n)
 				qsort(gr->v[i], (size_t)n, sizeof(double), cmp_double);
-			if (format == 1) {
-				if (i)
-					for (int j = 0; j < n_by; j++)
-						printf("%s,", kv[j]);
-				printf("%s,%d", metric[i], n);
+			if (tabled) {
+				FILE *o = popc_table_out_row(&table);
+				for (int j = 0; j < n_by; j++) {
+					put_csv_cell(o, kv[j]);
+					fputc(',', o);
+				}
+				fprintf(o, "%s,%d", metric[i], n);
 				const double p[] = {0.5, 0.0, 0.25, 0.75, 1.0};
 				for (int j = 0; j < 5; j++) {
-					putchar(',');
+					fputc(',', o);
 					if (n)
-						put_number(quantile(gr->v[i], n, p[j]), 1);
+						put_number(o, quantile(gr->v[i], n, p[j]), 1);
 				}
-				putchar('\n');
+				fputc('\n', o);
+				if (popc_table_out_flush(&table) != 0)
+					goto oom;
 				continue;
 			}
 			printf("%s", format == 2 ? " | " : "  ");
@@ -416,18 +460,20 @@ int popc_cmd_sweep_stats(int argc, char **argv)
 				printf("n/a");
 				continue;
 			}
-			put_number(quantile(gr->v[i], n, 0.5), 0);
+			put_number(stdout, quantile(gr->v[i], n, 0.5), 0);
 			printf(" [");
-			put_number(gr->v[i][0], 0);
+			put_number(stdout, gr->v[i][0], 0);
 			printf(", ");
-			put_number(gr->v[i][n - 1], 0);
+			put_number(stdout, gr->v[i][n - 1], 0);
 			printf("]");
 			if (n < gr->n_runs)
 				printf(" (n=%d)", n);
 		}
-		if (format != 1)
+		if (!tabled)
 			puts(format == 2 ? " |" : "");
 	}
+	if (tabled)
+		popc_table_out_end(&table);
 	if (n_failed)
 		fprintf(stderr, "popc sweep stats: note: %d failed run%s left out\n", n_failed,
 			n_failed == 1 ? "" : "s");

@@ -26,6 +26,18 @@ static void usage(const popc_program *p, FILE *f)
 	fprintf(f, "\n%s", p->footer);
 }
 
+void popc_verb_complete(FILE *f, const popc_verb *verbs, size_t n, const char *parent)
+{
+	for (size_t i = 0; i < n; i++) {
+		char path[128];
+		snprintf(path, sizeof path, "%s%s%s", parent, parent[0] ? " " : "", verbs[i].name);
+		fprintf(f, "verb\t%s\t%s\n", path, verbs[i].args);
+		if (verbs[i].options)
+			popc_options_complete(f, path, verbs[i].options);
+		popc_verb_complete(f, verbs[i].subs, verbs[i].n_subs, path);
+	}
+}
+
 int popc_verb_dispatch(const popc_program *p, int argc, char **argv)
 {
 	if (argc < 2) {
@@ -36,6 +48,10 @@ int popc_verb_dispatch(const popc_program *p, int argc, char **argv)
 	if (strcmp(verb, "--help") == 0 || strcmp(verb, "-h") == 0 || strcmp(verb, "help") == 0) {
 		usage(p, stdout);
 		return POPC_EXIT_OK;
+	}
+	if (strcmp(verb, "--complete") == 0) {
+		popc_verb_complete(stdout, p->verbs, p->n_verbs, "");
+		return fflush(stdout) == 0 && !ferror(stdout) ? POPC_EXIT_OK : 1;
 	}
 	if (strcmp(verb, "--version") == 0) {
 		printf("%s %s\n", p->name, p->version);

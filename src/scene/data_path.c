@@ -81,8 +81,12 @@ int popc_data_find(popc_data_kind kind, const char *name, const char *base_dir, 
 	char local[POPC_PATH_MAX * 2];
 	snprintf(local, sizeof local, "%s%s%s", base_dir ? base_dir : "", base_dir ? "/" : "", name);
 	struct stat sb;
-	if (stat(local, &sb) == 0)
-		return 0; /* a local file wins, whatever it is (its reader says what is wrong) */
+	/* a local file wins, whatever it is (its reader says what is wrong);
+	 * not a directory, which is no scene or map: a directory named paper
+	 * in the working directory blocked the scene name paper (issue 27) */
+	int local_dir = stat(local, &sb) == 0 && S_ISDIR(sb.st_mode);
+	if (!local_dir && stat(local, &sb) == 0)
+		return 0;
 	/* NAME first: a file named exactly so; then NAME.ini, the shipped files' names */
 	const char *suffixes[2] = {"", ends_with(name, ".ini") ? NULL : ".ini"};
 	char dir[POPC_PATH_MAX];
@@ -99,9 +103,10 @@ int popc_data_find(popc_data_kind kind, const char *name, const char *base_dir, 
 	else
 		snprintf(tried, sizeof tried, "%s/%s", kd, name);
 	return popc_error_set(err, POPC_ERR_INVALID,
-			      "%s: no such file in %s, nor %s in the data director%s %s "
+			      "%s: no such file in %s%s, nor %s in the data director%s %s "
 			      "(POPC_DATA_PATH sets them; popc(1), FILES)",
-			      name, base_dir ? base_dir : "the working directory", tried,
+			      name, base_dir ? base_dir : "the working directory",
+			      local_dir ? " (a directory of that name, not a file)" : "", tried,
 			      strchr(dirs, ':') ? "ies" : "y", dirs);
 }
 

@@ -2,6 +2,7 @@
  * Every key is declared once, in scene_keys[] below. */
 #include "popc/scene/scene.h"
 
+#include <ctype.h>
 #include <errno.h>
 #include <ini.h>
 #include <limits.h>
@@ -229,6 +230,30 @@ static void describe_range(const scene_key *k, char *buf, size_t cap)
 }
 
 /* The name a message gives key k (see set_key) and its allowed range. */
+/* "1000N/m", "5 s", "2kHz", "3 µm": the length of the leading number when a
+ * unit follows it (after blanks, a letter, '/', '%' or a non-ASCII byte such
+ * as µ's), else 0. Only to name the mistake: such a value is refused either
+ * way. */
+static size_t number_with_unit(const char *value)
+{
+	size_t n = strspn(value, "+-0123456789.eE");
+	for (; n > 0; n--) {
+		const unsigned char *u = (const unsigned char *)value + n;
+		while (*u == ' ' || *u == '\t')
+			u++;
+		/* not units: hex ("0x10"), a cut exponent ("5e", "5e+") */
+		int hex = (*u == 'x' || *u == 'X') && u == (const unsigned char *)value + n &&
+			  value[n - 1] == '0';
+		int exponent = (*u == 'e' || *u == 'E') && (u[1] == '\0' || u[1] == '+' || u[1] == '-' ||
+							 isdigit(u[1]));
+		double v;
+		if ((isalpha(*u) || *u == '/' || *u == '%' || *u >= 0x80) && !hex && !exponent &&
+		    popc_parse_double_span(value, value + n, &v) == POPC_PARSE_OK)
+			return n;
+	}
+	return 0;
+}
+
 static void describe_key(const scene_key *k, const char *where, const char *option, char *range,
 			 size_t range_cap, char *who, size_t who_cap)
 {
@@ -297,6 +322,16 @@ static int set_key(popc_scene *s, const scene_key *k, const char *value, const c
 			return popc_error_set(err, POPC_ERR_INVALID,
 					      "%s%s%s: not a whole number; allowed %s", who, sep, value,
 					      range);
+		size_t num_len = ps == POPC_PARSE_INVALID ? number_with_unit(value) : 0;
+		const char *unit_text = value + num_len;
+		while (num_len && (*unit_text == ' ' || *unit_text == '\t'))
+			unit_text++;
+		if (num_len)
+			return popc_error_set(err, POPC_ERR_INVALID,
+					      "%s%s'%s': units are not accepted ('%s' after the number): "
+					      "give the number alone, in %s; allowed %s",
+					      who, sep, value, unit_text,
+					      k->unit[0] ? k->unit : "the key's unit", range);
 		if (ps != POPC_PARSE_OK)
 			return popc_error_set(err, POPC_ERR_INVALID, "%s%s'%s': %s; allowed %s", who,
 					      sep, value,

@@ -32,6 +32,7 @@
 #include "popc/util/parse.h"
 #include "popc/util/same_file.h"
 #include "popc/programs/stdfds.h"
+#include "popc/programs/options.h"
 #include "popc/programs/usage_hint.h"
 
 static volatile sig_atomic_t stop_requested = 0;
@@ -574,40 +575,52 @@ enum { OPT_MAP = 256, OPT_LISTEN, OPT_SCENE, OPT_LOCKSTEP, OPT_SET, OPT_WATCHDOG
        OPT_EXIT, OPT_FAULT_AT, OPT_START_FAULTED, OPT_NEVER_READY, OPT_MAP_KEYS, OPT_DUPLICATE,
        OPT_REORDER, OPT_WRONG_UNIT, OPT_WRONG_TID, OPT_WRONG_PROTOCOL, OPT_WRONG_LENGTH };
 
+static const popc_option sim_options[] = {
+	{"map", 0, OPT_MAP, "MAP"},
+	{"listen", 0, OPT_LISTEN, "URI"},
+	{"scene", 0, OPT_SCENE, "SCENE"},
+	{"lockstep", 0, OPT_LOCKSTEP, NULL},
+	{"set", 0, OPT_SET, "KEY=VALUE"},
+	{"watchdog-ms", 0, OPT_WATCHDOG, "MS"},
+	{"record", 0, OPT_RECORD, "FILE"},
+	{"notify-at", 0, OPT_NOTIFY, "N"},
+	{"pace-baud", 0, OPT_PACE, NULL},
+	{"drop", 0, OPT_DROP, "SPEC"},
+	{"delay", 0, OPT_DELAY, "SPEC"},
+	{"exception", 0, OPT_EXCEPTION, "SPEC"},
+	{"corrupt-crc", 0, OPT_CORRUPT, "SPEC"},
+	{"close-after", 0, OPT_CLOSE, "SPEC"},
+	{"exit-after", 0, OPT_EXIT, "SPEC"},
+	{"fault-at", 0, OPT_FAULT_AT, "SPEC"},
+	{"start-faulted", 0, OPT_START_FAULTED, NULL},
+	{"never-ready", 0, OPT_NEVER_READY, NULL},
+	{"map-keys", 0, OPT_MAP_KEYS, NULL},
+	{"duplicate", 0, OPT_DUPLICATE, "SPEC"},
+	{"reorder", 0, OPT_REORDER, "SPEC"},
+	{"wrong-unit", 0, OPT_WRONG_UNIT, "SPEC"},
+	{"wrong-tid", 0, OPT_WRONG_TID, "SPEC"},
+	{"wrong-protocol", 0, OPT_WRONG_PROTOCOL, "SPEC"},
+	{"wrong-length", 0, OPT_WRONG_LENGTH, "SPEC"},
+	{"help", 'h', 'h', NULL},
+	{"version", 0, 'V', NULL},
+	POPC_OPTION_END,
+};
+static const popc_option *const sim_opts[] = {sim_options, NULL};
+
 int main(int argc, char **argv)
 {
 	if (popc_stdfds_make_safe() != 0)
 		return POPC_EXIT_RUN_FAILED; /* no /dev/null: a socket could land on a closed 0-2 */
-	static const struct option opts[] = {
-		{"map", required_argument, NULL, OPT_MAP},
-		{"listen", required_argument, NULL, OPT_LISTEN},
-		{"scene", required_argument, NULL, OPT_SCENE},
-		{"lockstep", no_argument, NULL, OPT_LOCKSTEP},
-		{"set", required_argument, NULL, OPT_SET},
-		{"watchdog-ms", required_argument, NULL, OPT_WATCHDOG},
-		{"record", required_argument, NULL, OPT_RECORD},
-		{"notify-at", required_argument, NULL, OPT_NOTIFY},
-		{"pace-baud", no_argument, NULL, OPT_PACE},
-		{"drop", required_argument, NULL, OPT_DROP},
-		{"delay", required_argument, NULL, OPT_DELAY},
-		{"exception", required_argument, NULL, OPT_EXCEPTION},
-		{"corrupt-crc", required_argument, NULL, OPT_CORRUPT},
-		{"close-after", required_argument, NULL, OPT_CLOSE},
-		{"exit-after", required_argument, NULL, OPT_EXIT},
-		{"fault-at", required_argument, NULL, OPT_FAULT_AT},
-		{"start-faulted", no_argument, NULL, OPT_START_FAULTED},
-		{"never-ready", no_argument, NULL, OPT_NEVER_READY},
-		{"map-keys", no_argument, NULL, OPT_MAP_KEYS},
-		{"duplicate", required_argument, NULL, OPT_DUPLICATE},
-		{"reorder", required_argument, NULL, OPT_REORDER},
-		{"wrong-unit", required_argument, NULL, OPT_WRONG_UNIT},
-		{"wrong-tid", required_argument, NULL, OPT_WRONG_TID},
-		{"wrong-protocol", required_argument, NULL, OPT_WRONG_PROTOCOL},
-		{"wrong-length", required_argument, NULL, OPT_WRONG_LENGTH},
-		{"help", no_argument, NULL, 'h'},
-		{"version", no_argument, NULL, 'V'},
-		{NULL, 0, NULL, 0},
-	};
+	if (argc == 2 && strcmp(argv[1], "--complete") == 0) {
+		/* hidden: the bash completion and tests/cli/test_options_agree.sh
+		 * read the option table (options.h) */
+		popc_options_complete(stdout, "", sim_opts);
+		return fflush(stdout) == 0 && !ferror(stdout) ? POPC_EXIT_OK : POPC_EXIT_RUN_FAILED;
+	}
+	struct option opts[64];
+	char shorts[128];
+	if (popc_options_getopt(sim_opts, opts, 64, shorts, 128) != 0)
+		abort(); /* the arrays hold the table: a programming error */
 	static server sv;
 	const char *map_path = NULL, *listen = NULL, *scene_path = NULL, *record_path = NULL;
 	const char *sets[64];
@@ -615,7 +628,7 @@ int main(int argc, char **argv)
 	long watchdog = -1;
 	static char prog[] = "popc-servo-sim";
 	argv[0] = prog; /* getopt's messages name argv[0], not the path it was run by */
-	while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
+	while ((c = getopt_long(argc, argv, shorts, opts, NULL)) != -1) {
 		int bad = 0;
 		switch (c) {
 		case OPT_MAP: map_path = optarg; break;

@@ -3,7 +3,7 @@
 json module (strict: NaN, Infinity and -Infinity are refused, as RFC 8259
 has no such numbers).
 
-    json_matches_csv.py CSV JSONL [--skip NAME,...] [--want-null NAME,...]
+    json_matches_csv.py CSV JSONL [--skip NAME,...] [--want-null NAME,...] [--digits]
 
 Each JSON line is one object whose keys are the CSV header's names, in its
 order; each value is the row's cell: null for an empty cell, a string equal
@@ -11,6 +11,8 @@ to the cell's text, or a number whose double has the same 64 bits as the
 cell's (an integer equal to an integer cell). --skip leaves out cells that
 differ by nature between the two files (wall-clock times of two runs);
 --want-null names columns that must be null somewhere (the test means it).
+--digits: a number must have the very digits of its cell, as text (the
+--format json of a table: the same digits as its CSV), not only its bits.
 """
 import csv
 import json
@@ -30,6 +32,8 @@ def main():
     args = sys.argv[1:]
     csv_path, jsonl_path = args[0], args[1]
     skip, want_null = set(), set()
+    digits = "--digits" in args
+    args = [a for a in args if a != "--digits"]
     for k in range(2, len(args), 2):
         (skip if args[k] == "--skip" else want_null).update(args[k + 1].split(","))
     with open(csv_path, newline="") as f:
@@ -45,6 +49,10 @@ def main():
     nulls = set()
     for i, (line, row) in enumerate(zip(lines, rows)):
         obj = json.loads(line, parse_constant=refuse_constant)
+        # the numbers' own text, to compare digits (a string stays a str:
+        # parse_float and parse_int see numbers only)
+        num_text = json.loads(line, parse_constant=refuse_constant,
+                              parse_float=lambda t: ("number", t), parse_int=lambda t: ("number", t))
         if list(obj.keys()) != header:
             fails.append(f"line {i + 1}: keys {list(obj.keys())}, want {header}")
             continue
@@ -52,7 +60,9 @@ def main():
             if name in skip:
                 continue
             v = obj[name]
-            if v is None:
+            if digits and isinstance(num_text[name], tuple):
+                ok = num_text[name][1] == cell
+            elif v is None:
                 nulls.add(name)
                 ok = cell == ""
             elif isinstance(v, str):

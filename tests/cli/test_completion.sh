@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # The bash completion (data/bash-completion/popc) as bash calls it: COMP_LINE
 # and COMP_POINT set, the completion function run, COMPREPLY read. Verbs,
-# options (read from each verb's --help), variant names, scene keys and an
-# enum key's names for --set and --vary, installed scene and map names.
+# options (read from each verb's option table, `PROGRAM --complete`), variant
+# names, scene keys and an enum key's names for --set and --vary, installed
+# scene and map names. That the tables, --help and the man pages agree:
+# test_options_agree.sh.
 set -u
 POPC=${POPC:?POPC must name the popc program}
 SRC=${POPC_SOURCE_ROOT:?}
@@ -48,10 +50,13 @@ includes() {
 offers "verbs" _popc popc "" "--help --version bench map run scene sweep"
 offers "a verb's start" _popc popc "sw" "sweep"
 includes "popc map's options, from its --help" _popc popc "map --" --variant --vary --stiffness --tol --scan --criterion --port-tol --shard
-offers "map --criterion: the criteria" _popc popc "map paper --criterion " "chatter diverged limit-cycle passive"
-includes "popc run's options, from its --help" _popc popc "run --" --set --variant --log --summary --axis --map --connect --free-run --rt --quiet --help
+offers "map --criterion: the criteria" _popc popc "map paper --criterion " "chatter device-passive diverged limit-cycle passive"
+offers "  after a comma" _popc popc "map paper --criterion passive,d" "passive,device-passive passive,diverged"
+includes "popc run's options, from its table" _popc popc "run --" --set --variant --log --summary --axis --map --connect --free-run --rt --quiet --help
 complete_line _popc popc "run --"
-n_help=$("$POPC" run --help | grep -cE '^ +(-[a-z], )?--[a-z]')
+# each option line's first long option, once (a continuation line may start
+# with an option it names)
+n_help=$("$POPC" run --help | sed -nE 's/^ +(-[a-z], )?(--[a-z][a-z-]*).*/\2/p' | sort -u | wc -l)
 n_got=$(wc -w <<<"$got")
 check "  every option of the help ($n_help), no more ($n_got)" test "$n_got" -eq "$n_help"
 offers "--variant: the variant names" _popc popc "run paper --variant i" "ignore improved"
@@ -75,13 +80,17 @@ offers "sweep merge's options" _popc popc "sweep merge --a" "--allow-other-build
 offers "scene actions" _popc popc "scene " "keys list show"
 offers "scene list --maps" _popc popc "scene list --m" "--maps"
 offers "bench kinds" _popc popc "bench " "integrators log loop"
-offers "popc-analyze verbs" _popc_analyze popc-analyze "" "--help chatter compare energy replay report"
+offers "popc-analyze verbs" _popc_analyze popc-analyze "" "--help --version chatter compare energy events replay report"
+offers "  events --format" _popc_analyze popc-analyze "events x.csv --format " "csv json text"
+offers "sweep's sub-verbs and scenes" _popc popc "sweep st" "stats"
+offers "  sweep stats' options" _popc popc "sweep stats DIR --f" "--format"
+offers "  sweep stats --format" _popc popc "sweep stats DIR --format " "csv json markdown text"
 offers "  replay --variant: names and all" _popc_analyze popc-analyze "replay x.csv --variant " "all energy-bounding filtered-velocity hold ignore improved none pc-off-reversals po-pc ref-energy windowed-po"
-includes "  a verb's options, from its --help" _popc_analyze popc-analyze "energy --" --observer --check --output --column --set
+includes "  a verb's options, from its table" _popc_analyze popc-analyze "energy --" --observer --check --output --column --set
 offers "  --format" _popc_analyze popc-analyze "compare x.csv --format m" "markdown"
 if [ -e "$T/bin/popc-servo-sim" ]; then
   offers "popc-servo-sim --map" _popc_servo_sim popc-servo-sim "--map c" "cia402-lohi"
   offers "  --scene" _popc_servo_sim popc-servo-sim "--map generic --scene no" "no-pc"
-  includes "  options, from its --help" _popc_servo_sim popc-servo-sim "--" --map --listen --scene --lockstep --map-keys
+  includes "  options, from its table" _popc_servo_sim popc-servo-sim "--" --map --listen --scene --lockstep --map-keys
 fi
 check_summary

@@ -968,7 +968,11 @@ static const uri_case uri_cases[] = {
 	{"tcp:127.0.0.1:0x1f6", 0, NULL},
 	{"tcp:127.0.0.1:502x", 0, NULL},
 	{"tcp:127.0.0.1:", 0, NULL},
-	{"rtu:/dev/ttyS1:+9600", 1, "rtu:/dev/ttyS1:9600:8E1"},
+	/* a baud is digits only, as a port (issue 27: "+9600" was 9600) */
+	{"rtu:/dev/ttyS1:+9600", 0, NULL},
+	{"rtu:/dev/ttyS1:-9600", 0, NULL},
+	{"rtu:/dev/ttyS1:9600.0", 0, NULL},
+	{"rtu:/dev/ttyS1:9600 ", 0, NULL},
 	{"rtu:/dev/ttyS1: 9600:8N1", 0, NULL},
 	{"rtu:/dev/ttyS1:9600.5:8N1", 0, NULL},
 };

@@ -63,7 +63,7 @@ refuse "no --by" "missing --by" "$W/fake"
 refuse "a --by column the summary lacks" "no such column" "$W/fake" --by operator.x0
 refuse "a metric that is not one" "not a metric column" "$W/fake" --by controller.variant --metrics wall_time_s
 refuse "no summary" "summary.csv" "$W/none" --by controller.variant
-refuse "a bad format" "text, csv or markdown" "$W/fake" --by controller.variant --format xml
+refuse "a bad format" "text, csv, markdown or json" "$W/fake" --by controller.variant --format xml
 # --by names varied keys only (the columns between run and exit_status),
 # each once, no empty item (issue 28: all of these were accepted)
 refuse "--by a metric" "--by pc_rms_late: $W/fake/summary.csv names no varied key there" "$W/fake" --metrics pc_rms_late --by pc_rms_late

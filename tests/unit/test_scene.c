@@ -110,7 +110,12 @@ static void test_bad_scenes(void **state)
 		{"[run]\rduration = 2\r[operator]\rmass = 7\r", {":1:", "a carriage return (CR) inside the line", "CR-only"}},
 		{"[run]\nduration = 2\rrate = 500\n", {":2:", "a carriage return (CR) inside the line", NULL}},
 		{"[run]\nduraton = 5\n", {":2:", "unknown key run.duraton", "duration"}},
-		{"[run]\nduration = 5s\n", {":2:", "run.duration", "not a finite number"}},
+		/* a unit after the number: named, with the key's unit (issue 27) */
+		{"[run]\nduration = 5s\n", {":2:", "run.duration", "units are not accepted ('s' after the number): give the number alone, in s"}},
+		{"[environment]\nstiffness = 1000N/m\n", {":2:", "'1000N/m'", "units are not accepted ('N/m' after the number): give the number alone, in N/m"}},
+		{"[environment]\nstiffness = 2 kN/m\n", {":2:", "environment.stiffness", "('kN/m' after the number)"}},
+		{"[encoder]\nresolution = 1e-5m\n", {":2:", "encoder.resolution", "('m' after the number): give the number alone, in m"}},
+		{"[run]\nduration = 5e\n", {":2:", "run.duration", "not a finite number"}},
 		{"[run]\nduration = nan\n", {":2:", "run.duration", "(0, 1e+07] s"}},
 		{"[run]\nduration = inf\n", {":2:", "run.duration", "not a finite number"}},
 		{"[run]\nduration = 0x10\n", {":2:", "run.duration", NULL}},
@@ -246,6 +251,8 @@ static void test_number_text(void **state)
 		{"run.duration=5 5", 0, "not a finite number"},
 		{"run.duration=inf", 0, "not a finite number"},
 		{"run.duration=0x10", 0, "not a finite number"},
+		{"run.duration=5 5", 0, "not a finite number"},
+		{"environment.stiffness=1000N/m", 0, "units are not accepted ('N/m' after the number): give the number alone, in N/m"},
 		{"controller.variant= hold ", POPC_VARIANT_HOLD, NULL},
 		{" run . duration =7", 7, NULL},
 	};

@@ -7,12 +7,21 @@
 #define POPC_PROGRAMS_VERB_H
 
 #include <stddef.h>
+#include <stdio.h>
+
+#include "popc/programs/options.h"
 
 typedef struct popc_verb {
 	const char *name;               /* "run" */
 	int (*run)(int argc, char **argv); /* argv[0] is "<program> <verb>"; returns the exit code */
 	const char *args;               /* its operands in the usage: "SCENE", "" */
 	const char *summary;            /* one line: "run one experiment" */
+	/* its option tables (options.h), NULL-terminated; NULL: none listed */
+	const popc_option *const *options;
+	/* its sub-verbs ("sweep merge"), which the verb's own run dispatches;
+	 * listed by --complete only (their run is NULL) */
+	const struct popc_verb *subs;
+	size_t n_subs;
 } popc_verb;
 
 typedef struct popc_program {
@@ -32,5 +41,10 @@ typedef struct popc_program {
  * verb 'X'" and one hint line (the nearest verb if one is close,
  * usage_hint.h); both return 2 (POPC_EXIT_USAGE). */
 int popc_verb_dispatch(const popc_program *p, int argc, char **argv);
+
+/* `PROGRAM --complete` (hidden: the bash completion and
+ * tests/cli/test_options_agree.sh read it): "verb<TAB>PATH<TAB>ARGS" for each
+ * verb and sub-verb ("sweep merge"), then its options (popc_options_complete). */
+void popc_verb_complete(FILE *f, const popc_verb *verbs, size_t n, const char *parent);
 
 #endif

@@ -144,8 +144,11 @@ static int parse_rtu(const char *text, const char *p, popc_modbus_uri *u, popc_e
 	const char *b = colon + 1;
 	const char *end = b + strcspn(b, ":");
 	long long baud;
-	if (popc_parse_ll_span(b, end, 50, 4000000, 0, &baud) != 0)
-		return uri_bad(err, text, "baud must be an integer in [50, 4000000]");
+	/* digits only, as the port: "+9600" read as 9600 (the number grammar
+	 * takes a sign), and " 9600" or "9600.0" are no baud a line is set to */
+	size_t digits = strspn(b, "0123456789");
+	if (digits == 0 || b + digits != end || popc_parse_ll_span(b, end, 50, 4000000, 0, &baud) != 0)
+		return uri_bad(err, text, "baud must be decimal digits, an integer in [50, 4000000]");
 	u->baud = (int)baud;
 	if (!*end)
 		return 0;
