@@ -25,6 +25,17 @@ for mode in undo literal; do
 		"$tmp/$mode.csv" >"$tmp/$mode.dat"
 done
 
+# the titles' figures, from the runs themselves (so they follow the code):
+# undo's largest PC force and when; literal's first PC force above 0.5 N and
+# its largest
+stats() {
+	awk '{ a = $3 < 0 ? -$3 : $3; if (a > m) { m = a; tm = $1 } if (a > 0.5 && f == "") f = $1 }
+		END { printf "%.3g %.4g %s\n", m, tm, f == "" ? "never" : sprintf("%.3g", f) }' "$1"
+}
+set -- $(stats "$tmp/undo.dat")
+undo_max=$1 undo_at=$2
+set -- $(stats "$tmp/literal.dat")
+lit_max=$1 lit_from=$3
 term="pngcairo size 1400,900 font 'Sans,11'"
 gnuplot -e "set terminal" 2>&1 | grep -q pngcairo || term="png size 1400,900"
 cat >"$tmp/fig.gp" <<GP
@@ -35,16 +46,16 @@ set grid
 set xrange [0:20]
 set xlabel 't (s)'
 set ylabel 'W - E_{ref} (mJ)'
-set yrange [-0.08:0.02]
+set yrange [-0.045:0.02]
 set title "undo (default): Prev_fc = f_c(k-1); each excursion returns W - E_ref to its value before (Fig. 7)" noenhanced
 plot '$tmp/undo.dat' using 1:(\$2*1e3) with lines lc rgb '#1f77b4' notitle
-set title "literal: Prev_fc = f_e(k); each ignored reversal moves it by -K_e delta^2 / 2 = -5e-8 J" noenhanced
+set title "literal: Prev_fc = f_e(k); an ignored reversal moves it by -K_e delta^2 / 2 = -5e-8 J" noenhanced
 plot '$tmp/literal.dat' using 1:(\$2*1e3) with lines lc rgb '#d62728' notitle
 set ylabel 'f_{pc} (N)'
 set yrange [-5.5:5.5]
-set title "undo: f_pc, at most 0.14 N (at 3.87 s), then quiet" noenhanced
+set title "undo: f_pc, at most $undo_max N (at $undo_at s), then quiet" noenhanced
 plot '$tmp/undo.dat' using 1:3 with lines lc rgb '#1f77b4' notitle
-set title "literal: f_pc dithers every tick, its amplitude ramping to the bound (+-5 N), from about 4 s" noenhanced
+set title "literal: f_pc dithers, above 0.5 N from $lit_from s, up to $lit_max N (the bound: 5 N)" noenhanced
 plot '$tmp/literal.dat' using 1:3 with lines lc rgb '#d62728' notitle
 unset multiplot
 GP
