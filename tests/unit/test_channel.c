@@ -218,7 +218,7 @@ static void test_refusals(void **state)
 		{{.jitter_ticks = -2}, "channel: jitter of -2 ticks"},
 		{{.loss = 1.0}, "channel: loss 1, expected a probability in [0, 1)"},
 		{{.loss = -0.1}, "channel: loss -0.1, expected a probability in [0, 1)"},
-		{{.loss = NAN}, "channel: loss nan, expected a probability in [0, 1)"},
+		{{.loss = (double)NAN}, "channel: loss nan, expected a probability in [0, 1)"},
 		{{.trace_ticks = bad_trace, .n_trace = 2}, "channel: trace entry 2: a delay of -1 ticks"},
 		{{.trace_ticks = bad_trace, .n_trace = 1, .delay_ticks = 1}, "give one of them"},
 	};

@@ -51,7 +51,7 @@ static void test_receive_monotone(void **state)
 	(void)state;
 	popc_tdpa_side s;
 	popc_tdpa_side_init(&s, 0.0);
-	const double seq[] = {1.0, 3.0, 2.0, NAN, 2.5, INFINITY, 3.0, -1.0, 4.0};
+	const double seq[] = {1.0, 3.0, 2.0, (double)NAN, 2.5, (double)INFINITY, 3.0, -1.0, 4.0};
 	const double want[] = {1.0, 3.0, 3.0, 3.0, 3.0, 3.0, 3.0, 3.0, 4.0};
 	for (size_t i = 0; i < sizeof seq / sizeof seq[0]; i++) {
 		popc_tdpa_receive(&s, seq[i]);
