@@ -22,6 +22,9 @@ import re
 import sys
 import tempfile
 
+import hygiene
+from hygiene import c_tokens
+
 KEY_ROW = re.compile(r'(?:NUM\w*\(|\{)\s*"([a-z_]+)",\s*"([a-z_0-9]+)",')
 # NUM_ADM("k", ...) rows carry their section in the macro
 ADM_ROW = re.compile(r'NUM_ADM\(\s*"([a-z_0-9]+)",')
@@ -37,38 +40,15 @@ def scene_keys(root):
 
 
 def literals(text):
-    """(line, text) of each C string literal, comments and chars skipped."""
+    """(line, text) of each C string literal but an #include's (hygiene.c_tokens)."""
     out = []
-    i, n, line = 0, len(text), 1
-    while i < n:
-        c = text[i]
-        if c == "\n":
-            line += 1
-            i += 1
-        elif text.startswith("/*", i):
-            j = text.find("*/", i + 2)
-            j = n if j < 0 else j + 2
-            line += text.count("\n", i, j)
-            i = j
-        elif text.startswith("//", i):
-            j = text.find("\n", i)
-            i = n if j < 0 else j
-        elif c == "'":
-            j = i + 1
-            while j < n and text[j] != "'":
-                j += 2 if text[j] == "\\" else 1
-            i = j + 1
-        elif c == '"':
-            j = i + 1
-            while j < n and text[j] != '"' and text[j] != "\n":
-                j += 2 if text[j] == "\\" else 1
-            out.append((line, text[i + 1:j]))
-            i = j + 1
-        elif text.startswith("#include", i):
-            j = text.find("\n", i)
-            i = n if j < 0 else j
-        else:
-            i += 1
+    for kind, start, end, line in c_tokens(text):
+        if kind != "string":
+            continue
+        line_start = text.rfind("\n", 0, start) + 1
+        if text.startswith("#include", line_start):
+            continue
+        out.append((line, text[start + 1:end - 1] if text[end - 1] == '"' else text[start + 1:end]))
     return out
 
 
@@ -121,20 +101,10 @@ def self_test():
 
 
 def main(argv):
-    if len(argv) == 2 and argv[1] == "--self-test":
-        return self_test()
-    if len(argv) != 2:
-        print(__doc__.strip().split("\n\n")[-1], file=sys.stderr)
-        return 2
-    bad = check(argv[1])
-    for b in bad:
-        print(b)
-    if bad:
-        print("%d core message(s) name a scene key or an option: name the "
-              "core's parameter, and map it in the scene or program layer" % len(bad))
-        return 1
-    print("the core's messages name no scene key and no option")
-    return 0
+    return hygiene.main(argv, __doc__, check, self_test,
+                        "%d core message(s) name a scene key or an option: name the "
+                        "core's parameter, and map it in the scene or program layer",
+                        "the core's messages name no scene key and no option")
 
 
 if __name__ == "__main__":

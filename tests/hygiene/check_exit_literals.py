@@ -23,6 +23,9 @@ import re
 import sys
 import tempfile
 
+import hygiene
+from hygiene import c_tokens
+
 FOLDERS = ("src/cli", "src/servo_sim", "analysis", "src/programs")
 # (file, function): what its literal 1 means
 TRUTH = {
@@ -61,29 +64,17 @@ LITERAL = [
 
 
 def strip_comments(text):
-    """The text with comments blanked (newlines kept) and strings emptied."""
-    out = []
-    i, n = 0, len(text)
-    while i < n:
-        if text.startswith("/*", i):
-            j = text.find("*/", i + 2)
-            j = n if j < 0 else j + 2
-            out.append(re.sub(r"[^\n]", " ", text[i:j]))
-            i = j
-        elif text.startswith("//", i):
-            j = text.find("\n", i)
-            j = n if j < 0 else j
-            i = j
-        elif text[i] in "\"'":
-            q = text[i]
-            j = i + 1
-            while j < n and text[j] != q and text[j] != "\n":
-                j += 2 if text[j] == "\\" else 1
-            out.append(q + q)
-            i = j + 1
+    """The text with comments blanked (newlines kept) and strings and
+    character constants emptied (hygiene.c_tokens)."""
+    out, at = [], 0
+    for kind, start, end, _line in c_tokens(text):
+        out.append(text[at:start])
+        if kind == "comment":
+            out.append(re.sub(r"[^\n]", " ", text[start:end]))
         else:
-            out.append(text[i])
-            i += 1
+            out.append(text[start] * 2)
+        at = end
+    out.append(text[at:])
     return "".join(out)
 
 
@@ -131,21 +122,11 @@ def self_test():
 
 
 def main(argv):
-    if len(argv) == 2 and argv[1] == "--self-test":
-        return self_test()
-    if len(argv) != 2:
-        print(__doc__.strip().split("\n\n")[-1], file=sys.stderr)
-        return 2
-    bad = check(argv[1])
-    for b in bad:
-        print(b)
-    if bad:
-        print("%d exit code(s) written as a number: use enum popc_exit "
-              "(include/popc/util/error.h), or add a truth-valued function to "
-              "TRUTH with what its 1 means" % len(bad))
-        return 1
-    print("every exit code is named")
-    return 0
+    return hygiene.main(argv, __doc__, check, self_test,
+                        "%d exit code(s) written as a number: use enum popc_exit "
+                        "(include/popc/util/error.h), or add a truth-valued function to "
+                        "TRUTH with what its 1 means",
+                        "every exit code is named")
 
 
 if __name__ == "__main__":

@@ -28,6 +28,9 @@ import re
 import sys
 import tempfile
 
+import hygiene
+from hygiene import c_tokens
+
 TOP = ("src", "include", "analysis", "tests", "tools", "bench", "python",
        "examples", "man")
 # Folders whose files' comments are read (the fuzz corpus is data, not text
@@ -51,33 +54,9 @@ DESIGN_RE = re.compile(r"\bDESIGN\b(?:\s+(?:section\s+)?\d)")
 
 
 def comments_c(text):
-    """(line, comment text) of every C comment, strings and chars skipped."""
-    out = []
-    i, n, line = 0, len(text), 1
-    while i < n:
-        c = text[i]
-        if c == "\n":
-            line += 1
-            i += 1
-        elif text.startswith("/*", i):
-            j = text.find("*/", i + 2)
-            j = n if j < 0 else j + 2
-            out.append((line, text[i:j]))
-            line += text.count("\n", i, j)
-            i = j
-        elif text.startswith("//", i):
-            j = text.find("\n", i)
-            j = n if j < 0 else j
-            out.append((line, text[i:j]))
-            i = j
-        elif c in "\"'":
-            j = i + 1
-            while j < n and text[j] != c and text[j] != "\n":
-                j += 2 if text[j] == "\\" else 1
-            i = j + 1
-        else:
-            i += 1
-    return out
+    """(line, comment text) of every C comment (hygiene.c_tokens)."""
+    return [(line, text[start:end]) for kind, start, end, line in c_tokens(text)
+            if kind == "comment"]
 
 
 def comments_hash(text):
@@ -224,19 +203,9 @@ def self_test():
 
 
 def main(argv):
-    if len(argv) == 2 and argv[1] == "--self-test":
-        return self_test()
-    if len(argv) != 2:
-        print(__doc__.strip().split("\n\n")[-1], file=sys.stderr)
-        return 2
-    bad = check(argv[1])
-    for b in bad:
-        print(b)
-    if bad:
-        print("%d path(s) named in comments or docs do not exist" % len(bad))
-        return 1
-    print("every path named in a comment or doc exists")
-    return 0
+    return hygiene.main(argv, __doc__, check, self_test,
+                        "%d path(s) named in comments or docs do not exist",
+                        "every path named in a comment or doc exists")
 
 
 if __name__ == "__main__":
