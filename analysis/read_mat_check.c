@@ -235,7 +235,9 @@ static int walk_children(mat_walk *w, uint64_t *left, double count, int depth)
 	if (count * 8.0 > (double)there)
 		return damaged(w, depth ? "a nested cell or struct" : "a cell or struct", count,
 			       there);
-	for (double i = 0; i < count; i++) {
+	/* count <= the bytes / 8 here: a whole number that fits */
+	const uint64_t n = (uint64_t)count;
+	for (uint64_t i = 0; i < n; i++) {
 		mat_element e;
 		int st = take_tag(w, left, &e, "a cell or field cut short");
 		if (st)

@@ -6,7 +6,8 @@
 
 #include "popc/core/random.h"
 
-int popc_channel_delay_of(const popc_channel *ch, long long seq, uint32_t jitter_draw)
+/* the delay (ticks) packet seq takes, given its jitter draw */
+static int delay_of(const popc_channel *ch, long long seq, uint32_t jitter_draw)
 {
 	if (ch->c.n_trace > 0)
 		return ch->trace[seq % ch->c.n_trace];
@@ -92,7 +93,7 @@ int popc_channel_send(popc_channel *ch, long long k, const popc_packet *p)
 		ch->stats.lost++;
 		return 1;
 	}
-	long long arrive = k + popc_channel_delay_of(ch, k, jitter);
+	long long arrive = k + delay_of(ch, k, jitter);
 	/* in order, a packet waits for the one before it; that one was sent
 	 * earlier with a delay of at most max_delay, so this still arrives by
 	 * k + max_delay and its slot is free until then */

@@ -83,8 +83,4 @@ int popc_channel_send(popc_channel *ch, long long k, const popc_packet *p);
  * set (seq -1: nothing yet). */
 int popc_channel_receive(popc_channel *ch, long long k, popc_packet *held, int *fresh);
 
-/* The delay (ticks) packet seq takes, given the draw u of its jitter: for
- * tests and logs. */
-int popc_channel_delay_of(const popc_channel *ch, long long seq, uint32_t jitter_draw);
-
 #endif
