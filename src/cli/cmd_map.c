@@ -45,7 +45,8 @@ static void usage(FILE *f)
 	      "DIR/map.png, DIR/map.pdf (gnuplot), and a table on stdout. Every run's row is\n"
 	      "kept as in popc sweep (DIR/rows/); running the same map again resumes it.\n"
 	      "\n"
-	      "  --variant V[,V...]       controller variants (repeatable)\n"
+	      "  --variant V[,V...]       controller variants (repeatable; admittance.variant\n"
+	      "                           on an admittance scene)\n"
 	      "  --vary section.key=LIST  another axis of the map (repeatable), e.g.\n"
 	      "                           --vary environment.damping=0:0.75:16\n"
 	      "  --set section.key=value  a fixed override of the scene (repeatable)\n"
@@ -251,6 +252,29 @@ static void put_cell(FILE *f, const map_state *m, const popc_sweep_plan *p, long
 		fwrite(cell, 1, len, f);
 }
 
+/* The reference line of a line's scene (docs/MAPS.md):
+ * - impedance, Colgate and Schenkel: passive when b > K T / 2 + |B|, b the
+ *   device side's damping, so K < 2 (b - |B|) / T;
+ * - admittance, its dual: the sampled VE m_v a + b_v v + K x_v + B v = f
+ *   (semi-implicit Euler, the environment at the state before the step,
+ *   docs/ADMITTANCE.md "The admittance map") is stable when
+ *   m_v = 0: K < 2 (b_v - B) / T (the virtual damper b_v in the place of
+ *   the device's b); m_v > 0: K < (4 m_v - 2 (b_v + B) T) / T^2 (Jury's
+ *   test on its 2 x 2 step). A value <= 0 means no K is. */
+static double line_condition_Npm(const popc_scene *s)
+{
+	double T = popc_scene_period_s(s);
+	double B = fabs(s->env_damping_Nspm);
+	if (s->causality == POPC_CAUSALITY_ADMITTANCE) {
+		double m = s->adm_virtual_mass_kg, b = s->adm_virtual_damping_Nspm;
+		if (m > 0.0)
+			return (4.0 * m - 2.0 * (b + B) * T) / (T * T);
+		return 2.0 * (b - B) / T;
+	}
+	double b = s->op_damping_Nspm + s->dev_damping_Nspm;
+	return 2.0 * (b - B) / T;
+}
+
 /* DIR/boundary.csv: one row per line and criterion. */
 static int write_boundary(const map_state *m, const popc_sweep_plan *p, const char *dir,
 			  popc_error *err)
@@ -277,11 +301,8 @@ static int write_boundary(const map_state *m, const popc_sweep_plan *p, const ch
 		popc_scene s;
 		popc_error serr;
 		double k_cs = (double)NAN;
-		if (popc_sweep_run_scene(p, first, &s, &serr) == 0) {
-			/* Colgate and Schenkel: passive when b > K T / 2 + |B| */
-			double b = s.op_damping_Nspm + s.dev_damping_Nspm;
-			k_cs = 2.0 * (b - fabs(s.env_damping_Nspm)) / popc_scene_period_s(&s);
-		}
+		if (popc_sweep_run_scene(p, first, &s, &serr) == 0)
+			k_cs = line_condition_Npm(&s);
 		for (int c = 0; c < m->n_crit; c++) {
 			const popc_map_search *se = &m->search[line * m->n_crit + c];
 			for (int a = 0; a < p->n_axes - 1; a++)
@@ -402,7 +423,8 @@ static int make_plan(const map_args *a, popc_sweep_plan *plan, popc_error *err)
 	int st = popc_scene_load(&base, a->scene_path, err);
 	for (int m = 0; m < a->n_sets && !st; m++) {
 		if (popc_cli_set_names_key(a->sets[m], "environment", "stiffness") ||
-		    popc_cli_set_names_key(a->sets[m], "controller", "variant"))
+		    popc_cli_set_names_key(a->sets[m], "controller", "variant") ||
+		    popc_cli_set_names_key(a->sets[m], "admittance", "variant"))
 			return popc_error_set(err, POPC_ERR_INVALID,
 					      "--set %s: the map varies this key itself (--stiffness, "
 					      "--variant)",
@@ -434,7 +456,11 @@ static int make_plan(const map_args *a, popc_sweep_plan *plan, popc_error *err)
 	size_t used = 0;
 	if (!axes)
 		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
-	used += (size_t)snprintf(spec, sizeof spec, "controller.variant=");
+	/* an admittance scene's controller is the parallel PC of [admittance]
+	 * (docs/ADMITTANCE.md): --variant names its variants */
+	const char *variant_key = base.causality == POPC_CAUSALITY_ADMITTANCE ? "admittance.variant="
+									      : "controller.variant=";
+	used += (size_t)snprintf(spec, sizeof spec, "%s", variant_key);
 	for (int v = 0; v < a->n_variants && used < sizeof spec; v++)
 		used += (size_t)snprintf(spec + used, sizeof spec - used, "%s%s", v ? "," : "", a->variants[v]);
 	st = popc_sweep_axis_parse(spec, &axes[0], err);
@@ -443,6 +469,8 @@ static int make_plan(const map_args *a, popc_sweep_plan *plan, popc_error *err)
 		if (!st && ((strcmp(axes[k + 1].section, "environment") == 0 &&
 			     strcmp(axes[k + 1].key, "stiffness") == 0) ||
 			    (strcmp(axes[k + 1].section, "controller") == 0 &&
+			     strcmp(axes[k + 1].key, "variant") == 0) ||
+			    (strcmp(axes[k + 1].section, "admittance") == 0 &&
 			     strcmp(axes[k + 1].key, "variant") == 0)))
 			st = popc_error_set(err, POPC_ERR_INVALID,
 					    "--vary %s: the map varies this key itself (--stiffness, "
