@@ -405,6 +405,11 @@ typedef struct ana_summary {
 	long long ticks;
 	double period_s;         /* the period the detector and the metrics used */
 	int has_pc_force, has_w; /* 0: the PC (W) columns are n/a */
+	/* an admittance log (docs/ANALYSIS.md, "Admittance logs"): the PC columns
+	 * (pc_rms, pc_max, pc_energy, the detector's) are the parallel PC's v_pc,
+	 * in m/s (pc_energy: T sum f v_pc, J), and pc_bound_N is the detector's
+	 * scale, POPC_ADMITTANCE_CHATTER_COUNTS times one count's velocity */
+	int admittance;
 	/* the true port energy (the log's E_port column, port_energy.h) at the
 	 * end, the observer's error W - E_port there and its largest magnitude;
 	 * has_port_energy = 0 (n/a, empty in CSV) for a log without E_port or W */

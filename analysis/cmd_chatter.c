@@ -82,9 +82,11 @@ static void print_text(const ana_summary *s)
 		       r->n_intervals == 1 ? "" : "s");
 	else
 		printf("no chatter");
+	/* an admittance log's PC is the parallel PC's velocity */
+	const char *unit = s->admittance ? "m/s" : "N";
 	for (int i = 0; i < r->n_stored; i++)
-		printf(" [%.3f, %.3f) s (PC RMS up to %.3g N)%s", r->intervals[i].start_s,
-		       r->intervals[i].end_s, r->intervals[i].pc_rms_max_N,
+		printf(" [%.3f, %.3f) s (PC RMS up to %.3g %s)%s", r->intervals[i].start_s,
+		       r->intervals[i].end_s, r->intervals[i].pc_rms_max_N, unit,
 		       i + 1 < r->n_stored ? "," : "");
 	if (r->n_stored < r->n_intervals)
 		printf(" ... (%d more)", r->n_intervals - r->n_stored);
@@ -95,9 +97,9 @@ static void print_text(const ana_summary *s)
 		printf("; %s\n", r->limit_cycle ? "LIMIT CYCLE" : "no limit cycle");
 	const popc_chatter_thresholds *th = &r->thr;
 	if (checked)
-		printf("  windows: max PC RMS %.3g N (threshold %.3g), max PC sign flips %.4g /s "
+		printf("  windows: max PC RMS %.3g %s (threshold %.3g), max PC sign flips %.4g /s "
 		       "(%.4g), ",
-		       r->max_pc_rms_N, th->pc_rms_min_N, r->max_pc_flip_rate_Hz,
+		       r->max_pc_rms_N, unit, th->pc_rms_min_N, r->max_pc_flip_rate_Hz,
 		       th->pc_flip_rate_min_Hz);
 	else
 		printf("  windows: max PC RMS n/a, max PC sign flips n/a, ");
@@ -118,7 +120,7 @@ static void print_text(const ana_summary *s)
 	       r->lc_span_s, r->lc_amplitude_m, th->lc_amplitude_min_m, r->lc_frequency_Hz,
 	       th->lc_freq_min_Hz, th->lc_freq_max_Hz, 100.0 * r->lc_contact, r->lc_sustain);
 	if (s->has_pc_force)
-		printf("PC RMS %.3g N, ", r->lc_pc_rms_N);
+		printf("PC RMS %.3g %s, ", r->lc_pc_rms_N, unit);
 	else
 		printf("PC RMS n/a, ");
 	if (s->has_w)

@@ -6,6 +6,8 @@
 #include <string.h>
 
 #include "analyze.h"
+#include "popc/core/admittance.h"
+#include "popc/core/compensated.h"
 #include "popc/core/metrics.h"
 #include "popc/util/json.h"
 #include "popc/util/parse.h"
@@ -78,6 +80,13 @@ int ana_summarize(const char *path, const ana_input_options *o, const popc_chatt
 	s->env_position_m = l.scene.env_position_m;
 	s->enc_resolution_m = l.scene.enc_resolution_m;
 	s->pc_bound_N = l.scene.pc_bound_N;
+	s->admittance = l.scene.causality == POPC_CAUSALITY_ADMITTANCE && l.c_v_pc >= 0;
+	if (s->admittance)
+		s->pc_bound_N = POPC_ADMITTANCE_CHATTER_COUNTS *
+				popc_admittance_count_velocity_mps(
+					l.scene.adm_force_resolution_N, l.scene.env_stiffness_Npm,
+					l.scene.adm_virtual_mass_kg, l.scene.adm_virtual_damping_Nspm,
+					l.period_s);
 	snprintf(s->ignore_mode, sizeof s->ignore_mode, "%s",
 		 popc_ignore_mode_names[l.scene.ignore_mode]);
 	if (late_from_s < 0.0) {
@@ -91,7 +100,7 @@ int ana_summarize(const char *path, const ana_input_options *o, const popc_chatt
 	popc_chatter_config cc = *ccfg;
 	/* the thresholds are relative to the scene analysed (its header, --set) */
 	cc.resolution_m = l.scene.enc_resolution_m;
-	cc.pc_bound_N = l.scene.pc_bound_N;
+	cc.pc_bound_N = s->pc_bound_N;
 	popc_chatter det;
 	st = popc_chatter_init(&det, &cc, l.period_s, &l.env, err);
 	if (st) {
@@ -104,10 +113,18 @@ int ana_summarize(const char *path, const ana_input_options *o, const popc_chatt
 	}
 	ana_row row;
 	double t0 = 0.0, t1 = 0.0;
+	double adm_e_sum = 0.0, adm_e_comp = 0.0, adm_e = 0.0;
 	while ((st = ana_log_next(&l, &row, err)) == 1) {
 		if (s->ticks == 0)
 			t0 = row.tick.t_s;
 		t1 = row.tick.t_s;
+		if (s->admittance && row.has_adm) {
+			/* the parallel PC's output in f_pc's place, as a sweep's
+			 * detector sees it (run_admittance.c's on_tick) */
+			row.tick.f_pc_N = row.adm_v_pc_mps;
+			adm_e = popc_compensated_add(&adm_e_sum, &adm_e_comp,
+						     l.period_s * row.adm_f_N * row.adm_v_pc_mps);
+		}
 		popc_metrics_add(&m, &row.tick);
 		/* f_pc(k-1) dx(k) of finite cells, summed: 1e308 N over 10 m is no
 		 * double */
@@ -142,7 +159,7 @@ int ana_summarize(const char *path, const ana_input_options *o, const popc_chatt
 	s->pc_rms_late_N = popc_metrics_pc_rms(&m.late);
 	s->pc_max_N = m.all.pc_max_N;
 	s->pc_active = popc_metrics_active_fraction(&m.all);
-	s->pc_energy_J = m.pc_energy_J;
+	s->pc_energy_J = s->admittance ? adm_e : m.pc_energy_J;
 	s->w_minus_eref_min_J = isfinite(m.w_minus_eref_min_J) ? m.w_minus_eref_min_J : 0.0;
 	s->w_minus_eref_end_J = m.w_minus_eref_end_J;
 	s->vsign_rate_Hz = popc_metrics_vsign_rate(&m.all, m.period_s);

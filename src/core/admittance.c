@@ -209,3 +209,17 @@ void popc_admittance_step(popc_admittance_controller *c, long long n, popc_admit
 	out->W_J = c->obs.W_J;
 	out->flags = flags;
 }
+
+double popc_admittance_count_velocity_mps(double resolution_N, double stiffness_Npm,
+					  double virtual_mass_kg, double virtual_damping_Nspm,
+					  double period_s)
+{
+	double v = 0.0;
+	if (stiffness_Npm > 0.0)
+		v = resolution_N / (stiffness_Npm * period_s);
+	else if (virtual_mass_kg > 0.0)
+		v = resolution_N * period_s / virtual_mass_kg;
+	else if (virtual_damping_Nspm > 0.0)
+		v = resolution_N / virtual_damping_Nspm;
+	return isfinite(v) && v > 0.0 ? v : 0.0;
+}

@@ -413,7 +413,13 @@ static void test_low_force_offsets(void **state)
 			popc_chatter_config cc;
 			popc_chatter_config_defaults(&cc);
 			cc.resolution_m = s.enc_resolution_m;
-			cc.pc_bound_N = s.adm_pc_velocity_bound_mps;
+			/* the thresholds from the quantization (docs/ANALYSIS.md,
+			 * "Admittance logs"): 5 % of 20 v_1 is one count's velocity */
+			cc.pc_bound_N = POPC_ADMITTANCE_CHATTER_COUNTS *
+					popc_admittance_count_velocity_mps(
+						s.adm_force_resolution_N, s.env_stiffness_Npm,
+						s.adm_virtual_mass_kg, s.adm_virtual_damping_Nspm,
+						popc_scene_period_s(&s));
 			popc_environment env;
 			popc_environment_from_scene(&env, &s);
 			assert_int_equal(popc_chatter_init(det, &cc, popc_scene_period_s(&s), &env, &err), 0);
@@ -445,6 +451,33 @@ static void test_low_force_offsets(void **state)
 	}
 }
 
+/* v_1, the velocity of one force count, from r and the VE (table-driven):
+ * r / (K T) with a spring, else r T / m_v, else r / b_v; 0 when none is a
+ * finite positive velocity. */
+static void test_count_velocity(void **state)
+{
+	(void)state;
+	static const struct {
+		double r, K, m, b, T, want;
+	} cases[] = {
+		{0.01, 1e4, 0.5, 0.0, 1e-3, 1e-3},     /* admittance-wall.ini: the wall */
+		{0.01, 1e3, 0.5, 2.0, 1e-3, 1e-2},     /* admittance.ini */
+		{0.01, 0.0, 0.5, 2.0, 1e-3, 2e-5},     /* free space: the mass's one tick */
+		{0.01, 0.0, 0.0, 2.0, 1e-3, 5e-3},     /* a bare damper */
+		{0.05, 1e4, 0.5, 0.0, 5e-4, 1e-2},     /* 2 kHz, 0.05 N */
+		{0.01, 0.0, 0.0, 0.0, 1e-3, 0.0},      /* no VE to respond: none */
+		{0.01, 1e-300, 0.5, 0.0, 1e-300, 0.0}, /* inf: none */
+	};
+	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+		double v = popc_admittance_count_velocity_mps(cases[i].r, cases[i].K, cases[i].m,
+							      cases[i].b, cases[i].T);
+		if (cases[i].want == 0.0)
+			assert_true(v == 0.0);
+		else
+			assert_true(fabs(v - cases[i].want) <= 1e-15 * cases[i].want);
+	}
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -454,6 +487,7 @@ int main(void)
 		cmocka_unit_test(test_sensor),
 		cmocka_unit_test(test_plant_reference),
 		cmocka_unit_test(test_scene_refusals),
+		cmocka_unit_test(test_count_velocity),
 		cmocka_unit_test(test_low_force_offsets),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);

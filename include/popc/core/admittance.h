@@ -127,4 +127,20 @@ void popc_admittance_init(popc_admittance_controller *c, const popc_admittance_c
 /* Steps 1-4 for the force count n; v_c is always finite. */
 void popc_admittance_step(popc_admittance_controller *c, long long n, popc_admittance_tick *out);
 
+/* The chatter detector's thresholds for an admittance run (docs/ANALYSIS.md,
+ * "Admittance logs"), from the quantization. v_1, the velocity of one force
+ * count r: the PC output that dissipates, at one count of force and within
+ * one period T, the energy r^2 / K a one-count change stores in the VE's
+ * spring K (docs/ADMITTANCE.md, "The duals of Table I"):
+ *   v_1 = (r^2 / K) / (T r) = r / (K T);
+ * a VE without a spring (K = 0): its own response to one count in one
+ * period, r T / m_v, or r / b_v for a bare damper. The detector's PC scale
+ * (its pc_bound) is POPC_ADMITTANCE_CHATTER_COUNTS v_1, so that its default
+ * share, 5 %, is one count's velocity. Returns 0 for a configuration that
+ * gives no finite positive v_1. */
+#define POPC_ADMITTANCE_CHATTER_COUNTS 20.0
+double popc_admittance_count_velocity_mps(double resolution_N, double stiffness_Npm,
+					  double virtual_mass_kg, double virtual_damping_Nspm,
+					  double period_s);
+
 #endif

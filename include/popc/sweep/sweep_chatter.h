@@ -13,7 +13,14 @@
 int popc_sweep_chatter_init(popc_chatter *det, const popc_scene *s,
 			    const popc_controller_config *ccfg, popc_error *err);
 
-/* The detector over a popc log (its header's scene). */
+/* The scale the detector's PC thresholds are shares of, for a run of scene
+ * s: controller.pc_bound (N) in impedance causality; in admittance causality
+ * POPC_ADMITTANCE_CHATTER_COUNTS times the velocity of one force count
+ * (popc_admittance_count_velocity_mps, docs/ANALYSIS.md). */
+double popc_sweep_chatter_pc_scale(const popc_scene *s);
+
+/* The detector over a popc log (its header's scene; an admittance log's v_pc
+ * in the place of f_pc). */
 int popc_sweep_chatter_from_log(const char *log_path, popc_chatter_result *res, popc_error *err);
 
 #endif
