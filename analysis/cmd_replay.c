@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "analyze.h"
+#include "popc/core/admittance.h"
 #include "popc/core/encoder.h"
 #include "popc/core/port_energy.h"
 #include "popc/log/log.h"
@@ -61,6 +62,22 @@ typedef struct replay_out {
 	int open;
 } replay_out;
 
+/* Replay re-runs an impedance controller over a log's recorded positions;
+ * replaying a parallel PC variant over an admittance log's recorded force
+ * counts is not implemented (docs/ADMITTANCE.md, "Downstream"). */
+static const char adm_refusal[] =
+	"replay runs the impedance (series) PC variants over recorded positions; replaying "
+	"an admittance variant over recorded force counts is not implemented (docs/ADMITTANCE.md, "
+	"\"Downstream\")";
+
+static int is_admittance_variant(const char *name)
+{
+	for (int k = 0; popc_admittance_variant_names[k]; k++)
+		if (strcmp(name, popc_admittance_variant_names[k]) == 0)
+			return 1;
+	return 0;
+}
+
 int ana_cmd_replay(int argc, char **argv)
 {
 	struct option opts[ANA_MAX_OPTIONS];
@@ -85,6 +102,12 @@ int ana_cmd_replay(int argc, char **argv)
 			popc_variant v;
 			int all = strcmp(optarg, "all") == 0;
 			if (!all && popc_variant_from_name(optarg, &v) != 0) {
+				if (is_admittance_variant(optarg)) {
+					fprintf(stderr, "popc-analyze replay: --variant '%s': %s\n",
+						optarg, adm_refusal);
+					rc = POPC_EXIT_USAGE;
+					goto out;
+				}
 				fprintf(stderr,
 					"popc-analyze replay: --variant '%s': none, po-pc, ref-energy, "
 					"filtered-velocity, ignore, hold, improved, pc-off-reversals, "
@@ -174,6 +197,15 @@ int ana_cmd_replay(int argc, char **argv)
 		goto out;
 	}
 	log_open = 1;
+	if (l.scene.causality == POPC_CAUSALITY_ADMITTANCE) {
+		/* the series PC over recorded positions would be no replay of this
+		 * device: it measured force and was commanded a velocity */
+		fprintf(stderr, "popc-analyze replay: %s is an admittance log (device.causality = "
+				"admittance, header line %lld): %s\n",
+			path, popc_log_reader_header_line(&l.r, "device.causality"), adm_refusal);
+		rc = POPC_EXIT_USAGE;
+		goto out;
+	}
 	popc_scene base = l.scene;
 	if (l.period_from_time) {
 		/* a foreign log without a rate: its first time step is the period */

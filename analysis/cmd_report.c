@@ -535,6 +535,17 @@ int ana_cmd_report(int argc, char **argv)
 		}
 		popc_error err;
 		int st = ana_summarize(argv[i], &in, &cc, -1.0, &lg->sum, on_row, &pass, &err);
+		if (!st && lg->sum.admittance)
+			/* its figures are the series PC's (f_pc in N, the encoder's x):
+			 * an admittance log's v_pc, f_meas and W panels are not drawn
+			 * yet (docs/ADMITTANCE.md, "Downstream") */
+			st = popc_error_set(&err, POPC_ERR_INVALID,
+					    "%s is an admittance log (device.causality = admittance): "
+					    "the report's figures are the impedance PC's (f_pc in N); "
+					    "an admittance log's v_pc, f_meas and W figures are not "
+					    "implemented (docs/ADMITTANCE.md, \"Downstream\"); use "
+					    "popc-analyze compare or chatter",
+					    argv[i]);
 		if (st) {
 			ana_decim_free(&pass.dec);
 			report_capture_free(&pass.cap);

@@ -3,6 +3,7 @@
 #include <errno.h>
 #include <getopt.h>
 #include <inttypes.h>
+#include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -15,6 +16,7 @@
 #include "popc/log/log.h"
 #include "popc/run/run.h"
 #include "popc/util/same_file.h"
+#include "popc/util/text_builder.h"
 #include "popc/programs/usage_hint.h"
 #include "progress.h"
 
@@ -125,6 +127,11 @@ static int write_summary_json(FILE *f, const char *header, const char *axis_name
  * rows with one digest ran one scene, whatever the files were called. */
 static const char scene_names[] = ",scene,scene_digest";
 
+/* An admittance run's columns (popc_run_summary's adm_ fields): the share of
+ * ticks the parallel PC acted, the RMS and largest |v_pc| (m/s), the RMS
+ * over the second half. */
+static const char adm_names[] = ",v_pc_active,v_pc_rms,v_pc_max,v_pc_rms_late";
+
 static int scene_cells(const popc_scene *s, const char *scene_path, char *out, size_t cap)
 {
 	char *text = NULL;
@@ -175,9 +182,24 @@ static int write_summary_file(FILE *f, int json, const popc_run_summary *sum,
 	char scene_values[POPC_PATH_MAX * 2 + 64];
 	if (scene_cells(s, scene_path, scene_values, sizeof scene_values) != 0)
 		return -1;
-	char more_names[1200], more_values[sizeof scene_values + 1024];
-	snprintf(more_names, sizeof more_names, "%s%s", scene_names, axis_names);
-	snprintf(more_values, sizeof more_values, "%s%s", scene_values, axis_values);
+	/* an admittance run's own columns, after the run's and before the
+	 * scene's, only in admittance causality: an impedance summary keeps its
+	 * bytes (docs/ADMITTANCE.md, "Downstream") */
+	char adm_values[4 * 40] = "";
+	if (sum->has_admittance) {
+		popc_text_builder t = {.buf = adm_values, .cap = sizeof adm_values, .len = 0};
+		const double cells[] = {sum->adm_active, sum->adm_v_pc_rms_mps, sum->adm_v_pc_max_mps,
+					sum->adm_v_pc_rms_late_mps};
+		for (size_t i = 0; i < sizeof cells / sizeof cells[0]; i++) {
+			popc_text_put(&t, ",", 1);
+			popc_text_put_double_point(&t, isfinite(cells[i]) ? cells[i] : 0.0);
+		}
+		adm_values[t.len < sizeof adm_values ? t.len : sizeof adm_values - 1] = '\0';
+	}
+	char more_names[1200], more_values[sizeof scene_values + sizeof adm_values + 1024];
+	snprintf(more_names, sizeof more_names, "%s%s%s", sum->has_admittance ? adm_names : "",
+		 scene_names, axis_names);
+	snprintf(more_values, sizeof more_values, "%s%s%s", adm_values, scene_values, axis_values);
 	axis_names = more_names;
 	axis_values = more_values;
 	size_t hl = 0, rl = 0;

@@ -1,0 +1,67 @@
+#!/usr/bin/env bash
+# Admittance logs downstream (docs/ADMITTANCE.md, "Downstream"; docs/ANALYSIS.md,
+# "Admittance logs"):
+# - the run summary (CSV, JSON) has the parallel PC's columns v_pc_active,
+#   v_pc_rms, v_pc_max, v_pc_rms_late only for an admittance run;
+# - popc-analyze chatter reads v_pc, with thresholds from the quantization:
+#   the PC RMS threshold is one count's velocity r / (K T) (0.001 m/s on
+#   admittance-wall.ini), in m/s; a log edited to switch v_pc by +-2 counts'
+#   velocity every tick for 1 s is flagged there, by +-0.5 not;
+# - compare's PC columns of an admittance log are v_pc's, equal to the run
+#   summary's;
+# - replay and report refuse an admittance log (exit 2), naming why.
+# Argument: the popc-analyze program.
+set -u
+POPC=${POPC:?POPC must name the popc program}
+SRC=${POPC_SOURCE_ROOT:?}
+ANALYZE=${1:?popc-analyze}
+T=$(mktemp -d /tmp/popc-adm-analysis-XXXXXX)
+trap 'rm -rf "$T"' EXIT
+. "$SRC/tests/check.sh"
+WALL=$SRC/data/scenes/admittance-wall.ini
+# a column of a one-row CSV by name
+col() { awk -F, -v name="$2" 'NR == 1 { for (i = 1; i <= NF; i++) if ($i == name) c = i; next }
+	c { print $c }' "$1"; }
+
+# ---- the run summary
+expect_exit 0 "admittance-wall, parallel-pc" "$POPC" run "$WALL" --log "$T/aw.csv" \
+	--summary "$T/aw.sum.csv" -q
+check "  the summary has the v_pc columns, before the scene's" \
+	grep -q ',rendered_stiffness,v_pc_active,v_pc_rms,v_pc_max,v_pc_rms_late,scene,' "$T/aw.sum.csv"
+check "  v_pc_active is the PC's share (4.4 %)" \
+	awk -v a="$(col "$T/aw.sum.csv" v_pc_active)" 'BEGIN { exit !(a > 0.04 && a < 0.05) }'
+expect_exit 0 "the same run, JSON summary" "$POPC" run "$WALL" --log "$T/aw2.csv" \
+	--summary "$T/aw.sum.json" --summary-format json -q
+check "  the JSON has v_pc_rms_late as a number" grep -qE '"v_pc_rms_late":[0-9]' "$T/aw.sum.json"
+expect_exit 0 "an impedance run" "$POPC" run "$SRC/data/scenes/paper.ini" --set run.duration=0.5 \
+	--log "$T/pp.csv" --summary "$T/pp.sum.csv" -q
+check "  its summary has no v_pc column" sh -c "! grep -q v_pc '$T/pp.sum.csv'"
+
+# ---- chatter: v_pc, thresholds from one count
+expect_exit 0 "chatter on the admittance log" "$ANALYZE" chatter "$T/aw.csv"
+check "  the PC RMS threshold is r / (K T) = 0.001 m/s" grep -q 'max PC RMS [0-9.e-]* m/s (threshold 0.001)' "$T/out"
+# rows of 3 <= t < 4 s: v_pc = +-A, v = +-1e-4 and the count +1 every other tick
+edit() { awk -F, -v a="$1" 'BEGIN { OFS = "," } /^#/ || /^t,/ { print; next }
+	{ if ($1 >= 3 && $1 < 4) { k++; s = (k % 2) ? 1 : -1; $3 = $3 + (k % 2);
+	  $2 = sprintf("%.17g", $3 * 1e-5); $4 = s * 1e-4; $15 = s * a } print }' "$T/aw.csv"; }
+edit 0.002 >"$T/chat.csv"
+expect_exit 1 "v_pc switching by 2 counts' velocity: chatter" "$ANALYZE" chatter "$T/chat.csv"
+check "  the interval [3, 4) s, in m/s" grep -q 'chatter 1.000 s in 1 interval: \[3.000, 4.000) s (PC RMS up to 0.002 m/s)' "$T/out"
+edit 0.0005 >"$T/calm.csv"
+expect_exit 0 "by half a count's velocity: no chatter" "$ANALYZE" chatter "$T/calm.csv"
+
+# ---- compare: the PC columns are v_pc's
+expect_exit 0 "compare the admittance log, CSV" "$ANALYZE" compare "$T/aw.csv" --format csv
+check "  pc_rms_late is the summary's v_pc_rms_late" awk -F, \
+	-v want="$(col "$T/aw.sum.csv" v_pc_rms_late)" \
+	'NR == 1 { for (i = 1; i <= NF; i++) if ($i == "pc_rms_late") c = i; next }
+	 { d = $c - want; exit !(c && want > 0 && d * d <= 1e-24 * want * want) }' "$T/out"
+
+# ---- refusals
+expect_exit 2 "replay of an admittance log" "$ANALYZE" replay "$T/aw.csv" --variant ref-energy -o "$T/rp"
+check "  names why" err_has "is an admittance log (device.causality = admittance"
+expect_exit 2 "replay with an admittance variant" "$ANALYZE" replay "$T/aw.csv" --variant parallel-hold -o "$T/rp"
+check "  names why" err_has "replaying an admittance variant over recorded force counts is not implemented"
+expect_exit 2 "report of an admittance log" "$ANALYZE" report "$T/aw.csv" -o "$T/rep"
+check "  names why" err_has "is an admittance log (device.causality = admittance): the report's figures"
+check_summary
