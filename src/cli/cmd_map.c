@@ -117,6 +117,7 @@ typedef struct map_args {
 	const char *scene_path, *dir, *shard_text, *stiffness;
 	double tol, port_tol_J;
 	unsigned criteria;
+	int criteria_given; /* --criterion given: else passive, or diverged on an admittance scene */
 	long long jobs, scan_steps;
 	int quiet, keep_log, allow_other_build, isolate, dry_run;
 } map_args;
@@ -416,7 +417,7 @@ static void print_table(const map_state *m, const popc_sweep_plan *p)
 }
 
 /* Builds the map's plan: variants, the --vary axes, then the K grid. */
-static int make_plan(const map_args *a, popc_sweep_plan *plan, popc_error *err)
+static int make_plan(map_args *a, popc_sweep_plan *plan, popc_error *err)
 {
 	popc_scene base;
 	popc_scene_defaults(&base);
@@ -456,6 +457,21 @@ static int make_plan(const map_args *a, popc_sweep_plan *plan, popc_error *err)
 	size_t used = 0;
 	if (!axes)
 		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
+	/* an admittance run logs no true port energy E_port nor the device's
+	 * E_dev (docs/ADMITTANCE.md, "The log"): those criteria could only be
+	 * undecided on every line */
+	if (base.causality == POPC_CAUSALITY_ADMITTANCE && !a->criteria_given)
+		a->criteria = 1u << POPC_MAP_DIVERGED;
+	if (base.causality == POPC_CAUSALITY_ADMITTANCE &&
+	    (a->criteria & (1u << POPC_MAP_PASSIVE | 1u << POPC_MAP_DEVICE_PASSIVE))) {
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "--criterion %s: %s is an admittance scene (device.causality = "
+				      "admittance), whose runs have no port energy E_port or E_dev; "
+				      "use diverged, limit-cycle or chatter (docs/MAPS.md, \"The "
+				      "admittance display\")",
+				      a->criteria & (1u << POPC_MAP_PASSIVE) ? "passive" : "device-passive",
+				      a->scene_path);
+	}
 	/* an admittance scene's controller is the parallel PC of [admittance]
 	 * (docs/ADMITTANCE.md): --variant names its variants */
 	const char *variant_key = base.causality == POPC_CAUSALITY_ADMITTANCE ? "admittance.variant="
@@ -549,7 +565,7 @@ static int dry_run(const map_args *a, const popc_sweep_plan *p, const popc_sweep
 	return refused ? POPC_EXIT_USAGE : POPC_EXIT_OK;
 }
 
-static int map_main(const map_args *a)
+static int map_main(map_args *a)
 {
 	popc_error err;
 	popc_sweep_plan plan;
@@ -710,6 +726,7 @@ int popc_cmd_map(int argc, char **argv)
 			}
 			break;
 		case OPT_CRITERION:
+			a.criteria_given = 1;
 			if (popc_map_criteria_parse(optarg, &a.criteria, &err) != 0) {
 				fprintf(stderr, "popc map: %s\n", err.msg);
 				rc = POPC_EXIT_USAGE;

@@ -285,7 +285,7 @@ static int refuse_overwriting_inputs(const popc_scene *s, const char *scene_path
  * holds is told by its first byte: a JSON Lines summary starts with '{', a
  * CSV one with its header's first name. An empty or missing file (or "-")
  * holds nothing yet. Returns 0, or -1 after naming the file and its format. */
-static int refuse_mixed_summary(const char *summary_path, int json)
+static int refuse_mixed_summary(const char *summary_path, int json, int admittance)
 {
 	/* a regular file only: a FIFO or a terminal (/dev/stdout) would block
 	 * the read, and holds nothing to mix with */
@@ -296,11 +296,31 @@ static int refuse_mixed_summary(const char *summary_path, int json)
 	FILE *f = fopen(summary_path, "r");
 	if (!f)
 		return 0; /* not there yet, or unreadable: opening it for appending says */
+	/* the first line: a CSV header says which causality's columns it has */
+	char line[4096];
 	int c = fgetc(f);
+	if (c != EOF) {
+		line[0] = (char)c;
+		if (!fgets(line + 1, (int)sizeof line - 1, f))
+			line[1] = '\0';
+	}
 	fclose(f);
 	if (c == EOF)
 		return 0;
 	int holds_json = c == '{';
+	if (holds_json == json && !json) {
+		/* an admittance row has 4 cells more (adm_names): under the other
+		 * causality's header its cells would be misread */
+		int holds_adm = strstr(line, ",v_pc_active,") != NULL;
+		if (holds_adm == admittance)
+			return 0;
+		fprintf(stderr,
+			"popc run: --summary %s holds %s runs' rows (line 1 %s the columns "
+			"v_pc_active...): refusing to append an %s run's row to it (another file)\n",
+			summary_path, holds_adm ? "admittance" : "impedance", holds_adm ? "has" : "lacks",
+			admittance ? "admittance" : "impedance");
+		return -1;
+	}
 	if (holds_json == json)
 		return 0;
 	fprintf(stderr,
@@ -451,7 +471,8 @@ int popc_cmd_run(int argc, char **argv)
 	if (st)
 		return popc_cli_fail("run", st, &err);
 	if (refuse_overwriting_inputs(&s, argv[optind], log_path, summary_path) != 0 ||
-	    refuse_mixed_summary(summary_path, summary_json) != 0)
+	    refuse_mixed_summary(summary_path, summary_json,
+				 s.causality == POPC_CAUSALITY_ADMITTANCE) != 0)
 		return POPC_EXIT_USAGE;
 	/* --map and --connect set keys that only a Modbus axis reads: on the
 	 * simulated one they would do nothing, silently */

@@ -36,6 +36,17 @@ check "  the JSON has v_pc_rms_late as a number" grep -qE '"v_pc_rms_late":[0-9]
 expect_exit 0 "an impedance run" "$POPC" run "$SRC/data/scenes/paper.ini" --set run.duration=0.5 \
 	--log "$T/pp.csv" --summary "$T/pp.sum.csv" -q
 check "  its summary has no v_pc column" sh -c "! grep -q v_pc '$T/pp.sum.csv'"
+cp "$T/pp.sum.csv" "$T/pp.before"
+expect_exit 2 "an admittance row onto an impedance summary" "$POPC" run "$WALL" --set run.duration=0.1 \
+	--log "$T/x.csv" --summary "$T/pp.sum.csv" -q
+check "  names why" err_has "holds impedance runs' rows"
+check "  the summary unchanged" cmp -s "$T/pp.before" "$T/pp.sum.csv"
+expect_exit 2 "an impedance row onto an admittance summary" "$POPC" run "$SRC/data/scenes/paper.ini" \
+	--set run.duration=0.1 --log "$T/y.csv" --summary "$T/aw.sum.csv" -q
+check "  names why" err_has "holds admittance runs' rows"
+expect_exit 0 "an admittance row onto an admittance summary" "$POPC" run "$WALL" --set run.duration=0.1 \
+	--log "$T/z.csv" --summary "$T/aw.sum.csv" -q
+check "  two rows of the same cells" awk -F, 'NR == 1 { n = NF } END { exit !(NR == 3 && NF == n) }' "$T/aw.sum.csv"
 
 # ---- chatter: v_pc, thresholds from one count
 expect_exit 0 "chatter on the admittance log" "$ANALYZE" chatter "$T/aw.csv"

@@ -69,8 +69,9 @@ for m in 0.001 0.002 0.005; do for r in 500 1000; do
 done; done
 
 # ---- with the hand: below the line; with its mass, nowhere stable
+# (no --criterion: on an admittance scene the default is diverged)
 expect_exit 0 "map with the paper's hand spring and damper" "$POPC" map "$SCENE" --variant none \
-	--vary admittance.virtual_damping=1 --stiffness 1e2:1e5 --criterion diverged -o "$T/h" -j 2 -q
+	--vary admittance.virtual_damping=1 --stiffness 1e2:1e5 -o "$T/h" -j 2 -q
 ok=$(cell "$T/h/boundary.csv" "none,1,diverged" k_ok_N_per_m 3)
 check "  the hand's loop lowers the edge: $ok < 2 b_v / T = 2000" \
 	awk -v ok="$ok" 'BEGIN { exit !(ok > 1500 && ok < 1980) }'
@@ -85,4 +86,8 @@ expect_exit 2 "an impedance variant on an admittance scene" "$POPC" map "$SCENE"
 	-o "$T/bad1" -q
 expect_exit 2 "--set admittance.variant" "$POPC" map "$SCENE" --variant none \
 	--set admittance.variant=parallel-pc -o "$T/bad2" -q
+expect_exit 2 "--criterion passive on an admittance scene" "$POPC" map "$SCENE" --variant none \
+	--criterion diverged,passive -o "$T/bad3" -q
+check "  names the criterion and why" err_has "--criterion passive: $SCENE is an admittance scene"
+check "  before any run" test ! -e "$T/bad3/rows"
 check_summary
