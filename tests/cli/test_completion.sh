@@ -62,6 +62,7 @@ check "  every option of the help ($n_help), no more ($n_got)" test "$n_got" -eq
 offers "--variant: the variant names" _popc popc "run paper --variant i" "ignore improved"
 complete_line _popc popc "run paper --variant "
 check "  all ten" test "$(wc -w <<<"$got")" -eq 10
+offers "map --variant: the admittance variants too" _popc popc "map zwidth-admittance --variant parallel-" "parallel-hold parallel-ignore parallel-improved parallel-pc"
 offers "installed scene names" _popc popc "run fig1" "fig10 fig14 fig16"
 printf '[run]\n' > fig1-local.ini
 offers "  and files" _popc popc "run fig1" "fig1-local.ini fig10 fig14 fig16"
