@@ -22,6 +22,7 @@
 #include "popc/run/run.h"
 #include "popc/scene/from_scene.h"
 #include "popc/scene/scene.h"
+#include "popc/sweep/sweep_chatter.h"
 
 static int same_bits(double a, double b)
 {
@@ -410,19 +411,13 @@ static void test_low_force_offsets(void **state)
 			assert_int_equal(popc_axis_create(&ax, &s, NULL, &err), 0);
 			popc_chatter *det = malloc(sizeof *det);
 			assert_non_null(det);
-			popc_chatter_config cc;
-			popc_chatter_config_defaults(&cc);
-			cc.resolution_m = s.enc_resolution_m;
-			/* the thresholds from the quantization (docs/ANALYSIS.md,
-			 * "Admittance logs"): 5 % of 20 v_1 is one count's velocity */
-			cc.pc_bound_N = POPC_ADMITTANCE_CHATTER_COUNTS *
-					popc_admittance_count_velocity_mps(
-						s.adm_force_resolution_N, s.env_stiffness_Npm,
-						s.adm_virtual_mass_kg, s.adm_virtual_damping_Nspm,
-						popc_scene_period_s(&s));
-			popc_environment env;
-			popc_environment_from_scene(&env, &s);
-			assert_int_equal(popc_chatter_init(det, &cc, popc_scene_period_s(&s), &env, &err), 0);
+			/* a sweep's detector: thresholds from the quantization
+			 * (docs/ANALYSIS.md, "Admittance logs"), 5 % of 20 v_1 =
+			 * r / (K T) = 0.01 / (1e4 1e-3) = 1e-3 m/s */
+			assert_true(fabs(popc_sweep_chatter_pc_scale(&s) - 20.0 * 1e-3) <= 1e-15);
+			popc_controller_config ccfg;
+			popc_controller_config_from_scene(&ccfg, &s);
+			assert_int_equal(popc_sweep_chatter_init(det, &s, &ccfg, &err), 0);
 			popc_run_options ro = {.on_tick = feed, .tick_user = det};
 			popc_run_summary sum;
 			assert_int_equal(popc_run(&s, ax, &ro, &sum, &err), 0);
@@ -468,6 +463,10 @@ static void test_count_velocity(void **state)
 		{0.01, 0.0, 0.0, 0.0, 1e-3, 0.0},      /* no VE to respond: none */
 		{0.01, 1e-300, 0.5, 0.0, 1e-300, 0.0}, /* inf: none */
 	};
+	/* an impedance scene's scale stays controller.pc_bound */
+	popc_scene imp;
+	popc_scene_defaults(&imp);
+	assert_true(popc_sweep_chatter_pc_scale(&imp) == imp.pc_bound_N);
 	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
 		double v = popc_admittance_count_velocity_mps(cases[i].r, cases[i].K, cases[i].m,
 							      cases[i].b, cases[i].T);
