@@ -72,10 +72,10 @@ static const char adm_refusal[] =
 
 static int is_admittance_variant(const char *name)
 {
+	int found = 0;
 	for (int k = 0; popc_admittance_variant_names[k]; k++)
-		if (strcmp(name, popc_admittance_variant_names[k]) == 0)
-			return 1;
-	return 0;
+		found |= strcmp(name, popc_admittance_variant_names[k]) == 0;
+	return found;
 }
 
 int ana_cmd_replay(int argc, char **argv)
