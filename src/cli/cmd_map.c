@@ -434,6 +434,21 @@ static int make_plan(map_args *a, popc_sweep_plan *plan, popc_error *err)
 	}
 	if (st)
 		return st;
+	/* an admittance run logs no true port energy E_port nor the device's
+	 * E_dev (docs/ADMITTANCE.md, "The log"): those criteria could only be
+	 * undecided on every line */
+	if (base.causality == POPC_CAUSALITY_ADMITTANCE && !a->criteria_given)
+		a->criteria = 1u << POPC_MAP_DIVERGED;
+	if (base.causality == POPC_CAUSALITY_ADMITTANCE &&
+	    (a->criteria & (1u << POPC_MAP_PASSIVE | 1u << POPC_MAP_DEVICE_PASSIVE))) {
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "--criterion %s: %s is an admittance scene (device.causality = "
+				      "admittance), whose runs have no port energy E_port or E_dev; "
+				      "use diverged, limit-cycle or chatter (docs/MAPS.md, \"The "
+				      "admittance display\")",
+				      a->criteria & (1u << POPC_MAP_PASSIVE) ? "passive" : "device-passive",
+				      a->scene_path);
+	}
 	double k_lo = 1e2, k_hi = 1e6;
 	if (a->stiffness) {
 		const char *colon = strchr(a->stiffness, ':');
@@ -457,21 +472,6 @@ static int make_plan(map_args *a, popc_sweep_plan *plan, popc_error *err)
 	size_t used = 0;
 	if (!axes)
 		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
-	/* an admittance run logs no true port energy E_port nor the device's
-	 * E_dev (docs/ADMITTANCE.md, "The log"): those criteria could only be
-	 * undecided on every line */
-	if (base.causality == POPC_CAUSALITY_ADMITTANCE && !a->criteria_given)
-		a->criteria = 1u << POPC_MAP_DIVERGED;
-	if (base.causality == POPC_CAUSALITY_ADMITTANCE &&
-	    (a->criteria & (1u << POPC_MAP_PASSIVE | 1u << POPC_MAP_DEVICE_PASSIVE))) {
-		return popc_error_set(err, POPC_ERR_INVALID,
-				      "--criterion %s: %s is an admittance scene (device.causality = "
-				      "admittance), whose runs have no port energy E_port or E_dev; "
-				      "use diverged, limit-cycle or chatter (docs/MAPS.md, \"The "
-				      "admittance display\")",
-				      a->criteria & (1u << POPC_MAP_PASSIVE) ? "passive" : "device-passive",
-				      a->scene_path);
-	}
 	/* an admittance scene's controller is the parallel PC of [admittance]
 	 * (docs/ADMITTANCE.md): --variant names its variants */
 	const char *variant_key = base.causality == POPC_CAUSALITY_ADMITTANCE ? "admittance.variant="
