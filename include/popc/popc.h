@@ -84,7 +84,8 @@ POPC_API int popc_lib_scene_load(popc_lib_scene *s, const char *path, popc_lib_e
  * bare name up in, as POPC_DATA_PATH gives them to popc run: DIR[:DIR...],
  * an empty entry standing for the installed share/popc; NULL or "": that
  * alone (the default). The library reads no environment: a program that
- * honours POPC_DATA_PATH passes getenv("POPC_DATA_PATH"). At most 1023
+ * honours POPC_DATA_PATH passes getenv("POPC_DATA_PATH"). A name is looked
+ * up when it is loaded or set: set the data path first. At most 1023
  * characters, else POPC_LIB_ERR_INVALID (s unchanged). (API 1.2) */
 POPC_API int popc_lib_scene_set_data_path(popc_lib_scene *s, const char *data_path,
 					  popc_lib_error *err);
