@@ -56,7 +56,7 @@ const popc_option *const ana_replay_opts[] = {replay_options, ana_input_option_t
 
 typedef struct replay_out {
 	popc_scene scene;
-	popc_controller ctl;
+	popc_controller *ctl;
 	popc_log_writer w;
 	char path[1100];
 	int open;
@@ -243,8 +243,9 @@ int ana_cmd_replay(int argc, char **argv)
 		o->scene.variant = variants[i];
 		popc_controller_config cfg;
 		popc_controller_config_from_scene(&cfg, &o->scene);
-		popc_controller_init(&o->ctl, &cfg);
-		st = popc_log_open(&o->w, o->path, columns, &err);
+		st = popc_controller_create(&cfg, &o->ctl, &err);
+		if (!st)
+			st = popc_log_open(&o->w, o->path, columns, &err);
 		if (!st) {
 			o->open = 1;
 			st = popc_log_write_header(&o->w, "replay", &o->scene, extra, &err);
@@ -272,7 +273,7 @@ int ana_cmd_replay(int argc, char **argv)
 		for (int i = 0; i < n_var; i++) {
 			popc_log_row lr;
 			memset(&lr, 0, sizeof lr);
-			popc_controller_step(&outs[i].ctl, row.tick.count, x, &lr.tick);
+			popc_controller_step(outs[i].ctl, row.tick.count, x, &lr.tick);
 			lr.tick.t_s = row.tick.t_s;
 			lr.x_true_m = row.x_true_m;
 			lr.E_port_J = E_port_J;
@@ -309,11 +310,13 @@ int ana_cmd_replay(int argc, char **argv)
 	}
 out:
 	if (outs) {
-		for (int i = 0; i < n_var; i++)
+		for (int i = 0; i < n_var; i++) {
 			if (outs[i].open) {
 				popc_error cerr;
 				popc_log_close(&outs[i].w, &cerr);
 			}
+			popc_controller_free(outs[i].ctl);
+		}
 		free(outs);
 	}
 	if (log_open)

@@ -11,6 +11,7 @@
 #include "analyze.h"
 #include "popc/core/encoder.h"
 #include "popc/programs/arg_list.h"
+#include "popc/programs/env.h"
 #include "popc/util/numfmt.h"
 #include "popc/util/same_file.h"
 #include "popc/util/parse.h"
@@ -579,7 +580,8 @@ int ana_log_open(ana_log *l, const char *path, const ana_input_options *o, popc_
 	popc_log_reader *r = &l->r;
 	l->is_popc = popc_log_reader_header(r, "format") != NULL &&
 		     popc_log_reader_header(r, "source") != NULL;
-	popc_scene_defaults(&l->scene);
+	if ((st = popc_env_scene_defaults(&l->scene, err)) != 0)
+		goto fail;
 	snprintf(l->scene.source, sizeof l->scene.source, "%s", path);
 	if (l->is_popc && (st = popc_log_reader_scene(r, &l->scene, err)) != 0)
 		goto fail;

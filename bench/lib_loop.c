@@ -3,10 +3,11 @@
  * as `popc bench loop` times popc_run's loop (src/cli/bench_common.c): the
  * scene run to 100 s at least, repeated until 0.2 s of this thread's CPU
  * time, the fastest of 3 such timings, ns per tick. docs/BENCHMARKS.md
- * section 10 runs both alternately.
+ * section 11 runs both alternately.
  *
  *     lib_loop [SCENE [section.key=value ...]]     prints ns per tick */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
@@ -24,6 +25,9 @@ int main(int argc, char **argv)
 	popc_lib_error err;
 	popc_lib_scene *s;
 	int st = popc_lib_scene_create(&s, &err);
+	/* a bare scene name is looked up as popc run looks it up */
+	if (!st)
+		st = popc_lib_scene_set_data_path(s, getenv("POPC_DATA_PATH"), &err);
 	if (!st && argc > 1)
 		st = popc_lib_scene_load(s, argv[1], &err);
 	for (int i = 2; !st && i < argc; i++) {

@@ -12,6 +12,7 @@
  * Build against an installed popc:
  *     cc device_loop.c $(pkg-config --cflags --libs popc) -o device_loop */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include <popc/popc.h>
@@ -53,6 +54,10 @@ int main(int argc, char **argv)
 	popc_lib_error err;
 	popc_lib_scene *scene = NULL;
 	int st = popc_lib_scene_create(&scene, &err);
+	/* a bare SCENE name is looked up where popc run looks (the library
+	 * reads no environment: the program passes POPC_DATA_PATH) */
+	if (!st)
+		st = popc_lib_scene_set_data_path(scene, getenv("POPC_DATA_PATH"), &err);
 	if (!st)
 		st = popc_lib_scene_load(scene, argv[1], &err);
 	for (int i = 3; !st && i < argc; i++) {

@@ -34,7 +34,7 @@ extern "C" {
  * changes only when a function or a public struct changes incompatibly;
  * MINOR counts additions. */
 #define POPC_LIB_API_VERSION_MAJOR 1
-#define POPC_LIB_API_VERSION_MINOR 1
+#define POPC_LIB_API_VERSION_MINOR 2
 #define POPC_LIB_API_VERSION_PATCH 0
 #define POPC_LIB_API_VERSION_INT(major, minor, patch) (((major) << 16) | ((minor) << 8) | (patch))
 #define POPC_LIB_API_VERSION                                                                        \
@@ -76,9 +76,19 @@ typedef struct popc_lib_scene popc_lib_scene;
 /* A scene holding every default (the paper's scene). */
 POPC_API int popc_lib_scene_create(popc_lib_scene **out, popc_lib_error *err);
 /* Reads a scene file over s, as `popc run SCENE` does: a name without '/'
- * that is no file here is looked up in the data directories (POPC_DATA_PATH,
- * else the installed share/popc), so "paper" is the installed paper scene. */
+ * that is no file here is looked up in the data directories (the scene's
+ * data path, below; by default the installed share/popc alone), so "paper"
+ * is the installed paper scene. */
 POPC_API int popc_lib_scene_load(popc_lib_scene *s, const char *path, popc_lib_error *err);
+/* The data directories that popc_lib_scene_load and the key axis.map look a
+ * bare name up in, as POPC_DATA_PATH gives them to popc run: DIR[:DIR...],
+ * an empty entry standing for the installed share/popc; NULL or "": that
+ * alone (the default). The library reads no environment: a program that
+ * honours POPC_DATA_PATH passes getenv("POPC_DATA_PATH"). A name is looked
+ * up when it is loaded or set: set the data path first. At most 1023
+ * characters, else POPC_LIB_ERR_INVALID (s unchanged). (API 1.2) */
+POPC_API int popc_lib_scene_set_data_path(popc_lib_scene *s, const char *data_path,
+					  popc_lib_error *err);
 /* One key, as `--set section.key=value`: key is "section.key". */
 POPC_API int popc_lib_scene_set(popc_lib_scene *s, const char *key, const char *value,
 				popc_lib_error *err);

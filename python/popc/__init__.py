@@ -107,6 +107,7 @@ _api_version = _sig("popc_lib_api_version", ctypes.c_uint)
 _version = _sig("popc_lib_version", ctypes.c_char_p)
 _scene_create = _sig("popc_lib_scene_create", ctypes.c_int, ctypes.POINTER(_P), _E)
 _scene_load = _sig("popc_lib_scene_load", ctypes.c_int, _P, ctypes.c_char_p, _E)
+_scene_set_data_path = _sig("popc_lib_scene_set_data_path", ctypes.c_int, _P, ctypes.c_char_p, _E)
 _scene_set = _sig("popc_lib_scene_set", ctypes.c_int, _P, ctypes.c_char_p, ctypes.c_char_p, _E)
 _scene_validate = _sig("popc_lib_scene_validate", ctypes.c_int, _P, _E)
 _scene_period = _sig("popc_lib_scene_period_s", ctypes.c_double, _P)
@@ -190,13 +191,20 @@ class _Handle:
 
 class Scene(_Handle):
     """A scene: the defaults, a scene file or installed name over them, and
-    `section.key=value` settings (popc-scene(5)); errors name the key and range."""
+    `section.key=value` settings (popc-scene(5)); errors name the key and range.
+    A bare name is looked up in data_path (DIR[:DIR...], as POPC_DATA_PATH),
+    by default POPC_DATA_PATH's value, as popc run does: the C library reads
+    no environment, the module passes it."""
     _free = _scene_free
 
-    def __init__(self, path=None, **settings):
+    def __init__(self, path=None, data_path=None, **settings):
         super().__init__()
         err = _Err()
         _check(_scene_create(ctypes.byref(self._h), err), err)
+        if data_path is None:
+            data_path = os.environ.get("POPC_DATA_PATH")
+        if data_path is not None:
+            _check(_scene_set_data_path(self._h, _b(data_path), err), err)
         if path is not None:
             _check(_scene_load(self._h, _b(path), err), err)
         for key, value in settings.items():  # section__key=value

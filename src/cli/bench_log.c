@@ -34,10 +34,14 @@ static popc_log_row *make_rows(const popc_scene *s0, long n, popc_error *err)
 	}
 	popc_controller_config cc;
 	popc_controller_config_from_scene(&cc, &s);
-	popc_controller ctl;
-	popc_controller_init(&ctl, &cc);
+	popc_controller *ctl;
+	if (popc_controller_create(&cc, &ctl, err) != 0) {
+		free(rows);
+		return NULL;
+	}
 	popc_axis *ax;
 	if (popc_sim_axis_create(&ax, &s, err) != 0) {
+		popc_controller_free(ctl);
 		free(rows);
 		return NULL;
 	}
@@ -48,7 +52,7 @@ static popc_log_row *make_rows(const popc_scene *s0, long n, popc_error *err)
 	for (long i = 0; !st && i < n; i++) {
 		popc_log_row *r = &rows[i];
 		r->tick.t_s = (double)i * popc_scene_period_s(&s);
-		popc_controller_step(&ctl, smp.count, popc_encoder_position(smp.count, s.enc_resolution_m),
+		popc_controller_step(ctl, smp.count, popc_encoder_position(smp.count, s.enc_resolution_m),
 				     &r->tick);
 		r->x_true_m = smp.x_true_m;
 		r->E_port_J = popc_port_energy_update(&port, smp.x_true_m);
@@ -58,6 +62,7 @@ static popc_log_row *make_rows(const popc_scene *s0, long n, popc_error *err)
 			st = ax->ops->exchange(ax, r->tick.f_c_N, &smp, err);
 	}
 	popc_axis_destroy(&ax);
+	popc_controller_free(ctl);
 	if (st) {
 		free(rows);
 		return NULL;

@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "popc/programs/env.h"
 #include "popc/util/atomic_file.h"
 #include "popc/programs/stdfds.h"
 #include "popc/util/text.h"
@@ -108,9 +109,8 @@ int popc_cli_fail(const char *verb, int status, const popc_error *err)
 int popc_cli_load_scene_options(popc_scene *s, const char *path, char **sets, int n_sets,
 				const popc_cli_key_option *opts, int n_opts, popc_error *err)
 {
-	popc_scene_defaults(s);
-	int st = 0;
-	if (path)
+	int st = popc_env_scene_defaults(s, err);
+	if (!st && path)
 		st = popc_scene_load(s, path, err);
 	for (int i = 0; !st && i < n_sets; i++)
 		st = popc_scene_set_assignment(s, sets[i], err);

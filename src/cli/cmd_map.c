@@ -20,6 +20,7 @@
 #include "cli.h"
 #include "map_figure.h"
 #include "popc/axes/axis.h"
+#include "popc/programs/env.h"
 #include "popc/sweep/sweep_dir.h"
 #include "popc/sweep/sweep_lock.h"
 #include "popc/sweep/sweep_map.h"
@@ -420,8 +421,9 @@ static void print_table(const map_state *m, const popc_sweep_plan *p)
 static int make_plan(map_args *a, popc_sweep_plan *plan, popc_error *err)
 {
 	popc_scene base;
-	popc_scene_defaults(&base);
-	int st = popc_scene_load(&base, a->scene_path, err);
+	int st = popc_env_scene_defaults(&base, err);
+	if (!st)
+		st = popc_scene_load(&base, a->scene_path, err);
 	for (int m = 0; m < a->n_sets && !st; m++) {
 		if (popc_cli_set_names_key(a->sets[m], "environment", "stiffness") ||
 		    popc_cli_set_names_key(a->sets[m], "controller", "variant") ||

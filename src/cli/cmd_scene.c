@@ -7,6 +7,7 @@
 #include "cli.h"
 #include "popc/core/intent.h"
 #include "popc/log/log_reader.h"
+#include "popc/programs/env.h"
 #include "popc/scene/data_path.h"
 #include "popc/scene/from_scene.h"
 #include "popc/programs/usage_hint.h"
@@ -61,7 +62,7 @@ static void usage(FILE *f)
 	      "entry stands for the built-in one); now: ",
 	      f);
 	char dirs[1024];
-	popc_data_dirs(dirs, sizeof dirs);
+	popc_data_dirs(popc_env_data_path(), dirs, sizeof dirs);
 	fprintf(f, "%s\n", dirs);
 }
 
@@ -87,8 +88,9 @@ static int load_log_scene(popc_scene *s, const char *path, char **sets, int n_se
 	int st = popc_log_reader_open(&r, path, NULL, err);
 	if (st)
 		return st;
-	popc_scene_defaults(s);
-	st = popc_log_reader_scene(&r, s, err);
+	st = popc_env_scene_defaults(s, err);
+	if (!st)
+		st = popc_log_reader_scene(&r, s, err);
 	popc_log_reader_close(&r);
 	snprintf(s->source, sizeof s->source, "%s", path);
 	for (int i = 0; !st && i < n_sets; i++)
@@ -117,7 +119,8 @@ static int scene_list(int argc, char **argv)
 		fprintf(stderr, "popc scene list: unexpected argument '%s'\n", argv[optind]);
 		return POPC_EXIT_USAGE;
 	}
-	popc_data_list(maps ? POPC_DATA_DRIVES : POPC_DATA_SCENES, stdout, stderr, "popc scene list");
+	popc_data_list(maps ? POPC_DATA_DRIVES : POPC_DATA_SCENES, popc_env_data_path(), stdout, stderr,
+		       "popc scene list");
 	return fflush(stdout) == 0 && !ferror(stdout) ? POPC_EXIT_OK : POPC_EXIT_RUN_FAILED;
 }
 

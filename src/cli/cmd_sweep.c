@@ -18,6 +18,7 @@
 #include <unistd.h>
 
 #include "cli.h"
+#include "popc/programs/env.h"
 #include "popc/sweep/sweep_dir.h"
 #include "popc/sweep/sweep_lock.h"
 #include "popc/sweep/sweep_plan.h"
@@ -346,8 +347,9 @@ static int sweep_main(const sweep_args *a)
 	int st = popc_sweep_output_dir_check("-o", a->dir, &err);
 	if (st)
 		return popc_cli_fail("sweep", st, &err);
-	popc_scene_defaults(&base);
-	st = popc_scene_load(&base, a->scene_path, &err);
+	st = popc_env_scene_defaults(&base, &err);
+	if (!st)
+		st = popc_scene_load(&base, a->scene_path, &err);
 	for (int m = 0; m < a->n_sets && !st; m++)
 		st = popc_scene_set_assignment(&base, a->sets[m], &err);
 	if (st)

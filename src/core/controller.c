@@ -4,6 +4,8 @@
 #include "popc/core/port.h"
 
 #include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
 #include <string.h>
 
 const char *const popc_variant_names[] = {"none",
@@ -117,23 +119,59 @@ void popc_observer_commit(popc_observer *o, const popc_observation *obs, double 
 	observer_commit(o, obs, f_e_N, f_c_N);
 }
 
-void popc_controller_init(popc_controller *c, const popc_controller_config *cfg)
+/* The rings' lengths: a variant that does not use a ring gets none. */
+static size_t reversal_ring_len(const popc_controller_config *cfg)
 {
-	memset(c, 0, sizeof *c);
-	c->cfg = *cfg;
-	/* the rings' lengths within their arrays whatever the caller filled in
-	 * (the scene's ranges are the same) */
-	if (c->cfg.reversal_count < 1)
-		c->cfg.reversal_count = 1;
-	if (c->cfg.reversal_count > POPC_REVERSAL_MAX_COUNT)
-		c->cfg.reversal_count = POPC_REVERSAL_MAX_COUNT;
-	if (c->cfg.po_window_ticks < 1)
-		c->cfg.po_window_ticks = 1;
-	if (c->cfg.po_window_ticks > POPC_PO_MAX_WINDOW)
-		c->cfg.po_window_ticks = POPC_PO_MAX_WINDOW;
+	return cfg->variant == POPC_VARIANT_PC_OFF_REVERSALS ? (size_t)cfg->reversal_count : 0;
+}
+
+static size_t po_ring_len(const popc_controller_config *cfg)
+{
+	return cfg->variant == POPC_VARIANT_WINDOWED_PO ? (size_t)cfg->po_window_ticks : 0;
+}
+
+int popc_controller_create(const popc_controller_config *cfg, popc_controller **out,
+			   popc_error *err)
+{
+	*out = NULL;
+	popc_controller_config c_cfg = *cfg;
+	/* a ring has at least one slot whatever the caller filled in (the
+	 * scene's ranges start at 1) */
+	if (c_cfg.reversal_count < 1)
+		c_cfg.reversal_count = 1;
+	if (c_cfg.po_window_ticks < 1)
+		c_cfg.po_window_ticks = 1;
+	const size_t n_rev = reversal_ring_len(&c_cfg), n_po = po_ring_len(&c_cfg);
+	/* the struct, then the reversal ring, then the PO ring: long long and
+	 * double after a struct that holds both keep their alignment; the
+	 * lengths are ints, so the sum cannot wrap a 64-bit size_t, and a
+	 * 32-bit one is checked */
+	const size_t rev_bytes = n_rev * sizeof(long long);
+	if (n_po > (SIZE_MAX - sizeof(popc_controller) - rev_bytes) / sizeof(double))
+		return popc_error_set(err, POPC_ERR_NOMEM,
+				      "controller: a window of %d ticks does not fit in memory",
+				      c_cfg.po_window_ticks);
+	const size_t bytes = sizeof(popc_controller) + rev_bytes + n_po * sizeof(double);
+	popc_controller *c = malloc(bytes);
+	if (!c)
+		return popc_error_set(err, POPC_ERR_NOMEM,
+				      "controller: out of memory (%zu bytes for po_window_ticks = %d, "
+				      "reversal_count = %d)",
+				      bytes, c_cfg.po_window_ticks, c_cfg.reversal_count);
+	memset(c, 0, bytes);
+	c->cfg = c_cfg;
+	c->reversal_tick = n_rev ? (long long *)(void *)(c + 1) : NULL;
+	c->po_inc_J = n_po ? (double *)(void *)((char *)(c + 1) + rev_bytes) : NULL;
 	popc_observer_init(&c->obs, cfg->variant, cfg->ignore_mode);
 	popc_foaw_init(&c->foaw, cfg->foaw_window, cfg->foaw_noise_m, cfg->resolution_m,
 		       cfg->period_s);
+	*out = c;
+	return 0;
+}
+
+void popc_controller_free(popc_controller *c)
+{
+	free(c);
 }
 
 /* f_pc = (E_ref - W) / dx when the PO is below its threshold; never divides by

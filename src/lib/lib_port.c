@@ -13,7 +13,7 @@
 
 struct popc_lib_port {
 	union {
-		popc_controller ctl; /* 34 kB whatever the variant: the library's to know */
+		popc_controller *ctl; /* sized for its variant and window at create */
 		struct {
 			popc_admittance_config cfg;
 			popc_admittance_controller ctl; /* initialised at tick 0 */
@@ -70,7 +70,11 @@ POPC_API int popc_lib_port_create_impedance(const popc_lib_scene *s, double forc
 	popc_controller_config cfg;
 	popc_controller_config_from_scene(&cfg, &s->scene);
 	cfg.force_limit_N = force_limit_N;
-	popc_controller_init(&p->u.ctl, &cfg);
+	popc_error ierr;
+	if ((st = popc_controller_create(&cfg, &p->u.ctl, &ierr)) != 0) {
+		free(p);
+		return popc_lib_fail(err, st, &ierr);
+	}
 	p->causality = POPC_LIB_CAUSALITY_IMPEDANCE;
 	p->period_s = popc_scene_period_s(&s->scene);
 	p->resolution_m = s->scene.enc_resolution_m;
@@ -161,13 +165,15 @@ POPC_API void popc_lib_port_step(popc_lib_port *p, long long count, popc_lib_tic
 	popc_tick t;
 	/* t and x exactly as popc_run computes them: k T, count x resolution */
 	t.t_s = (double)p->k * p->period_s;
-	popc_controller_step(&p->u.ctl, count, popc_encoder_position(count, p->resolution_m), &t);
+	popc_controller_step(p->u.ctl, count, popc_encoder_position(count, p->resolution_m), &t);
 	p->k++;
 	tick_out(&t, out);
 }
 
 POPC_API void popc_lib_port_free(popc_lib_port *p)
 {
+	if (p && p->causality == POPC_LIB_CAUSALITY_IMPEDANCE)
+		popc_controller_free(p->u.ctl);
 	free(p);
 }
 

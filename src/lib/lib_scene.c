@@ -40,10 +40,19 @@ POPC_API int popc_lib_scene_load(popc_lib_scene *s, const char *path, popc_lib_e
 	/* the name rule of popc run (README, "Install"): a name that is no file
 	 * here and has no '/' is looked up in the data directories */
 	char found[POPC_PATH_MAX];
-	int st = popc_data_find(POPC_DATA_SCENES, path, NULL, found, sizeof found, &e);
+	int st = popc_data_find(POPC_DATA_SCENES, path, NULL, s->scene.data_path, found, sizeof found,
+				&e);
 	if (st < 0)
 		return popc_lib_fail(err, st, &e);
 	st = popc_scene_load(&s->scene, st == 1 ? found : path, &e);
+	return popc_lib_fail(err, st, &e);
+}
+
+POPC_API int popc_lib_scene_set_data_path(popc_lib_scene *s, const char *data_path,
+					  popc_lib_error *err)
+{
+	popc_error e;
+	int st = popc_scene_set_data_path(&s->scene, data_path, "popc_lib_scene_set_data_path", &e);
 	return popc_lib_fail(err, st, &e);
 }
 

@@ -28,13 +28,14 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 	popc_controller_config ccfg;
 	popc_controller_config_from_scene(&ccfg, s);
 	ccfg.force_limit_N = axis->force_limit_N;
-	popc_controller ctl;
-	popc_controller_init(&ctl, &ccfg);
+	popc_controller *ctl;
+	int st = popc_controller_create(&ccfg, &ctl, err);
+	if (st)
+		return st; /* before the axis starts: nothing to stop, nothing logged */
 	/* the "late" window: the second half of the run, the seed's low-velocity phase */
 	popc_metrics_init(&sum->metrics, &ccfg.env, T, 0.5 * s->duration_s);
 
 	popc_log_writer *log = opt ? opt->log : NULL;
-	int st = 0;
 	const char *why = "completed";
 	double t0 = popc_now_s();
 	popc_axis_sample smp;
@@ -81,7 +82,7 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 		}
 		popc_log_row row;
 		row.tick.t_s = (double)k * T;
-		popc_controller_step(&ctl, smp.count, popc_encoder_position(smp.count, s->enc_resolution_m),
+		popc_controller_step(ctl, smp.count, popc_encoder_position(smp.count, s->enc_resolution_m),
 				     &row.tick);
 		/* the command that acts over this period: f_c(k), or f_c(k - d) */
 		double command_N = row.tick.f_c_N;
@@ -139,6 +140,7 @@ int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 		}
 	}
 	/* every way out: safe state first, then the summary and the log */
+	popc_controller_free(ctl);
 	st = popc_run_finish(axis, log, sum, st, why, t0, T, err);
 	/* an axis without a model to check has no integrator error */
 	sum->integrator_error_m =

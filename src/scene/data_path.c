@@ -16,11 +16,10 @@ const char *popc_data_kind_dir(popc_data_kind kind)
 	return kind == POPC_DATA_DRIVES ? "drives" : "scenes";
 }
 
-/* The i-th data directory into out (0 when there is none): POPC_DATA_PATH's
+/* The i-th data directory into out (0 when there is none): the data path's
  * entries, an empty one standing for POPC_DATADIR, or POPC_DATADIR alone. */
-static int data_dir(int i, char *out, size_t cap)
+static int data_dir(const char *path, int i, char *out, size_t cap)
 {
-	const char *path = getenv("POPC_DATA_PATH");
 	if (!path || !path[0])
 		return i == 0 ? (snprintf(out, cap, "%s", POPC_DATADIR), 1) : 0;
 	for (const char *p = path;; p++) {
@@ -39,12 +38,12 @@ static int data_dir(int i, char *out, size_t cap)
 	}
 }
 
-void popc_data_dirs(char *out, size_t cap)
+void popc_data_dirs(const char *data_path, char *out, size_t cap)
 {
 	size_t len = 0;
 	char dir[POPC_PATH_MAX];
 	out[0] = '\0';
-	for (int i = 0; data_dir(i, dir, sizeof dir) && len < cap; i++)
+	for (int i = 0; data_dir(data_path, i, dir, sizeof dir) && len < cap; i++)
 		len += (size_t)snprintf(out + len, cap - len, "%s%s", i ? ":" : "", dir);
 }
 
@@ -73,8 +72,8 @@ static int data_file(const char *dir, popc_data_kind kind, const char *name, con
 	return n < 0 || (size_t)n >= cap ? -1 : 0;
 }
 
-int popc_data_find(popc_data_kind kind, const char *name, const char *base_dir, char *out,
-		   size_t cap, popc_error *err)
+int popc_data_find(popc_data_kind kind, const char *name, const char *base_dir,
+		   const char *data_path, char *out, size_t cap, popc_error *err)
 {
 	if (!name[0] || strchr(name, '/'))
 		return 0;
@@ -90,13 +89,13 @@ int popc_data_find(popc_data_kind kind, const char *name, const char *base_dir, 
 	/* NAME first: a file named exactly so; then NAME.ini, the shipped files' names */
 	const char *suffixes[2] = {"", ends_with(name, ".ini") ? NULL : ".ini"};
 	char dir[POPC_PATH_MAX];
-	for (int i = 0; data_dir(i, dir, sizeof dir); i++)
+	for (int i = 0; data_dir(data_path, i, dir, sizeof dir); i++)
 		for (int k = 0; k < 2; k++)
 			if (suffixes[k] && data_file(dir, kind, name, suffixes[k], out, cap) == 0 &&
 			    is_file(out))
 				return 1;
 	char dirs[POPC_PATH_MAX], tried[POPC_PATH_MAX];
-	popc_data_dirs(dirs, sizeof dirs);
+	popc_data_dirs(data_path, dirs, sizeof dirs);
 	const char *kd = popc_data_kind_dir(kind);
 	if (suffixes[1])
 		snprintf(tried, sizeof tried, "%s/%s or %s/%s.ini", kd, name, kd, name);
@@ -140,12 +139,13 @@ static void put_escaped(FILE *f, const char *text)
 	}
 }
 
-int popc_data_list(popc_data_kind kind, FILE *f, FILE *notes, const char *who)
+int popc_data_list(popc_data_kind kind, const char *data_path, FILE *f, FILE *notes,
+		   const char *who)
 {
 	char dir[POPC_PATH_MAX], sub[POPC_PATH_MAX + 16];
 	char **seen = NULL;
 	int n_seen = 0, cap_seen = 0;
-	for (int i = 0; data_dir(i, dir, sizeof dir); i++) {
+	for (int i = 0; data_dir(data_path, i, dir, sizeof dir); i++) {
 		if (data_file(dir, kind, "", "", sub, sizeof sub) != 0)
 			continue;
 		DIR *d = opendir(sub);

@@ -183,6 +183,21 @@ void popc_scene_defaults(popc_scene *s)
 	 * popc_scene_defaults_check finds (tests/unit/test_scene.c): the library
 	 * does not abort */
 	(void)set_defaults(s, NULL);
+	s->data_path[0] = '\0';
+}
+
+int popc_scene_set_data_path(popc_scene *s, const char *data_path, const char *what,
+			     popc_error *err)
+{
+	if (!data_path)
+		data_path = "";
+	size_t len = strlen(data_path);
+	if (len >= sizeof s->data_path)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: the data path is %zu characters long; at most %d",
+				      what ? what : "data path", len, POPC_PATH_MAX - 1);
+	memcpy(s->data_path, data_path, len + 1);
+	return 0;
 }
 
 int popc_scene_defaults_check(popc_error *err)
@@ -211,7 +226,7 @@ static int is_path_key(const scene_key *k)
 }
 
 static int resolve_relative(char *field, const char *scene_path, const char *key, int is_map,
-			    popc_error *err);
+			    const char *data_path, popc_error *err);
 
 static void describe_range(const scene_key *k, char *buf, size_t cap)
 {
@@ -460,7 +475,7 @@ static int set_found(popc_scene *s, const scene_key *k, const char *sec, const c
 		set_who(who, sizeof who, option, sec, name);
 	if (!st && is_path_key(k))
 		st = resolve_relative((char *)s + k->offset, NULL, who,
-				      k->offset == offsetof(popc_scene, axis_map), err);
+				      k->offset == offsetof(popc_scene, axis_map), s->data_path, err);
 	char why[160];
 	if (!st && is_path_key(k) && unwritable(k, (char *)s + k->offset, why, sizeof why))
 		st = popc_error_set(err, POPC_ERR_INVALID,
@@ -641,7 +656,7 @@ static int scene_ini_handler(void *user, const char *section, const char *name, 
  * relative scene path), so that the resolved scene, written to a log header
  * or a sweep's run directory, names the same file from any directory. */
 static int resolve_relative(char *field, const char *scene_path, const char *key, int is_map,
-			    popc_error *err)
+			    const char *data_path, popc_error *err)
 {
 	/* key: "operator.table" in a scene file, the option's name otherwise
 	 * ("--set operator.table", "--map") */
@@ -657,8 +672,8 @@ static int resolve_relative(char *field, const char *scene_path, const char *key
 		if (slash)
 			snprintf(dir, sizeof dir, "%.*s", (int)(slash - scene_path), scene_path);
 		popc_error lookup_err;
-		if (popc_data_find(POPC_DATA_DRIVES, field, slash ? dir : NULL, found, sizeof found,
-				   &lookup_err) == 1) {
+		if (popc_data_find(POPC_DATA_DRIVES, field, slash ? dir : NULL, data_path, found,
+				   sizeof found, &lookup_err) == 1) {
 			memcpy(field, found, strlen(found) + 1);
 			return 0;
 		}
@@ -688,7 +703,8 @@ int popc_scene_load(popc_scene *s, const char *path, popc_error *err)
 {
 	/* a bare name not in the working directory: an installed scene */
 	char found[POPC_PATH_MAX];
-	int looked = popc_data_find(POPC_DATA_SCENES, path, NULL, found, sizeof found, err);
+	int looked = popc_data_find(POPC_DATA_SCENES, path, NULL, s->data_path, found, sizeof found,
+				    err);
 	if (looked < 0)
 		return looked;
 	if (looked == 1)
@@ -732,9 +748,9 @@ int popc_scene_load(popc_scene *s, const char *path, popc_error *err)
 	}
 	int st = 0;
 	if (strcmp(table_before, s->op_table) != 0)
-		st = resolve_relative(s->op_table, path, "operator.table", 0, err);
+		st = resolve_relative(s->op_table, path, "operator.table", 0, s->data_path, err);
 	if (!st && strcmp(map_before, s->axis_map) != 0)
-		st = resolve_relative(s->axis_map, path, "axis.map", 1, err);
+		st = resolve_relative(s->axis_map, path, "axis.map", 1, s->data_path, err);
 	if (st)
 		return st;
 	/* resolved, a path must still be one a scene file can hold */

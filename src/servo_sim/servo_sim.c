@@ -27,6 +27,7 @@
 #include "drive.h"
 #include "frame.h"
 #include "popc/axes/modbus_axis.h"
+#include "popc/programs/env.h"
 #include "popc/scene/data_path.h"
 #include "popc/util/clock.h"
 #include "popc/util/parse.h"
@@ -689,7 +690,8 @@ int main(int argc, char **argv)
 	/* a bare map name not in the working directory: an installed drive map
 	 * (data_path.h), as popc run --map finds it */
 	char map_found[POPC_PATH_MAX];
-	int st = popc_data_find(POPC_DATA_DRIVES, map_path, NULL, map_found, sizeof map_found, &err);
+	int st = popc_data_find(POPC_DATA_DRIVES, map_path, NULL, popc_env_data_path(), map_found,
+				sizeof map_found, &err);
 	if (st == 1)
 		map_path = map_found;
 	if (st >= 0)
@@ -700,8 +702,9 @@ int main(int argc, char **argv)
 				    "force command only (a position or velocity drive: issue 25 phase 2)",
 				    map_path, popc_cmd_mode_names[map.cmd.mode]);
 	if (!st) {
-		popc_scene_defaults(&scene);
-		st = popc_scene_load(&scene, scene_path, &err);
+		st = popc_env_scene_defaults(&scene, &err);
+		if (!st)
+			st = popc_scene_load(&scene, scene_path, &err);
 		for (int i = 0; !st && i < n_sets; i++)
 			st = popc_scene_set_assignment(&scene, sets[i], &err);
 		if (!st)

@@ -97,6 +97,15 @@ expect_exit 0 "popc scene list --maps" env POPC_DATA_PATH="$DATA" "$POPC" scene 
 check "  generic" has_line "generic	$DATA/drives/generic.ini"
 expect_exit 0 "popc sweep paper" env POPC_DATA_PATH="$DATA" "$POPC" sweep paper --vary controller.variant=none,improved --set run.duration=0.1 -o "$T/sw" -q --no-log
 check "  the plan names the installed scene" grep -qxF "scene = $DATA/scenes/paper.ini" "$T/sw/sweep.plan"
+# the programs read POPC_DATA_PATH and pass it to the library layers, which
+# read no environment (docs/LIBRARY.md); a value longer than a scene holds
+# is bad input, named, before any work
+LONG=$(printf '/x%.0s' $(seq 600))
+expect_exit 2 "a POPC_DATA_PATH of 1200 characters" env POPC_DATA_PATH="$LONG" "$POPC" run paper -q --set run.duration=0.1
+check "  named, with the limit" err_has "POPC_DATA_PATH: the data path is 1200 characters long; at most 1023"
+expect_exit 2 "  popc sweep too" env POPC_DATA_PATH="$LONG" "$POPC" sweep paper --vary controller.variant=none,improved -o "$T/swlong" -q --no-log
+check "  named" err_has "POPC_DATA_PATH: the data path is 1200 characters long"
+check "  nothing made" test ! -e "$T/swlong"
 SIM=$BUILD/src/servo_sim/popc-servo-sim
 if [ -x "$SIM" ]; then
   # a bad --listen is refused after the map and the scene are read

@@ -47,12 +47,6 @@ ALLOWED = {
         "output (popc run --log -): stdio's pending text is flushed first",
     ("log_reader.c.o", "stdin"):
         "the path '-' is the caller's request to read standard input",
-    ("data_path.c.o", "getenv"):
-        "POPC_DATA_PATH: popc_scene_load and axis.map find installed scenes "
-        "and maps by name, a lookup docs/LIBRARY.md promises "
-        "popc_lib_scene_load; taking the search path from the caller needs "
-        "an argument through popc_scene_load and the public API (left for "
-        "an API 1.2)",
 }
 
 

@@ -7,7 +7,9 @@
  * realloc and free defined here, over glibc's own (__libc_*): the program's
  * definitions interpose libpopc.so's calls. Under ASan, which owns malloc,
  * its hooks count instead. That the counter counts is checked too: creating
- * a port must count its allocation. */
+ * a port must count its allocation. The bytes a port asks for at create
+ * follow its variant and window (docs/LIBRARY.md): a windowed-po port of N
+ * ticks asks for exactly N doubles more than a port of variant none. */
 #include <stddef.h>
 #include <stdio.h>
 #include <string.h>
@@ -17,6 +19,7 @@
 #include "popc/core/controller.h" /* POPC_VARIANT_COUNT only: every variant is here */
 
 static volatile long long allocations;
+static volatile size_t allocated_bytes; /* asked for by malloc, calloc and realloc */
 
 #if defined(__SANITIZE_ADDRESS__)
 #define COUNTER_ASAN 1
@@ -34,8 +37,8 @@ int __sanitizer_install_malloc_and_free_hooks(void (*malloc_hook)(const volatile
 static void on_malloc(const volatile void *p, size_t n)
 {
 	(void)p;
-	(void)n;
 	allocations++;
+	allocated_bytes += n;
 }
 static void on_free(const volatile void *p)
 {
@@ -58,16 +61,19 @@ void free(void *p);
 void *malloc(size_t n)
 {
 	allocations++;
+	allocated_bytes += n;
 	return __libc_malloc(n);
 }
 void *calloc(size_t m, size_t n)
 {
 	allocations++;
+	allocated_bytes += m * n;
 	return __libc_calloc(m, n);
 }
 void *realloc(void *p, size_t n)
 {
 	allocations++;
+	allocated_bytes += n;
 	return __libc_realloc(p, n);
 }
 void free(void *p)
@@ -148,6 +154,73 @@ static int admittance_variant(const char *scene_path, const char *variant)
 	return failed;
 }
 
+/* The bytes popc_lib_port_create_impedance asks for with the scene's
+ * controller.variant = variant and `key` = value (key NULL: none); 0 when
+ * the port cannot be made. */
+static size_t port_bytes(const char *scene_path, const char *variant, const char *key,
+			 const char *value)
+{
+	popc_lib_error err;
+	popc_lib_scene *s = NULL;
+	popc_lib_port *port = NULL;
+	int st = popc_lib_scene_create(&s, &err);
+	if (!st)
+		st = popc_lib_scene_load(s, scene_path, &err);
+	if (!st)
+		st = popc_lib_scene_set(s, "controller.variant", variant, &err);
+	if (!st && key)
+		st = popc_lib_scene_set(s, key, value, &err);
+	size_t before = allocated_bytes;
+	if (!st)
+		st = popc_lib_port_create_impedance(s, 0.0, &port, &err);
+	size_t bytes = allocated_bytes - before;
+	if (st)
+		printf("# %s: %s\n", variant, err.msg);
+	popc_lib_port_free(port);
+	popc_lib_scene_free(s);
+	return st ? 0 : bytes;
+}
+
+/* A port is sized for its variant and window when it is made: variant none
+ * holds no ring (it held a 4096-double ring, 34 kB, before), windowed-po
+ * one of controller.po_window doubles, pc-off-reversals one of
+ * controller.reversal_count ticks. 0 or 1 (failed). */
+static int port_sizes(const char *scene_path)
+{
+	const size_t none = port_bytes(scene_path, "none", NULL, NULL);
+	const struct {
+		const char *variant, *key, *value;
+		size_t ring;
+	} sized[] = {
+		{"ref-energy", NULL, NULL, 0},
+		{"windowed-po", "controller.po_window", "1", sizeof(double)},
+		{"windowed-po", "controller.po_window", "25", 25 * sizeof(double)},
+		{"windowed-po", "controller.po_window", "4096", 4096 * sizeof(double)},
+		{"pc-off-reversals", "controller.reversal_count", "4", 4 * sizeof(long long)},
+		{"pc-off-reversals", "controller.reversal_count", "64", 64 * sizeof(long long)},
+	};
+	int failed = 0;
+	if (none == 0 || none >= 4096) {
+		printf("not ok - a port of variant none asks for %zu bytes at create; at most a page "
+		       "(4096) without a window\n", none);
+		failed = 1;
+	}
+	for (size_t i = 0; i < sizeof sized / sizeof sized[0]; i++) {
+		size_t b = port_bytes(scene_path, sized[i].variant, sized[i].key, sized[i].value);
+		if (b != none + sized[i].ring) {
+			printf("not ok - a %s port (%s = %s) asks for %zu bytes at create; expected %zu "
+			       "(none's %zu and its ring's %zu)\n", sized[i].variant,
+			       sized[i].key ? sized[i].key : "-", sized[i].value ? sized[i].value : "-", b,
+			       none + sized[i].ring, none, sized[i].ring);
+			failed = 1;
+		}
+	}
+	if (!failed)
+		printf("ok - a port asks for %zu bytes at create, and its ring's length more with "
+		       "windowed-po and pc-off-reversals\n", none);
+	return failed;
+}
+
 int main(int argc, char **argv)
 {
 	if (argc < 3) {
@@ -165,6 +238,7 @@ int main(int argc, char **argv)
 		       POPC_ADMITTANCE_VARIANT_COUNT);
 		return 1;
 	}
+	failed |= port_sizes(argv[1]);
 	for (int v = 0; v < N_ADM_VARIANTS; v++)
 		failed |= admittance_variant(argv[2], adm_variants[v]);
 	for (int v = 0; v < N_VARIANTS; v++) {

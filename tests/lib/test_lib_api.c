@@ -1,7 +1,9 @@
 /* libpopc's public API, table-driven where it takes input: versions; bad
  * scene input refused with the key and the allowed range; the port's tick
  * equal to popc run's log row and the observer's W equal to the port's;
- * the log writer's rows read back bit for bit; frees that take NULL. */
+ * the log writer's rows read back bit for bit; frees that take NULL; the
+ * data path is the caller's, never the environment's. */
+#define _POSIX_C_SOURCE 200809L /* setenv */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -206,6 +208,53 @@ static void test_loop_equals_run(const char *scene_path, const char *variant, co
 	check(system(cmd) == 0, what);
 }
 
+/* A bare scene name is looked up in the data path the caller passes
+ * (popc_lib_scene_set_data_path), never in POPC_DATA_PATH: the library reads
+ * no environment (docs/LIBRARY.md). dir/data/scenes/mine.ini is the scene. */
+static void test_data_path(const char *scene_path, const char *dir)
+{
+	char data[1024], cmd[3000];
+	snprintf(data, sizeof data, "%s/data", dir);
+	snprintf(cmd, sizeof cmd, "mkdir -p '%s/scenes' && cp '%s' '%s/scenes/mine.ini'", data,
+		 scene_path, data);
+	check(system(cmd) == 0, "data path: a scene 'mine' in a data directory");
+	setenv("POPC_DATA_PATH", data, 1);
+	popc_lib_scene *s;
+	popc_lib_error err = {{0}};
+	popc_lib_scene_create(&s, NULL);
+	int st = popc_lib_scene_load(s, "mine", &err);
+	char what[1200];
+	snprintf(what, sizeof what, "data path: POPC_DATA_PATH alone does not find 'mine': status %d (%s)",
+		 st, err.msg);
+	check(st == POPC_LIB_ERR_INVALID && strstr(err.msg, "mine") != NULL, what);
+	unsetenv("POPC_DATA_PATH");
+	st = popc_lib_scene_set_data_path(s, data, &err);
+	if (!st)
+		st = popc_lib_scene_load(s, "mine", &err);
+	snprintf(what, sizeof what, "data path: popc_lib_scene_set_data_path finds 'mine': status %d (%s)",
+		 st, st ? err.msg : "");
+	check(st == 0, what);
+	/* an empty entry is the installed directory, after the caller's */
+	snprintf(cmd, sizeof cmd, "/nonexistent:%s:", data);
+	st = popc_lib_scene_set_data_path(s, cmd, &err);
+	if (!st)
+		st = popc_lib_scene_load(s, "mine", &err);
+	check(st == 0, "data path: DIR:DIR: searches each in turn");
+	char long_path[1100];
+	memset(long_path, 'a', 1024);
+	long_path[1024] = '\0';
+	st = popc_lib_scene_set_data_path(s, long_path, &err);
+	snprintf(what, sizeof what, "data path: 1024 characters refused, the limit named (%s)",
+		 st ? err.msg : "accepted");
+	check(st == POPC_LIB_ERR_INVALID && strstr(err.msg, "1023") != NULL, what);
+	/* NULL: back to the installed directory alone, where 'mine' is not */
+	st = popc_lib_scene_set_data_path(s, NULL, &err);
+	if (!st)
+		st = popc_lib_scene_load(s, "mine", &err);
+	check(st == POPC_LIB_ERR_INVALID, "data path: NULL is the installed directory alone");
+	popc_lib_scene_free(s);
+}
+
 int main(int argc, char **argv)
 {
 	if (argc < 3) {
@@ -214,6 +263,7 @@ int main(int argc, char **argv)
 	}
 	test_versions();
 	test_bad_input(argv[2]);
+	test_data_path(argv[1], argv[2]);
 	static const char *const variants[] = {"none", "ref-energy", "filtered-velocity", "improved",
 					       "pc-off-reversals", "energy-bounding", "windowed-po"};
 	for (size_t i = 0; i < sizeof variants / sizeof variants[0]; i++)

@@ -45,6 +45,16 @@ try:
 except popc.Error as e:
     assert ".missing" in str(e), e
 assert popc.api_version()[0] == 1 and popc.version()
+# the data path: POPC_DATA_PATH by default (the module passes it, libpopc
+# reads no environment), or the data_path given (API 1.2)
+import os
+data = os.environ["POPC_DATA_PATH"]
+assert popc.Scene("paper").period_s == popc.Scene("paper", data_path=data).period_s
+try:
+    popc.Scene("paper", data_path="/nonexistent")
+    raise SystemExit("paper found in /nonexistent")
+except popc.Error as e:
+    assert "/nonexistent" in str(e), e
 print("ok")
 PYEOF
 check "the module: header dict, structured rows, exact cells, errors naming key and file" grep -qx ok "$T/out" || cat "$T/out"

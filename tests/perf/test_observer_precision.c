@@ -25,6 +25,7 @@
 
 #include "popc/axes/sim_axis.h"
 #include "popc/core/controller.h"
+#include "../unit/test_new_controller.h"
 #include "popc/core/encoder.h"
 #include "popc/scene/from_scene.h"
 
@@ -125,8 +126,7 @@ static void test_paper_one_hour(void **state)
 	assert_int_equal(popc_sim_axis_create(&ax, &s, &err), 0);
 	popc_controller_config cc;
 	popc_controller_config_from_scene(&cc, &s);
-	popc_controller ctl;
-	popc_controller_init(&ctl, &cc);
+	popc_controller *ctl = new_controller(&cc);
 	reference r;
 	memset(&r, 0, sizeof r);
 	popc_axis_sample smp;
@@ -135,7 +135,7 @@ static void test_paper_one_hour(void **state)
 	double worst_W = 0, worst_E = 0, worst_pW = 0, worst_pE = 0;
 	popc_tick t;
 	for (long long k = 0; k < n; k++) {
-		popc_controller_step(&ctl, smp.count, popc_encoder_position(smp.count, s.enc_resolution_m),
+		popc_controller_step(ctl, smp.count, popc_encoder_position(smp.count, s.enc_resolution_m),
 				     &t);
 		reference_add(&r, t.x_m, t.f_e_N, t.f_c_N);
 		if (k % 60000 == 0 || k == n - 1) {
@@ -148,6 +148,7 @@ static void test_paper_one_hour(void **state)
 			assert_int_equal(ax->ops->exchange(ax, t.f_c_N, &smp, &err), 0);
 	}
 	popc_axis_destroy(&ax);
+	popc_controller_free(ctl);
 	printf("# paper scene, one hour: W = %.17g J, E_ref = %.17g J; worst over the hour: "
 	       "compensated %.3g / %.3g ulp, plain %.3g / %.3g ulp\n",
 	       t.W_J, t.E_ref_J, worst_W, worst_E, worst_pW, worst_pE);

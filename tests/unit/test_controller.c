@@ -11,19 +11,19 @@
 #include <cmocka.h>
 
 #include "popc/core/controller.h"
+#include "test_new_controller.h"
 
 #define E_TOL 1e-20   /* J: values are ~1e-7 J; doubles resolve ~1e-23 J there */
 #define F_TOL 1e-13   /* N: forces ~1e-2 N */
 
-static popc_controller make(popc_variant v, popc_ignore_mode mode, double bound)
+static popc_controller *make(popc_variant v, popc_ignore_mode mode, double bound)
 {
 	popc_controller_config cfg = {
 		.variant = v, .pc_bound_N = bound, .ignore_mode = mode, .resolution_m = 1e-5,
 		.period_s = 1e-3, .foaw_window = 16, .foaw_noise_m = 1e-5,
 		.env = {.kind = POPC_ENV_WALL, .stiffness_Npm = 1000.0, .position_m = 0.0},
 	};
-	popc_controller c;
-	popc_controller_init(&c, &cfg);
+	popc_controller *c = new_controller(&cfg);
 	return c;
 }
 
@@ -42,9 +42,9 @@ typedef struct {
 static void run_case(popc_variant v, popc_ignore_mode mode, const long long *counts,
 		     const expect *ex, int n)
 {
-	popc_controller c = make(v, mode, 5.0);
+	popc_controller *c = make(v, mode, 5.0);
 	for (int k = 0; k < n; k++) {
-		popc_tick t = step(&c, counts[k]);
+		popc_tick t = step(c, counts[k]);
 		if (fabs(t.W_J - ex[k].W) > E_TOL || fabs(t.E_ref_J - ex[k].E_ref) > E_TOL ||
 		    fabs(t.f_pc_N - ex[k].f_pc) > F_TOL || fabs(t.f_c_N - ex[k].f_c) > F_TOL ||
 		    t.flags != ex[k].flags)
@@ -53,6 +53,7 @@ static void run_case(popc_variant v, popc_ignore_mode mode, const long long *cou
 				 popc_variant_name(v), k, t.W_J, t.E_ref_J, t.f_pc_N, t.f_c_N, t.flags,
 				 ex[k].W, ex[k].E_ref, ex[k].f_pc, ex[k].f_c, ex[k].flags);
 	}
+	popc_controller_free(c);
 }
 
 /* Fig. 7: up one count, up one more, back one count. Hand computation:
@@ -150,11 +151,11 @@ static void test_bound_and_guards(void **state)
 {
 	(void)state;
 	for (int v = 0; v < POPC_VARIANT_COUNT; v++) {
-		popc_controller c = make((popc_variant)v, POPC_IGNORE_LITERAL, 0.004);
+		popc_controller *c = make((popc_variant)v, POPC_IGNORE_LITERAL, 0.004);
 		popc_tick t;
 		const long long counts[] = {0, 1, 2, 1, 2, 3, 3, 2, 1, 1, 0, -1, 0, 1, 5000, 4999};
 		for (size_t k = 0; k < sizeof counts / sizeof counts[0]; k++) {
-			t = step(&c, counts[k]);
+			t = step(c, counts[k]);
 			/* energy-bounding's f_pc is the energy bound's correction of f_e,
 			 * which pc_bound does not clamp (controller.c) */
 			if (v != POPC_VARIANT_ENERGY_BOUNDING)
@@ -163,10 +164,11 @@ static void test_bound_and_guards(void **state)
 			if (t.flags & POPC_FLAG_CLAMP)
 				assert_true(fabs(t.f_pc_N) == 0.004);
 		}
-		popc_controller_step(&c, 0, (double)NAN, &t);
+		popc_controller_step(c, 0, (double)NAN, &t);
 		assert_true(isfinite(t.f_c_N));
-		popc_controller_step(&c, 0, (double)INFINITY, &t);
+		popc_controller_step(c, 0, (double)INFINITY, &t);
 		assert_true(isfinite(t.f_c_N));
+		popc_controller_free(c);
 	}
 }
 
@@ -178,18 +180,19 @@ static void test_infinite_pc_force_is_clamped(void **state)
 {
 	(void)state;
 	for (int dir = -1; dir <= 1; dir += 2) {
-		popc_controller c = make(POPC_VARIANT_REF_ENERGY, POPC_IGNORE_LITERAL, 5.0);
-		popc_tick t = step(&c, 10);
-		t = step(&c, 11);
-		c.obs.W_sum_J = -1e305; /* W(k) = W_sum + W_comp (controller.h) */
-		c.obs.W_comp_J = 0.0;
-		t = step(&c, 11 + dir);
+		popc_controller *c = make(POPC_VARIANT_REF_ENERGY, POPC_IGNORE_LITERAL, 5.0);
+		popc_tick t = step(c, 10);
+		t = step(c, 11);
+		c->obs.W_sum_J = -1e305; /* W(k) = W_sum + W_comp (controller.h) */
+		c->obs.W_comp_J = 0.0;
+		t = step(c, 11 + dir);
 		double dx = dir * 1e-5, quotient = (t.E_ref_J - t.W_J) / dx;
 		assert_true(t.W_J < -9e304);
 		assert_true(isinf(quotient) && (quotient > 0) == (dir > 0)); /* a real overflow */
 		assert_true(t.f_pc_N == dir * 5.0);
 		assert_true(t.flags == (POPC_FLAG_CLAMP | POPC_FLAG_ACTIVE));
 		assert_true(t.f_c_N == t.f_e_N + t.f_pc_N && isfinite(t.f_c_N));
+		popc_controller_free(c);
 	}
 }
 
@@ -226,12 +229,13 @@ static void test_filtered_velocity_one_step(void **state)
 		{-2e-7, 5e-8, -0.025, -0.015, POPC_FLAG_ACTIVE},
 	};
 	run_case(POPC_VARIANT_REF_ENERGY, POPC_IGNORE_LITERAL, counts, ref, 4);
-	popc_controller c = make(POPC_VARIANT_FILTERED_VELOCITY, POPC_IGNORE_LITERAL, 5.0);
+	popc_controller *c = make(POPC_VARIANT_FILTERED_VELOCITY, POPC_IGNORE_LITERAL, 5.0);
 	for (int k = 0; k < 4; k++) {
-		popc_tick t = step(&c, counts[k]);
+		popc_tick t = step(c, counts[k]);
 		if (fabs(t.v_mps - v[k]) > 1e-15)
 			fail_msg("k=%d: v %.17g, expected %.17g", k, t.v_mps, v[k]);
 	}
+	popc_controller_free(c);
 }
 
 /* Environments: the bilateral spring pulls as well as pushes; the wall's
@@ -277,20 +281,21 @@ static void test_environments(void **state)
 		.period_s = 1e-3, .foaw_window = 16, .foaw_noise_m = 1e-5,
 		.env = {.kind = POPC_ENV_WALL, .stiffness_Npm = 1000.0, .damping_Nspm = 2.0},
 	};
-	popc_controller c;
-	popc_controller_init(&c, &cfg);
+	popc_controller *c = new_controller(&cfg);
 	const long long counts[] = {0, 100, 99, 50};
 	const double f_e[] = {0.0, 3.0, 0.97, 0.0};
 	for (int k = 0; k < 4; k++) {
-		popc_tick t = step(&c, counts[k]);
+		popc_tick t = step(c, counts[k]);
 		if (fabs(t.f_e_N - f_e[k]) > 1e-12 || t.f_c_N != t.f_e_N)
 			fail_msg("k=%d: f_e %.17g, expected %.17g", k, t.f_e_N, f_e[k]);
 	}
 	cfg.env.kind = POPC_ENV_SPRING;
-	popc_controller_init(&c, &cfg);
-	(void)step(&c, 0);
-	popc_tick t = step(&c, -100); /* -1 + 2 (-1) = -3 N: the spring pulls back */
+	popc_controller_free(c);
+	c = new_controller(&cfg);
+	(void)step(c, 0);
+	popc_tick t = step(c, -100); /* -1 + 2 (-1) = -3 N: the spring pulls back */
 	assert_true(fabs(t.f_e_N + 3.0) < 1e-12 && t.f_c_N == t.f_e_N);
+	popc_controller_free(c);
 }
 
 /* The axis' command limit: f_c is clamped and flagged, and the PO uses the
@@ -303,15 +308,15 @@ static void test_axis_force_limit(void **state)
 		.resolution_m = 1e-5, .period_s = 1e-3, .foaw_window = 16, .foaw_noise_m = 1e-5,
 		.env = {.kind = POPC_ENV_WALL, .stiffness_Npm = 1000.0, .position_m = 0.0},
 	};
-	popc_controller c;
-	popc_controller_init(&c, &cfg);
-	popc_tick t = step(&c, 0);
-	t = step(&c, 1); /* f_e = 0.01: below the limit */
+	popc_controller *c = new_controller(&cfg);
+	popc_tick t = step(c, 0);
+	t = step(c, 1); /* f_e = 0.01: below the limit */
 	assert_true(t.f_c_N == t.f_e_N && !(t.flags & POPC_FLAG_LIMIT));
-	t = step(&c, 2); /* f_e = 0.02 > 0.015 */
+	t = step(c, 2); /* f_e = 0.02 > 0.015 */
 	assert_true(t.f_c_N == 0.015 && (t.flags & POPC_FLAG_LIMIT));
-	t = step(&c, 3); /* W(3) = W(2) + f_c(2) dx = 0.01e-5 + 0.015e-5 */
+	t = step(c, 3); /* W(3) = W(2) + f_c(2) dx = 0.01e-5 + 0.015e-5 */
 	assert_true(fabs(t.W_J - 0.025e-5) < E_TOL);
+	popc_controller_free(c);
 }
 
 /* FOAW: a constant-velocity count ramp is estimated exactly once the window

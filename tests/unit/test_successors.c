@@ -21,6 +21,7 @@
 
 #include "popc/axes/sim_axis.h"
 #include "popc/core/controller.h"
+#include "test_new_controller.h"
 #include "popc/core/encoder.h"
 #include "popc/run/run.h"
 #include "popc/scene/from_scene.h"
@@ -57,11 +58,10 @@ static void test_pc_off_reversals(void **state)
 				    11, 12, 13, 14, 15, 16, 17, 18, 19, 20};
 	const int n = (int)(sizeof counts / sizeof counts[0]);
 	popc_controller_config cfg = base_config(POPC_VARIANT_PC_OFF_REVERSALS);
-	popc_controller c;
-	popc_controller_init(&c, &cfg);
+	popc_controller *c = new_controller(&cfg);
 	int off_ticks = 0, on_acting = 0;
 	for (int k = 0; k < n; k++) {
-		popc_tick t = step(&c, counts[k]);
+		popc_tick t = step(c, counts[k]);
 		double dx = k ? (double)counts[k] * 1e-5 - (double)counts[k - 1] * 1e-5 : 0.0;
 		double pc = t.W_J < t.E_ref_J && dx != 0.0 ? (t.E_ref_J - t.W_J) / dx : 0.0;
 		if (pc > 5.0)
@@ -83,6 +83,50 @@ static void test_pc_off_reversals(void **state)
 	/* the rule really turned an acting PC off, and it acts again after */
 	assert_true(off_ticks > 0);
 	assert_true(on_acting > 0);
+	popc_controller_free(c);
+}
+
+/* windowed-po against its definition: over the counts, f_pc(k) = -D(k) / dx(k)
+ * where D(k), the sum of the W - E_ref increments of the last `window`
+ * ticks, is negative, and 0 where it is positive or no count moved (the
+ * unit scene: floor 0, no damping bound). Returns the ticks the PC acted. */
+static int windowed_against_definition(int window, const long long *counts, int n)
+{
+	popc_controller_config cfg = base_config(POPC_VARIANT_WINDOWED_PO);
+	cfg.po_window_ticks = window;
+	popc_controller *c = new_controller(&cfg);
+	double *inc = malloc((size_t)n * sizeof *inc);
+	assert_non_null(inc);
+	double f_c_prev = 0.0, f_e_prev = 0.0, x_prev = 0.0;
+	int acted = 0;
+	for (int k = 0; k < n; k++) {
+		double x = (double)counts[k] * 1e-5;
+		double f_e = x > 0.0 ? 1000.0 * x : 0.0;
+		popc_tick t = step(c, counts[k]);
+		/* the windowed sum recomputed from its definition */
+		inc[k] = k ? f_c_prev * (x - x_prev) - (f_e + f_e_prev) * (x - x_prev) / 2.0 : 0.0;
+		double D = 0.0;
+		for (int j = k; j >= 0 && j > k - window; j--)
+			D += inc[j];
+		double dx = x - x_prev;
+		if (k && D < -1e-18 && dx != 0.0) {
+			double want = -D / dx;
+			if (fabs(t.f_pc_N - want) > 1e-9 * fabs(want))
+				fail_msg("window %d, tick %d: f_pc %.17g, -D/dx %.17g", window, k,
+					 t.f_pc_N, want);
+			acted++;
+		} else if (D > 1e-18 || dx == 0.0) {
+			if (t.f_pc_N != 0.0)
+				fail_msg("window %d, tick %d: f_pc %.17g where D = %.17g, dx = %g",
+					 window, k, t.f_pc_N, D, dx);
+		}
+		f_c_prev = t.f_c_N;
+		f_e_prev = f_e;
+		x_prev = x;
+	}
+	free(inc);
+	popc_controller_free(c);
+	return acted;
 }
 
 /* windowed-po: W - E_ref increments over the last 4 ticks only. A long
@@ -92,40 +136,34 @@ static void test_pc_off_reversals(void **state)
 static void test_windowed_po_forgets(void **state)
 {
 	(void)state;
-	popc_controller_config cfg = base_config(POPC_VARIANT_WINDOWED_PO);
-	popc_controller c;
-	popc_controller_init(&c, &cfg);
-	double D = 0.0, inc[64];
-	double f_c_prev = 0.0, f_e_prev = 0.0, x_prev = 0.0;
 	/* in to 20 counts, then out one count per tick: the sampled wall is
 	 * active while it recedes (f_c(k-1) lags f_e) */
 	long long counts[40];
 	for (int k = 0; k < 40; k++)
 		counts[k] = k <= 20 ? k : 40 - k;
-	int acted = 0;
-	for (int k = 0; k < 40; k++) {
-		double x = (double)counts[k] * 1e-5;
-		double f_e = 1000.0 * x;
-		popc_tick t = step(&c, counts[k]);
-		/* the windowed sum recomputed from its definition */
-		inc[k] = k ? f_c_prev * (x - x_prev) - (f_e + f_e_prev) * (x - x_prev) / 2.0 : 0.0;
-		D = 0.0;
-		for (int j = k; j >= 0 && j > k - 4; j--)
-			D += inc[j];
-		double dx = x - x_prev;
-		if (k && D < -1e-18 && dx != 0.0) {
-			double want = -D / dx;
-			if (fabs(t.f_pc_N - want) > 1e-9 * fabs(want))
-				fail_msg("tick %d: f_pc %.17g, -D/dx %.17g", k, t.f_pc_N, want);
-			acted++;
-		} else if (D > 1e-18 || dx == 0.0) {
-			assert_true(t.f_pc_N == 0.0);
-		}
-		f_c_prev = t.f_c_N;
-		f_e_prev = f_e;
-		x_prev = x;
+	assert_true(windowed_against_definition(4, counts, 40) > 0);
+}
+
+/* The window is the configuration's, however long: popc_controller_create
+ * sizes the ring from it (the scene's po_window stops at
+ * POPC_PO_MAX_WINDOW; the controller does not). A window of 5000 ticks over
+ * 6000 ticks of pressing in and out of the wall keeps every increment of
+ * the last 5000 ticks: a ring cut at 4096 (the controller's fixed array
+ * before) forgets the oldest and gives another D from tick 4096 on. */
+static void test_windowed_po_long_window(void **state)
+{
+	(void)state;
+	enum { N = 6000 };
+	static long long counts[N];
+	for (int k = 0; k < N; k++) {
+		/* a triangle 0 .. 30 counts, period 60 ticks, in the wall */
+		int ph = k % 60;
+		counts[k] = ph <= 30 ? ph : 60 - ph;
 	}
-	assert_true(acted > 0);
+	assert_true(POPC_PO_MAX_WINDOW < 5000);
+	assert_true(windowed_against_definition(5000, counts, N) > 0);
+	/* and one slot only */
+	assert_true(windowed_against_definition(1, counts, N) > 0);
 }
 
 /* windowed-po: no PC below the velocity floor; |f_pc| <= damping bound |v|. */
@@ -138,21 +176,22 @@ static void test_windowed_po_floor_and_damping(void **state)
 	/* floor above the speed: the PC never acts */
 	popc_controller_config cfg = base_config(POPC_VARIANT_WINDOWED_PO);
 	cfg.po_velocity_floor_mps = 0.031;
-	popc_controller c;
-	popc_controller_init(&c, &cfg);
+	popc_controller *c = new_controller(&cfg);
 	for (int k = 0; k < 40; k++)
-		assert_true(step(&c, counts[k]).f_pc_N == 0.0);
+		assert_true(step(c, counts[k]).f_pc_N == 0.0);
 	/* floor below, damping bound 0.5 N s/m: |f_pc| <= 0.5 * 0.03 N, and it binds */
 	cfg.po_velocity_floor_mps = 0.029;
 	cfg.po_damping_max_Nspm = 0.5;
-	popc_controller_init(&c, &cfg);
+	popc_controller_free(c);
+	c = new_controller(&cfg);
 	int bound = 0;
 	for (int k = 0; k < 40; k++) {
-		popc_tick t = step(&c, counts[k]);
+		popc_tick t = step(c, counts[k]);
 		assert_true(fabs(t.f_pc_N) <= 0.5 * 0.03 * (1 + 1e-12));
 		bound += (t.flags & POPC_FLAG_BOUND) != 0;
 	}
 	assert_true(bound > 0);
+	popc_controller_free(c);
 }
 
 /* A run of the paper scene with one variant and wall stiffness. */
@@ -288,11 +327,11 @@ static void check_delay(int d)
 	/* by hand: the controller's commands through a queue of d ticks */
 	popc_controller_config cfg;
 	popc_controller_config_from_scene(&cfg, &s);
-	popc_controller c;
-	popc_controller_init(&c, &cfg);
+	popc_controller *c = new_controller(&cfg);
 	assert_int_equal(popc_sim_axis_create(&axis, &s, &err), 0);
 	cfg.force_limit_N = axis->force_limit_N;
-	popc_controller_init(&c, &cfg);
+	popc_controller_free(c);
+	c = new_controller(&cfg);
 	double queue[8] = {0};
 	popc_axis_sample smp;
 	assert_int_equal(axis->ops->start(axis, &err), 0);
@@ -300,7 +339,7 @@ static void check_delay(int d)
 	int differ = 0;
 	for (int k = 0; k < DELAY_TICKS; k++) {
 		popc_tick t;
-		popc_controller_step(&c, smp.count, popc_encoder_position(smp.count, s.enc_resolution_m), &t);
+		popc_controller_step(c, smp.count, popc_encoder_position(smp.count, s.enc_resolution_m), &t);
 		if (smp.count != counts_run[k])
 			fail_msg("d = %d, tick %d: count %lld by hand, %lld in the run", d, k, smp.count,
 				 counts_run[k]);
@@ -317,6 +356,7 @@ static void check_delay(int d)
 	}
 	axis->ops->stop(axis, &err);
 	popc_axis_destroy(&axis);
+	popc_controller_free(c);
 	/* the delay changed what was sent (d > 0), or nothing (d = 0) */
 	assert_int_equal(differ > 0, d > 0);
 }
@@ -339,6 +379,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_pc_off_reversals),
 		cmocka_unit_test(test_windowed_po_forgets),
+		cmocka_unit_test(test_windowed_po_long_window),
 		cmocka_unit_test(test_windowed_po_floor_and_damping),
 		cmocka_unit_test(test_energy_bounding_any_stiffness),
 		cmocka_unit_test(test_rendered_stiffness_of_none),

@@ -53,8 +53,10 @@ enum popc_flag {
 	POPC_FLAG_BOUND = 128,   /* energy-bounding / windowed-po: the energy or damping bound cut f_pc */
 };
 
-/* Longest reversal count (pc-off-reversals) and PO window (windowed-po): the
- * controller keeps them in fixed arrays, so a tick never allocates. */
+/* The scene's limits on the reversal count (pc-off-reversals) and the PO
+ * window (windowed-po): the ranges of controller.reversal_count and
+ * controller.po_window (popc-scene(5)). The controller itself takes any
+ * length: popc_controller_create sizes its rings from its configuration. */
 #define POPC_REVERSAL_MAX_COUNT 64
 #define POPC_PO_MAX_WINDOW 4096
 
@@ -139,17 +141,27 @@ typedef struct popc_controller {
 	double f_pc_prev_N;
 	int started;
 	long long tick;              /* ticks stepped before this one */
-	/* pc-off-reversals: ticks of the last reversal_count reversals (a ring) */
-	long long reversal_tick[POPC_REVERSAL_MAX_COUNT];
+	/* pc-off-reversals: ticks of the last reversal_count reversals (a ring
+	 * of reversal_count entries; none for the other variants) */
+	long long *reversal_tick;
 	int n_reversals, reversal_next, last_dir;
-	/* windowed-po: per-tick increments of W - E_ref (a ring) and their
+	/* windowed-po: per-tick increments of W - E_ref (a ring of
+	 * po_window_ticks entries; none for the other variants) and their
 	 * compensated sum over the window */
-	double po_inc_J[POPC_PO_MAX_WINDOW];
+	double *po_inc_J;
 	int po_n, po_next;
 	double po_sum_J, po_comp_J;
 } popc_controller;
 
-void popc_controller_init(popc_controller *c, const popc_controller_config *cfg);
+/* Makes a controller for cfg in one allocation: the struct and the rings its
+ * variant uses, each of the length cfg gives (reversal_count and
+ * po_window_ticks, at least 1), so that a tick never allocates. 0, or
+ * POPC_ERR_NOMEM with a message naming the bytes asked for (*out NULL). */
+int popc_controller_create(const popc_controller_config *cfg, popc_controller **out,
+			   popc_error *err);
+
+/* Frees what popc_controller_create made; takes NULL. */
+void popc_controller_free(popc_controller *c);
 
 /* One control tick: fills every field of *out but t_s. f_c is always finite
  * when x_m is finite. */

@@ -9,10 +9,13 @@
  *     a scene file) is that file: a local file always wins;
  *   - otherwise each data directory in turn is asked for KIND/NAME, then
  *     KIND/NAME.ini (unless NAME ends in .ini). The data directories are
- *     POPC_DATA_PATH's colon-separated entries, an empty entry standing for
+ *     the data path's colon-separated entries, an empty entry standing for
  *     the built-in one (MANPATH's convention: "POPC_DATA_PATH=$HOME/popc:"
- *     searches $HOME/popc, then the installed data); without POPC_DATA_PATH,
- *     the built-in POPC_DATADIR (meson's prefix/datadir/popc) alone.
+ *     searches $HOME/popc, then the installed data); with an empty or NULL
+ *     data path, the built-in POPC_DATADIR (meson's prefix/datadir/popc)
+ *     alone. The data path is the caller's (an argument below; a scene's
+ *     data_path): the programs pass POPC_DATA_PATH, the library layers read
+ *     no environment.
  * A name found is given as an absolute path, which is what the resolved scene
  * (a log header, a sweep's scene.ini and plan) then records. */
 #ifndef POPC_SCENE_DATA_PATH_H
@@ -36,12 +39,12 @@ const char *popc_data_kind_dir(popc_data_kind kind);
  * of the data file in out; 0 when name is not looked up (empty, holds a '/',
  * or exists relative to base_dir: use it as it is); POPC_ERR_INVALID when it
  * is looked up and found nowhere, err naming every place searched. */
-int popc_data_find(popc_data_kind kind, const char *name, const char *base_dir, char *out,
-		   size_t cap, popc_error *err);
+int popc_data_find(popc_data_kind kind, const char *name, const char *base_dir,
+		   const char *data_path, char *out, size_t cap, popc_error *err);
 
 /* The data directories in search order, ':'-separated, as the help and the
  * error messages name them. */
-void popc_data_dirs(char *out, size_t cap);
+void popc_data_dirs(const char *data_path, char *out, size_t cap);
 
 /* Writes "NAME\tPATH\n" for every file of kind in the data directories (NAME
  * without a trailing .ini), the first directory's winning where two hold a
@@ -50,6 +53,7 @@ void popc_data_dirs(char *out, size_t cap);
  * lines) is not listed: a note on notes (when not NULL), after who, names
  * it, its control characters written as \t, \n or \xHH. Returns the count
  * listed. */
-int popc_data_list(popc_data_kind kind, FILE *f, FILE *notes, const char *who);
+int popc_data_list(popc_data_kind kind, const char *data_path, FILE *f, FILE *notes,
+		   const char *who);
 
 #endif

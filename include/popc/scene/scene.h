@@ -80,10 +80,24 @@ typedef struct popc_scene {
 
 	/* not keys: where the scene came from, for messages and provenance */
 	char source[POPC_PATH_MAX];
+	/* not a key: the data directories a bare scene or map name is looked up
+	 * in (data_path.h), in POPC_DATA_PATH's syntax; empty: the built-in one
+	 * alone. The caller sets it (popc_scene_set_data_path): the programs
+	 * from POPC_DATA_PATH; the library layers read no environment. */
+	char data_path[POPC_PATH_MAX];
 } popc_scene;
 
-/* Fills s with every default (the paper's scene: README, "Scenes"). */
+/* Fills s with every default (the paper's scene: README, "Scenes"), the
+ * data path empty (the built-in data directory alone). */
 void popc_scene_defaults(popc_scene *s);
+
+/* Sets the data directories that popc_scene_load and axis.map look bare
+ * names up in (data_path.h): a ':'-separated list, an empty entry standing
+ * for the built-in directory; NULL or "": the built-in one alone. what names
+ * the list's origin in the message ("POPC_DATA_PATH"). POPC_ERR_INVALID
+ * when it is longer than POPC_PATH_MAX - 1 characters (s unchanged). */
+int popc_scene_set_data_path(popc_scene *s, const char *data_path, const char *what,
+			     popc_error *err);
 /* 0 when every key's default is in its key's range (the table is right),
  * else the first refusal's status and message: popc_scene_defaults itself
  * reports nothing, the tests call this. */
