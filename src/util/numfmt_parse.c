@@ -1361,12 +1361,6 @@ int popc_parse_double_line(const char *s, const char *end, char delim, double *o
 	return parse_row(s, end, delim, out, n, line_end, NULL, NULL);
 }
 
-int popc_parse_double_line_memo(const char *s, const char *end, char delim, double *out, int n,
-				const char **line_end, popc_parse_memo *memo)
-{
-	return parse_row(s, end, delim, out, n, line_end, memo, NULL);
-}
-
 int popc_parse_double_line_skip(const char *s, const char *end, char delim, double *out, int n,
 				const char **line_end, popc_parse_memo *memo,
 				const unsigned char *skip)

@@ -64,7 +64,7 @@ int popc_parse_double_row(const char *s, const char *end, char delim, double *ou
 int popc_parse_double_line(const char *s, const char *end, char delim, double *out, int n,
 			   const char **line_end);
 
-/* The last cell one column read through popc_parse_double_line_memo: its
+/* The last cell one column read through popc_parse_double_line_skip: its
  * bytes with the byte after it (len of them, at most 32), their masks and
  * the value they read as. len 0: none (zero-initialized memos are empty). */
 typedef struct popc_parse_memo {
@@ -74,21 +74,18 @@ typedef struct popc_parse_memo {
 	unsigned len;
 } popc_parse_memo;
 
-/* popc_parse_double_line with memo[0..n): a cell whose bytes and terminator
- * (delimiter or line end) equal those memo[i] holds takes memo[i].value
- * without a parse, the same bits the parse gives (they are the same text);
- * every other cell read is parsed and kept in memo[i]. Returns and checks as
- * popc_parse_double_line. */
-int popc_parse_double_line_memo(const char *s, const char *end, char delim, double *out, int n,
-				const char **line_end, popc_parse_memo *memo);
-
 /* The first character at or after s that no number can hold (a digit, '.',
  * '+', '-', 'e', 'E'), or end. */
 const char *popc_number_chars_end(const char *s, const char *end);
 
-/* popc_parse_double_line_memo where a cell with skip[i] set is not parsed:
- * it must be one or more of a number's characters (popc_number_chars_end) up
- * to its delimiter or the line's end, and out[i] is NaN. */
+/* popc_parse_double_line with memo[0..n): a cell whose bytes and terminator
+ * (delimiter or line end) equal those memo[i] holds takes memo[i].value
+ * without a parse, the same bits the parse gives (they are the same text);
+ * every other cell read is parsed and kept in memo[i]. With skip (NULL:
+ * none), a cell with skip[i] set is not parsed: it must be one or more of a
+ * number's characters (popc_number_chars_end) up to its delimiter or the
+ * line's end, and out[i] is NaN. Returns and checks as
+ * popc_parse_double_line otherwise. */
 int popc_parse_double_line_skip(const char *s, const char *end, char delim, double *out, int n,
 				const char **line_end, popc_parse_memo *memo,
 				const unsigned char *skip);
