@@ -36,6 +36,10 @@ typedef struct ana_input_options {
 	int quiet;          /* -q: no notes */
 	unsigned uses;      /* ANA_USES_*: scene parameters the verb reads beyond the columns */
 	unsigned ignores;   /* ANA_USES_*: derived columns the verb does not read (replay: W) */
+	/* 1u << POPC_LOG_COLUMN_*: popc columns the verb never reads; their
+	 * cells are only checked to be a number's characters, not parsed
+	 * (popc_log_reader_check_columns), and ana_row has NaN for them */
+	unsigned unread;
 	/* energy --allow-uneven: a log without a rate may have uneven time steps
 	 * (the verb then computes nothing that uses the period) */
 	int allow_uneven;

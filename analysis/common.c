@@ -620,6 +620,17 @@ int ana_log_open(ana_log *l, const char *path, const ana_input_options *o, popc_
 			used[n_used++] = l->c_extra[i];
 	}
 	popc_log_reader_use_columns(r, used, n_used);
+	/* a column the verb never reads is checked, not parsed, unless --column
+	 * made it also one that it reads */
+	int unread[sizeof cols / sizeof cols[0]], n_unread = 0;
+	for (size_t i = 0; i < sizeof cols / sizeof cols[0]; i++) {
+		int uses = 0;
+		for (int j = 0; j < n_used; j++)
+			uses += used[j] == cols[i];
+		if (cols[i] >= 0 && (o->unread >> i & 1u) && uses == 1)
+			unread[n_unread++] = cols[i];
+	}
+	popc_log_reader_check_columns(r, unread, n_unread);
 	for (int i = 0; i < POPC_LOG_MAX_COLUMNS; i++)
 		l->scale[i] = 1.0;
 	for (int i = 0; i < o->n_scales; i++) {

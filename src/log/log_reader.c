@@ -256,6 +256,14 @@ static int split(char *line, char delim, const char **cs, const char **ce, int m
 	}
 }
 
+/* The one pass parses the columns read and skips the others to their
+ * delimiter (popc_parse_double_line_skip). */
+static void set_skip(popc_log_reader *r)
+{
+	for (int i = 0; i < r->n_cols; i++)
+		r->skip[i] = r->parse[i] != 1;
+}
+
 int popc_log_reader_open(popc_log_reader *r, const char *path, const popc_log_reader_options *opt,
 			 popc_error *err)
 {
@@ -460,12 +468,14 @@ int popc_log_reader_open(popc_log_reader *r, const char *path, const popc_log_re
 	}
 	/* rows of plain numbers are read in one pass (popc_parse_double_row)
 	 * unless the split needs more than the delimiter: runs of blanks, a
-	 * decimal comma, or a comment mark that could begin a number */
+	 * decimal comma, or a comment mark that could begin a number or stand
+	 * in a skipped cell (popc_number_chars_end) */
 	r->fast_rows = r->delimiter != ' ' && r->opt.decimal != ',' &&
-		       !strchr("0123456789.+-", r->comment);
+		       !strchr("0123456789.+-eE", r->comment);
 	r->t_col = popc_log_reader_column(r, popc_log_columns[POPC_LOG_COLUMN_T].name);
 	for (int i = 0; i < r->n_cols; i++)
 		r->parse[i] = 1;
+	set_skip(r);
 	r->popc_log = popc_log_reader_header(r, "format") != NULL;
 	/* popc writes each key once: twice, the scene would take the last value
 	 * and a header lookup the first (a foreign log's comments are free text) */
@@ -492,7 +502,32 @@ int popc_log_reader_use_columns(popc_log_reader *r, const int *cols, int n)
 	}
 	if (r->t_col >= 0)
 		r->parse[r->t_col] = 1; /* time must increase, whoever reads it */
+	set_skip(r);
 	return 0;
+}
+
+int popc_log_reader_check_columns(popc_log_reader *r, const int *cols, int n)
+{
+	for (int i = 0; i < n; i++)
+		if (cols[i] < 0 || cols[i] >= r->n_cols)
+			return POPC_ERR_INVALID;
+	for (int i = 0; i < n; i++)
+		if (cols[i] != r->t_col)
+			r->parse[cols[i]] = 2;
+	set_skip(r);
+	return 0;
+}
+
+/* A cell of a column that is checked but not read: one or more of a
+ * number's characters (and the decimal comma where it is the mark). */
+static int number_chars_only(const popc_log_reader *r, const char *s, const char *e)
+{
+	if (s == e)
+		return 0;
+	for (const char *p = popc_number_chars_end(s, e); p < e; p = popc_number_chars_end(p + 1, e))
+		if (!(*p == ',' && r->opt.decimal == ','))
+			return 0;
+	return 1;
 }
 
 int popc_log_reader_next(popc_log_reader *r, double *values, popc_error *err)
@@ -512,14 +547,12 @@ int popc_log_reader_next(popc_log_reader *r, double *values, popc_error *err)
 		 * or any other line, is read by next_line below */
 		const char *row_end;
 		if (r->fast_rows &&
-		    popc_parse_double_line(r->buf + r->start, r->buf + r->end, r->delimiter, values,
-					   r->n_cols, &row_end) == r->n_cols) {
+		    popc_parse_double_line_skip(r->buf + r->start, r->buf + r->end, r->delimiter,
+						values, r->n_cols, &row_end, r->memo,
+						r->skip) == r->n_cols) {
 			r->start = (size_t)(row_end - r->buf) + (*row_end == '\r' ? 2 : 1);
 			r->lineno++;
-			for (int i = 0; i < r->n_cols; i++)
-				if (!r->parse[i])
-					values[i] = (double)NAN;
-			goto row_read;
+			goto row_read; /* the skipped columns are NaN */
 		}
 		int got = next_line(r, &line, &len, &complete, !r->fast_rows);
 		if (got < 0)
@@ -533,7 +566,7 @@ int popc_log_reader_next(popc_log_reader *r, double *values, popc_error *err)
 			if (popc_parse_double_row(line, line + len, r->delimiter, values,
 						  r->n_cols) == r->n_cols) {
 				for (int i = 0; i < r->n_cols; i++)
-					if (!r->parse[i])
+					if (r->parse[i] != 1)
 						values[i] = (double)NAN;
 				goto row_read;
 			}
@@ -568,6 +601,17 @@ int popc_log_reader_next(popc_log_reader *r, double *values, popc_error *err)
 	for (int i = 0; i < n; i++) {
 		if (!r->parse[i]) {
 			values[i] = (double)NAN; /* a column nobody reads: text is fine */
+			continue;
+		}
+		if (r->parse[i] == 2) {
+			values[i] = (double)NAN; /* checked, not read */
+			if (!number_chars_only(r, cs[i], ce[i]))
+				return popc_error_set(
+					err, POPC_ERR_INVALID,
+					"%s:%lld: column %d (%s): %s '%.*s'", r->path, r->lineno, i + 1,
+					r->col_name[i],
+					cs[i] == ce[i] ? "empty cell" : "not a number",
+					(int)(ce[i] - cs[i] > 40 ? 40 : ce[i] - cs[i]), cs[i]);
 			continue;
 		}
 		/* a decimal comma reads as the point it stands for, in place (the

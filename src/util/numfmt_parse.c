@@ -20,6 +20,7 @@
  * The code is our own, written from the papers; the 5^q table was generated
  * with exact integer arithmetic by the Python script quoted in its comment. */
 #include <float.h>
+#include <math.h>
 #include <stdint.h>
 #include <string.h>
 
@@ -1213,12 +1214,90 @@ static int zero_text_underflows(const char *s, const char *end)
 	return 0;
 }
 
+/* Whether the text at p is memo's cell with the byte after it (its delimiter
+ * or the line's end), so that it reads as memo->value: the same bytes up to a
+ * byte that ends a number parse the same, whatever follows. Four 8-byte
+ * loads, masked to memo->len bytes, where 32 bytes are left before end. */
+static inline int memo_hit(const popc_parse_memo *memo, const char *p, const char *end)
+{
+	if (memo->len == 0 || end - p < (ptrdiff_t)sizeof memo->text)
+		return 0;
+#if HAVE_SWAR
+	uint64_t diff = 0;
+	for (int k = 0; k < 4; k++) {
+		uint64_t v;
+		memcpy(&v, p + 8 * k, sizeof v);
+		diff |= (v ^ memo->text[k]) & memo->mask[k];
+	}
+	return diff == 0;
+#else
+	return memcmp(p, memo->text, memo->len) == 0;
+#endif
+}
+
+/* Remembers the cell [p, q) and its terminator *q as read to v (a cell that
+ * with it is longer than the memo, or near end, is not remembered). */
+static inline void memo_keep(popc_parse_memo *memo, const char *p, const char *q, const char *end,
+			     double v)
+{
+	const size_t len = (size_t)(q - p) + 1;
+	if (len > sizeof memo->text || end - p < (ptrdiff_t)sizeof memo->text) {
+		memo->len = 0;
+		return;
+	}
+	memcpy(memo->text, p, sizeof memo->text);
+	for (size_t k = 0; k < 4; k++) {
+		const size_t b = len > 8 * k ? len - 8 * k : 0; /* the cell's bytes in word k */
+		memo->mask[k] = b >= 8 ? ~UINT64_C(0) : (UINT64_C(1) << (8 * b)) - 1;
+	}
+	memo->value = v;
+	memo->len = (unsigned)len;
+}
+
+static inline int is_number_char(char c)
+{
+	return is_digit(c) || c == '.' || c == '+' || c == '-' || c == 'e' || c == 'E';
+}
+
+/* popc_number_chars_end, inline: eight bytes at a time past digits. */
+static inline const char *number_chars_end(const char *p, const char *end)
+{
+#if HAVE_SWAR
+	while (end - p >= 8) {
+		uint64_t v;
+		memcpy(&v, p, sizeof v);
+		const uint64_t stop = non_digit_bytes(v);
+		if (stop == 0) {
+			p += 8;
+			continue;
+		}
+		p += (unsigned)__builtin_ctzll(stop) >> 3;
+		if (!is_number_char(*p))
+			return p;
+		p++;
+	}
+#endif
+	while (p < end && is_number_char(*p))
+		p++;
+	return p;
+}
+
+const char *popc_number_chars_end(const char *s, const char *end)
+{
+	return number_chars_end(s, end);
+}
+
 /* popc_parse_double_row, and popc_parse_double_line when line_end is set:
  * then the last number is followed by "\n" or "\r\n" inside [s, end), where
- * *line_end is put. */
+ * *line_end is put. With memo (one per cell), a cell whose bytes and
+ * terminator equal the last ones its column read takes their value without a
+ * parse. With skip, a cell with skip[i] set is only checked to be a
+ * number's characters (NaN). */
 static inline __attribute__((always_inline)) int parse_row(const char *s, const char *end,
 							   char delim, double *out, int n,
-							   const char **line_end)
+							   const char **line_end,
+							   popc_parse_memo *memo,
+							   const unsigned char *skip)
 {
 	/* a delimiter that can stand inside a number would split differently
 	 * from a search for it ("1e5" with delimiter 'e') */
@@ -1228,9 +1307,20 @@ static inline __attribute__((always_inline)) int parse_row(const char *s, const 
 	const char *p = s;
 	for (int i = 0; i < n; i++) {
 		double v;
-		const char *q = scan_double(p, end, &v);
-		if (!q)
+		const char *q;
+		const int skipped = skip && skip[i];
+		const int hit = skipped || (memo && memo_hit(&memo[i], p, end));
+		if (skipped) {
+			v = (double)NAN;
+			q = number_chars_end(p, end);
+			if (q == p)
+				return i; /* an empty cell, or text */
+		} else if (hit) {
+			v = memo[i].value; /* a number that passed every check below */
+			q = p + memo[i].len - 1;
+		} else if (!(q = scan_double(p, end, &v))) {
 			return i;
+		}
 		if (i + 1 < n) {
 			if (q == end || *q != delim)
 				return i; /* text after the number, or too few cells */
@@ -1243,13 +1333,17 @@ static inline __attribute__((always_inline)) int parse_row(const char *s, const 
 		} else if (q != end) {
 			return i; /* text after the last number, or too many cells */
 		}
-		/* finite and nonzero in one test, as popc_parse_double_exact */
-		uint64_t bits;
-		memcpy(&bits, &v, sizeof bits);
-		bits <<= 1;
-		if (bits - 1 >= (UINT64_C(0x7ff0000000000000) << 1) - 1 &&
-		    (bits != 0 || (q - p > 4 && zero_text_underflows(p, q))))
-			return i; /* infinity, or an underflow to zero */
+		if (!hit) {
+			/* finite and nonzero in one test, as popc_parse_double_exact */
+			uint64_t bits;
+			memcpy(&bits, &v, sizeof bits);
+			bits <<= 1;
+			if (bits - 1 >= (UINT64_C(0x7ff0000000000000) << 1) - 1 &&
+			    (bits != 0 || (q - p > 4 && zero_text_underflows(p, q))))
+				return i; /* infinity, or an underflow to zero */
+			if (memo)
+				memo_keep(&memo[i], p, q, end, v);
+		}
 		out[i] = v;
 		p = q + 1;
 	}
@@ -1258,11 +1352,18 @@ static inline __attribute__((always_inline)) int parse_row(const char *s, const 
 
 int popc_parse_double_row(const char *s, const char *end, char delim, double *out, int n)
 {
-	return parse_row(s, end, delim, out, n, NULL);
+	return parse_row(s, end, delim, out, n, NULL, NULL, NULL);
 }
 
 int popc_parse_double_line(const char *s, const char *end, char delim, double *out, int n,
 			   const char **line_end)
 {
-	return parse_row(s, end, delim, out, n, line_end);
+	return parse_row(s, end, delim, out, n, line_end, NULL, NULL);
+}
+
+int popc_parse_double_line_skip(const char *s, const char *end, char delim, double *out, int n,
+				const char **line_end, popc_parse_memo *memo,
+				const unsigned char *skip)
+{
+	return parse_row(s, end, delim, out, n, line_end, memo, skip);
 }

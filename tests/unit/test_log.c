@@ -513,6 +513,80 @@ static void test_reader_one_pass_and_split(void **state)
  * of about 3 MiB (rows of every length cut at some byte of every kind: a
  * digit, a point, an exponent, a delimiter, a CR of a CR LF) reads back
  * bitwise, on the right line numbers. */
+/* A column checked but not read (popc_log_reader_check_columns): its cells
+ * are NaN and are not parsed, on the one pass as on the split; a cell of
+ * other characters than a number's, or an empty one, is still an error
+ * naming its line and column, on either path; a cell of a number's
+ * characters that makes no finite number is let through (documented). The
+ * columns read keep their values, and repeated cells (the memos) read as
+ * the first. */
+static void test_reader_checked_columns(void **state)
+{
+	(void)state;
+	const char *plain = "t,x,x_true,f\n"
+			    "0,0.5,0.123456789012345678,1.5\n"
+			    "0.001,0.5,1e999,1.5\n"
+			    "0.002,0.5,1.2.3,-2.5\n"
+			    "0.003,0.25,-0.5e-3,-2.5\n";
+	/* the same rows through the split: a quoted cell in the first row */
+	const char *quoted = "t,x,x_true,f\n"
+			     "\"0\",0.5,0.123456789012345678,1.5\n"
+			     "0.001,0.5,1e999,1.5\n"
+			     "0.002,0.5,1.2.3,-2.5\n"
+			     "0.003,0.25,-0.5e-3,-2.5\n";
+	const char *texts[] = {plain, quoted};
+	const double x[] = {0.5, 0.5, 0.5, 0.25}, f[] = {1.5, 1.5, -2.5, -2.5};
+	for (int k = 0; k < 2; k++) {
+		const char *path = write_file("checked.csv", texts[k]);
+		popc_log_reader r;
+		popc_error err;
+		assert_int_equal(popc_log_reader_open(&r, path, NULL, &err), 0);
+		int cols[] = {0, 1, 2, 3}, checked[] = {2};
+		assert_int_equal(popc_log_reader_use_columns(&r, cols, 4), 0);
+		assert_int_equal(popc_log_reader_check_columns(&r, checked, 1), 0);
+		double v[POPC_LOG_MAX_COLUMNS];
+		for (int row = 0; row < 4; row++) {
+			if (popc_log_reader_next(&r, v, &err) != 1)
+				fail_msg("text %d, row %d: %s", k, row, err.msg);
+			assert_true(v[1] == x[row] && v[3] == f[row] && isnan(v[2]));
+		}
+		assert_int_equal(popc_log_reader_next(&r, v, &err), 0);
+		assert_int_equal(r.fast_rows, k == 0);
+		popc_log_reader_close(&r);
+	}
+	const char *bad[] = {"0,1,x,2\n", "0,1,,2\n", "0,1,nan,2\n", "0,1,inf,2\n",
+			     "0,1,0x10,2\n", "\"0\",1,x,2\n", "\"0\",1,,2\n"};
+	for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+		char text[128];
+		snprintf(text, sizeof text, "t,x,x_true,f\n0.5,1,1,2\n%s", bad[k]);
+		const char *path = write_file("checked_bad.csv", text);
+		popc_log_reader r;
+		popc_error err;
+		assert_int_equal(popc_log_reader_open(&r, path, NULL, &err), 0);
+		int checked[] = {2};
+		assert_int_equal(popc_log_reader_check_columns(&r, checked, 1), 0);
+		double v[POPC_LOG_MAX_COLUMNS];
+		assert_int_equal(popc_log_reader_next(&r, v, &err), 1);
+		int st = popc_log_reader_next(&r, v, &err);
+		if (st != POPC_ERR_INVALID || !strstr(err.msg, ":3: column 3 (x_true): "))
+			fail_msg("\"%s\": %d, %s", bad[k], st, err.msg);
+		popc_log_reader_close(&r);
+	}
+	/* out of range, and the time column stays read */
+	const char *path = write_file("checked_t.csv", "t,x\n0,1\n0.001,2\n");
+	popc_log_reader r;
+	popc_error err;
+	assert_int_equal(popc_log_reader_open(&r, path, NULL, &err), 0);
+	int oob[] = {2}, t_and_x[] = {0, 1};
+	assert_int_equal(popc_log_reader_check_columns(&r, oob, 1), POPC_ERR_INVALID);
+	assert_int_equal(popc_log_reader_check_columns(&r, t_and_x, 2), 0);
+	double v[POPC_LOG_MAX_COLUMNS];
+	assert_int_equal(popc_log_reader_next(&r, v, &err), 1);
+	assert_int_equal(popc_log_reader_next(&r, v, &err), 1);
+	assert_true(v[0] == 0.001 && isnan(v[1]));
+	popc_log_reader_close(&r);
+}
+
 static void test_reader_rows_across_blocks(void **state)
 {
 	(void)state;
@@ -978,6 +1052,7 @@ int main(void)
 		cmocka_unit_test(test_writer_cell_cache),
 		cmocka_unit_test(test_reader_errors),
 		cmocka_unit_test(test_reader_one_pass_and_split),
+		cmocka_unit_test(test_reader_checked_columns),
 		cmocka_unit_test(test_reader_rows_across_blocks),
 		cmocka_unit_test(test_reader_bom),
 		cmocka_unit_test(test_reader_trailing_sections),

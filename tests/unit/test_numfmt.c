@@ -935,6 +935,83 @@ static void test_parse_row(void **state)
 	assert_true(v[0] == 1.0 && v[1] == 5.0);
 }
 
+/* popc_parse_double_line_skip with memos and no skip against popc_parse_double_line without memos,
+ * line after line of one text: the same count, the same line end and the same
+ * bits for every cell, while the memos hit. The cells come from small pools
+ * per column so that most repeat the cell above, among them cells that share
+ * a prefix or differ only in their last byte, their sign or their terminator
+ * (the last column's "\n" against "\r\n"), cells longer than the memo's 32
+ * bytes, odd cells (an underflow, an infinity, text after a number, a NUL
+ * byte) and lines the text's end cuts. */
+static void test_parse_line_memo(void **state)
+{
+	(void)state;
+	rng_seed(2323);
+	static const char *pool[] = {
+		"1.5", "1.55", "1.5e1", "-1.5", "15", "1.50", "0.00012345678901234567",
+		"0.00012345678901234568", "-0.00012345678901234567", "1234567.125",
+		"0.0000000000000000000000012345678901234567",   /* 42 bytes: beyond the memo */
+		"0.00000000000000000000012345678901234567",     /* 40 */
+		"123456789012345678901234567890.5",              /* 32: the cell and its terminator are 33 */
+		"12345678901234567890123456789.5",               /* 31: 32 with its terminator */
+		"0", "-0", "0.0", "4", "1e-400", "1e400", "1.5x", "2\0012", "",
+	};
+	const size_t n_pool = sizeof pool / sizeof pool[0];
+	const char delims[] = {',', ';', '\t'};
+	long hits = 0;
+	for (int round = 0; round < 40; round++) {
+		const char delim = delims[round % 3];
+		const int cells = 1 + (int)(rng() % 12);
+		size_t sub[12]; /* each column's own few cells (a quantized signal) */
+		for (int c = 0; c < cells; c++)
+			sub[c] = rng() % 18; /* a good cell; the odd ones (18 on) come rarely */
+		static char text[1 << 16];
+		size_t len = 0;
+		while (len < sizeof text - 1024) {
+			for (int c = 0; c < cells; c++) {
+				if (c)
+					text[len++] = delim;
+				size_t k = rng() % 8 == 0 ? rng() % n_pool : (sub[c] + rng() % 3 / 2) % n_pool;
+				const size_t cl = k == 21 ? 3 : strlen(pool[k]); /* "2\0012" holds a NUL */
+				memcpy(text + len, pool[k], cl);
+				len += cl;
+			}
+			if (rng() % 4 == 0)
+				text[len++] = '\r';
+			text[len++] = '\n';
+		}
+		popc_parse_memo memo[12];
+		memset(memo, 0, sizeof memo);
+		for (size_t at = 0; at < len;) {
+			/* the text's end at most a few bytes past the line's, sometimes
+			 * before it, so that memos near the end and cut lines are met */
+			const char *nl = memchr(text + at, '\n', len - at);
+			size_t end = rng() % 3 ? len : (size_t)(nl - text) + 1 - rng() % 3;
+			if (end <= at)
+				end = len;
+			double want[12], got[12];
+			const char *want_end = NULL, *got_end = NULL;
+			int w = popc_parse_double_line(text + at, text + end, delim, want, cells, &want_end);
+			popc_parse_memo had[12]; /* a memo the line leaves as it was: a hit */
+			memcpy(had, memo, sizeof had);
+			int g = popc_parse_double_line_skip(text + at, text + end, delim, got, cells,
+							    &got_end, memo, NULL);
+			if (g != w || (w == cells && got_end != want_end)) {
+				print_error("line at %zu (delimiter %d, %d cells): %d cells with memos, %d "
+					    "without\n",
+					    at, delim, cells, g, w);
+				fail();
+			}
+			for (int c = 0; c < w; c++) {
+				expect_same_bits(got[c], want[c], text + at);
+				hits += had[c].len && memcmp(&had[c], &memo[c], sizeof had[c]) == 0;
+			}
+			at = (size_t)(nl - text) + 1;
+		}
+	}
+	assert_true(hits > 20000); /* the memos were used */
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -952,6 +1029,7 @@ int main(void)
 		cmocka_unit_test(test_layout_reference),
 		cmocka_unit_test(test_parse_digit_runs),
 		cmocka_unit_test(test_parse_row),
+		cmocka_unit_test(test_parse_line_memo),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

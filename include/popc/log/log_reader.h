@@ -50,6 +50,7 @@
 #include <stdio.h>
 
 #include "popc/util/error.h"
+#include "popc/util/numfmt.h"
 #include "popc/scene/scene.h"
 
 #define POPC_LOG_MAX_COLUMNS 64
@@ -94,9 +95,14 @@ typedef struct popc_log_reader {
 	long long lineno;               /* line number of the last line returned */
 	long long rows;
 	int t_col;                      /* index of "t", -1 if none: time must increase */
-	unsigned char parse[POPC_LOG_MAX_COLUMNS]; /* 0: a column nobody reads (NaN) */
+	/* 0: a column nobody reads (NaN); 1: parsed; 2: checked to be a
+	 * number's characters, not parsed (NaN): popc_log_reader_check_columns */
+	unsigned char parse[POPC_LOG_MAX_COLUMNS];
+	unsigned char skip[POPC_LOG_MAX_COLUMNS]; /* parse != 1: the one pass skips the cell */
 	int popc_log;                   /* the header has "format": popc wrote it */
 	int fast_rows;                  /* rows may be read by popc_parse_double_row */
+	/* each column's last cell read in one pass: a repeated cell is not parsed again */
+	popc_parse_memo memo[POPC_LOG_MAX_COLUMNS];
 	double t_prev;
 	long long last_row_line;        /* line of the last row returned (0: none) */
 	long long cut_line;             /* a popc log's last line, cut (no newline); 0: none */
@@ -131,6 +137,16 @@ int popc_log_reader_next(popc_log_reader *r, double *values, popc_error *err);
  * of a row is still checked. Default after open: every column. Returns 0 or
  * POPC_ERR_INVALID for an index out of range. */
 int popc_log_reader_use_columns(popc_log_reader *r, const int *cols, int n);
+
+/* After popc_log_reader_use_columns: the columns cols[0 .. n-1] (not the
+ * time column) are not read either, but each of their cells must still be one
+ * or more of a number's characters (digits, '.', '+', '-', 'e', 'E', and the
+ * decimal comma where it is the mark), else the row is an error naming the
+ * cell; they are NaN. What is no longer checked in them: that the characters
+ * make a finite number ("1.2.3", "1e999", "1e-400" pass). A verb that never
+ * reads a column skips its parse so. Returns 0 or POPC_ERR_INVALID for an
+ * index out of range. */
+int popc_log_reader_check_columns(popc_log_reader *r, const int *cols, int n);
 
 /* Index of popc's column NAME (through the --column map; a mapped "#N" is
  * position N), or -1. */

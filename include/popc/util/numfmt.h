@@ -9,6 +9,7 @@
 #define POPC_NUMFMT_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 /* Longest text popc_format_double can write, without the terminating NUL. */
 #define POPC_DOUBLE_TEXT_MAX 32
@@ -62,5 +63,31 @@ int popc_parse_double_row(const char *s, const char *end, char delim, double *ou
  * before its end returns less than n. delim is no '\n' or '\r' either. */
 int popc_parse_double_line(const char *s, const char *end, char delim, double *out, int n,
 			   const char **line_end);
+
+/* The last cell one column read through popc_parse_double_line_skip: its
+ * bytes with the byte after it (len of them, at most 32), their masks and
+ * the value they read as. len 0: none (zero-initialized memos are empty). */
+typedef struct popc_parse_memo {
+	uint64_t text[4];
+	uint64_t mask[4];
+	double value;
+	unsigned len;
+} popc_parse_memo;
+
+/* The first character at or after s that no number can hold (a digit, '.',
+ * '+', '-', 'e', 'E'), or end. */
+const char *popc_number_chars_end(const char *s, const char *end);
+
+/* popc_parse_double_line with memo[0..n): a cell whose bytes and terminator
+ * (delimiter or line end) equal those memo[i] holds takes memo[i].value
+ * without a parse, the same bits the parse gives (they are the same text);
+ * every other cell read is parsed and kept in memo[i]. With skip (NULL:
+ * none), a cell with skip[i] set is not parsed: it must be one or more of a
+ * number's characters (popc_number_chars_end) up to its delimiter or the
+ * line's end, and out[i] is NaN. Returns and checks as
+ * popc_parse_double_line otherwise. */
+int popc_parse_double_line_skip(const char *s, const char *end, char delim, double *out, int n,
+				const char **line_end, popc_parse_memo *memo,
+				const unsigned char *skip);
 
 #endif
