@@ -68,6 +68,7 @@ typedef struct mb_axis {
 	int cmd_first, cmd_n, cmd_off, seq_off;
 	uint16_t seq;              /* the sequence value of the next new command */
 	uint16_t seq_written;      /* the sequence value of the last command encoded */
+	int seq_any;               /* a command was encoded: seq_written is this run's */
 	uint16_t tid;              /* TCP: the transaction id of the last request sent */
 	int64_t line_busy_ns;      /* RTU: when the line was last seen busy (a frame sent or received) */
 	char op_why[POPC_ERROR_MSG_MAX]; /* why the last attempt failed */
@@ -460,7 +461,10 @@ static int check_reply(mb_axis *a, const mb_op *op, const uint8_t *req, const ui
 					      n - 2, p[1], want);
 		for (int i = 0; i < want / 2; i++)
 			op->dest[i] = (uint16_t)get16(p + 2 + 2 * i);
+		/* (a servo-mode start reads the block before its first
+		 * command: the register then holds a previous session's value) */
 		if ((op->kind == OP_READ_BLOCK || op->kind == OP_WRITE_AND_READ) && a->echo_off >= 0 &&
+		    a->seq_any &&
 		    op->dest[a->echo_off] != a->seq_written)
 			return attempt_failed(a, EMBBADDATA,
 					      "reply's sequence register %d holds %u, the last command "
@@ -751,6 +755,7 @@ static void encode_command(mb_axis *a, double f_N, uint16_t *words)
 	const popc_register_map *m = &a->map;
 	if (a->seq_off >= 0) {
 		a->seq_written = a->seq;
+		a->seq_any = 1;
 		words[a->seq_off] = a->seq++; /* uint16_t: wraps modulo 65536 */
 	}
 	double f = f_N, units;
@@ -901,6 +906,10 @@ static int mb_start(popc_axis *ax, popc_error *err)
 	if (st)
 		return st;
 	a->enabled = 1; /* from here on, stop() writes zero force and the disable word */
+	/* a servo-mode drive: where it stands, first (a faulted drive too: the
+	 * safe stop holds that position) */
+	if (a->servo && (st = servo_hold(a, err)))
+		return st;
 	/* no start while the drive reports a fault */
 	uint16_t status;
 	mb_op sop = {.kind = OP_READ_STATUS, .dest = &status};
@@ -912,8 +921,6 @@ static int mb_start(popc_axis *ax, popc_error *err)
 		return popc_error_set(err, st, "%s; popc does not start a drive that reports a fault", msg);
 	}
 	uint16_t zero[POPC_MAP_CMD_BLOCK_MAX];
-	if (a->servo && (st = servo_hold(a, err)))
-		return st;
 	encode_command(a, a->servo ? servo_value(a, a->x_cmd_m) : 0.0, zero);
 	mb_op cop = {.kind = OP_WRITE_CMD, .words = zero};
 	if ((st = transact(a, &cop, err)))
@@ -1031,16 +1038,19 @@ static int mb_stop(popc_axis *ax, popc_error *err)
 	a->stopping = 1;
 	a->failures_in_row = 0;
 	uint16_t zero[POPC_MAP_CMD_BLOCK_MAX];
-	/* position mode: hold where the drive was last measured (before any
-	 * sample: the set point it was enabled with) */
-	encode_command(a,
-		       !a->servo ? 0.0
-		       : m->cmd.mode == POPC_CMD_VELOCITY ? servo_value(a, 0.0)
-							  : servo_value(a, a->have_x ? a->last_x_m : a->x_cmd_m),
-		       zero);
+	/* position mode: hold where the drive was last measured. Before any
+	 * position was read (the link failed at once) popc has none to hold,
+	 * and any other set point could move the axis: the disable word only. */
+	int hold = !(m->cmd.mode == POPC_CMD_POSITION && !a->have_x);
+	if (hold)
+		encode_command(a,
+			       !a->servo ? 0.0
+			       : m->cmd.mode == POPC_CMD_VELOCITY ? servo_value(a, 0.0)
+								  : servo_value(a, a->last_x_m),
+			       zero);
 	mb_op cop = {.kind = OP_WRITE_CMD, .words = zero};
 	popc_error e1, e2;
-	int st1 = transact(a, &cop, &e1);
+	int st1 = hold ? transact(a, &cop, &e1) : 0;
 	a->failures_in_row = 0;
 	mb_op eop = {.kind = OP_WRITE_ENABLE, .words = &m->enable.off};
 	int st2 = transact(a, &eop, &e2);
