@@ -87,5 +87,27 @@ for servo in position velocity; do
 		fi
 	done
 done
+# the shipped servo maps (int32 set points and an int32 force sensor in mN,
+# which popc re-quantizes to the scene's 0.01 N) dry-run in lockstep: the
+# run completes, the set point read back at start (the drive's own counts)
+# is taken, and the last writes are the safe stop's (the server's watchdog
+# off, as maps.sh runs the force maps)
+for servo in position velocity; do
+	MAP=$(test_map "$DRIVES/hilo-int32-$servo.ini")
+	start_server --map "$MAP" --listen "$LISTEN" --scene "$ADM_SCENE" --set admittance.servo=$servo \
+		--lockstep --watchdog-ms 0 --record "$WORK/rec-shipped-$servo.txt"
+	[ "$TRANSPORT" = rtu ] || CONNECT=$SRV_URI
+	rc=0
+	"$POPC" run "$ADM_SCENE" -q --set run.duration=1 --set admittance.servo=$servo --axis modbus \
+		--map "$MAP" --connect "$CONNECT" --free-run --log "$WORK/shipped-$servo.csv" \
+		2>"$WORK/shipped-$servo.err" || rc=$?
+	stop_server
+	expect_rc "shipped-$servo" $rc 0
+	check_log "$WORK/shipped-$servo.csv" '^# stop = completed$'
+	grep -q '(0 malformed)' "$WORK/srv.err" || fail "shipped-$servo: malformed frames: $(cat "$WORK/srv.err")"
+	got=$(tail -n 2 "$WORK/rec-shipped-$servo.txt" | tr '\n' '|')
+	[[ $got =~ ^command\ [^\ ]+\ \[[0-9a-f]{4}\ [0-9a-f]{4}\]\|enable\ 0x0000\|$ ]] ||
+		fail "shipped-$servo: last writes '$got'"
+done
 [ "$TRANSPORT" = rtu ] && stop_socat
 finish
