@@ -139,6 +139,10 @@ static void enable_write(servo_drive *d, uint16_t value, int64_t now_ns)
 	record(d, text);
 	if (value == m->enable.off) {
 		d->enabled = 0;
+		/* a disabled position drive forgets its set point: enabled
+		 * again without a new one, it holds where it is */
+		if (m->cmd.mode == POPC_CMD_POSITION)
+			d->cmd_value = d->smp.x_cmd_m;
 		if (d->fault && !d->fault_permanent) /* a latched fault clears on disable */
 			d->fault = 0;
 	} else if (value == m->enable.on[m->enable.n_on - 1]) {
@@ -320,6 +324,8 @@ int drive_init(servo_drive *d, const popc_register_map *map, const popc_scene *s
 		popc_axis_destroy(&d->plant);
 		return popc_error_set(err, POPC_ERR_NOMEM, "cannot allocate the register tables");
 	}
+	if (map->cmd.mode == POPC_CMD_POSITION)
+		d->cmd_value = d->smp.x_cmd_m; /* enabled without a set point: hold */
 	refresh(d);
 	return 0;
 }
