@@ -11,7 +11,8 @@
 # initial position: the two differ by less than one encoder count, which is
 # checked instead. (In position mode popc reads the drive's set point back
 # at start, the drive's actual position to the bit, and x_cmd is equal.)
-# The drive saw only well-formed Modbus frames, and its last writes were the
+# popc-analyze energy --check passes on each Modbus log. The drive saw only
+# well-formed Modbus frames, and its last writes were the
 # safe stop's: zero velocity, or the last measured position, then disable.
 #   admittance.sh SERVO_SIM tcp|rtu
 . "$(dirname "$0")/lib.sh"
@@ -74,6 +75,10 @@ for servo in position velocity; do
 			END { exit !(force && (pc || v == "none")) }' ||
 			fail "$name: no force reading or no PC action in the run"
 		check_log "$WORK/mb-$name.csv" '^# stop = completed$'
+		# the Modbus log is an admittance log: popc-analyze recomputes its W
+		# from its force counts and velocities bit for bit
+		"$POPC_BUILD_ROOT/analysis/popc-analyze" energy --check "$WORK/mb-$name.csv" >/dev/null ||
+			fail "$name: popc-analyze energy --check fails on the Modbus log"
 		# the safe stop: zero velocity, or the last measured position held
 		last_x=$(adm_cols "$WORK/mb-$name.csv" x | tail -n 1)
 		got=$(tail -n 2 "$WORK/rec-$name.txt" | tr '\n' '|')
