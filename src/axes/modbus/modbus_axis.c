@@ -725,6 +725,7 @@ static int read_state(mb_axis *a, uint16_t *blk, uint16_t *status, uint16_t *sen
  * start/stop pass +0. With a sequence register, each new command carries the
  * next sequence value; a retry resends these same words, so the drive sees
  * the same value again and knows it for a retry. */
+/* v within [lo, hi]; a clamp is counted for the summary. */
 static double clamp_count(mb_axis *a, double v, double lo, double hi)
 {
 	if (v > hi) {
