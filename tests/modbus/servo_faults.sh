@@ -179,6 +179,23 @@ for SERVO in position velocity; do
 		run_case $s-closed 0 '^# stop = completed$' all "$MAP" "--close-after c$C"
 		stop_server
 		check_hold $s-closed "$WORK/rec-$s-closed.txt" "$X0"
+
+		# inherited descriptors: popc with stdin and stderr closed and a
+		# reconnect (whose note, and the force sensor's re-quantization
+		# note, would go to descriptor 2): the notes go to /dev/null, never
+		# into the connection; the drive sees only well-formed frames
+		# shellcheck disable=SC2086
+		start_server --map "$MAP" --listen "$LISTEN" --scene "$ADM_SCENE" $SETS --lockstep \
+			--close-after c$C --record "$WORK/rec-$s-fds.txt"
+		rc=0
+		# shellcheck disable=SC2086
+		"$POPC" run "$ADM_SCENE" $SETS --set run.duration=$DUR --axis modbus --map "$MAP" \
+			--connect "$SRV_URI" --free-run --log "$WORK/$s-fds.csv" <&- 2>&- || rc=$?
+		stop_server
+		expect_rc $s-fds $rc 0
+		check_log "$WORK/$s-fds.csv" '^# stop = completed$'
+		grep -q '(0 malformed)' "$WORK/srv.err" || fail "$s-fds: the drive saw malformed frames: $(cat "$WORK/srv.err")"
+		check_hold $s-fds "$WORK/rec-$s-fds.txt" "$X0"
 	fi
 
 	# a signal mid-run (paced at 1 kHz, 60 s), once the server has seen
