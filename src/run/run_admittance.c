@@ -94,6 +94,8 @@ int popc_run_admittance(const popc_scene *s, popc_axis *axis, const popc_run_opt
 		row.tick.flags = row.adm.flags;
 		row.x_true_m = smp.x_true_m;
 		row.x_cmd_m = smp.x_cmd_m;
+		row.dt_s = smp.dt_s; /* a real axis' timing columns */
+		row.rtt_s = smp.rtt_s;
 		popc_metrics_add(&sum->metrics, &row.tick);
 		stats_add(&stats, row.adm.v_pc_mps, row.tick.t_s >= sum->metrics.late_from_s);
 		if (opt && opt->on_tick) {

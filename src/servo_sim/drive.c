@@ -36,6 +36,30 @@ static void refresh(servo_drive *d)
 	else
 		v = floor(sign * d->smp.x_true_m * m->pos.counts_per_m); /* the drive's own encoder */
 	popc_reg_encode(v, m->pos.type, m->pos.order, table_of(d, m->pos.table) + m->pos.reg);
+	if (d->servo) {
+		/* the sensor's reading, its count (and noise) included: the count
+		 * itself when the unit is the scene's resolution, else the force
+		 * n r in the register's unit */
+		double r = d->scene.adm_force_resolution_N, n = (double)d->smp.force_count;
+		double f = d->fs_passthrough && m->sensor.type != POPC_REG_FLOAT32 &&
+					   m->sensor.type != POPC_REG_FLOAT64
+				   ? n
+				   : n * r / m->sensor.newton_per_unit;
+		if (m->sensor.type != POPC_REG_FLOAT32 && m->sensor.type != POPC_REG_FLOAT64)
+			f = nearbyint(f);
+		popc_reg_encode(m->sensor.reversed ? -f : f, m->sensor.type, m->sensor.order,
+				table_of(d, m->sensor.table) + m->sensor.reg);
+		/* a position-mode drive's set point follows its actual position
+		 * while it is disabled (as CiA 402 drives' does): popc reads it
+		 * back at start and holds exactly there */
+		if (m->cmd.mode == POPC_CMD_POSITION && !d->enabled) {
+			double u = d->smp.x_true_m * m->cmd.counts_per_m;
+			if (m->cmd.type != POPC_REG_FLOAT32 && m->cmd.type != POPC_REG_FLOAT64)
+				u = nearbyint(u);
+			popc_reg_encode(m->cmd.reversed ? -u : u, m->cmd.type, m->cmd.order,
+					d->mb->tab_registers + m->cmd.reg);
+		}
+	}
 	uint16_t status = 0;
 	if (d->enabled && !d->fault && !d->never_ready)
 		status |= m->status.ready_mask;
@@ -54,13 +78,30 @@ void drive_set_fault(servo_drive *d, const char *why, int permanent)
 	refresh(d);
 }
 
-/* One control period with the force now in force. */
+/* The velocity command of the coming period for a servo-mode drive: the
+ * velocity set point, or the interpolation from the position command the
+ * servo tracks now to the set point, (x_set - x_c) / T (the set point is
+ * reached at the period's end, then held). A disabled or faulted drive
+ * holds its position command (velocity 0: the simulated servo stays on,
+ * as a drive's holding brake would keep the axis). */
+static double servo_velocity(const servo_drive *d)
+{
+	if (!d->enabled || d->fault)
+		return 0.0;
+	if (d->map.cmd.mode == POPC_CMD_VELOCITY)
+		return d->cmd_value;
+	return (d->cmd_value - d->smp.x_cmd_m) / popc_scene_period_s(&d->scene);
+}
+
+/* One control period with the command now in force. */
 static int advance(servo_drive *d)
 {
-	double f_dev = d->enabled && !d->fault ? d->force_N : 0.0;
+	double f_dev = d->enabled && !d->fault ? d->cmd_value : 0.0;
 	popc_error err;
-	/* the device receives -f_c (README, "The plant"), so f_c = -f_dev; exact */
-	if (d->plant->ops->exchange(d->plant, -f_dev, &d->smp, &err) != 0) {
+	/* the device receives -f_c (README, "The plant"), so f_c = -f_dev;
+	 * exact. A servo-mode drive's plant takes the velocity command. */
+	double cmd = d->servo ? servo_velocity(d) : -f_dev;
+	if (d->plant->ops->exchange(d->plant, cmd, &d->smp, &err) != 0) {
 		fprintf(stderr, "popc-servo-sim: %s\n", err.msg);
 		drive_set_fault(d, "plant diverged", 1);
 		return -1;
@@ -98,6 +139,10 @@ static void enable_write(servo_drive *d, uint16_t value, int64_t now_ns)
 	record(d, text);
 	if (value == m->enable.off) {
 		d->enabled = 0;
+		/* a disabled position drive forgets its set point: enabled
+		 * again without a new one, it holds where it is */
+		if (m->cmd.mode == POPC_CMD_POSITION)
+			d->cmd_value = d->smp.x_cmd_m;
 		if (d->fault && !d->fault_permanent) /* a latched fault clears on disable */
 			d->fault = 0;
 	} else if (value == m->enable.on[m->enable.n_on - 1]) {
@@ -150,8 +195,11 @@ static int register_write(servo_drive *d, int addr, int n, const uint8_t *p, int
 	/* real time: the periods before this write ran with the old command */
 	drive_tick(d, now_ns);
 	double units = popc_reg_decode(d->mb->tab_registers + m->cmd.reg, m->cmd.type, m->cmd.order);
-	/* a reversed map: the register holds minus the force (exact negation) */
-	d->force_N = (m->cmd.reversed ? -units : units) * m->cmd.newton_per_unit;
+	/* a reversed map: the register holds minus the command (exact negation) */
+	units = m->cmd.reversed ? -units : units;
+	d->cmd_value = m->cmd.mode == POPC_CMD_FORCE	? units * m->cmd.newton_per_unit
+		       : m->cmd.mode == POPC_CMD_VELOCITY ? units * m->cmd.m_per_s_per_unit
+							  : units / m->cmd.counts_per_m;
 	d->last_cmd_ns = now_ns;
 	d->commands++;
 	/* the force, then the register's words as they came over the wire
@@ -159,7 +207,7 @@ static int register_write(servo_drive *d, int addr, int n, const uint8_t *p, int
 	 * a float's -0.0 (8000 0000), which a drive's firmware would have to
 	 * know for zero */
 	char text[sizeof d->record[0]], num[POPC_DOUBLE_TEXT_MAX + 1];
-	popc_format_double(d->force_N + 0.0, num); /* -0 N is written 0 */
+	popc_format_double(d->cmd_value + 0.0, num); /* -0 is written 0 */
 	int used = snprintf(text, sizeof text, "command %s [", num);
 	for (int i = 0; i < ncmd && used > 0 && (size_t)used < sizeof text; i++)
 		used += snprintf(text + used, sizeof text - (size_t)used, "%s%04x", i ? " " : "",
@@ -259,7 +307,12 @@ int drive_init(servo_drive *d, const popc_register_map *map, const popc_scene *s
 	d->period_ns = llround(1e9 * popc_scene_period_s(scene));
 	if (d->period_ns < 1)
 		d->period_ns = 1;
-	int st = popc_sim_axis_create(&d->plant, scene, err);
+	d->servo = map->cmd.mode != POPC_CMD_FORCE;
+	d->fs_passthrough = popc_register_map_sensor_is_scene_counts(map, scene->adm_force_resolution_N);
+	/* a servo-mode drive moves the admittance-type device of the scene
+	 * (the same plant, servo and sensor as popc run's simulated axis) */
+	int st = d->servo ? popc_sim_admittance_axis_create(&d->plant, scene, err)
+			  : popc_sim_axis_create(&d->plant, scene, err);
 	if (st)
 		return st;
 	if ((st = d->plant->ops->start(d->plant, err)) || (st = d->plant->ops->sample(d->plant, &d->smp, err))) {
@@ -271,6 +324,8 @@ int drive_init(servo_drive *d, const popc_register_map *map, const popc_scene *s
 		popc_axis_destroy(&d->plant);
 		return popc_error_set(err, POPC_ERR_NOMEM, "cannot allocate the register tables");
 	}
+	if (map->cmd.mode == POPC_CMD_POSITION)
+		d->cmd_value = d->smp.x_cmd_m; /* enabled without a set point: hold */
 	refresh(d);
 	return 0;
 }

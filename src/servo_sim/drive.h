@@ -8,6 +8,14 @@
  * - The command register holds the force on the device (the runner writes
  *   -f_c: the device receives -f_c, README, "The plant"); it acts only while the
  *   drive is enabled and not faulted.
+ * - A servo-mode map (command.mode = position or velocity, issue 25): the
+ *   plant is the scene's admittance-type device (popc_sim_admittance_axis_
+ *   create: its servo loop and force sensor); the command register is the
+ *   velocity set point, or the position set point reached by linear
+ *   interpolation over the period; the force sensor register holds the
+ *   sensor's reading in the map's type, scale and direction. While
+ *   disabled a position drive's set point register reads its actual
+ *   position, and the servo holds its position command.
  * - Lockstep: each command write while enabled advances the plant exactly one
  *   control period. With a command sequence register in the map, only a
  *   command whose sequence value differs from the last one written does: a
@@ -51,7 +59,10 @@ typedef struct servo_drive {
 	int never_ready;           /* --never-ready: the ready bits never come (a stuck enable) */
 	int fault, fault_permanent;
 	char fault_why[128];
-	double force_N;            /* the command as decoded: force on the device */
+	double cmd_value;          /* the command as decoded: force on the device (N), or a
+				      servo-mode drive's velocity (m/s) or position (m) set point */
+	int servo;                 /* command.mode = position or velocity */
+	int fs_passthrough;        /* the force sensor's unit is the scene's resolution */
 	long long k;               /* control periods the plant has advanced */
 	int clock_running;
 	int64_t origin_ns;         /* real time: when the plant's clock started */

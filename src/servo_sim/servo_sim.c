@@ -55,7 +55,7 @@ static void usage(FILE *f)
 	      "stop bits; PORT 0: any free port). Prints 'popc-servo-sim: listening on URI'\n"
 	      "on standard output when ready; stops cleanly on SIGTERM or SIGINT.\n"
 	      "\n"
-	      "  --lockstep            advance the plant one control period per force command\n"
+	      "  --lockstep            advance the plant one control period per command\n"
 	      "                        written while enabled (deterministic); default: real time;\n"
 	      "                        with the map's command.sequence_register, a command that\n"
 	      "                        repeats the last sequence value (a retry) does not advance\n"
@@ -104,8 +104,13 @@ static void usage(FILE *f)
 	      "received frames were malformed (bad CRC, another slave, a bad MBAP header, an\n"
 	      "unknown function): a client must never send one; over RTU also the shortest\n"
 	      "silence it measured before a request (a map's rtu_frame_gap_ms kept).\n"
+	      "A map's command.mode is the scene's device: force with an impedance scene,\n"
+	      "position or velocity (admittance.servo) with an admittance scene, whose\n"
+	      "force sensor fills [force_sensor]; a position drive interpolates to each set\n"
+	      "point over one period and, while disabled, its set point register reads its\n"
+	      "actual position.\n"
 	      "A map's position.direction and command.direction = reversed are honoured\n"
-	      "(the registers hold minus the position and minus the force); its RTU line\n"
+	      "(the registers hold minus the position and minus the command); its RTU line\n"
 	      "keys rs485, rts and rts_delay_us are not used (the drive's side of the line).\n"
 	      "MAPFILE and SCENE may be names of installed files: a name without a '/' that\n"
 	      "is not in the working directory is looked up in the data directories'\n"
@@ -696,11 +701,6 @@ int main(int argc, char **argv)
 		map_path = map_found;
 	if (st >= 0)
 		st = popc_register_map_load(&map, map_path, &err);
-	if (!st && map.cmd.mode != POPC_CMD_FORCE)
-		st = popc_error_set(&err, POPC_ERR_INVALID,
-				    "%s: command.mode = %s: popc-servo-sim simulates a drive with a "
-				    "force command only (a position or velocity drive: issue 25 phase 2)",
-				    map_path, popc_cmd_mode_names[map.cmd.mode]);
 	if (!st) {
 		st = popc_env_scene_defaults(&scene, &err);
 		if (!st)
@@ -709,6 +709,11 @@ int main(int argc, char **argv)
 			st = popc_scene_set_assignment(&scene, sets[i], &err);
 		if (!st)
 			st = popc_scene_validate(&scene, &err);
+		/* the drive's command mode must be the scene's device (popc run's
+		 * own rule): a force drive around an impedance plant, a position
+		 * or velocity drive around the admittance-type device */
+		if (!st)
+			st = popc_register_map_fits_scene(&map, &scene, &err);
 	}
 	if (!st)
 		st = popc_modbus_uri_parse(listen, &sv.uri, &err);

@@ -4,9 +4,10 @@
 # URI's port 1 has no listener: a connection attempt would be exit 4), with
 # the map's file and the key named: a position or velocity map with an
 # impedance scene, a force map with an admittance scene, a servo mode that is
-# not the scene's admittance.servo. What phase 2 has not built yet is refused
-# the same way, saying so: the Modbus axis with an admittance scene, and
-# popc-servo-sim with a position- or velocity-mode map.
+# not the scene's admittance.servo, a servo map without its [force_sensor].
+# popc-servo-sim refuses the same mismatches (exit 2, no server). A map that
+# fits passes these checks and goes on to connect (exit 4 here: nobody
+# listens on port 1).
 #   modes.sh SERVO_SIM
 . "$(dirname "$0")/lib.sh"
 
@@ -38,8 +39,22 @@ done
 refused servo-mismatch \
 	"^popc run: $VEL_MAP: command.mode = velocity: $ADM_SCENE has admittance.servo = position; the map needs command.mode = position" \
 	"$ADM_SCENE" --set admittance.servo=position --map "$VEL_MAP"
-refused not-yet "^popc run: $POS_MAP: command.mode = position: the modbus axis does not drive an admittance-type device yet" \
-	"$ADM_SCENE" --set admittance.servo=position --map "$POS_MAP"
+# a servo map that fits its scene is accepted and tries to connect (before
+# issue 25's Modbus part: refused, "does not drive an admittance-type device yet")
+for map in "$POS_MAP" "$VEL_MAP"; do
+	mode=$(sed -n 's/^mode = //p' "$map")
+	rc=0
+	"$POPC" run "$ADM_SCENE" -q --set admittance.servo=$mode --axis modbus --map "$map" \
+		--connect tcp:127.0.0.1:1 --log "$WORK/fits-$mode.csv" 2>"$WORK/fits-$mode.err" || rc=$?
+	expect_rc "fits-$mode" $rc 4
+	grep -q 'cannot connect' "$WORK/fits-$mode.err" || fail "fits-$mode: $(cat "$WORK/fits-$mode.err")"
+done
+
+# a servo map without its force sensor: the key and the file
+sed '/^\[force_sensor\]/,/^newton_per_unit/d' "$POS_MAP" >"$WORK/no-sensor.ini"
+refused no-sensor \
+	"^popc run: $WORK/no-sensor.ini: missing force_sensor.register: a position or velocity command needs the force sensor" \
+	"$ADM_SCENE" --set admittance.servo=position --map "$WORK/no-sensor.ini"
 
 # a key of another mode, in a shipped servo map: file, line and key
 sed '/^\[command\]/,/^\[force_sensor\]/ s/^counts_per_m = 100000$/&\nlimit_N = 20/' "$POS_MAP" \
@@ -50,15 +65,32 @@ refused other-mode-key \
 	"$WORK/pos-limit.ini:$line: command.limit_N = 20: only used with command.mode = force (this map's is position)" \
 	"$ADM_SCENE" --map "$WORK/pos-limit.ini"
 
-# popc-servo-sim: a servo-mode map is refused (exit 2), no server starts
+# popc-servo-sim: a map whose mode is not the scene's device is refused
+# (exit 2) naming the map and the key, and no server starts (before issue
+# 25's Modbus part every servo-mode map was refused, and a force map around
+# an admittance scene was served)
+# sim_refused NAME PATTERN SIM-ARGS...
+sim_refused() {
+	local name=$1 pattern=$2 rc=0
+	shift 2
+	timeout 10 "$SIM" --listen tcp:127.0.0.1:0 "$@" >"$WORK/sim-$name.out" 2>"$WORK/sim-$name.err" || rc=$?
+	expect_rc "sim $name" $rc 2
+	grep -q -- "$pattern" "$WORK/sim-$name.err" || fail "sim $name: $(cat "$WORK/sim-$name.err")"
+	! grep -q listening "$WORK/sim-$name.out" || fail "sim $name: a server started"
+}
 for map in "$POS_MAP" "$VEL_MAP"; do
 	mode=$(sed -n 's/^mode = //p' "$map")
-	rc=0
-	timeout 10 "$SIM" --map "$map" --listen tcp:127.0.0.1:0 --scene "$ADM_SCENE" \
-		>"$WORK/sim-$mode.out" 2>"$WORK/sim-$mode.err" || rc=$?
-	expect_rc "sim $mode" $rc 2
-	grep -q "$map: command.mode = $mode: popc-servo-sim simulates a drive with a force command only" \
-		"$WORK/sim-$mode.err" || fail "sim $mode: $(cat "$WORK/sim-$mode.err")"
-	! grep -q listening "$WORK/sim-$mode.out" || fail "sim $mode: a server started"
+	sim_refused "impedance-$mode" \
+		"^popc-servo-sim: $map: command.mode = $mode: $SCENE has device.causality = impedance" \
+		--map "$map" --scene "$SCENE"
 done
+sim_refused force-map \
+	"^popc-servo-sim: $DRIVES/popc-exact.ini: command.mode = force: $ADM_SCENE has device.causality = admittance" \
+	--map "$DRIVES/popc-exact.ini" --scene "$ADM_SCENE"
+sim_refused servo-mismatch \
+	"^popc-servo-sim: $VEL_MAP: command.mode = velocity: $ADM_SCENE has admittance.servo = position; the map needs command.mode = position" \
+	--map "$VEL_MAP" --scene "$ADM_SCENE" --set admittance.servo=position
+sim_refused no-sensor \
+	"^popc-servo-sim: $WORK/no-sensor.ini: missing force_sensor.register" \
+	--map "$WORK/no-sensor.ini" --scene "$ADM_SCENE"
 finish

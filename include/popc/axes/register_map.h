@@ -235,4 +235,18 @@ int popc_reg_encode(double v, popc_reg_type t, popc_word_order o, uint16_t *word
  * encoder would give. */
 int popc_register_map_counts_are_scene_counts(const popc_register_map *m, double resolution_m);
 
+/* Whether the force sensor's units are the scene's force counts
+ * (newton_per_unit == admittance.force_resolution within 1e-9): then an
+ * integer sensor register holds the count itself, as position counts pass
+ * through (popc-servo-sim writes it, popc reads it, unchanged). */
+int popc_register_map_sensor_is_scene_counts(const popc_register_map *m, double resolution_N);
+
+/* The map's command mode against the scene (issue 25): an impedance scene
+ * commands a force (command.mode = force); an admittance scene commands the
+ * set point of its device's servo (command.mode = admittance.servo, position
+ * or velocity) and reads the hand's force from [force_sensor]. A mismatch is
+ * POPC_ERR_INVALID naming the map and the key (popc run and popc-servo-sim
+ * both refuse it, exit 2, before anything connects or listens). */
+int popc_register_map_fits_scene(const popc_register_map *m, const popc_scene *s, popc_error *err);
+
 #endif

@@ -18,6 +18,7 @@
 
 #include "../axis_kind.h"
 #include "modbus_stats.h"
+#include "popc/core/admittance.h"
 #include "popc/core/admittance_plant.h"
 #include "popc/core/encoder.h"
 #include "popc/log/log.h"
@@ -40,6 +41,20 @@ typedef struct mb_axis {
 	double delta_m;
 	int passthrough;           /* drive counts are scene counts */
 	int64_t period_ns;
+	double period_s;
+
+	/* an admittance-type device (command.mode = position or velocity,
+	 * docs/MODBUS.md, "Command modes"): the servo's set point goes out, the
+	 * hand's force comes in from [force_sensor] */
+	int servo;
+	double x_cmd_m;            /* the position command the servo tracks from this tick
+				      (position mode: the last target sent; velocity mode: the
+				      velocities' integral, as the simulated device keeps it) */
+	double last_x_m;           /* the last measured position (the safe stop holds it) */
+	int have_x;
+	popc_force_sensor fsens;   /* re-quantizes a reading to admittance.force_resolution */
+	int fs_passthrough;        /* the sensor's units are the scene's force counts */
+	int fs_off;                /* the sensor's offset in the block read, -1: read on its own */
 
 	/* the block read every tick: position (and status when close to it; and
 	 * the sequence register, at echo_off, -1: not in the block) */
@@ -53,6 +68,7 @@ typedef struct mb_axis {
 	int cmd_first, cmd_n, cmd_off, seq_off;
 	uint16_t seq;              /* the sequence value of the next new command */
 	uint16_t seq_written;      /* the sequence value of the last command encoded */
+	int seq_any;               /* a command was encoded: seq_written is this run's */
 	uint16_t tid;              /* TCP: the transaction id of the last request sent */
 	int64_t line_busy_ns;      /* RTU: when the line was last seen busy (a frame sent or received) */
 	char op_why[POPC_ERROR_MSG_MAX]; /* why the last attempt failed */
@@ -230,7 +246,8 @@ static int is_config_exception(int e)
 	return e == EMBXILFUN || e == EMBXILADD || e == EMBXILVAL;
 }
 
-enum { OP_READ_BLOCK, OP_READ_STATUS, OP_WRITE_CMD, OP_WRITE_AND_READ, OP_WRITE_ENABLE };
+enum { OP_READ_BLOCK, OP_READ_STATUS, OP_WRITE_CMD, OP_WRITE_AND_READ, OP_WRITE_ENABLE,
+       OP_READ_SENSOR, OP_READ_CMD };
 
 typedef struct mb_op {
 	int kind;
@@ -299,6 +316,17 @@ static int build_pdu(const mb_axis *a, const mb_op *op, uint8_t *pdu)
 		n += put16(pdu + n, block ? a->blk_n : 1);
 		break;
 	}
+	case OP_READ_SENSOR:
+		pdu[n++] = m->sensor.table == POPC_TABLE_HOLDING ? MODBUS_FC_READ_HOLDING_REGISTERS
+								  : MODBUS_FC_READ_INPUT_REGISTERS;
+		n += put16(pdu + n, m->sensor.reg);
+		n += put16(pdu + n, popc_reg_type_words(m->sensor.type));
+		break;
+	case OP_READ_CMD: /* the position set point, read back at start (mb_start) */
+		pdu[n++] = MODBUS_FC_READ_HOLDING_REGISTERS;
+		n += put16(pdu + n, m->cmd.reg);
+		n += put16(pdu + n, popc_reg_type_words(m->cmd.type));
+		break;
 	case OP_WRITE_CMD:
 		if (a->cmd_n == 1) {
 			pdu[n++] = MODBUS_FC_WRITE_SINGLE_REGISTER;
@@ -433,7 +461,10 @@ static int check_reply(mb_axis *a, const mb_op *op, const uint8_t *req, const ui
 					      n - 2, p[1], want);
 		for (int i = 0; i < want / 2; i++)
 			op->dest[i] = (uint16_t)get16(p + 2 + 2 * i);
-		if (op->kind != OP_READ_STATUS && a->echo_off >= 0 &&
+		/* (a servo-mode start reads the block before its first
+		 * command: the register then holds a previous session's value) */
+		if ((op->kind == OP_READ_BLOCK || op->kind == OP_WRITE_AND_READ) && a->echo_off >= 0 &&
+		    a->seq_any &&
 		    op->dest[a->echo_off] != a->seq_written)
 			return attempt_failed(a, EMBBADDATA,
 					      "reply's sequence register %d holds %u, the last command "
@@ -510,6 +541,8 @@ static const char *op_name(int kind)
 	case OP_READ_STATUS: return "status read";
 	case OP_WRITE_CMD: return "command write";
 	case OP_WRITE_AND_READ: return "command write + position read (FC23)";
+	case OP_READ_SENSOR: return "force sensor read";
+	case OP_READ_CMD: return "position command read";
 	default: return "enable write";
 	}
 }
@@ -580,14 +613,10 @@ static int check_status(mb_axis *a, uint16_t status, int want_ready, popc_error 
 	return 0;
 }
 
-/* Block words -> sample, with the safety checks. */
-static int decode_sample(mb_axis *a, const uint16_t *blk, uint16_t status, popc_axis_sample *out,
-			 popc_error *err)
+/* The position in the block's words -> count, with the soft limits. */
+static int decode_position(mb_axis *a, const uint16_t *blk, long long *count_out, popc_error *err)
 {
 	const popc_register_map *m = &a->map;
-	int st = check_status(a, status, 1, err);
-	if (st)
-		return st;
 	double raw = popc_reg_decode(blk + (m->pos.reg - a->blk_reg), m->pos.type, m->pos.order);
 	if (m->pos.reversed)
 		raw = -raw; /* exact: an int32's -2^31 becomes 2^31, still exact in a double */
@@ -606,24 +635,86 @@ static int decode_sample(mb_axis *a, const uint16_t *blk, uint16_t status, popc_
 		return popc_error_set(err, POPC_ERR_SAFETY,
 				      "position %g m is outside the soft limits [%g, %g] m (%s)", x_m,
 				      m->pos.soft_min_m, m->pos.soft_max_m, m->path);
-	out->count = count;
-	out->x_true_m = (double)NAN;
+	*count_out = count;
 	return 0;
 }
 
-/* Reads position and status; fills blk and *status. */
-static int read_state(mb_axis *a, uint16_t *blk, uint16_t *status, popc_error *err)
+/* The force sensor's words -> the count of admittance.force_resolution (the
+ * scene's sensor: the drive's own counts pass through unchanged when its
+ * unit is the resolution, else the reading is re-quantized, as positions
+ * are). A value that is not a finite force is a safety stop: no NaN reaches
+ * the controller or the log. */
+static int decode_force(mb_axis *a, const uint16_t *words, long long *count_out, popc_error *err)
+{
+	const popc_register_map *m = &a->map;
+	double raw = popc_reg_decode(words, m->sensor.type, m->sensor.order);
+	if (m->sensor.reversed)
+		raw = -raw;
+	if (a->fs_passthrough && m->sensor.type != POPC_REG_FLOAT32 && m->sensor.type != POPC_REG_FLOAT64) {
+		*count_out = (long long)raw;
+		return 0;
+	}
+	double f = raw * m->sensor.newton_per_unit;
+	if (!isfinite(f))
+		return popc_error_set(err, POPC_ERR_SAFETY,
+				      "force sensor value %g is not a force (%s, [force_sensor] register %d)",
+				      raw, m->path, m->sensor.reg);
+	*count_out = popc_force_sensor_read(&a->fsens, f);
+	return 0;
+}
+
+/* Block words (and the sensor's, when read on their own) -> sample, with
+ * the safety checks. */
+static int decode_sample(mb_axis *a, const uint16_t *blk, uint16_t status, const uint16_t *sens,
+			 popc_axis_sample *out, popc_error *err)
+{
+	int st = check_status(a, status, 1, err);
+	long long count = 0;
+	if (!st)
+		st = decode_position(a, blk, &count, err);
+	if (st)
+		return st;
+	out->count = count;
+	out->x_true_m = (double)NAN;
+	a->last_x_m = popc_encoder_position(count, a->delta_m);
+	a->have_x = 1;
+	if (a->servo) {
+		if ((st = decode_force(a, a->fs_off >= 0 ? blk + a->fs_off : sens, &out->force_count, err)))
+			return st;
+		out->x_cmd_m = a->x_cmd_m;
+	}
+	return 0;
+}
+
+/* What the block read did not cover: the status and the force sensor,
+ * each in a read of its own when it lies outside the block. */
+static int read_rest(mb_axis *a, const uint16_t *blk, uint16_t *status, uint16_t *sens,
+		     popc_error *err)
+{
+	int st;
+	if (a->status_in_block) {
+		*status = blk[a->map.status.reg - a->blk_reg];
+	} else {
+		mb_op sop = {.kind = OP_READ_STATUS, .dest = status};
+		if ((st = transact(a, &sop, err)))
+			return st;
+	}
+	if (a->servo && a->fs_off < 0) {
+		mb_op fop = {.kind = OP_READ_SENSOR, .dest = sens};
+		if ((st = transact(a, &fop, err)))
+			return st;
+	}
+	return 0;
+}
+
+/* Reads position, status (and force); fills blk, *status and sens. */
+static int read_state(mb_axis *a, uint16_t *blk, uint16_t *status, uint16_t *sens, popc_error *err)
 {
 	mb_op op = {.kind = OP_READ_BLOCK, .dest = blk};
 	int st = transact(a, &op, err);
 	if (st)
 		return st;
-	if (a->status_in_block) {
-		*status = blk[a->map.status.reg - a->blk_reg];
-		return 0;
-	}
-	mb_op sop = {.kind = OP_READ_STATUS, .dest = status};
-	return transact(a, &sop, err);
+	return read_rest(a, blk, status, sens, err);
 }
 
 /* A new command: the words of one command write (the block of
@@ -634,27 +725,55 @@ static int read_state(mb_axis *a, uint16_t *blk, uint16_t *status, popc_error *e
  * start/stop pass +0. With a sequence register, each new command carries the
  * next sequence value; a retry resends these same words, so the drive sees
  * the same value again and knows it for a retry. */
+/* v within [lo, hi]; a clamp is counted for the summary. */
+static double clamp_count(mb_axis *a, double v, double lo, double hi)
+{
+	if (v > hi) {
+		a->clamps++;
+		return hi;
+	}
+	if (v < lo) {
+		a->clamps++;
+		return lo;
+	}
+	return v;
+}
+
+/* A servo-mode drive's set point as a command value in popc's units: a
+ * velocity (m/s) clamped to limit_m_per_s, or a position (m) clamped to the
+ * soft limits; NaN never reaches the drive (zero velocity, or the position
+ * last measured). Returns the value the register will carry. */
+static double servo_value(mb_axis *a, double v)
+{
+	const popc_register_map *m = &a->map;
+	if (m->cmd.mode == POPC_CMD_VELOCITY)
+		return clamp_count(a, v == v ? v : 0.0, -m->cmd.limit_m_per_s, m->cmd.limit_m_per_s);
+	return clamp_count(a, v == v ? v : a->last_x_m, m->pos.soft_min_m, m->pos.soft_max_m);
+}
+
 static void encode_command(mb_axis *a, double f_N, uint16_t *words)
 {
 	const popc_register_map *m = &a->map;
 	if (a->seq_off >= 0) {
 		a->seq_written = a->seq;
+		a->seq_any = 1;
 		words[a->seq_off] = a->seq++; /* uint16_t: wraps modulo 65536 */
 	}
-	double f = f_N;
-	if (!(f == f))
-		f = 0.0; /* NaN never reaches the drive */
-	if (f > m->cmd.limit_N) {
-		f = m->cmd.limit_N;
-		a->clamps++;
-	} else if (f < -m->cmd.limit_N) {
-		f = -m->cmd.limit_N;
-		a->clamps++;
+	double f = f_N, units;
+	if (a->servo) {
+		/* f_N is already servo_value's: a velocity or a position */
+		a->last_cmd_N = f;
+		units = m->cmd.mode == POPC_CMD_VELOCITY ? f / m->cmd.m_per_s_per_unit
+							 : f * m->cmd.counts_per_m;
+	} else {
+		if (!(f == f))
+			f = 0.0; /* NaN never reaches the drive */
+		f = clamp_count(a, f, -m->cmd.limit_N, m->cmd.limit_N);
+		a->last_cmd_N = f;
+		/* reversed: an exact negation, which popc-servo-sim undoes bit
+		 * for bit (the clamp is symmetric, so it holds either way) */
+		units = f / m->cmd.newton_per_unit;
 	}
-	a->last_cmd_N = f;
-	/* reversed: an exact negation, which popc-servo-sim undoes bit for bit
-	 * (the clamp is symmetric, so it holds either way) */
-	double units = f / m->cmd.newton_per_unit;
 	if (m->cmd.reversed)
 		units = -units;
 	/* a zero force goes out as +0.0: negating 0 (start and stop with a
@@ -741,6 +860,45 @@ static void realtime_off(mb_axis *a)
 	}
 }
 
+/* The set point a servo-mode drive is enabled with, and the safe stop's:
+ * zero velocity, or the position where the drive stands. In position mode
+ * start() reads the position and the command register back (FC03): a drive
+ * whose set point follows its actual position while disabled (CiA 402
+ * drives do; popc-servo-sim does) gives its position to the last bit, and
+ * the position command then continues from exactly there, as the simulated
+ * device's does from its initial position. A read-back more than one
+ * encoder count from the measured position (a drive that keeps an old set
+ * point) is not used: the measured position is held instead, so that the
+ * enable never moves the axis by more than a count. */
+static int servo_hold(mb_axis *a, popc_error *err)
+{
+	const popc_register_map *m = &a->map;
+	uint16_t blk[BLOCK_MAX], words[4];
+	long long count;
+	mb_op op = {.kind = OP_READ_BLOCK, .dest = blk};
+	int st = transact(a, &op, err);
+	if (!st)
+		st = decode_position(a, blk, &count, err);
+	if (st)
+		return st;
+	double x = popc_encoder_position(count, a->delta_m);
+	a->last_x_m = x;
+	a->have_x = 1;
+	/* velocity mode: the drive has no position set point; popc's x_cmd (the
+	 * log's) integrates the velocities from the measured position */
+	a->x_cmd_m = x;
+	if (m->cmd.mode == POPC_CMD_VELOCITY)
+		return 0;
+	mb_op rop = {.kind = OP_READ_CMD, .dest = words};
+	if ((st = transact(a, &rop, err)))
+		return st;
+	double units = popc_reg_decode(words, m->cmd.type, m->cmd.order);
+	double x_rb = (m->cmd.reversed ? -units : units) / m->cmd.counts_per_m;
+	if (isfinite(x_rb) && fabs(x_rb - x) <= a->delta_m)
+		a->x_cmd_m = x_rb;
+	return 0;
+}
+
 static int mb_start(popc_axis *ax, popc_error *err)
 {
 	mb_axis *a = ax->priv;
@@ -749,6 +907,10 @@ static int mb_start(popc_axis *ax, popc_error *err)
 	if (st)
 		return st;
 	a->enabled = 1; /* from here on, stop() writes zero force and the disable word */
+	/* a servo-mode drive: where it stands, first (a faulted drive too: the
+	 * safe stop holds that position) */
+	if (a->servo && (st = servo_hold(a, err)))
+		return st;
 	/* no start while the drive reports a fault */
 	uint16_t status;
 	mb_op sop = {.kind = OP_READ_STATUS, .dest = &status};
@@ -760,7 +922,7 @@ static int mb_start(popc_axis *ax, popc_error *err)
 		return popc_error_set(err, st, "%s; popc does not start a drive that reports a fault", msg);
 	}
 	uint16_t zero[POPC_MAP_CMD_BLOCK_MAX];
-	encode_command(a, 0.0, zero);
+	encode_command(a, a->servo ? servo_value(a, a->x_cmd_m) : 0.0, zero);
 	mb_op cop = {.kind = OP_WRITE_CMD, .words = zero};
 	if ((st = transact(a, &cop, err)))
 		return st;
@@ -800,21 +962,42 @@ static int mb_start(popc_axis *ax, popc_error *err)
 static int mb_sample(popc_axis *ax, popc_axis_sample *out, popc_error *err)
 {
 	mb_axis *a = ax->priv;
-	uint16_t blk[BLOCK_MAX], status = 0;
+	uint16_t blk[BLOCK_MAX], status = 0, sens[4] = {0};
 	int64_t t = popc_now_ns();
 	a->next_deadline_ns = t; /* the grid starts at the first sample */
-	int st = read_state(a, blk, &status, err);
+	int st = read_state(a, blk, &status, sens, err);
 	if (st)
 		return st;
 	stamp(a, t, popc_now_ns() - t, out);
-	return decode_sample(a, blk, status, out, err);
+	return decode_sample(a, blk, status, sens, out, err);
+}
+
+/* exchange()'s command for the drive: a force mode's -f_c (the device
+ * receives -f_c), or a servo's set point for the velocity command v_c held
+ * over the period: v_c itself, or the position command at the period's end,
+ * x_c(k+1) = x_c(k) + v_c T (the simulated device's own sum, to the bit;
+ * the drive interpolates towards it, docs/MODBUS.md, "Command modes"). */
+static void encode_exchange(mb_axis *a, double cmd, uint16_t *words)
+{
+	if (!a->servo) {
+		encode_command(a, -cmd, words);
+		return;
+	}
+	if (a->map.cmd.mode == POPC_CMD_VELOCITY) {
+		double v = servo_value(a, cmd);
+		a->x_cmd_m += v * a->period_s;
+		encode_command(a, v, words);
+		return;
+	}
+	a->x_cmd_m = servo_value(a, a->x_cmd_m + (cmd == cmd ? cmd : 0.0) * a->period_s);
+	encode_command(a, a->x_cmd_m, words);
 }
 
 static int mb_exchange(popc_axis *ax, double f_c_N, popc_axis_sample *next, popc_error *err)
 {
 	mb_axis *a = ax->priv;
-	uint16_t words[POPC_MAP_CMD_BLOCK_MAX], blk[BLOCK_MAX], status = 0;
-	encode_command(a, -f_c_N, words);
+	uint16_t words[POPC_MAP_CMD_BLOCK_MAX], blk[BLOCK_MAX], status = 0, sens[4] = {0};
+	encode_exchange(a, f_c_N, words);
 	int st;
 	int64_t rtt = 0, t;
 	a->exchanges++;
@@ -822,15 +1005,8 @@ static int mb_exchange(popc_axis *ax, double f_c_N, popc_axis_sample *next, popc
 		wait_deadline(a);
 		t = popc_now_ns();
 		mb_op op = {.kind = OP_WRITE_AND_READ, .words = words, .dest = blk};
-		if ((st = transact(a, &op, err)))
+		if ((st = transact(a, &op, err)) || (st = read_rest(a, blk, &status, sens, err)))
 			return st;
-		if (a->status_in_block) {
-			status = blk[a->map.status.reg - a->blk_reg];
-		} else {
-			mb_op sop = {.kind = OP_READ_STATUS, .dest = &status};
-			if ((st = transact(a, &sop, err)))
-				return st;
-		}
 		rtt = popc_now_ns() - t;
 	} else {
 		int64_t tw = popc_now_ns();
@@ -840,15 +1016,16 @@ static int mb_exchange(popc_axis *ax, double f_c_N, popc_axis_sample *next, popc
 		rtt = popc_now_ns() - tw;
 		wait_deadline(a);
 		t = popc_now_ns();
-		if ((st = read_state(a, blk, &status, err)))
+		if ((st = read_state(a, blk, &status, sens, err)))
 			return st;
 		rtt += popc_now_ns() - t;
 	}
 	stamp(a, t, rtt, next);
-	return decode_sample(a, blk, status, next, err);
+	return decode_sample(a, blk, status, sens, next, err);
 }
 
-/* Zero force, then disable: each attempted even when the other failed; after
+/* Zero force (a servo-mode drive: zero velocity, or the position last
+ * measured, held), then disable: each attempted even when the other failed; after
  * a signal (before or during stop) one attempt each, not max_failures. A
  * safe stop that is not confirmed is said on the notes stream as well: the
  * runner keeps its own reason for the exit code and the log's stop line. */
@@ -862,10 +1039,19 @@ static int mb_stop(popc_axis *ax, popc_error *err)
 	a->stopping = 1;
 	a->failures_in_row = 0;
 	uint16_t zero[POPC_MAP_CMD_BLOCK_MAX];
-	encode_command(a, 0.0, zero);
+	/* position mode: hold where the drive was last measured. Before any
+	 * position was read (the link failed at once) popc has none to hold,
+	 * and any other set point could move the axis: the disable word only. */
+	int hold = !(m->cmd.mode == POPC_CMD_POSITION && !a->have_x);
+	if (hold)
+		encode_command(a,
+			       !a->servo ? 0.0
+			       : m->cmd.mode == POPC_CMD_VELOCITY ? servo_value(a, 0.0)
+								  : servo_value(a, a->last_x_m),
+			       zero);
 	mb_op cop = {.kind = OP_WRITE_CMD, .words = zero};
 	popc_error e1, e2;
-	int st1 = transact(a, &cop, &e1);
+	int st1 = hold ? transact(a, &cop, &e1) : 0;
 	a->failures_in_row = 0;
 	mb_op eop = {.kind = OP_WRITE_ENABLE, .words = &m->enable.off};
 	int st2 = transact(a, &eop, &e2);
@@ -873,7 +1059,9 @@ static int mb_stop(popc_axis *ax, popc_error *err)
 	a->stopping = 0;
 	if (st1 || st2) {
 		char msg[2 * POPC_ERROR_MSG_MAX + 64];
-		snprintf(msg, sizeof msg, "%s%s%s%s%s", st1 ? "zero force not confirmed: " : "",
+		const char *what = !a->servo ? "zero force"
+				   : m->cmd.mode == POPC_CMD_VELOCITY ? "zero velocity" : "position hold";
+		snprintf(msg, sizeof msg, "%s%s%s%s%s%s", st1 ? what : "", st1 ? " not confirmed: " : "",
 			 st1 ? e1.msg : "", st1 && st2 ? "; " : "", st2 ? "disable not confirmed: " : "",
 			 st2 ? e2.msg : "");
 		note(a, "safe stop incomplete:", msg);
@@ -906,10 +1094,18 @@ static void mb_report(popc_axis *ax, FILE *human, char *csv_names, char *csv_val
 			1e3 * popc_histogram_mean_s(r), 1e3 * popc_histogram_quantile_s(r, 0.5),
 			1e3 * popc_histogram_quantile_s(r, 0.99), 1e3 * popc_histogram_quantile_s(r, 0.999),
 			1e3 * popc_histogram_max_s(r), (unsigned long long)r->n);
-		fprintf(human, "  link: %lld failed transactions, %lld reconnects; force clamped %lld times "
-			       "at %g N; real-time: %s\n",
-			a->failures, a->reconnects, a->clamps, a->map.cmd.limit_N,
-			a->rt_note[0] ? a->rt_note : "not started");
+		char clamp[96];
+		if (a->map.cmd.mode == POPC_CMD_FORCE)
+			snprintf(clamp, sizeof clamp, "force clamped %lld times at %g N", a->clamps,
+				 a->map.cmd.limit_N);
+		else if (a->map.cmd.mode == POPC_CMD_VELOCITY)
+			snprintf(clamp, sizeof clamp, "velocity clamped %lld times at %g m/s", a->clamps,
+				 a->map.cmd.limit_m_per_s);
+		else
+			snprintf(clamp, sizeof clamp, "position command clamped %lld times to the soft limits",
+				 a->clamps);
+		fprintf(human, "  link: %lld failed transactions, %lld reconnects; %s; real-time: %s\n",
+			a->failures, a->reconnects, clamp, a->rt_note[0] ? a->rt_note : "not started");
 		if (a->uri.rtu && a->map.rtu_frame_gap_ms > 0)
 			fprintf(human,
 				"  rtu frame gap: %d ms kept before %lld requests (%lld waited for it); "
@@ -963,6 +1159,22 @@ static const popc_axis_ops modbus_ops = {
 	.set_shadow = NULL,
 };
 
+/* The same axis driving an admittance-type device (command.mode = position
+ * or velocity): exchange() takes the velocity command v_c and a sample
+ * carries the force sensor's count and the position command. */
+static const popc_axis_ops modbus_admittance_ops = {
+	.name = "modbus",
+	.log_columns = POPC_LOG_COL_TIMING | POPC_LOG_COL_ADMITTANCE,
+	.start = mb_start,
+	.sample = mb_sample,
+	.exchange = mb_exchange,
+	.stop = mb_stop,
+	.destroy = mb_destroy,
+	.integrator_error_m = NULL,
+	.report = mb_report,
+	.set_shadow = NULL,
+};
+
 void popc_modbus_options_defaults(popc_modbus_options *o)
 {
 	o->pace = 1;
@@ -970,40 +1182,6 @@ void popc_modbus_options_defaults(popc_modbus_options *o)
 	o->rt_priority = 50;
 	o->notes = NULL;
 	o->stop_flag = NULL;
-}
-
-/* The map's command mode against the scene (issue 25): an impedance scene
- * commands a force (command.mode = force); an admittance scene commands the
- * set point of its device's servo (admittance.servo: command.mode = position
- * or velocity) and reads the hand's force from [force_sensor]. */
-static int mode_fits_scene(const popc_scene *s, const popc_register_map *m, popc_error *err)
-{
-	const char *mode = popc_cmd_mode_names[m->cmd.mode];
-	const char *scene = s->source[0] ? s->source : "the scene";
-	if (s->causality != POPC_CAUSALITY_ADMITTANCE) {
-		if (m->cmd.mode == POPC_CMD_FORCE)
-			return 0;
-		return popc_error_set(err, POPC_ERR_INVALID,
-				      "%s: command.mode = %s: %s has device.causality = impedance, "
-				      "which commands a force; the map needs command.mode = force",
-				      m->path, mode, scene);
-	}
-	const char *servo = popc_servo_kind_names[s->adm_servo];
-	if (m->cmd.mode == POPC_CMD_FORCE)
-		return popc_error_set(err, POPC_ERR_INVALID,
-				      "%s: command.mode = force: %s has device.causality = admittance "
-				      "with admittance.servo = %s, which commands a %s; the map needs "
-				      "command.mode = %s and a [force_sensor]",
-				      m->path, scene, servo, servo, servo);
-	if ((m->cmd.mode == POPC_CMD_POSITION) != (s->adm_servo == POPC_SERVO_POSITION))
-		return popc_error_set(err, POPC_ERR_INVALID,
-				      "%s: command.mode = %s: %s has admittance.servo = %s; the map "
-				      "needs command.mode = %s",
-				      m->path, mode, scene, servo, servo);
-	return popc_error_set(err, POPC_ERR_INVALID,
-			      "%s: command.mode = %s: the modbus axis does not drive an "
-			      "admittance-type device yet (issue 25 phase 2; --axis sim does)",
-			      m->path, mode);
 }
 
 int popc_modbus_axis_create(popc_axis **out, const popc_scene *s, const popc_modbus_options *o,
@@ -1029,7 +1207,7 @@ int popc_modbus_axis_create(popc_axis **out, const popc_scene *s, const popc_mod
 		a->opt.rt_priority = 50;
 	int st = popc_register_map_load(&a->map, s->axis_map, err);
 	if (!st)
-		st = mode_fits_scene(s, &a->map, err);
+		st = popc_register_map_fits_scene(&a->map, s, err);
 	if (!st)
 		st = popc_modbus_uri_parse(s->axis_connect, &a->uri, err);
 	/* port 0 is a server's "any free port": a drive is not found there */
@@ -1061,6 +1239,7 @@ int popc_modbus_axis_create(popc_axis **out, const popc_scene *s, const popc_mod
 	a->period_ns = (int64_t)llround(1e9 * popc_scene_period_s(s));
 	if (a->period_ns < 1)
 		a->period_ns = 1;
+	a->period_s = popc_scene_period_s(s);
 	const popc_register_map *m = &a->map;
 	int npos = popc_reg_type_words(m->pos.type);
 	a->blk_table = m->pos.table;
@@ -1074,6 +1253,35 @@ int popc_modbus_axis_create(popc_axis **out, const popc_scene *s, const popc_mod
 			a->blk_n = hi - lo;
 			a->status_in_block = 1;
 		}
+	}
+	/* a servo-mode drive's force sensor, in the same read when it lies in
+	 * the block's table within reach (one FC23 per tick for the shipped
+	 * servo maps), else in a read of its own */
+	a->servo = m->cmd.mode != POPC_CMD_FORCE;
+	a->fs_off = -1;
+	int fs_in_block = 0;
+	if (a->servo && m->sensor.table == a->blk_table) {
+		int nfs = popc_reg_type_words(m->sensor.type);
+		int lo = m->sensor.reg < a->blk_reg ? m->sensor.reg : a->blk_reg;
+		int hi = m->sensor.reg + nfs > a->blk_reg + a->blk_n ? m->sensor.reg + nfs
+								     : a->blk_reg + a->blk_n;
+		if (hi - lo <= BLOCK_MAX) {
+			a->blk_reg = lo;
+			a->blk_n = hi - lo;
+			fs_in_block = 1;
+		}
+	}
+	if (a->servo) {
+		/* the scene's force sensor, without noise: a drive's noise is in
+		 * its reading already */
+		popc_force_sensor_init(&a->fsens, s->adm_force_resolution_N, 0.0, 0);
+		a->fs_passthrough = popc_register_map_sensor_is_scene_counts(m, s->adm_force_resolution_N);
+		if (!a->fs_passthrough && a->opt.notes)
+			fprintf(a->opt.notes,
+				"popc: modbus: the force sensor's unit newton_per_unit = %g N is not "
+				"admittance.force_resolution = %g N: readings are re-quantized to "
+				"admittance.force_resolution\n",
+				m->sensor.newton_per_unit, s->adm_force_resolution_N);
 	}
 	/* a sequence register within reach of the block is read back with the
 	 * position: the drive holds the value last written, which ties each
@@ -1089,6 +1297,8 @@ int popc_modbus_axis_create(popc_axis **out, const popc_scene *s, const popc_mod
 			a->echo_off = m->cmd.seq_reg - lo;
 		}
 	}
+	if (fs_in_block)
+		a->fs_off = m->sensor.reg - a->blk_reg;
 	a->cmd_n = popc_register_map_command_block(m, &a->cmd_first);
 	a->cmd_off = m->cmd.reg - a->cmd_first;
 	a->seq_off = m->cmd.seq_reg < 0 ? -1 : m->cmd.seq_reg - a->cmd_first;
@@ -1101,9 +1311,9 @@ int popc_modbus_axis_create(popc_axis **out, const popc_scene *s, const popc_mod
 			m->path);
 	popc_histogram_init(&a->dt_hist);
 	popc_histogram_init(&a->rtt_hist);
-	ax->ops = &modbus_ops;
+	ax->ops = a->servo ? &modbus_admittance_ops : &modbus_ops;
 	ax->priv = a;
-	ax->force_limit_N = a->map.cmd.limit_N;
+	ax->force_limit_N = a->servo ? 0.0 : a->map.cmd.limit_N;
 	*out = ax;
 	return 0;
 }

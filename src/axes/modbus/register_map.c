@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "popc/core/admittance_plant.h"
 #include "popc/scene/ini_lines.h"
 #include "popc/util/parse.h"
 
@@ -30,6 +31,38 @@ int popc_register_map_command_block(const popc_register_map *m, int *first)
 int popc_register_map_counts_are_scene_counts(const popc_register_map *m, double resolution_m)
 {
 	return fabs(m->pos.counts_per_m * resolution_m - 1.0) < 1e-9;
+}
+
+int popc_register_map_sensor_is_scene_counts(const popc_register_map *m, double resolution_N)
+{
+	return resolution_N > 0.0 && fabs(m->sensor.newton_per_unit / resolution_N - 1.0) < 1e-9;
+}
+
+int popc_register_map_fits_scene(const popc_register_map *m, const popc_scene *s, popc_error *err)
+{
+	const char *mode = popc_cmd_mode_names[m->cmd.mode];
+	const char *scene = s->source[0] ? s->source : "the scene";
+	if (s->causality != POPC_CAUSALITY_ADMITTANCE) {
+		if (m->cmd.mode == POPC_CMD_FORCE)
+			return 0;
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: command.mode = %s: %s has device.causality = impedance, "
+				      "which commands a force; the map needs command.mode = force",
+				      m->path, mode, scene);
+	}
+	const char *servo = popc_servo_kind_names[s->adm_servo];
+	if (m->cmd.mode == POPC_CMD_FORCE)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: command.mode = force: %s has device.causality = admittance "
+				      "with admittance.servo = %s, which commands a %s; the map needs "
+				      "command.mode = %s and a [force_sensor]",
+				      m->path, scene, servo, servo, servo);
+	if ((m->cmd.mode == POPC_CMD_POSITION) != (s->adm_servo == POPC_SERVO_POSITION))
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: command.mode = %s: %s has admittance.servo = %s; the map "
+				      "needs command.mode = %s",
+				      m->path, mode, scene, servo, servo);
+	return 0;
 }
 
 /* ---- the key table ------------------------------------------------------ */
