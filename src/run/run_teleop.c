@@ -215,6 +215,8 @@ int popc_run_teleop(const popc_scene *s, popc_axis *master, const popc_run_optio
 		sum->tele_active[1] += (ps.flags & POPC_TDPA_ACTIVE) != 0;
 		sum->tele_clamped[0] += (pm.flags & POPC_TDPA_CLAMPED) != 0;
 		sum->tele_clamped[1] += (ps.flags & POPC_TDPA_CLAMPED) != 0;
+		sum->tele_d_max[0] = fmax(sum->tele_d_max[0], fabs(pm.d));
+		sum->tele_d_max[1] = fmax(sum->tele_d_max[1], fabs(ps.d));
 		if (fabs(m->f_c_N) > sum->tele_f_c_max_N)
 			sum->tele_f_c_max_N = fabs(m->f_c_N);
 		if (fabs(r->vs_c_mps) > sum->tele_v_c_max_mps)

@@ -42,12 +42,13 @@ typedef struct popc_run_summary {
 	 * The smallest two-port margin E_in,remote - E_out of each side
 	 * (master, slave) over the run; the ticks where either margin was
 	 * below its rounding allowance (core/teleop.h); ticks a PC acted and was clamped; the
-	 * largest |f_c| and |v_c|; the slave's true position's range over the
+	 * largest |f_c| and |v_c|, and of each PC's |d|; the slave's true position's range over the
 	 * last second (an oscillation's peak to peak) */
 	int has_teleop;
 	double tele_margin_min_J[2];
 	long long tele_violations, tele_active[2], tele_clamped[2];
 	double tele_f_c_max_N, tele_v_c_max_mps;
+	double tele_d_max[2];          /* the largest |d| of each PC (N, m/s) */
 	double tele_xs_late_min_m, tele_xs_late_max_m;
 	int status;                   /* 0 or the popc_status that stopped the run */
 	char stop_reason[POPC_ERROR_MSG_MAX + 64];
