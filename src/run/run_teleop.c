@@ -133,8 +133,7 @@ int popc_run_teleop(const popc_scene *s, popc_axis *master, const popc_run_optio
 			why = "signal";
 			break;
 		}
-		popc_log_row row;
-		memset(&row, 0, sizeof row);
+		popc_log_row row; /* every cell a teleoperation log has is set below */
 		popc_tick *m = &row.tick;
 		popc_teleop_row *r = &row.tele;
 		m->t_s = (double)k * T;
