@@ -133,11 +133,12 @@ extern const popc_option *const ana_events_opts[];
 extern const popc_option *const ana_report_opts[];
 /* popc's column names, each after a space: " t x count ..."; an admittance
  * log's own columns are left out (a recorded admittance device's log is a
- * later phase, docs/ADMITTANCE.md) */
+ * later phase, docs/ADMITTANCE.md), and so are a teleoperation log's */
 #define ANA_COLUMN_NAME_ALWAYS(text) text
 #define ANA_COLUMN_NAME_X_TRUE(text) text
 #define ANA_COLUMN_NAME_TIMING(text) text
 #define ANA_COLUMN_NAME_ADMITTANCE(text)
+#define ANA_COLUMN_NAME_TELEOP(text)
 #define ANA_COLUMN_NAME(ID, name, unit, fill, format, field, meaning) ANA_COLUMN_NAME_##fill(" " #name)
 #define ANA_COLUMN_NAMES POPC_LOG_COLUMN_TABLE(ANA_COLUMN_NAME)
 #define ANA_INPUT_HELP                                                                         \

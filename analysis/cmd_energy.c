@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "analyze.h"
+#include "popc/core/teleop.h"
 #include "popc/programs/table_out.h"
 #include "popc/programs/usage_hint.h"
 
@@ -223,6 +224,112 @@ static int energy_admittance(ana_log *l, const char *path, popc_table_out *table
 	return 0;
 }
 
+/* A teleoperation log (docs/TELEOPERATION.md, "Checking a log"): each
+ * port's tick recomputed from the logged cells with the function that ran
+ * online (core/teleop.h: the received energy, the output u against the
+ * conjugate c), its correction, output, observer and energy split compared
+ * bit for bit; and the two-port condition checked at every row. Reads the
+ * file again with its own reader (the columns are the teleop set's, by
+ * name). Takes over l (closes it). */
+#define TELE_COLS(X)                                                                             \
+	X(f_e) X(v) X(f_pc) X(f_c) X(W) X(fs) X(vs_rx) X(vs_pc) X(vs_c) X(Ws) X(Em_in) X(Em_out) \
+	X(Em_rx) X(Es_in) X(Es_out) X(Es_rx)
+enum {
+#define TELE_ENUM(n) TC_##n,
+	TELE_COLS(TELE_ENUM)
+#undef TELE_ENUM
+	TC_COUNT
+};
+
+static int energy_teleop(ana_log *l, const char *path, popc_table_out *table, int check,
+			 int *check_failed)
+{
+	popc_error err;
+	const popc_scene sc = l->scene;
+	char lname[sizeof l->name];
+	snprintf(lname, sizeof lname, "%s", l->name);
+	ana_log_close(l);
+	static const char *const names[TC_COUNT] = {
+#define TELE_NAME(n) #n,
+		TELE_COLS(TELE_NAME)
+#undef TELE_NAME
+	};
+	popc_log_reader r;
+	int st = popc_log_reader_open(&r, path, NULL, &err);
+	if (st)
+		return ana_fail("energy", st, &err);
+	int col[TC_COUNT];
+	for (int i = 0; i < TC_COUNT; i++)
+		if ((col[i] = popc_log_reader_column(&r, names[i])) < 0) {
+			popc_log_reader_close(&r);
+			fprintf(stderr,
+				"popc-analyze energy: %s: teleop.architecture = %s needs the column %s "
+				"(docs/TELEOPERATION.md)\n",
+				path, popc_teleop_architecture_names[sc.tele_arch], names[i]);
+			return POPC_EXIT_USAGE;
+		}
+	const double T = popc_scene_period_s(&sc);
+	popc_tdpa_side m, sl;
+	popc_tdpa_side_init(&m, sc.tele_master_bound_N);
+	popc_tdpa_side_init(&sl, sc.tele_slave_bound_mps);
+	long long rows = 0, mismatches = 0, broken = 0, first_broken = 0, first_mismatch = 0;
+	double margin_min[2] = {0.0, 0.0};
+	double v[POPC_LOG_MAX_COLUMNS];
+	while ((st = popc_log_reader_next(&r, v, &err)) == 1) {
+		double c[TC_COUNT];
+		for (int i = 0; i < TC_COUNT; i++)
+			c[i] = v[col[i]];
+		popc_tdpa_step pm = popc_teleop_port(&m, c[TC_Em_rx], c[TC_f_e], -c[TC_v], T, sc.tele_tdpa);
+		popc_tdpa_step ps = popc_teleop_port(&sl, c[TC_Es_rx], c[TC_vs_rx], -c[TC_fs], T, sc.tele_tdpa);
+		const double mine[] = {pm.d, pm.u, pm.W_J, popc_energy_flow_in(&m.flow),
+				       popc_energy_flow_out(&m.flow), ps.d, ps.u, ps.W_J,
+				       popc_energy_flow_in(&sl.flow), popc_energy_flow_out(&sl.flow)};
+		const int theirs[] = {TC_f_pc, TC_f_c, TC_W, TC_Em_in, TC_Em_out,
+				      TC_vs_pc, TC_vs_c, TC_Ws, TC_Es_in, TC_Es_out};
+		int differ = 0;
+		for (size_t i = 0; i < sizeof theirs / sizeof theirs[0]; i++)
+			differ |= !same_bits(mine[i] + 0.0, c[theirs[i]] + 0.0); /* -0 is 0 */
+		if (differ && !mismatches++)
+			first_mismatch = r.lineno;
+		/* the condition on the recomputed sums (the logged ones when equal) */
+		const double mg[2] = {popc_teleop_margin_J(&m), popc_teleop_margin_J(&sl)};
+		for (int i = 0; i < 2; i++)
+			if (mg[i] < margin_min[i])
+				margin_min[i] = mg[i];
+		if (!popc_teleop_condition_holds(m.remote_in_J, popc_energy_flow_out(&m.flow)) ||
+		    !popc_teleop_condition_holds(sl.remote_in_J, popc_energy_flow_out(&sl.flow))) {
+			if (!broken++)
+				first_broken = r.lineno;
+		}
+		rows++;
+	}
+	popc_log_reader_close(&r);
+	if (st < 0)
+		return ana_fail("energy", st, &err);
+	if (table) {
+		FILE *o = popc_table_out_row(table);
+		ana_put_csv_text(o, lname);
+		fprintf(o, ",online=teleop,%lld,", rows);
+		ana_put_double(o, popc_energy_flow_out(&m.flow));
+		fputs(",0.0,", o);
+		ana_put_double(o, margin_min[0]);
+		fputc(',', o);
+		ana_put_double(o, margin_min[1]);
+		fprintf(o, ",0.0,0.0,%lld\n", mismatches + broken);
+	} else {
+		printf("%-24s %-20s rows %lld  rows differing %lld  two-port condition broken on %lld "
+		       "rows  min margin master %.3g J slave %.3g J\n",
+		       lname, "online=teleop", rows, mismatches, broken, margin_min[0], margin_min[1]);
+		if (mismatches)
+			printf("  first differing row: line %lld\n", first_mismatch);
+		if (broken)
+			printf("  first row breaking the condition: line %lld\n", first_broken);
+	}
+	if (check && (mismatches || broken))
+		*check_failed = 1;
+	return 0;
+}
+
 static int energy_one(const char *path, const ana_input_options *in, const int *want_in,
 		      int n_want_in, int observers_given, popc_table_out *table, const char *out_path,
 		      int check, int *check_failed)
@@ -238,6 +345,13 @@ static int energy_one(const char *path, const ana_input_options *in, const int *
 					"observer only, no -o (docs/ADMITTANCE.md)\n",
 				path);
 		return energy_admittance(&l, path, table, check, check_failed);
+	}
+	if (l.scene.tele_arch != POPC_TELEOP_OFF) {
+		if (out_path || observers_given)
+			fprintf(stderr, "popc-analyze energy: note: %s: a teleoperation log: the online "
+					"ports only, no -o (docs/TELEOPERATION.md)\n",
+				path);
+		return energy_teleop(&l, path, table, check, check_failed);
 	}
 	int want[DEF_COUNT], n_want = 0;
 	const int uneven = in->allow_uneven && l.period_from_time; /* steps not checked */

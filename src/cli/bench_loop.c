@@ -104,6 +104,64 @@ static int bench_loop_admittance(const popc_scene *s0, const bench_opts *o)
 	return 0;
 }
 
+/* Two scenes' loops alternated within each repeat (bench_loop_admittance's
+ * way), the fastest ns per tick of each. */
+static int pair_ns(const popc_scene *a, const popc_scene *b, const bench_opts *o, double *ns_a,
+		   double *ns_b, popc_error *err)
+{
+	*ns_a = *ns_b = (double)INFINITY;
+	for (int r = 0; r < o->repeats; r++) {
+		double ca = 0.0, cb = 0.0;
+		long long ta = 0, tb = 0;
+		int st = 0;
+		do {
+			st = causality_run(a, &ca, &ta, err);
+			if (!st)
+				st = causality_run(b, &cb, &tb, err);
+		} while (!st && (ca < o->min_time_s || cb < o->min_time_s));
+		if (st)
+			return st;
+		*ns_a = fmin(*ns_a, 1e9 * ca / (double)ta);
+		*ns_b = fmin(*ns_b, 1e9 * cb / (double)tb);
+	}
+	return 0;
+}
+
+/* A teleoperation scene (docs/TELEOPERATION.md): its tick (both ports, both
+ * channels, the PCs) against the one-port tick of the same scene with
+ * teleop.architecture = off, and its tick with 350 ticks of delay each way
+ * (700 ms at 1 kHz) against no delay: a delay must cost nothing per tick. */
+static int bench_loop_teleop(const popc_scene *s0, const bench_opts *o)
+{
+	popc_error err;
+	popc_scene tele = *s0, one = *s0, d0 = *s0, d700 = *s0;
+	if (tele.duration_s < 100)
+		tele.duration_s = one.duration_s = d0.duration_s = d700.duration_s = 100;
+	one.tele_arch = POPC_TELEOP_OFF;
+	d0.fwd.delay_ticks = d0.bwd.delay_ticks = 0;
+	d700.fwd.delay_ticks = d700.bwd.delay_ticks = 350;
+	double nt, no, n0, n7;
+	int st = pair_ns(&tele, &one, o, &nt, &no, &err);
+	if (!st)
+		st = pair_ns(&d700, &d0, o, &n7, &n0, &err);
+	if (st)
+		return popc_cli_fail("bench", st, &err);
+	if (o->csv) {
+		fprintf(o->out, "%s\n", "what,teleop,other,ratio");
+		fprintf(o->out, "loop_ns_per_tick_vs_one_port,%.6g,%.6g,%.4g\n", nt, no, nt / no);
+		fprintf(o->out, "loop_ns_per_tick_700ms_vs_0ms,%.6g,%.6g,%.4g\n", n7, n0, n7 / n0);
+		return 0;
+	}
+	printf("popc bench loop: %s, teleoperation, no log, one core, this thread's CPU time,\n"
+	       "alternated in pairs, fastest of %d\n",
+	       s0->source[0] ? s0->source : "scene", o->repeats);
+	printf("%-44s %10s %10s %8s\n", "control loop, ns per tick", "teleop", "other", "ratio");
+	printf("%-44s %10.2f %10.2f %8.2f\n", "against one port (teleop.architecture = off)", nt, no,
+	       nt / no);
+	printf("%-44s %10.2f %10.2f %8.2f\n", "700 ms round trip against 0 ms", n7, n0, n7 / n0);
+	return 0;
+}
+
 /* popc run as a whole process beside the loop's figure (issue 23): the
  * process's CPU per tick, its start-up (a run of one period: loading, the
  * scene, the matrices) and the loop figure over the process's. */
@@ -182,6 +240,8 @@ int bench_loop(const popc_scene *s0, const bench_opts *o)
 {
 	if (s0->causality == POPC_CAUSALITY_ADMITTANCE)
 		return bench_loop_admittance(s0, o);
+	if (s0->tele_arch != POPC_TELEOP_OFF)
+		return bench_loop_teleop(s0, o);
 	popc_error err;
 	popc_scene s = *s0;
 	/* long enough that start-up is noise; the summary's ns per tick */

@@ -517,7 +517,7 @@ int popc_cmd_run(int argc, char **argv)
 	popc_run_options ro = {.log = NULL, .stop_flag = &popc_cli_stop,
 			       .summary_unread = quiet && !summary_path};
 	if (log_path) {
-		st = popc_log_open(&log, log_path, axis->ops->log_columns, &err);
+		st = popc_log_open(&log, log_path, popc_run_log_columns(&s, axis), &err);
 		/* which build, when, what command: the header says how to make
 		 * the log again (without them on out of memory: the run goes on) */
 		char *provenance = st ? NULL : popc_cli_provenance();
@@ -537,7 +537,7 @@ int popc_cmd_run(int argc, char **argv)
 		}
 		ro.log = &log;
 		if (!quiet)
-			note_log_size(log_path, &s, axis->ops->log_columns);
+			note_log_size(log_path, &s, popc_run_log_columns(&s, axis));
 	}
 	popc_cli_install_signals(!popc_axis_is_simulated(&s));
 	/* the progress line: on a terminal, not with -q, once the run has taken

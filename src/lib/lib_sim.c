@@ -190,7 +190,7 @@ POPC_API int popc_lib_run(const popc_lib_scene *s, const char *log_path, popc_li
 		return popc_lib_fail(err, st, &e);
 	popc_log_writer log;
 	if (log_path) {
-		st = popc_log_open(&log, log_path, axis->ops->log_columns, &e);
+		st = popc_log_open(&log, log_path, popc_run_log_columns(&s->scene, axis), &e);
 		if (!st && (st = popc_log_write_header(&log, axis->ops->name, &s->scene, NULL, &e)) != 0) {
 			popc_error ce;
 			popc_log_close(&log, &ce);

@@ -13,12 +13,20 @@
 
 #include "run_admittance.h"
 #include "run_stop.h"
+#include "run_teleop.h"
+
+unsigned popc_run_log_columns(const popc_scene *s, const popc_axis *axis)
+{
+	return axis->ops->log_columns | (s->tele_arch != POPC_TELEOP_OFF ? POPC_LOG_COL_TELEOP : 0u);
+}
 
 int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 	     popc_run_summary *sum, popc_error *err)
 {
 	if (s->causality == POPC_CAUSALITY_ADMITTANCE)
 		return popc_run_admittance(s, axis, opt, sum, err);
+	if (s->tele_arch != POPC_TELEOP_OFF)
+		return popc_run_teleop(s, axis, opt, sum, err);
 	memset(sum, 0, sizeof *sum);
 	const double T = popc_scene_period_s(s);
 	const long long n_ticks = popc_scene_ticks(s) + 1; /* t = 0, T, ..., duration */

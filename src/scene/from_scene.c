@@ -89,6 +89,31 @@ void popc_admittance_plant_config_from_scene(popc_admittance_plant_config *c, co
 	c->x_origin_m = x_origin_m;
 }
 
+void popc_teleop_slave_plant_config_from_scene(popc_admittance_plant_config *c,
+					       const popc_scene *s, double x_origin_m)
+{
+	memset(c, 0, sizeof *c);
+	c->dev_mass_kg = s->slave_mass_kg;
+	c->dev_damping_Nspm = s->slave_damping_Nspm;
+	c->servo = s->slave_servo;
+	c->servo_stiffness_Npm = s->slave_servo_stiffness_Npm;
+	c->servo_damping_Nspm = s->slave_servo_damping_Nspm;
+	c->method = s->integrator;
+	c->substeps = s->substeps;
+	c->period_s = popc_scene_period_s(s);
+	c->x_origin_m = x_origin_m;
+}
+
+void popc_channel_config_from_scene(popc_channel_config *c, const popc_scene_channel *dir)
+{
+	memset(c, 0, sizeof *c);
+	c->delay_ticks = dir->delay_ticks;
+	c->jitter_ticks = dir->jitter_ticks;
+	c->loss = dir->loss;
+	c->in_order = dir->in_order;
+	c->seed = (uint64_t)dir->seed;
+}
+
 /* The keys behind each popc_plant_config field, as the two adapters above sum
  * them (a sum in parentheses: the message divides by it). */
 static const popc_error_name impedance_plant_keys[] = {

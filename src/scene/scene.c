@@ -17,6 +17,7 @@
 #include "popc/util/numfmt.h"
 #include "popc/util/parse.h"
 #include "popc/util/text.h"
+#include "popc/core/channel.h"
 #include "popc/core/velocity.h"
 
 typedef enum { KEY_DOUBLE, KEY_INT, KEY_ENUM, KEY_STRING } key_type;
@@ -36,13 +37,16 @@ typedef struct scene_key {
 				   * without it keeps its bytes; ADMITTANCE_ONLY: only in a
 				   * scene with device.causality = admittance; WRITTEN_FOR_EB:
 				   * a key of energy-bounding, written only when that is the
-				   * variant, so that every other variant's log keeps its bytes */
+				   * variant, so that every other variant's log keeps its bytes;
+				   * TELEOP_ONLY: only in a scene with teleop.architecture
+				   * not off (every one-port scene keeps its bytes) */
 } scene_key;
 
 /* declared_only's values beside 0 (always written) and 1 (written when not 0) */
-enum { ADMITTANCE_ONLY = 2, WRITTEN_FOR_EB = 3 };
+enum { ADMITTANCE_ONLY = 2, WRITTEN_FOR_EB = 3, TELEOP_ONLY = 4 };
 
 static const char *const axis_names[] = {"sim", "modbus", NULL};
+static const char *const off_on_names[] = {"off", "on", NULL};
 
 #define OFF(field) offsetof(popc_scene, field)
 #define NUM(sec, k, field, def, lo, hi, open, unit, help) \
@@ -51,6 +55,22 @@ static const char *const axis_names[] = {"sim", "modbus", NULL};
 	{sec, k, KEY_DOUBLE, OFF(field), lo, hi, 0, unit, NULL, help, "0", 1}
 #define NUM_ADM(k, field, def, lo, hi, open, unit, help) \
 	{"admittance", k, KEY_DOUBLE, OFF(field), lo, hi, open, unit, NULL, help, def, ADMITTANCE_ONLY}
+#define NUM_TELE(sec, k, field, def, lo, hi, open, unit, help) \
+	{sec, k, KEY_DOUBLE, OFF(field), lo, hi, open, unit, NULL, help, def, TELEOP_ONLY}
+#define INT_TELE(sec, k, field, def, lo, hi, unit, help) \
+	{sec, k, KEY_INT, OFF(field), lo, hi, 0, unit, NULL, help, def, TELEOP_ONLY}
+/* one direction of the channel (core/channel.h), [forward] or [backward] */
+#define CHANNEL_KEYS(sec, dir, seed0)                                                             \
+	INT_TELE(sec, "delay_ticks", dir.delay_ticks, "0", 0, POPC_CHANNEL_MAX_DELAY_TICKS, "periods", \
+		 "constant delay of every packet"),                                                \
+	INT_TELE(sec, "jitter_ticks", dir.jitter_ticks, "0", 0, POPC_CHANNEL_MAX_DELAY_TICKS,      \
+		 "periods", "plus a whole number uniform in [0, jitter_ticks] a packet"),          \
+	NUM_TELE(sec, "loss", dir.loss, "0", 0, 0.999, 0, "", "probability a packet is lost "     \
+		 "(the receiver holds the last)"),                                                  \
+	{sec, "in_order", KEY_ENUM, OFF(dir.in_order), 0, 0, 0, "", off_on_names,                   \
+	 "on: first sent, first delivered (TCP); off: jitter reorders (UDP)", "on", TELEOP_ONLY},  \
+	INT_TELE(sec, "seed", dir.seed, seed0, 0, 2147483647.0, "",                                  \
+		 "seed of the loss and jitter draws (splitmix64)")
 
 static const scene_key scene_keys[] = {
 	NUM("run", "duration", duration_s, "5", 0, 1e7, 1, "s", "simulated time"),
@@ -140,6 +160,34 @@ static const scene_key scene_keys[] = {
 		"standard deviation of the sensor's Gaussian noise (0: none)"),
 	{"admittance", "force_noise_seed", KEY_INT, OFF(adm_force_noise_seed), 0, 2147483647.0, 0, "",
 	 NULL, "seed of the sensor noise (splitmix64)", "1", ADMITTANCE_ONLY},
+
+	{"teleop", "architecture", KEY_ENUM, OFF(tele_arch), 0, 0, 0, "",
+	 popc_teleop_architecture_names,
+	 "off (one port) or bilateral teleoperation: the device above is the master, "
+	 "[environment] is the slave's (docs/TELEOPERATION.md)", "off", 1},
+	{"teleop", "link", KEY_ENUM, OFF(tele_link), 0, 0, 0, "", popc_teleop_link_names,
+	 "channel ([forward], [backward]) or direct (received in the tick it is sent)", "channel",
+	 TELEOP_ONLY},
+	{"teleop", "tdpa", KEY_ENUM, OFF(tele_tdpa), 0, 0, 0, "", off_on_names,
+	 "the two-port passivity controllers: impedance PC at the master, admittance PC at the "
+	 "slave (off: observed only)", "on", TELEOP_ONLY},
+	NUM_TELE("teleop", "master_pc_bound", tele_master_bound_N, "100", 0, 1e6, 1, "N",
+		 "bound on the master PC's force |d|"),
+	NUM_TELE("teleop", "slave_pc_bound", tele_slave_bound_mps, "10", 0, 1e3, 1, "m/s",
+		 "bound on the slave PC's velocity |d|"),
+	NUM_TELE("slave", "mass", slave_mass_kg, "0.2", 0, 1e3, 1, "kg", "slave device mass"),
+	NUM_TELE("slave", "damping", slave_damping_Nspm, "0", 0, 1e6, 0, "N s/m", "slave device damping"),
+	{"slave", "servo", KEY_ENUM, OFF(slave_servo), 0, 0, 0, "", popc_servo_kind_names,
+	 "the slave's inner loop: position (K_p, K_v) or velocity (K_v) servo", "position",
+	 TELEOP_ONLY},
+	NUM_TELE("slave", "servo_stiffness", slave_servo_stiffness_Npm, "1000", 0, 1e9, 0, "N/m",
+		 "position servo gain K_p"),
+	NUM_TELE("slave", "servo_damping", slave_servo_damping_Nspm, "40", 0, 1e6, 1, "N s/m",
+		 "servo velocity gain K_v"),
+	NUM_TELE("slave", "force_resolution", slave_force_resolution_N, "0.01", 0, 1e3, 1, "N",
+		 "force sensor resolution, N per count"),
+	CHANNEL_KEYS("forward", fwd, "1"),
+	CHANNEL_KEYS("backward", bwd, "2"),
 
 	{"integrator", "method", KEY_ENUM, OFF(integrator), 0, 0, 0, "", popc_integrator_names,
 	 "plant integration", "exact", 0},
@@ -805,6 +853,50 @@ static int validate_admittance(const popc_scene *s, const char *src, popc_error 
 	return 0;
 }
 
+/* What a teleoperation scene needs (docs/TELEOPERATION.md): an impedance
+ * master on the simulated axis (the Modbus slave is not built yet), its
+ * delays in the channel rather than in run.delay_ticks, a servo that holds
+ * the slave. */
+static int validate_teleop(const popc_scene *s, const char *src, popc_error *err)
+{
+	if (s->causality != POPC_CAUSALITY_IMPEDANCE)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: teleop.architecture = %s needs device.causality = impedance (the "
+				      "master; the slave is [slave])",
+				      src, popc_teleop_architecture_names[s->tele_arch]);
+	if (strcmp(s->axis, "sim") != 0)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: teleop.architecture = %s needs axis.kind = sim (a Modbus slave "
+				      "is not built yet)",
+				      src, popc_teleop_architecture_names[s->tele_arch]);
+	if (s->delay_ticks != 0)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: teleop.architecture = %s needs run.delay_ticks = 0 (the delays "
+				      "are forward.delay_ticks and backward.delay_ticks)",
+				      src, popc_teleop_architecture_names[s->tele_arch]);
+	if (s->dev_coulomb_N != 0.0 || s->dev_stiction_N != 0.0)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: teleop.architecture = %s needs device.coulomb = 0 and "
+				      "device.stiction = 0 (not modelled in a teleoperation scene yet)",
+				      src, popc_teleop_architecture_names[s->tele_arch]);
+	if (s->slave_servo == POPC_SERVO_POSITION && !(s->slave_servo_stiffness_Npm > 0.0))
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: slave.servo = position needs slave.servo_stiffness > 0 N/m (K_p; "
+				      "or slave.servo = velocity)",
+				      src);
+	const popc_scene_channel *dir[2] = {&s->fwd, &s->bwd};
+	const char *name[2] = {"forward", "backward"};
+	for (int i = 0; i < 2; i++)
+		if ((long long)dir[i]->delay_ticks + dir[i]->jitter_ticks > POPC_CHANNEL_MAX_DELAY_TICKS)
+			return popc_error_set(err, POPC_ERR_INVALID,
+					      "%s: %s.delay_ticks + %s.jitter_ticks = %lld; allowed at "
+					      "most %d",
+					      src, name[i], name[i],
+					      (long long)dir[i]->delay_ticks + dir[i]->jitter_ticks,
+					      POPC_CHANNEL_MAX_DELAY_TICKS);
+	return 0;
+}
+
 int popc_scene_validate(const popc_scene *s, popc_error *err)
 {
 	const char *src = s->source[0] ? s->source : "scene";
@@ -845,6 +937,11 @@ int popc_scene_validate(const popc_scene *s, popc_error *err)
 		if (st)
 			return st;
 	}
+	if (s->tele_arch != POPC_TELEOP_OFF) {
+		int st = validate_teleop(s, src, err);
+		if (st)
+			return st;
+	}
 	if (strcmp(s->axis, "modbus") == 0 && (!s->axis_map[0] || !s->axis_connect[0]))
 		return popc_error_set(err, POPC_ERR_INVALID,
 				      "%s: axis.kind = modbus needs axis.map and axis.connect", src);
@@ -881,6 +978,8 @@ static int key_written(const popc_scene *s, const scene_key *k)
 		return s->causality == POPC_CAUSALITY_ADMITTANCE;
 	if (k->declared_only == WRITTEN_FOR_EB)
 		return s->variant == POPC_VARIANT_ENERGY_BOUNDING;
+	if (k->declared_only == TELEOP_ONLY)
+		return s->tele_arch != POPC_TELEOP_OFF;
 	if (k->declared_only && k->type == KEY_ENUM)
 		return *(const int *)(const void *)field != 0;
 	if (k->declared_only)

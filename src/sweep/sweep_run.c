@@ -87,7 +87,7 @@ int popc_sweep_run_one(const popc_sweep_plan *p, long long i, const char *dir, i
 	}
 	if (!st && keep_log) {
 		snprintf(path, sizeof path, "%s/log.csv", rdir);
-		st = popc_log_open(&log, path, axis->ops->log_columns, &rerr);
+		st = popc_log_open(&log, path, popc_run_log_columns(&s, axis), &rerr);
 		if (!st) {
 			log_open = 1;
 			st = popc_log_write_header(&log, axis->ops->name, &s, NULL, &rerr);

@@ -59,6 +59,12 @@ for scene in "$SRC"/data/scenes/*.ini; do
 		done
 		continue
 	fi
+	if grep -q '^architecture *= *position-force' "$scene"; then # docs/TELEOPERATION.md
+		for pc in on off; do
+			case_run "$s.tdpa-$pc" "$scene" --set teleop.tdpa=$pc
+		done
+		continue
+	fi
 	for v in $variants; do
 		case_run "$s.$v" "$scene" --variant "$v"
 	done

@@ -21,5 +21,10 @@ int popc_sim_axis_create(popc_axis **out, const popc_scene *s, popc_error *err);
  * any axis.kind, any device.causality): force count and position in a
  * sample, a velocity command to exchange. For libpopc's admittance sim. */
 int popc_sim_admittance_axis_create(popc_axis **out, const popc_scene *s, popc_error *err);
+/* The simulated slave of a teleoperation scene (sim_slave_axis.c;
+ * docs/TELEOPERATION.md): [slave]'s servoed device at rest at x0_m against
+ * [environment]; force count, position and position command in a sample, a
+ * velocity command to exchange. */
+int popc_sim_slave_axis_create(popc_axis **out, const popc_scene *s, double x0_m, popc_error *err);
 
 #endif

@@ -14,6 +14,8 @@
  *   fill    which axes write it: ALWAYS, X_TRUE (an axis with a simulated true
  *           position), TIMING (a real axis' measured period and round trip)
  *           or ADMITTANCE (an admittance-type device: docs/ADMITTANCE.md)
+ *           or TELEOP (a teleoperation scene's slave and network ports:
+ *           docs/TELEOPERATION.md; the columns every log has are the master's)
  *           -- the POPC_LOG_COL_<fill> bit an axis sets in its log_columns
  *   format  DOUBLE (shortest round-trip text), COUNT (signed integer) or
  *           FLAGS (unsigned bit set, POPC_FLAG_*)
@@ -46,7 +48,24 @@
 	COLUMN(F_MEAS, f_meas, "N",   ADMITTANCE, DOUBLE, adm.f_N,  "force reading, count x resolution")     \
 	COLUMN(X_CMD,  x_cmd,  "m",   ADMITTANCE, DOUBLE, x_cmd_m,  "position command the servo tracks")     \
 	COLUMN(V_VE,   v_ve,   "m/s", ADMITTANCE, DOUBLE, adm.v_ve_mps, "velocity of the admittance VE")     \
-	COLUMN(V_PC,   v_pc,   "m/s", ADMITTANCE, DOUBLE, adm.v_pc_mps, "parallel PC velocity, beta f")
+	COLUMN(V_PC,   v_pc,   "m/s", ADMITTANCE, DOUBLE, adm.v_pc_mps, "parallel PC velocity, beta f")   \
+	COLUMN(XS,     xs,     "m",   TELEOP, DOUBLE, tele.xs_m,     "slave measured position")              \
+	COLUMN(XS_TRUE, xs_true, "m", TELEOP, DOUBLE, tele.xs_true_m, "slave true position")                 \
+	COLUMN(XS_CMD, xs_cmd, "m",   TELEOP, DOUBLE, tele.xs_cmd_m, "slave servo's position command")       \
+	COLUMN(FS_COUNT, fs_count, "", TELEOP, COUNT, tele.fs_count, "slave force sensor count")             \
+	COLUMN(FS,     fs,     "N",   TELEOP, DOUBLE, tele.fs_N,     "slave force reading (environment on slave)") \
+	COLUMN(VS_RX,  vs_rx,  "m/s", TELEOP, DOUBLE, tele.vs_rx_mps, "master velocity the slave holds")     \
+	COLUMN(VS_PC,  vs_pc,  "m/s", TELEOP, DOUBLE, tele.vs_pc_mps, "slave PC velocity")                   \
+	COLUMN(VS_C,   vs_c,   "m/s", TELEOP, DOUBLE, tele.vs_c_mps, "slave velocity command")               \
+	COLUMN(WS,     Ws,     "J",   TELEOP, DOUBLE, tele.Ws_J,     "slave observer before its PC")         \
+	COLUMN(EM_IN,  Em_in,  "J",   TELEOP, DOUBLE, tele.Em_in_J,  "energy into the network at the master") \
+	COLUMN(EM_OUT, Em_out, "J",   TELEOP, DOUBLE, tele.Em_out_J, "energy out of the network at the master") \
+	COLUMN(EM_RX,  Em_rx,  "J",   TELEOP, DOUBLE, tele.Em_rx_J,  "slave's E_in as the master holds it")  \
+	COLUMN(ES_IN,  Es_in,  "J",   TELEOP, DOUBLE, tele.Es_in_J,  "energy into the network at the slave") \
+	COLUMN(ES_OUT, Es_out, "J",   TELEOP, DOUBLE, tele.Es_out_J, "energy out of the network at the slave") \
+	COLUMN(ES_RX,  Es_rx,  "J",   TELEOP, DOUBLE, tele.Es_rx_J,  "master's E_in as the slave holds it")  \
+	COLUMN(FWD_AGE, fwd_age, "",  TELEOP, COUNT, tele.fwd_age,   "ticks since the slave's held packet was sent (-1: none)") \
+	COLUMN(BWD_AGE, bwd_age, "",  TELEOP, COUNT, tele.bwd_age,   "ticks since the master's held packet was sent (-1: none)")
 
 /* Which axes fill a column: the bits of an axis' log_columns. A column is
  * written when all its bits are in the log's set (ALWAYS has none). */
@@ -55,6 +74,7 @@ enum popc_log_columns {
 	POPC_LOG_COL_X_TRUE = 1,  /* simulated true position */
 	POPC_LOG_COL_TIMING = 2,  /* dt (measured period) and rtt (Modbus transaction time) */
 	POPC_LOG_COL_ADMITTANCE = 4, /* force count and reading, commanded motion, PC velocity */
+	POPC_LOG_COL_TELEOP = 8,  /* the slave and both network ports (docs/TELEOPERATION.md) */
 };
 
 typedef enum popc_log_cell_format {
@@ -62,6 +82,16 @@ typedef enum popc_log_cell_format {
 	POPC_LOG_CELL_COUNT,      /* signed decimal integer */
 	POPC_LOG_CELL_FLAGS,      /* unsigned decimal integer, a bit set */
 } popc_log_cell_format;
+
+/* A teleoperation tick's own cells (docs/TELEOPERATION.md, "The log"). */
+typedef struct popc_teleop_row {
+	double xs_m, xs_true_m, xs_cmd_m;
+	long long fs_count;
+	double fs_N;
+	double vs_rx_mps, vs_pc_mps, vs_c_mps, Ws_J;
+	double Em_in_J, Em_out_J, Em_rx_J, Es_in_J, Es_out_J, Es_rx_J;
+	long long fwd_age, bwd_age;
+} popc_teleop_row;
 
 /* One row of the log: a controller tick and what the axis measured. */
 typedef struct popc_log_row {
@@ -72,6 +102,8 @@ typedef struct popc_log_row {
 	/* admittance causality only (POPC_LOG_COL_ADMITTANCE) */
 	popc_admittance_tick adm;
 	double x_cmd_m;
+	/* teleoperation only (POPC_LOG_COL_TELEOP) */
+	popc_teleop_row tele;
 } popc_log_row;
 
 /* POPC_LOG_COLUMN_T, POPC_LOG_COLUMN_X, ...: a column's index in the table. */

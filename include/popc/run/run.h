@@ -37,6 +37,19 @@ typedef struct popc_run_summary {
 	 * through on_tick: run_admittance.c) */
 	int has_admittance;
 	double adm_active, adm_v_pc_rms_mps, adm_v_pc_max_mps, adm_v_pc_rms_late_mps;
+	/* a teleoperation scene (has_teleop; run_teleop.c): kept in the
+	 * struct, not in RUN_SUMMARY_FIELDS (every summary keeps its columns).
+	 * The smallest two-port margin E_in,remote - E_out of each side
+	 * (master, slave) over the run; the ticks where either margin was
+	 * below its rounding allowance (core/teleop.h); ticks a PC acted and was clamped; the
+	 * largest |f_c| and |v_c|, and of each PC's |d|; the slave's true position's range over the
+	 * last second (an oscillation's peak to peak) */
+	int has_teleop;
+	double tele_margin_min_J[2];
+	long long tele_violations, tele_active[2], tele_clamped[2];
+	double tele_f_c_max_N, tele_v_c_max_mps;
+	double tele_d_max[2];          /* the largest |d| of each PC (N, m/s) */
+	double tele_xs_late_min_m, tele_xs_late_max_m;
 	int status;                   /* 0 or the popc_status that stopped the run */
 	char stop_reason[POPC_ERROR_MSG_MAX + 64];
 } popc_run_summary;
@@ -54,6 +67,10 @@ typedef struct popc_run_options {
 	 * filled as always. 0 (the default): everything. */
 	int summary_unread;
 } popc_run_options;
+
+/* The log's column set for a run of scene s on axis: the axis' columns, and
+ * in a teleoperation scene the slave's and the network's (log_columns.h). */
+unsigned popc_run_log_columns(const popc_scene *s, const popc_axis *axis);
 
 /* Runs the scene on the axis. Always calls the axis' stop() and writes the
  * stop reason to the log before returning. Returns 0 or a negative popc_status. */

@@ -8,6 +8,7 @@
 
 #include "popc/core/admittance.h"
 #include "popc/core/admittance_plant.h"
+#include "popc/core/channel.h"
 #include "popc/core/controller.h"
 #include "popc/core/environment.h"
 #include "popc/core/intent.h"
@@ -22,6 +23,13 @@ void popc_controller_config_from_scene(popc_controller_config *c, const popc_sce
  * spring is the [environment]) and the device with its servo; x_origin_m is
  * the plant's coordinate origin (the device's initial position). */
 void popc_admittance_config_from_scene(popc_admittance_config *c, const popc_scene *s);
+/* A teleoperation scene's slave device (docs/TELEOPERATION.md): [slave]'s
+ * mass, damping and servo; no hand (the environment's force is the plant's
+ * input, held over the period). */
+void popc_teleop_slave_plant_config_from_scene(popc_admittance_plant_config *c,
+					       const popc_scene *s, double x_origin_m);
+/* One direction of a teleoperation scene's channel, [forward] or [backward]. */
+void popc_channel_config_from_scene(popc_channel_config *c, const popc_scene_channel *dir);
 void popc_admittance_plant_config_from_scene(popc_admittance_plant_config *c, const popc_scene *s,
 					     double x_origin_m);
 

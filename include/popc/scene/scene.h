@@ -16,6 +16,7 @@
 #include "popc/core/intent.h"
 #include "popc/core/plant.h"
 #include "popc/core/port.h"
+#include "popc/core/teleop.h"
 #include "popc/util/error.h"
 
 /* The connection URI notation of axis.connect (popc_modbus_uri), spelt the
@@ -28,6 +29,15 @@
 #define POPC_NAME_MAX 64
 /* run.delay_ticks' upper end: the run keeps that many commands in a ring */
 #define POPC_SCENE_MAX_DELAY_TICKS 1000
+
+/* One direction of a teleoperation scene's channel ([forward] master to
+ * slave, [backward] slave to master; core/channel.h) */
+typedef struct popc_scene_channel {
+	int delay_ticks, jitter_ticks;
+	double loss;
+	int in_order;
+	int seed;
+} popc_scene_channel;
 
 typedef struct popc_scene {
 	/* [run] */
@@ -70,6 +80,19 @@ typedef struct popc_scene {
 	double adm_force_resolution_N, adm_force_noise_N;
 	int adm_force_noise_seed;
 	double eb_margin;       /* energy-bounding: K_b = (1 - eb_margin) 2 b / T */
+	/* [teleop], [slave], [forward], [backward]: written only when
+	 * teleop.architecture is not off (docs/TELEOPERATION.md); the master is
+	 * the impedance device above, the environment the slave's */
+	popc_teleop_architecture tele_arch;
+	popc_teleop_link tele_link;
+	int tele_tdpa;                       /* 0 off, 1 on */
+	double tele_master_bound_N;          /* |d| of the master's PC, a force */
+	double tele_slave_bound_mps;         /* |d| of the slave's PC, a velocity */
+	double slave_mass_kg, slave_damping_Nspm;
+	popc_servo_kind slave_servo;
+	double slave_servo_stiffness_Npm, slave_servo_damping_Nspm;
+	double slave_force_resolution_N;
+	popc_scene_channel fwd, bwd;
 	/* [integrator] */
 	popc_integrator integrator;
 	int substeps;
