@@ -9,6 +9,7 @@
 #define POPC_ANALYZE_H
 
 #include <stdio.h>
+#include <stdint.h>
 
 #include "popc/core/chatter.h"
 #include "popc/core/controller.h"
@@ -24,6 +25,8 @@
  * --decimal, --comment, --set, --scale). */
 #define ANA_MAX_SCALES 16
 #define ANA_MAX_EXTRA 4
+/* the bit of a popc log column (POPC_LOG_COLUMN_*) in a column mask */
+#define ANA_COLUMN_BIT(column) (UINT64_C(1) << (column))
 typedef struct ana_input_options {
 	popc_log_reader_options reader;
 	/* --scale NAME=FACTOR: the file's NAME column times FACTOR is SI */
@@ -36,10 +39,10 @@ typedef struct ana_input_options {
 	int quiet;          /* -q: no notes */
 	unsigned uses;      /* ANA_USES_*: scene parameters the verb reads beyond the columns */
 	unsigned ignores;   /* ANA_USES_*: derived columns the verb does not read (replay: W) */
-	/* 1u << POPC_LOG_COLUMN_*: popc columns the verb never reads; their
+	/* ANA_COLUMN_BIT(POPC_LOG_COLUMN_*): popc columns the verb never reads; their
 	 * cells are only checked to be a number's characters, not parsed
 	 * (popc_log_reader_check_columns), and ana_row has NaN for them */
-	unsigned unread;
+	uint64_t unread;
 	/* energy --allow-uneven: a log without a rate may have uneven time steps
 	 * (the verb then computes nothing that uses the period) */
 	int allow_uneven;

@@ -427,7 +427,7 @@ int ana_cmd_compare(int argc, char **argv)
 	ana_input_options in;
 	memset(&in, 0, sizeof in);
 	in.verb = "compare";
-	in.unread = 1u << POPC_LOG_COLUMN_X_TRUE; /* the summary has no true position */
+	in.unread = ANA_COLUMN_BIT(POPC_LOG_COLUMN_X_TRUE); /* the summary has no true position */
 	popc_chatter_config cc;
 	popc_chatter_config_defaults(&cc);
 	ana_format fmt = ANA_TEXT;

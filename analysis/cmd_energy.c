@@ -582,7 +582,7 @@ int ana_cmd_energy(int argc, char **argv)
 	in.verb = "energy";
 	/* the observers read the measured motion and the forces, never the
 	 * simulated truth */
-	in.unread = 1u << POPC_LOG_COLUMN_X_TRUE | 1u << POPC_LOG_COLUMN_E_PORT;
+	in.unread = ANA_COLUMN_BIT(POPC_LOG_COLUMN_X_TRUE) | ANA_COLUMN_BIT(POPC_LOG_COLUMN_E_PORT);
 	int want[DEF_COUNT], n_want = 0, check = 0, c, rc = 0;
 	ana_format fmt = ANA_TEXT;
 	const char *out_path = NULL;

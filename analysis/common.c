@@ -622,6 +622,7 @@ int ana_log_open(ana_log *l, const char *path, const ana_input_options *o, popc_
 	popc_log_reader_use_columns(r, used, n_used);
 	/* a column the verb never reads is checked, not parsed, unless --column
 	 * made it also one that it reads */
+	_Static_assert(sizeof cols / sizeof cols[0] <= 64, "unread: one bit a column");
 	int unread[sizeof cols / sizeof cols[0]], n_unread = 0;
 	for (size_t i = 0; i < sizeof cols / sizeof cols[0]; i++) {
 		int uses = 0;

@@ -129,8 +129,10 @@ static void test_column_names_line(void **state)
 		"t,x,count,v,f_e,f_pc,f_c,W,E_ref,flags,dt,rtt",
 		"t,x,count,x_true,v,f_e,f_pc,f_c,W,E_ref,flags,E_port,dt,rtt",
 		"t,x,count,v,f_e,f_pc,f_c,W,E_ref,flags,f_count,f_meas,x_cmd,v_ve,v_pc",
-		"t,x,count,x_true,v,f_e,f_pc,f_c,W,E_ref,flags,E_port,xs,xs_true,xs_cmd,fs_count,fs,"
-		"vs_rx,vs_pc,vs_c,Ws,Em_in,Em_out,Em_rx,Es_in,Es_out,Es_rx,fwd_age,bwd_age",
+		/* one name line, split in two (the parentheses tell clang that the
+		 * concatenation is meant, not a missing comma) */
+		("t,x,count,x_true,v,f_e,f_pc,f_c,W,E_ref,flags,E_port,xs,xs_true,xs_cmd,fs_count,fs,"
+		 "vs_rx,vs_pc,vs_c,Ws,Em_in,Em_out,Em_rx,Es_in,Es_out,Es_rx,fwd_age,bwd_age"),
 	};
 	for (int k = 0; k < N_SETS; k++) {
 		const unsigned set = column_sets[k];
