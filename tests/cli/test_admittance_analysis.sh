@@ -9,7 +9,11 @@
 #   velocity every tick for 1 s is flagged there, by +-0.5 not;
 # - compare's PC columns of an admittance log are v_pc's, equal to the run
 #   summary's;
-# - replay and report refuse an admittance log (exit 2), naming why.
+# - replay of an admittance log runs the parallel PC variants over its force
+#   counts: its own variant gives its rows bit for bit, another the same v_ve
+#   and its own W and v_pc; a series PC variant is refused (exit 2), and a
+#   parallel PC variant on an impedance log;
+# - report refuses an admittance log (exit 2), naming why.
 # Argument: the popc-analyze program.
 set -u
 POPC=${POPC:?POPC must name the popc program}
@@ -68,11 +72,36 @@ check "  pc_rms_late is the summary's v_pc_rms_late" awk -F, \
 	'NR == 1 { for (i = 1; i <= NF; i++) if ($i == "pc_rms_late") c = i; next }
 	 { d = $c - want; exit !(c && want > 0 && d * d <= 1e-24 * want * want) }' "$T/out"
 
+# ---- replay: the parallel PC variants over the recorded force counts
+rows() { grep -v '^#' "$1"; }
+# a column of a log by name
+lcol() { awk -F, -v name="$2" '/^#/ { next } !c { for (i = 1; i <= NF; i++) if ($i == name) c = i; next }
+	{ print $c }' "$1"; }
+expect_exit 0 "replay the admittance log with its own variant and none" "$ANALYZE" replay "$T/aw.csv" \
+	--variant parallel-pc --variant none --variant parallel-hold -o "$T/rp"
+check "  its own variant: every row bit for bit" cmp -s <(rows "$T/aw.csv") <(rows "$T/rp/aw.parallel-pc.csv")
+check "  the replay log names its source" grep -q '^# source = replay$' "$T/rp/aw.parallel-pc.csv"
+check "  none: the same v_ve (the VE follows the force alone)" \
+	cmp -s <(lcol "$T/aw.csv" v_ve) <(lcol "$T/rp/aw.none.csv" v_ve)
+check "  none: v_pc 0 on every row and v = v_ve" awk -F, '/^#/ { next } !c { for (i = 1; i <= NF; i++) {
+	if ($i == "v_pc") p = i; if ($i == "v_ve") e = i; if ($i == "v") v = i } c = 1; next }
+	{ n++; if ($p != 0 || $v != $e) bad++ } END { exit !(n > 5000 && !bad) }' "$T/rp/aw.none.csv"
+differ() { ! cmp -s <(lcol "$1" "$3") <(lcol "$2" "$3"); }
+check "  none: its W differs from the PC's" differ "$T/aw.csv" "$T/rp/aw.none.csv" W
+check "  parallel-hold: its v_pc differs from parallel-pc's" differ "$T/aw.csv" "$T/rp/aw.parallel-hold.csv" v_pc
+check "  parallel-hold's log passes energy --check (W from its v_pc)" \
+	"$ANALYZE" energy --check "$T/rp/aw.parallel-hold.csv"
+check "  parallel-hold's header names its variant" \
+	grep -q '^# variant = parallel-hold$' "$T/rp/aw.parallel-hold.csv"
+expect_exit 2 "replay of an admittance log with a series PC variant" "$ANALYZE" replay "$T/aw.csv" \
+	--variant ref-energy -o "$T/rp2"
+check "  names why" err_has "is an admittance log (device.causality = admittance, header line"
+check "  nothing written" test ! -e "$T/rp2/aw.ref-energy.csv"
+expect_exit 2 "replay of an impedance log with a parallel PC variant" "$ANALYZE" replay "$T/pp.csv" \
+	--variant parallel-hold -o "$T/rp2"
+check "  names why" err_has "is an impedance log: --variant 'parallel-hold' is an admittance (parallel PC) variant"
+
 # ---- refusals
-expect_exit 2 "replay of an admittance log" "$ANALYZE" replay "$T/aw.csv" --variant ref-energy -o "$T/rp"
-check "  names why" err_has "is an admittance log (device.causality = admittance"
-expect_exit 2 "replay with an admittance variant" "$ANALYZE" replay "$T/aw.csv" --variant parallel-hold -o "$T/rp"
-check "  names why" err_has "replaying an admittance variant over recorded force counts is not implemented"
 expect_exit 2 "report of an admittance log" "$ANALYZE" report "$T/aw.csv" -o "$T/rep"
 check "  names why" err_has "is an admittance log (device.causality = admittance): the report's figures"
 check_summary
