@@ -13,6 +13,8 @@
 #   counts: its own variant gives its rows bit for bit, another the same v_ve
 #   and its own W and v_pc; a series PC variant is refused (exit 2), and a
 #   parallel PC variant on an impedance log;
+# - a sweep's pc_active, pc_rms, pc_max, pc_rms_late of an admittance run are
+#   its run summary's v_pc_* (m/s), not the series PC's 0;
 # - report refuses an admittance log (exit 2), naming why.
 # Argument: the popc-analyze program.
 set -u
@@ -100,6 +102,21 @@ check "  nothing written" test ! -e "$T/rp2/aw.ref-energy.csv"
 expect_exit 2 "replay of an impedance log with a parallel PC variant" "$ANALYZE" replay "$T/pp.csv" \
 	--variant parallel-hold -o "$T/rp2"
 check "  names why" err_has "is an impedance log: --variant 'parallel-hold' is an admittance (parallel PC) variant"
+
+# ---- a sweep's pc_* cells: the parallel PC's
+expect_exit 0 "a sweep of admittance-wall, 1 s, parallel-pc and none" "$POPC" sweep "$WALL" \
+	--set run.duration=1 --vary admittance.variant=parallel-pc,none -o "$T/sw" -q
+expect_exit 0 "the parallel-pc run alone" "$POPC" run "$WALL" --set run.duration=1 --log "$T/sw1.csv" \
+	--summary "$T/sw1.sum.csv" -q
+# the cell NAME of the sweep row whose variant is V
+swcol() { awk -F, -v name="$1" -v v="$2" 'NR == 1 { for (i = 1; i <= NF; i++) { if ($i == name) c = i;
+	if ($i == "admittance.variant") a = i } next } $a == v { print $c }' "$T/sw/summary.csv"; }
+for m in active rms max rms_late; do
+	check "  pc_$m of the parallel-pc row is the run's v_pc_$m" \
+		test "$(swcol pc_$m parallel-pc)" = "$(col "$T/sw1.sum.csv" v_pc_$m)"
+done
+check "  and not 0" awk -v a="$(swcol pc_active parallel-pc)" 'BEGIN { exit !(a > 0.01) }'
+check "  none's pc_rms is 0.0" test "$(swcol pc_rms none)" = 0.0
 
 # ---- refusals
 expect_exit 2 "report of an admittance log" "$ANALYZE" report "$T/aw.csv" -o "$T/rep"
