@@ -437,6 +437,9 @@ typedef struct ana_summary {
 	 * foreign log lacks): the report's parameter box */
 	double env_stiffness_Npm, env_position_m, enc_resolution_m, pc_bound_N;
 	char ignore_mode[16];
+	/* an admittance log's (report_admittance.c's parameter box) */
+	double adm_force_resolution_N, adm_virtual_mass_kg, adm_virtual_damping_Nspm;
+	double adm_pc_velocity_bound_mps;
 } ana_summary;
 
 /* Chatter has a verdict: the log has a PC force and at least one full

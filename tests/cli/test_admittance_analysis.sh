@@ -15,7 +15,8 @@
 #   parallel PC variant on an impedance log;
 # - a sweep's pc_active, pc_rms, pc_max, pc_rms_late of an admittance run are
 #   its run summary's v_pc_* (m/s), not the series PC's 0;
-# - report refuses an admittance log (exit 2), naming why.
+# - report of an admittance log draws its own figure (f_meas, v_ve and v,
+#   v_pc, W against time; gnuplot really drawing, when installed).
 # Argument: the popc-analyze program.
 set -u
 POPC=${POPC:?POPC must name the popc program}
@@ -119,6 +120,20 @@ check "  and not 0" awk -v a="$(swcol pc_active parallel-pc)" 'BEGIN { exit !(a 
 check "  none's pc_rms is 0.0" test "$(swcol pc_rms none)" = 0.0
 
 # ---- refusals
-expect_exit 2 "report of an admittance log" "$ANALYZE" report "$T/aw.csv" -o "$T/rep"
-check "  names why" err_has "is an admittance log (device.causality = admittance): the report's figures"
+# ---- report: the admittance figure
+expect_exit 0 "report of the admittance log, --no-draw" "$ANALYZE" report "$T/aw.csv" -o "$T/rep0" --no-draw
+check "  the script plots f_meas, v_ve, v, v_pc and W" grep -q 'title "f_meas".*' "$T/rep0/aw-admittance.gp"
+check "  its data: t and five columns' min and max" awk '/^#/ { next } { exit !(NF == 11) }' \
+	"$T/rep0/aw-admittance.dat"
+check "  the data's largest v_pc (column 9) is the run's v_pc_max" awk -v want="$(col "$T/aw.sum.csv" v_pc_max)" \
+	'/^#/ { next } { if ($9 > m) m = $9 } END { exit !(m == want + 0) }' \
+	"$T/rep0/aw-admittance.dat"
+if command -v gnuplot >/dev/null 2>&1; then
+	expect_exit 0 "report of the admittance log, drawn" "$ANALYZE" report "$T/aw.csv" -o "$T/rep"
+	check "  a PNG of the four panels (> 20 kB)" sh -c "head -c 8 '$T/rep/aw-admittance.png' | od -An -tx1 |
+		grep -q '89 50 4e 47 0d 0a 1a 0a' && [ \$(wc -c < '$T/rep/aw-admittance.png') -gt 20000 ]"
+	check "  and its PDF" test -s "$T/rep/aw-admittance.pdf"
+else
+	echo "# gnuplot not installed: the drawn figure is not checked"
+fi
 check_summary
