@@ -103,6 +103,14 @@ check "  nothing written" test ! -e "$T/rp2/aw.ref-energy.csv"
 expect_exit 2 "replay of an impedance log with a parallel PC variant" "$ANALYZE" replay "$T/pp.csv" \
 	--variant parallel-hold -o "$T/rp2"
 check "  names why" err_has "is an impedance log: --variant 'parallel-hold' is an admittance (parallel PC) variant"
+# row 100's f_count (column 11) 1e300: no count (its cast was undefined behaviour)
+awk -F, 'BEGIN { OFS = "," } /^#/ || /^t,/ { print; next } { if (++n == 100) $11 = "1e300"; print }' \
+	"$T/aw.csv" >"$T/big.csv"
+expect_exit 2 "replay of a log with f_count 1e300" "$ANALYZE" replay "$T/big.csv" --variant parallel-pc -o "$T/rp3"
+line=$(awk '/^#/ || /^t,/ { next } ++n == 100 { print NR; exit }' "$T/big.csv")
+check "  names the line and column" err_has "big.csv:$line: column 11 (f_count): 1.0000000000000001e+300 is not a whole force count within +-2^52"
+expect_exit 2 "energy --check of it" "$ANALYZE" energy --check "$T/big.csv"
+check "  the same" err_has "big.csv:$line: column 11 (f_count): 1.0000000000000001e+300 is not a whole"
 
 # ---- a sweep's pc_* cells: the parallel PC's
 expect_exit 0 "a sweep of admittance-wall, 1 s, parallel-pc and none" "$POPC" sweep "$WALL" \
