@@ -249,6 +249,10 @@ typedef struct ana_row {
 	int has_adm;
 	long long adm_n;
 	double adm_f_N, adm_v_ve_mps, adm_v_pc_mps;
+	/* replay of an admittance log: the force count wherever f_count is
+	 * there, and the servo's position command (0 without x_cmd) */
+	long long adm_count;
+	double adm_x_cmd_m;
 } ana_row;
 
 /* Opens a log: reader, scene (defaults, header, --set; validated), columns.
@@ -398,6 +402,11 @@ int ana_cmd_energy(int argc, char **argv);
 int ana_cmd_chatter(int argc, char **argv);
 int ana_cmd_compare(int argc, char **argv);
 int ana_cmd_replay(int argc, char **argv);
+/* replay_admittance.c: the n parallel PC variants over l's recorded force
+ * counts into out_paths (checked by the caller); returns an exit status. */
+int ana_replay_admittance(ana_log *l, const char *path, const popc_scene *base,
+			  const popc_admittance_variant *variants, char (*out_paths)[1100], int n,
+			  int quiet);
 int ana_cmd_report(int argc, char **argv);
 int ana_cmd_events(int argc, char **argv);
 
@@ -431,6 +440,9 @@ typedef struct ana_summary {
 	 * foreign log lacks): the report's parameter box */
 	double env_stiffness_Npm, env_position_m, enc_resolution_m, pc_bound_N;
 	char ignore_mode[16];
+	/* an admittance log's (report_admittance.c's parameter box) */
+	double adm_force_resolution_N, adm_virtual_mass_kg, adm_virtual_damping_Nspm;
+	double adm_pc_velocity_bound_mps;
 } ana_summary;
 
 /* Chatter has a verdict: the log has a PC force and at least one full

@@ -81,6 +81,10 @@ int ana_summarize(const char *path, const ana_input_options *o, const popc_chatt
 	s->enc_resolution_m = l.scene.enc_resolution_m;
 	s->pc_bound_N = l.scene.pc_bound_N;
 	s->admittance = l.scene.causality == POPC_CAUSALITY_ADMITTANCE && l.c_v_pc >= 0;
+	s->adm_force_resolution_N = l.scene.adm_force_resolution_N;
+	s->adm_virtual_mass_kg = l.scene.adm_virtual_mass_kg;
+	s->adm_virtual_damping_Nspm = l.scene.adm_virtual_damping_Nspm;
+	s->adm_pc_velocity_bound_mps = l.scene.adm_pc_velocity_bound_mps;
 	if (s->admittance)
 		s->pc_bound_N = POPC_ADMITTANCE_CHATTER_COUNTS *
 				popc_admittance_count_velocity_mps(

@@ -27,11 +27,14 @@ static void usage(FILE *f)
 	      "(its t and count columns, or x quantized to encoder.resolution) and writes one\n"
 	      "popc log per variant (source = replay) that the other verbs read. The scene is\n"
 	      "the log's header (popc logs) or the defaults, then --set. Replaying a popc log\n"
-	      "with its own variant reproduces its rows exactly.\n"
+	      "with its own variant reproduces its rows exactly. An admittance log replays\n"
+	      "the parallel PC variants over its recorded force counts (f_count).\n"
 	      "\n"
 	      "  --variant NAME           none, po-pc, ref-energy, filtered-velocity, ignore,\n"
 	      "                           hold, improved, pc-off-reversals, energy-bounding,\n"
-	      "                           windowed-po, or 'all' (repeatable)\n"
+	      "                           windowed-po, or 'all' (repeatable); an admittance\n"
+	      "                           log: none, parallel-pc, parallel-ignore,\n"
+	      "                           parallel-hold, parallel-improved or 'all'\n"
 	      "  -o, --output-dir DIR     write DIR/<log>.<variant>.csv (default: .); makes DIR\n"
 	      "  --prefix P               write P<variant>.csv instead\n"
 	      "  -q, --quiet              do not list the files written\n" ANA_INPUT_HELP
@@ -62,20 +65,40 @@ typedef struct replay_out {
 	int open;
 } replay_out;
 
-/* Replay re-runs an impedance controller over a log's recorded positions;
- * replaying a parallel PC variant over an admittance log's recorded force
- * counts is not implemented (docs/ADMITTANCE.md, "Downstream"). */
-static const char adm_refusal[] =
-	"replay runs the impedance (series) PC variants over recorded positions; replaying "
-	"an admittance variant over recorded force counts is not implemented (docs/ADMITTANCE.md, "
-	"\"Downstream\")";
+/* An impedance log replays the series PC variants over its positions, an
+ * admittance log the parallel PC variants over its force counts
+ * (replay_admittance.c); "none" and "all" name either. */
+static const char adm_names[] = "none, parallel-pc, parallel-ignore, parallel-hold, "
+				"parallel-improved or all";
 
-static int is_admittance_variant(const char *name)
+static int admittance_variant_of(const char *name, popc_admittance_variant *v)
 {
-	int found = 0;
 	for (int k = 0; popc_admittance_variant_names[k]; k++)
-		found |= strcmp(name, popc_admittance_variant_names[k]) == 0;
-	return found;
+		if (strcmp(name, popc_admittance_variant_names[k]) == 0) {
+			*v = (popc_admittance_variant)k;
+			return 0;
+		}
+	return -1;
+}
+
+/* The output path of the variant named vn, checked: not the input, not a
+ * directory, writable (nothing is opened yet). */
+static int output_path(char *out, size_t cap, const char *vn, const char *dir, const char *prefix,
+		       const char *log_name, const char *path)
+{
+	if (prefix)
+		snprintf(out, cap, "%s%s.csv", prefix, vn);
+	else
+		snprintf(out, cap, "%s/%s.%s.csv", dir ? dir : ".", log_name, vn);
+	char *self[1] = {(char *)path};
+	if (ana_output_is_input(out, self, 1) >= 0) {
+		fprintf(stderr,
+			"popc-analyze replay: %s is the input log %s: refusing to overwrite it "
+			"(choose another -o DIR or --prefix)\n",
+			out, path);
+		return POPC_EXIT_USAGE;
+	}
+	return ana_output_file_usable("replay", prefix ? "--prefix" : "-o", out);
 }
 
 int ana_cmd_replay(int argc, char **argv)
@@ -90,6 +113,10 @@ int ana_cmd_replay(int argc, char **argv)
 	in.ignores = ANA_USES_VARIANT; /* --variant; the log's recomputed W is not used */
 	popc_variant variants[MAX_VARIANTS];
 	int n_var = 0, c, rc = 0, quiet = 0;
+	/* the admittance variants asked for (bit per variant), and the first
+	 * name that only one causality has */
+	unsigned adm_mask = 0;
+	const char *adm_only = NULL, *imp_only = NULL;
 	const char *dir = NULL, *prefix = NULL;
 	replay_out *outs = NULL;
 	ana_log l;
@@ -100,22 +127,29 @@ int ana_cmd_replay(int argc, char **argv)
 		switch (c) {
 		case OPT_VARIANT: {
 			popc_variant v;
+			popc_admittance_variant av;
 			int all = strcmp(optarg, "all") == 0;
-			if (!all && popc_variant_from_name(optarg, &v) != 0) {
-				if (is_admittance_variant(optarg)) {
-					fprintf(stderr, "popc-analyze replay: --variant '%s': %s\n",
-						optarg, adm_refusal);
-					rc = POPC_EXIT_USAGE;
-					goto out;
-				}
+			int is_imp = all || popc_variant_from_name(optarg, &v) == 0;
+			int is_adm = all || admittance_variant_of(optarg, &av) == 0;
+			if (!is_imp && !is_adm) {
 				fprintf(stderr,
 					"popc-analyze replay: --variant '%s': none, po-pc, ref-energy, "
 					"filtered-velocity, ignore, hold, improved, pc-off-reversals, "
-					"energy-bounding, windowed-po or all\n",
-					optarg);
+					"energy-bounding, windowed-po or all (an impedance log); %s (an "
+					"admittance log)\n",
+					optarg, adm_names);
 				rc = POPC_EXIT_USAGE;
 				goto out;
 			}
+			if (is_adm)
+				adm_mask |= all ? (1u << POPC_ADMITTANCE_VARIANT_COUNT) - 1u : 1u << av;
+			if (!is_imp) {
+				if (!adm_only)
+					adm_only = optarg;
+				break;
+			}
+			if (!is_adm && !imp_only)
+				imp_only = optarg;
 			for (int k = 0; k < POPC_VARIANT_COUNT; k++) {
 				if (!all && k != (int)v)
 					continue;
@@ -138,18 +172,18 @@ int ana_cmd_replay(int argc, char **argv)
 		default: popc_option_hint(argv[0], opts, argc, argv); rc = POPC_EXIT_USAGE; goto out;
 		}
 	}
-	if (optind + 1 != argc || n_var == 0 || (dir && prefix)) {
+	if (optind + 1 != argc || (n_var == 0 && adm_mask == 0) || (dir && prefix)) {
 		fprintf(stderr, "popc-analyze replay: %s\n",
 			optind >= argc       ? "missing LOG"
 			: optind + 1 < argc  ? "exactly one LOG"
-			: n_var == 0         ? "missing --variant"
+			: n_var == 0 && adm_mask == 0 ? "missing --variant"
 					     : "--output-dir and --prefix exclude each other");
 		popc_help_hint(argv[0], "options");
 		rc = POPC_EXIT_USAGE;
 		goto out;
 	}
 	const char *path = argv[optind];
-	outs = calloc((size_t)n_var, sizeof *outs);
+	outs = calloc((size_t)(n_var ? n_var : 1), sizeof *outs);
 	if (!outs) {
 		fprintf(stderr, "popc-analyze replay: out of memory\n");
 		rc = POPC_EXIT_USAGE;
@@ -172,38 +206,53 @@ int ana_cmd_replay(int argc, char **argv)
 	}
 	char log_name[256];
 	ana_log_name(path, log_name, sizeof log_name);
-	for (int i = 0; i < n_var; i++) {
-		replay_out *o = &outs[i];
-		const char *vn = popc_variant_name(variants[i]);
-		if (prefix)
-			snprintf(o->path, sizeof o->path, "%s%s.csv", prefix, vn);
-		else
-			snprintf(o->path, sizeof o->path, "%s/%s.%s.csv", dir ? dir : ".", log_name, vn);
-		char *self[1] = {(char *)path};
-		if (ana_output_is_input(o->path, self, 1) >= 0) {
-			fprintf(stderr,
-				"popc-analyze replay: %s is the input log %s: refusing to overwrite it "
-				"(choose another -o DIR or --prefix)\n",
-				o->path, path);
-			rc = POPC_EXIT_USAGE;
+	/* an admittance variant's paths are checked once the log says its
+	 * causality (below) */
+	for (int i = 0; !adm_only && i < n_var; i++)
+		if ((rc = output_path(outs[i].path, sizeof outs[i].path, popc_variant_name(variants[i]),
+				      dir, prefix, log_name, path)) != 0)
 			goto out;
-		}
-		if ((rc = ana_output_file_usable("replay", prefix ? "--prefix" : "-o", o->path)) != 0)
-			goto out;
-	}
 	int st = ana_log_open(&l, path, &in, &err);
 	if (st) {
 		rc = ana_fail("replay", st, &err);
 		goto out;
 	}
 	log_open = 1;
-	if (l.scene.causality == POPC_CAUSALITY_ADMITTANCE) {
-		/* the series PC over recorded positions would be no replay of this
-		 * device: it measured force and was commanded a velocity */
-		fprintf(stderr, "popc-analyze replay: %s is an admittance log (device.causality = "
-				"admittance, header line %lld): %s\n",
-			path, popc_log_reader_header_line(&l.r, "device.causality"), adm_refusal);
-		rc = POPC_EXIT_USAGE;
+	if (l.scene.causality == POPC_CAUSALITY_ADMITTANCE || adm_only) {
+		int adm = l.scene.causality == POPC_CAUSALITY_ADMITTANCE;
+		if (adm && imp_only) {
+			/* the series PC over recorded positions would be no replay of
+			 * a device that measured force and was commanded a velocity */
+			fprintf(stderr,
+				"popc-analyze replay: %s is an admittance log (device.causality = "
+				"admittance, header line %lld): --variant '%s' is an impedance (series PC) "
+				"variant; an admittance log replays %s\n",
+				path, popc_log_reader_header_line(&l.r, "device.causality"), imp_only,
+				adm_names);
+			rc = POPC_EXIT_USAGE;
+			goto out;
+		}
+		if (!adm) {
+			fprintf(stderr,
+				"popc-analyze replay: %s is an impedance log: --variant '%s' is an "
+				"admittance (parallel PC) variant; an impedance log replays the series PC "
+				"variants (popc-analyze replay --help)\n",
+				path, adm_only);
+			rc = POPC_EXIT_USAGE;
+			goto out;
+		}
+		popc_admittance_variant av[POPC_ADMITTANCE_VARIANT_COUNT];
+		char adm_paths[POPC_ADMITTANCE_VARIANT_COUNT][1100];
+		int n_adm = 0;
+		for (int k = 0; k < POPC_ADMITTANCE_VARIANT_COUNT; k++)
+			if (adm_mask & (1u << k))
+				av[n_adm++] = (popc_admittance_variant)k;
+		for (int i = 0; i < n_adm; i++)
+			if ((rc = output_path(adm_paths[i], sizeof adm_paths[i],
+					      popc_admittance_variant_name(av[i]), dir, prefix, log_name,
+					      path)) != 0)
+				goto out;
+		rc = ana_replay_admittance(&l, path, &l.scene, av, adm_paths, n_adm, quiet);
 		goto out;
 	}
 	popc_scene base = l.scene;

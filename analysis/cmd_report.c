@@ -90,6 +90,7 @@ const popc_option *const ana_report_opts[] = {report_options, ana_input_option_t
 /* One log's pass: decimated whole-log data, windows of raw rows, ranges. */
 typedef struct report_pass {
 	ana_decimator dec;
+	ana_decimator adm; /* an admittance log's own columns (report_admittance.c) */
 	report_capture cap;
 	report_log *lg;
 	int k;
@@ -116,6 +117,7 @@ static void on_row(void *ctx, const ana_row *r)
 	v[D_WME] = r->w_known ? t->W_J - t->E_ref_J : (double)NAN;
 	v[D_E_PORT] = r->extra[0];
 	ana_decim_add(&p->dec, t->t_s, v);
+	report_admittance_sample(&p->adm, r);
 	for (int c = 0; c < D_COLS; c++) { /* fmin and fmax pass over a NaN */
 		lg->col_min[c] = fmin(lg->col_min[c], v[c]);
 		lg->col_max[c] = fmax(lg->col_max[c], v[c]);
@@ -527,27 +529,43 @@ int ana_cmd_report(int argc, char **argv)
 		memset(&pass, 0, sizeof pass);
 		pass.lg = lg;
 		if (ana_decim_init(&pass.dec, D_COLS, (int)points * 2) != 0 ||
+		    ana_decim_init(&pass.adm, RA_COLS, (int)points * 2) != 0 ||
 		    report_capture_init(&pass.cap, lg->t_event_s) != 0) {
 			ana_decim_free(&pass.dec);
+			ana_decim_free(&pass.adm);
 			fprintf(stderr, "popc-analyze report: out of memory\n");
 			rc = POPC_EXIT_USAGE;
 			goto out;
 		}
 		popc_error err;
 		int st = ana_summarize(argv[i], &in, &cc, -1.0, &lg->sum, on_row, &pass, &err);
-		if (!st && lg->sum.admittance)
-			/* its figures are the series PC's (f_pc in N, the encoder's x):
-			 * an admittance log's v_pc, f_meas and W panels are not drawn
-			 * yet (docs/ADMITTANCE.md, "Downstream") */
-			st = popc_error_set(&err, POPC_ERR_INVALID,
-					    "%s is an admittance log (device.causality = admittance): "
-					    "the report's figures are the impedance PC's (f_pc in N); "
-					    "an admittance log's v_pc, f_meas and W figures are not "
-					    "implemented (docs/ADMITTANCE.md, \"Downstream\"); use "
-					    "popc-analyze compare or chatter",
-					    argv[i]);
+		if (!st && lg->sum.admittance) {
+			/* the series PC's figures (f_pc in N, the encoder's x) are
+			 * not its: its own figure, f_meas, v_ve/v, v_pc and W, drawn
+			 * here; the index and tables list the impedance logs */
+			snprintf(lg->name, sizeof lg->name, "%s", names[i - optind].name);
+			int bad = report_admittance_write(&ro, lg, &pass.adm) != 0;
+			ana_decim_free(&pass.dec);
+			ana_decim_free(&pass.adm);
+			report_capture_free(&pass.cap);
+			if (bad) {
+				rc = POPC_EXIT_USAGE;
+				goto out;
+			}
+			char file[300];
+			snprintf(file, sizeof file, "%s" REPORT_ADM_SUFFIX, lg->name);
+			int d = no_draw ? 0 : draw(gnuplot, &ro, file, verbose);
+			if (d == -2)
+				rc = POPC_EXIT_USAGE;
+			else if (d != 0 && rc == 0)
+				rc = POPC_EXIT_RUN_FAILED;
+			if (!quiet)
+				printf("%s/%s.%s\n", dir, file, no_draw ? "gp" : "png");
+			continue;
+		}
 		if (st) {
 			ana_decim_free(&pass.dec);
+			ana_decim_free(&pass.adm);
 			report_capture_free(&pass.cap);
 			rc = ana_fail("report", st, &err);
 			continue;
@@ -600,6 +618,7 @@ int ana_cmd_report(int argc, char **argv)
 			if (report_log_has(lg, (report_fig)fg, figs))
 				bad = write_window_data(&ro, lg, (report_fig)fg, &pass.cap) != 0;
 		ana_decim_free(&pass.dec);
+		ana_decim_free(&pass.adm);
 		report_capture_free(&pass.cap);
 		/* each failure has printed its one message (which file, why) */
 		if (bad) {

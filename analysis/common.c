@@ -964,6 +964,17 @@ int ana_log_next(ana_log *l, ana_row *out, popc_error *err)
 				      "force (f_pc = 0): the header contradicts the rows",
 				      l->r.path, line, l->c_f_pc + 1, t->f_pc_N, l->variant_from);
 	out->W_logged_J = l->c_W >= 0 ? row[l->c_W] : (double)NAN;
+	/* a force count is a whole number within the sensor's +-2^52
+	 * (popc_force_sensor_read): a cell beyond has no count, and its cast
+	 * to long long would be undefined */
+	if (l->c_f_count >= 0 && !(fabs(row[l->c_f_count]) <= 4503599627370496.0 &&
+				   row[l->c_f_count] == nearbyint(row[l->c_f_count])))
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s:%lld: column %d (f_count): %.17g is not a whole force count "
+				      "within +-2^52",
+				      l->r.path, line, l->c_f_count + 1, row[l->c_f_count]);
+	out->adm_count = l->c_f_count >= 0 ? (long long)row[l->c_f_count] : 0;
+	out->adm_x_cmd_m = l->c_x_cmd >= 0 ? row[l->c_x_cmd] : 0.0;
 	/* an admittance log's own cells (docs/ADMITTANCE.md), for energy */
 	if (l->c_f_count >= 0 && l->c_f_meas >= 0 && l->c_v_ve >= 0 && l->c_v_pc >= 0) {
 		out->has_adm = 1;

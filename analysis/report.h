@@ -156,6 +156,14 @@ int report_write_overlay(FILE *f, const report_log *logs, int n, const report_sc
  * Returns 0 or a negative popc_status with err set. */
 int report_find_events(report_log *lg, const ana_input_options *in, popc_error *err);
 
+/* An admittance log's figure (report_admittance.c): NAME-admittance.png from
+ * NAME-admittance.dat, whose columns after t are these, minima then maxima. */
+enum { RA_F_MEAS, RA_V_VE, RA_V_PC, RA_V, RA_W, RA_COLS };
+#define REPORT_ADM_SUFFIX "-admittance"
+#define REPORT_ADM_COLUMNS                                                                         \
+	"t f_meas_min v_ve_min v_pc_min v_min W_min f_meas_max v_ve_max v_pc_max v_max W_max"
+/* Adds an admittance row (has_adm) to d, a decimator of RA_COLS columns. */
+void report_admittance_sample(ana_decimator *d, const ana_row *r);
 /* Where the report goes, and the logs it reads: no output may replace one. */
 typedef struct report_out {
 	const char *dir;
@@ -171,6 +179,11 @@ FILE *report_open(const report_out *ro, const char *file, char *path, size_t cap
 /* Closes it: 0, or -1 after one message naming the file (failed: an earlier
  * write already failed). */
 int report_close(FILE *f, const char *path, int failed);
+/* NAME-admittance.dat and .gp of an admittance log (lg->t_first_s, t_last_s
+ * and sum set); 0, or -1 after one message. */
+int report_admittance_write(const report_out *ro, const report_log *lg, const ana_decimator *d);
+/* Text from a log made safe for a double-quoted gnuplot string. */
+void report_safe_text(const char *in, char *out, size_t cap);
 
 /* What the index shows: the table and overlay (the default report), which
  * figures were drawn. */

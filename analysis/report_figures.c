@@ -74,6 +74,11 @@ static void safe_text(const char *in, char *out, size_t cap)
 	out[i] = '\0';
 }
 
+void report_safe_text(const char *in, char *out, size_t cap)
+{
+	safe_text(in, out, cap);
+}
+
 /* The scene's parameters, boxed at the figure's top right corner. */
 static void parameter_box(FILE *f, const report_log *lg)
 {

@@ -84,6 +84,37 @@ static int cell_is_empty(popc_sweep_cell_empty rule, const row_input *in)
 	return 1;
 }
 
+/* An admittance run's pc_* cells are its parallel PC's (docs/SWEEPS.md,
+ * "Admittance scenes"): pc_active, pc_rms, pc_max, pc_rms_late read the run
+ * summary's v_pc_active, v_pc_rms, v_pc_max, v_pc_rms_late (m/s), whose
+ * series PC cells are 0. Returns that summary column's name, or NULL. */
+static const char *admittance_pc_column(const char *name)
+{
+	static const char *const map[][2] = {
+		{"pc_active", "v_pc_active"},
+		{"pc_rms", "v_pc_rms"},
+		{"pc_max", "v_pc_max"},
+		{"pc_rms_late", "v_pc_rms_late"},
+	};
+	for (size_t i = 0; name && i < sizeof map / sizeof map[0]; i++)
+		if (strcmp(name, map[i][0]) == 0)
+			return map[i][1];
+	return NULL;
+}
+
+/* The same from the summary itself; 1 when name is one of them. */
+static int admittance_pc_value(const popc_run_summary *sum, const char *name, double *v)
+{
+	const char *adm = sum->has_admittance ? admittance_pc_column(name) : NULL;
+	if (!adm)
+		return 0;
+	*v = strcmp(adm, "v_pc_active") == 0 ? sum->adm_active
+	     : strcmp(adm, "v_pc_rms") == 0  ? sum->adm_v_pc_rms_mps
+	     : strcmp(adm, "v_pc_max") == 0  ? sum->adm_v_pc_max_mps
+					     : sum->adm_v_pc_rms_late_mps;
+	return 1;
+}
+
 /* The value of a one-cell column (every source but the axes). */
 static int cell_get(const popc_sweep_column *col, const row_input *in, cell_value *v,
 		    popc_error *err)
@@ -100,8 +131,11 @@ static int cell_get(const popc_sweep_column *col, const row_input *in, cell_valu
 	case POPC_SWEEP_CELL_RUN_SUMMARY: {
 		int *known = in->cell_of_column ? &in->cell_of_column[col - popc_sweep_columns] : NULL;
 		/* found by name once per header kept (split_header) */
-		int c = known && *known >= 0 ? *known
-					     : find_cell(in->hcell, in->hlen, in->n_cells, col->name);
+		int c = known && *known >= 0 ? *known : -1;
+		if (c < 0 && admittance_pc_column(col->name)) /* an admittance run's summary */
+			c = find_cell(in->hcell, in->hlen, in->n_cells, admittance_pc_column(col->name));
+		if (c < 0)
+			c = find_cell(in->hcell, in->hlen, in->n_cells, col->name);
 		if (c >= 0 && known)
 			*known = c;
 		if (c < 0)
@@ -223,6 +257,11 @@ static int make_row(const popc_sweep_plan *p, long long i, row_input *in, char *
 		if (col->source == POPC_SWEEP_CELL_RUN_SUMMARY && in->sum) {
 			/* the summary's own cell text, not its whole row made
 			 * and split again */
+			double adm;
+			if (admittance_pc_value(in->sum, col->name, &adm)) {
+				popc_text_put_double_point(&t, adm);
+				continue;
+			}
 			int f = summary_field_of_column(c);
 			if (f < 0)
 				return popc_error_set(err, POPC_ERR_INVALID, "run summary: no column '%s'",

@@ -86,7 +86,7 @@ offers "  events --format" _popc_analyze popc-analyze "events x.csv --format " "
 offers "sweep's sub-verbs and scenes" _popc popc "sweep st" "stats"
 offers "  sweep stats' options" _popc popc "sweep stats DIR --f" "--format"
 offers "  sweep stats --format" _popc popc "sweep stats DIR --format " "csv json markdown text"
-offers "  replay --variant: names and all" _popc_analyze popc-analyze "replay x.csv --variant " "all energy-bounding filtered-velocity hold ignore improved none pc-off-reversals po-pc ref-energy windowed-po"
+offers "  replay --variant: names and all (an admittance log's too)" _popc_analyze popc-analyze "replay x.csv --variant " "all energy-bounding filtered-velocity hold ignore improved none parallel-hold parallel-ignore parallel-improved parallel-pc pc-off-reversals po-pc ref-energy windowed-po"
 includes "  a verb's options, from its table" _popc_analyze popc-analyze "energy --" --observer --check --output --column --set
 offers "  --format" _popc_analyze popc-analyze "compare x.csv --format m" "markdown"
 if [ -e "$T/bin/popc-servo-sim" ]; then
