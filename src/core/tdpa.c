@@ -16,13 +16,29 @@ void popc_tdpa_receive(popc_tdpa_side *s, double remote_in_J)
 		s->remote_in_J = remote_in_J;
 }
 
+/* the observer with this tick's output e counted: what may still leave,
+ * minus what would */
+static double observer_J(const popc_tdpa_side *s, double e)
+{
+	return s->remote_in_J - (popc_energy_flow_out(&s->flow) + (e > 0.0 ? e : 0.0));
+}
+
+popc_tdpa_step popc_tdpa_observe(popc_tdpa_side *s, double u, double c, double T)
+{
+	popc_tdpa_step st;
+	st.e_J = u * c * T;
+	st.W_J = observer_J(s, st.e_J);
+	st.d = 0.0;
+	st.flags = 0;
+	st.u = u;
+	popc_energy_flow_add(&s->flow, st.e_J);
+	return st;
+}
+
 popc_tdpa_step popc_tdpa_correct(popc_tdpa_side *s, double u, double c, double T)
 {
 	popc_tdpa_step st;
-	const double e = u * c * T;
-	/* the observer with this tick's output counted: what may still leave,
-	 * minus what would */
-	st.W_J = s->remote_in_J - (popc_energy_flow_out(&s->flow) + (e > 0.0 ? e : 0.0));
+	st.W_J = observer_J(s, u * c * T);
 	st.flags = 0;
 	/* d c T = W: port.h's PC, threshold 0, over the conjugate increment -c T */
 	st.d = popc_port_pc(st.W_J, 0.0, -(c * T));

@@ -85,7 +85,6 @@ int popc_run_teleop(const popc_scene *s, popc_axis *master, const popc_run_optio
 	sum->integrator = s->integrator;
 	sum->substeps = s->substeps;
 	sum->has_teleop = 1;
-	sum->tele_margin_min_J[0] = sum->tele_margin_min_J[1] = 0.0;
 	const double late_from_s = s->duration_s - 1.0;
 	sum->tele_xs_late_min_m = (double)INFINITY;
 	sum->tele_xs_late_max_m = -(double)INFINITY;

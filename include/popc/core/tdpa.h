@@ -93,4 +93,8 @@ void popc_tdpa_receive(popc_tdpa_side *s, double remote_in_J);
  * delivered to the port's split. u and c finite. */
 popc_tdpa_step popc_tdpa_correct(popc_tdpa_side *s, double u, double c, double T);
 
+/* The same tick with the PC off: the observer as popc_tdpa_correct computes
+ * it, u delivered unchanged (d = 0, no flag), its energy added to the split. */
+popc_tdpa_step popc_tdpa_observe(popc_tdpa_side *s, double u, double c, double T);
+
 #endif

@@ -66,17 +66,7 @@ static inline popc_tdpa_step popc_teleop_port(popc_tdpa_side *s, double remote_i
 					      double c, double T, int pc_on)
 {
 	popc_tdpa_receive(s, remote_in_J);
-	if (pc_on)
-		return popc_tdpa_correct(s, u, c, T);
-	popc_tdpa_step st;
-	const double e = u * c * T;
-	st.W_J = s->remote_in_J - (popc_energy_flow_out(&s->flow) + (e > 0.0 ? e : 0.0));
-	st.d = 0.0;
-	st.flags = 0;
-	st.u = u;
-	st.e_J = e;
-	popc_energy_flow_add(&s->flow, e);
-	return st;
+	return pc_on ? popc_tdpa_correct(s, u, c, T) : popc_tdpa_observe(s, u, c, T);
 }
 
 /* The two-port condition at a side after its tick (Ryu et al. 2010): what
