@@ -34,7 +34,7 @@ extern "C" {
  * changes only when a function or a public struct changes incompatibly;
  * MINOR counts additions. */
 #define POPC_LIB_API_VERSION_MAJOR 1
-#define POPC_LIB_API_VERSION_MINOR 2
+#define POPC_LIB_API_VERSION_MINOR 3
 #define POPC_LIB_API_VERSION_PATCH 0
 #define POPC_LIB_API_VERSION_INT(major, minor, patch) (((major) << 16) | ((minor) << 8) | (patch))
 #define POPC_LIB_API_VERSION                                                                        \
@@ -220,6 +220,18 @@ POPC_API int popc_lib_sim_exchange(popc_lib_sim *sim, double f_c_N, popc_lib_sam
 				   popc_lib_error *err);
 POPC_API void popc_lib_sim_free(popc_lib_sim *sim);
 
+/* Tick k of a simulated impedance loop in one call: the port's step on
+ * smp->count (the device's sample of tick k), *out filled as
+ * popc_lib_port_step fills it, then the device's exchange of out->f_c_N,
+ * *smp becoming the sample of tick k + 1: the bits of the two calls, with
+ * fewer checks and copies between them. The last tick of a run, whose
+ * command no period follows, is popc_lib_port_step alone. Fails as
+ * popc_lib_sim_exchange does (the port stepped, *smp unchanged), and with
+ * POPC_LIB_ERR_INVALID, nothing stepped, when the port or the device is
+ * admittance-type. No allocation. (API 1.3) */
+POPC_API int popc_lib_sim_tick(popc_lib_port *p, popc_lib_sim *sim, popc_lib_sample *smp,
+			       popc_lib_tick *out, popc_lib_error *err);
+
 /* The simulated admittance-type device of scene s (operator.*, device.*,
  * admittance.servo*, the force sensor; device.causality = admittance),
  * started; *first gets tick 0's sample. Its exchange takes the velocity
@@ -302,6 +314,16 @@ POPC_API int popc_lib_log_reader_next(popc_lib_log_reader *r, double *values, po
 /* After the end: the log's "# stop = ..." reason ("" if none). */
 POPC_API const char *popc_lib_log_reader_stop_reason(const popc_lib_log_reader *r);
 POPC_API void popc_lib_log_reader_close(popc_lib_log_reader *r);
+
+/* The scene a popc log was made with: the header's "# section.key = value"
+ * lines applied over s (keys the header lacks keep s's values: start from
+ * popc_lib_scene_create's defaults for the log's own scene), as
+ * popc-analyze reads a log's scene. A key the header spells wrongly or out
+ * of range: POPC_LIB_ERR_INVALID naming the file, its line and the key, s
+ * unchanged; a recorded log without popc's header (no "# format", "# source"
+ * lines) holds no scene: POPC_LIB_ERR_INVALID. (API 1.3) */
+POPC_API int popc_lib_scene_from_log(popc_lib_scene *s, const popc_lib_log_reader *r,
+				     popc_lib_error *err);
 
 #ifdef __cplusplus
 }

@@ -143,6 +143,7 @@ _reader_value = _sig("popc_lib_log_reader_header_value", ctypes.c_char_p, _P, ct
 _reader_next = _sig("popc_lib_log_reader_next", ctypes.c_int, _P, ctypes.POINTER(ctypes.c_double), _E)
 _reader_stop = _sig("popc_lib_log_reader_stop_reason", ctypes.c_char_p, _P)
 _reader_close = _sig("popc_lib_log_reader_close", None, _P)
+_scene_from_log = _sig("popc_lib_scene_from_log", ctypes.c_int, _P, _P, _E)
 
 if _api_version() >> 16 != API_MAJOR:
     raise ImportError("popc: libpopc's API version %#x is not %d.x" % (_api_version(), API_MAJOR))
@@ -209,6 +210,21 @@ class Scene(_Handle):
             _check(_scene_load(self._h, _b(path), err), err)
         for key, value in settings.items():  # section__key=value
             self.set(key.replace("__", "."), value)
+
+    @classmethod
+    def from_log(cls, path, data_path=None):
+        """The scene a popc log was made with: its header's section.key lines
+        over the defaults (popc_lib_scene_from_log), as popc-analyze reads it;
+        a recorded log without popc's header raises Error."""
+        scene = cls(data_path=data_path)
+        err = _Err()
+        r = _P()
+        _check(_reader_open(ctypes.byref(r), _b(path), err), err)
+        try:
+            _check(_scene_from_log(scene._h, r, err), err)
+        finally:
+            _reader_close(r)
+        return scene
 
     def set(self, key, value):
         err = _Err()

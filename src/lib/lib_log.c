@@ -1,6 +1,7 @@
 /* libpopc: log writing and reading (popc/popc.h), over the log layer's
  * writer and streaming reader. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 
 #include "lib_private.h"
@@ -153,6 +154,28 @@ POPC_API int popc_lib_log_reader_next(popc_lib_log_reader *r, double *values, po
 POPC_API const char *popc_lib_log_reader_stop_reason(const popc_lib_log_reader *r)
 {
 	return r->r.stop_reason;
+}
+
+POPC_API int popc_lib_scene_from_log(popc_lib_scene *s, const popc_lib_log_reader *r,
+				     popc_lib_error *err)
+{
+	/* a popc log says its format and source (popc_log_write_header); a
+	 * recorded log has no scene to give, and its defaults would pass for one */
+	if (!popc_log_reader_header(&r->r, "format") || !popc_log_reader_header(&r->r, "source")) {
+		if (err)
+			snprintf(err->msg, sizeof err->msg,
+				 "%s: not a popc log (no '# format' and '# source' header lines): it "
+				 "holds no scene",
+				 r->r.path);
+		return POPC_LIB_ERR_INVALID;
+	}
+	/* on a copy, so that a key refused half way leaves s as it was */
+	popc_scene sc = s->scene;
+	popc_error e;
+	int st = popc_log_reader_scene(&r->r, &sc, &e);
+	if (!st)
+		s->scene = sc;
+	return popc_lib_fail(err, st, &e);
 }
 
 POPC_API void popc_lib_log_reader_close(popc_lib_log_reader *r)

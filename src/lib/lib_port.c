@@ -7,43 +7,13 @@
 
 #include "lib_private.h"
 #include "popc/core/admittance.h"
-#include "popc/core/controller.h"
 #include "popc/core/encoder.h"
 #include "popc/scene/from_scene.h"
-
-struct popc_lib_port {
-	union {
-		popc_controller *ctl; /* sized for its variant and window at create */
-		struct {
-			popc_admittance_config cfg;
-			popc_admittance_controller ctl; /* initialised at tick 0 */
-		} adm;
-	} u;
-	popc_lib_causality causality;
-	double period_s, resolution_m;
-	long long k;         /* the next tick */
-};
 
 struct popc_lib_observer {
 	popc_observer obs;
 	double period_s;
 };
-
-/* The public tick is the internal one field by field (the internal layout
- * may change; this one may not). */
-static void tick_out(const popc_tick *in, popc_lib_tick *out)
-{
-	out->t_s = in->t_s;
-	out->x_m = in->x_m;
-	out->count = in->count;
-	out->v_mps = in->v_mps;
-	out->f_e_N = in->f_e_N;
-	out->f_pc_N = in->f_pc_N;
-	out->f_c_N = in->f_c_N;
-	out->W_J = in->W_J;
-	out->E_ref_J = in->E_ref_J;
-	out->flags = in->flags;
-}
 
 POPC_API int popc_lib_port_create_impedance(const popc_lib_scene *s, double force_limit_N,
 					    popc_lib_port **out, popc_lib_error *err)
@@ -162,12 +132,7 @@ POPC_API void popc_lib_port_step(popc_lib_port *p, long long count, popc_lib_tic
 		zero_out(out, NULL);
 		return;
 	}
-	popc_tick t;
-	/* t and x exactly as popc_run computes them: k T, count x resolution */
-	t.t_s = (double)p->k * p->period_s;
-	popc_controller_step(p->u.ctl, count, popc_encoder_position(count, p->resolution_m), &t);
-	p->k++;
-	tick_out(&t, out);
+	popc_lib_port_step_impedance(p, count, out);
 }
 
 POPC_API void popc_lib_port_free(popc_lib_port *p)

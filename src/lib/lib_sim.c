@@ -14,21 +14,6 @@
 #include "popc/run/run.h"
 #include "popc/scene/from_scene.h"
 
-struct popc_lib_sim {
-	popc_axis *axis;
-	int admittance;   /* the admittance-type device: a velocity is exchanged */
-	/* E_port as popc_run computes it: the update with tick k's true
-	 * position, then the commit of the command sent after it */
-	popc_port_energy port;
-};
-
-static void sample_out(popc_lib_sim *sim, const popc_axis_sample *in, popc_lib_sample *out)
-{
-	out->count = in->count;
-	out->x_true_m = in->x_true_m;
-	out->E_port_J = popc_port_energy_update(&sim->port, in->x_true_m);
-}
-
 POPC_API int popc_lib_sim_create(const popc_lib_scene *s, popc_lib_sim **out,
 				 popc_lib_sample *first, popc_lib_error *err)
 {
@@ -58,7 +43,7 @@ POPC_API int popc_lib_sim_create(const popc_lib_scene *s, popc_lib_sim **out,
 		return popc_lib_fail(err, st, &e);
 	}
 	popc_port_energy_init(&sim->port);
-	sample_out(sim, &smp, first);
+	popc_lib_sample_out(sim, &smp, first);
 	*out = sim;
 	return 0;
 }
@@ -76,15 +61,7 @@ POPC_API int popc_lib_sim_exchange(popc_lib_sim *sim, double f_c_N, popc_lib_sam
 		return popc_lib_error_set(err, POPC_LIB_ERR_INVALID,
 					  "popc_lib_sim_exchange: the device is admittance-type; "
 					  "use popc_lib_sim_exchange_admittance");
-	popc_error e;
-	popc_axis_sample smp;
-	smp.dissipated_J = (double)NAN;
-	popc_port_energy_commit(&sim->port, f_c_N);
-	int st = sim->axis->ops->exchange(sim->axis, f_c_N, &smp, &e);
-	if (st)
-		return popc_lib_fail(err, st, &e);
-	sample_out(sim, &smp, next);
-	return 0;
+	return popc_lib_sim_exchange_impedance(sim, f_c_N, next, err);
 }
 
 static void adm_sample_out(const popc_axis_sample *in, popc_lib_admittance_sample *out)

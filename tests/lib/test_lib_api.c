@@ -2,7 +2,8 @@
  * scene input refused with the key and the allowed range; the port's tick
  * equal to popc run's log row and the observer's W equal to the port's;
  * the log writer's rows read back bit for bit; frees that take NULL; the
- * data path is the caller's, never the environment's. */
+ * data path is the caller's, never the environment's; popc_lib_sim_tick's
+ * bits are the two calls'; a log's scene runs to the same log. */
 #define _POSIX_C_SOURCE 200809L /* setenv */
 #include <math.h>
 #include <stdio.h>
@@ -208,6 +209,145 @@ static void test_loop_equals_run(const char *scene_path, const char *variant, co
 	check(system(cmd) == 0, what);
 }
 
+/* Every field the same bits (the padding after flags is no field). */
+static int same_tick(const popc_lib_tick *a, const popc_lib_tick *b)
+{
+#define SAME(f) (memcmp(&a->f, &b->f, sizeof a->f) == 0)
+	return SAME(t_s) && SAME(x_m) && SAME(count) && SAME(v_mps) && SAME(f_e_N) && SAME(f_pc_N) &&
+	       SAME(f_c_N) && SAME(W_J) && SAME(E_ref_J) && SAME(flags);
+#undef SAME
+}
+
+/* popc_lib_sim_tick (API 1.3) gives, tick by tick, the bits of
+ * popc_lib_port_step and popc_lib_sim_exchange called one after the other:
+ * two loops of the same scene side by side, every field compared. */
+static void test_sim_tick(const char *scene_path, const char *variant)
+{
+	popc_lib_scene *s;
+	popc_lib_error err;
+	popc_lib_scene_create(&s, NULL);
+	int st = popc_lib_scene_load(s, scene_path, &err);
+	if (!st)
+		st = popc_lib_scene_set(s, "controller.variant", variant, &err);
+	if (!st)
+		st = popc_lib_scene_set(s, "run.duration", "2", &err);
+	popc_lib_port *p1 = NULL, *p2 = NULL;
+	popc_lib_sim *s1 = NULL, *s2 = NULL;
+	popc_lib_sample m1, m2;
+	if (!st)
+		st = popc_lib_port_create_impedance(s, 0.0, &p1, &err);
+	if (!st)
+		st = popc_lib_port_create_impedance(s, 0.0, &p2, &err);
+	if (!st)
+		st = popc_lib_sim_create(s, &s1, &m1, &err);
+	if (!st)
+		st = popc_lib_sim_create(s, &s2, &m2, &err);
+	if (st) {
+		printf("not ok - sim_tick %s: %s\n", variant, err.msg);
+		failures++;
+		return;
+	}
+	long long ticks = popc_lib_scene_tick_count(s), k = 0, differ = -1;
+	for (; k < ticks; k++) {
+		popc_lib_tick t1, t2;
+		popc_lib_port_step(p1, m1.count, &t1);
+		int st1 = 0, st2 = 0;
+		if (k + 1 < ticks) {
+			st1 = popc_lib_sim_exchange(s1, t1.f_c_N, &m1, NULL);
+			st2 = popc_lib_sim_tick(p2, s2, &m2, &t2, NULL);
+		} else {
+			popc_lib_port_step(p2, m2.count, &t2);
+		}
+		if ((st1 != st2 || !same_tick(&t1, &t2) || memcmp(&m1, &m2, sizeof m1)) && differ < 0)
+			differ = k;
+		if (st1 || st2)
+			break;
+	}
+	char what[256];
+	snprintf(what, sizeof what, "%s: popc_lib_sim_tick gives the bits of port_step + sim_exchange "
+		 "(%lld ticks, first difference: %lld)", variant, k, differ);
+	check(k == ticks && differ < 0, what);
+	popc_lib_sim_free(s1);
+	popc_lib_sim_free(s2);
+	popc_lib_port_free(p1);
+	popc_lib_port_free(p2);
+	popc_lib_scene_free(s);
+}
+
+/* The scene of a log (popc_lib_scene_from_log, API 1.3): a run of a scene
+ * far from the defaults, its log's scene made over the defaults and run
+ * again, gives the same file byte for byte; a recorded log and a header key
+ * out of range are refused, naming the file, the line and the key, the scene
+ * left as it was. */
+static const struct bad_log {
+	const char *name, *text, *says;
+} bad_logs[] = {
+	{"recorded.csv", "t,x,f_c\n0,0,0\n", "not a popc log"},
+	{"rate.csv", "# format = popc-log 1\n# source = sim\n# run.rate = 1e9\nt,x\n0,0\n",
+	 "rate.csv:3: header: run.rate"},
+	{"key.csv", "# format = popc-log 1\n# source = sim\n# controller.nosuch = 1\nt,x\n0,0\n",
+	 "key.csv:3: header: unknown key controller.nosuch"},
+};
+
+static void test_scene_from_log(const char *scene_path, const char *dir)
+{
+	static const char *const sets[][2] = {
+		{"controller.variant", "windowed-po"}, {"run.rate", "2000"}, {"run.duration", "0.5"},
+		{"environment.stiffness", "3000"},     {"encoder.resolution", "2e-5"},
+	};
+	popc_lib_scene *s, *back;
+	popc_lib_error err = {{0}};
+	popc_lib_scene_create(&s, NULL);
+	popc_lib_scene_create(&back, NULL);
+	int st = popc_lib_scene_load(s, scene_path, &err);
+	for (size_t i = 0; !st && i < sizeof sets / sizeof sets[0]; i++)
+		st = popc_lib_scene_set(s, sets[i][0], sets[i][1], &err);
+	char first[1024], second[1024];
+	snprintf(first, sizeof first, "%s/from-log-1.csv", dir);
+	snprintf(second, sizeof second, "%s/from-log-2.csv", dir);
+	if (!st)
+		st = popc_lib_run(s, first, &err);
+	popc_lib_log_reader *r = NULL;
+	if (!st)
+		st = popc_lib_log_reader_open(&r, first, &err);
+	if (!st)
+		st = popc_lib_scene_from_log(back, r, &err);
+	if (!st)
+		st = popc_lib_run(back, second, &err);
+	char what[2400];
+	snprintf(what, sizeof what, "scene from log: made and run again (%s)", st ? err.msg : "ok");
+	check(st == 0, what);
+	check(popc_lib_scene_period_s(back) == 1.0 / 2000.0 &&
+	      popc_lib_scene_tick_count(back) == popc_lib_scene_tick_count(s),
+	      "  its run.rate and run.duration are the log's");
+	snprintf(what, sizeof what, "cmp -s '%s' '%s'", first, second);
+	check(st == 0 && system(what) == 0, "  the log of the log's scene is the log, byte for byte");
+	popc_lib_log_reader_close(r);
+	for (size_t i = 0; i < sizeof bad_logs / sizeof bad_logs[0]; i++) {
+		const struct bad_log *b = &bad_logs[i];
+		char path[1100];
+		snprintf(path, sizeof path, "%s/%s", dir, b->name);
+		FILE *f = fopen(path, "w");
+		if (f) {
+			fputs(b->text, f);
+			fclose(f);
+		}
+		double T0 = popc_lib_scene_period_s(back);
+		r = NULL;
+		memset(&err, 0, sizeof err);
+		st = popc_lib_log_reader_open(&r, path, &err);
+		if (!st)
+			st = popc_lib_scene_from_log(back, r, &err);
+		snprintf(what, sizeof what, "scene from log: %s refused, says '%s', scene unchanged (%s)",
+			 b->name, b->says, err.msg);
+		check(st == POPC_LIB_ERR_INVALID && strstr(err.msg, b->says) != NULL &&
+		      popc_lib_scene_period_s(back) == T0, what);
+		popc_lib_log_reader_close(r);
+	}
+	popc_lib_scene_free(back);
+	popc_lib_scene_free(s);
+}
+
 /* A bare scene name is looked up in the data path the caller passes
  * (popc_lib_scene_set_data_path), never in POPC_DATA_PATH: the library reads
  * no environment (docs/LIBRARY.md). dir/data/scenes/mine.ini is the scene. */
@@ -268,6 +408,9 @@ int main(int argc, char **argv)
 					       "pc-off-reversals", "energy-bounding", "windowed-po"};
 	for (size_t i = 0; i < sizeof variants / sizeof variants[0]; i++)
 		test_loop_equals_run(argv[1], variants[i], argv[2]);
+	for (size_t i = 0; i < sizeof variants / sizeof variants[0]; i++)
+		test_sim_tick(argv[1], variants[i]);
+	test_scene_from_log(argv[1], argv[2]);
 	popc_lib_scene_free(NULL);
 	popc_lib_port_free(NULL);
 	popc_lib_observer_free(NULL);

@@ -58,6 +58,26 @@ except popc.Error as e:
 print("ok")
 PYEOF
 check "the module: header dict, structured rows, exact cells, errors naming key and file" grep -qx ok "$T/out" || cat "$T/out"
+# Scene.from_log (API 1.3): the log's scene runs to the log, byte for byte;
+# a recorded CSV without popc's header is refused, naming the file
+printf 't,x\n0,0\n' > "$T/recorded.csv"
+"$PY" - "$T/hold.csv" "$T/again.csv" "$T/recorded.csv" > "$T/out" 2>&1 <<'PYEOF'
+import sys, popc
+s = popc.Scene.from_log(sys.argv[1])
+assert s.tick_count == 2001, s.tick_count
+popc.run(s, sys.argv[2])
+try:
+    popc.Scene.from_log(sys.argv[3])
+    raise SystemExit("a recorded log gave a scene")
+except popc.Error as e:
+    assert e.status == -1 and "recorded.csv" in str(e) and "not a popc log" in str(e), e
+print("ok")
+PYEOF
+check "Scene.from_log: the log's scene ($(tr '\n' ';' < "$T/out"))" grep -qx ok "$T/out"
+# popc run's provenance lines (its build, date, command line) are its own
+prov='^# (popc_build|date|command) = '
+check "  run again, it writes the log byte for byte, popc run's provenance lines aside" \
+  cmp -s <(grep -Ev "$prov" "$T/hold.csv") <(grep -Ev "$prov" "$T/again.csv")
 # the admittance port against the admittance device, from Python: every
 # column of popc run's admittance log, bit for bit (API 1.1)
 "$POPC" run admittance-wall -q --set run.duration=1 --set admittance.variant=parallel-improved --log "$T/adm.csv"
