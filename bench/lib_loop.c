@@ -61,7 +61,8 @@ int main(int argc, char **argv)
 			popc_lib_sim *sim;
 			popc_lib_sample smp;
 			if (popc_lib_port_create_impedance(s, 0.0, &port, &err) ||
-			    popc_lib_sim_create(s, &sim, &smp, &err)) {
+			    popc_lib_sim_create_options(s, POPC_LIB_SIM_NO_PORT_ENERGY, &sim, &smp,
+							&err)) {
 				fprintf(stderr, "lib_loop: %s\n", err.msg);
 				return 1;
 			}

@@ -220,6 +220,18 @@ POPC_API int popc_lib_sim_exchange(popc_lib_sim *sim, double f_c_N, popc_lib_sam
 				   popc_lib_error *err);
 POPC_API void popc_lib_sim_free(popc_lib_sim *sim);
 
+/* popc_lib_sim_create with options (API 1.3): POPC_LIB_SIM_NO_PORT_ENERGY
+ * leaves E_port unmade, E_port_J 0 in every sample, for a loop that does not
+ * log it (the compensated sum is some 20 instructions of a tick, which
+ * popc run -q does not make either); every other field the same bits. Other
+ * bits: POPC_LIB_ERR_INVALID. */
+enum {
+	POPC_LIB_SIM_NO_PORT_ENERGY = 1,
+};
+POPC_API int popc_lib_sim_create_options(const popc_lib_scene *s, unsigned options,
+					 popc_lib_sim **out, popc_lib_sample *first,
+					 popc_lib_error *err);
+
 /* Tick k of a simulated impedance loop in one call: the port's step on
  * smp->count (the device's sample of tick k), *out filled as
  * popc_lib_port_step fills it, then the device's exchange of out->f_c_N,

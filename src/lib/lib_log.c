@@ -164,8 +164,8 @@ POPC_API int popc_lib_scene_from_log(popc_lib_scene *s, const popc_lib_log_reade
 	if (!popc_log_reader_header(&r->r, "format") || !popc_log_reader_header(&r->r, "source")) {
 		if (err)
 			snprintf(err->msg, sizeof err->msg,
-				 "%s: not a popc log (no '# format' and '# source' header lines): it "
-				 "holds no scene",
+				 "%.400s: not a popc log (no '# format' and '# source' header lines): "
+				 "it holds no scene",
 				 r->r.path);
 		return POPC_LIB_ERR_INVALID;
 	}

@@ -6,7 +6,6 @@
 #ifndef POPC_LIB_PRIVATE_H
 #define POPC_LIB_PRIVATE_H
 
-#include <math.h>
 #include <stddef.h>
 #include <string.h>
 
@@ -53,6 +52,7 @@ struct popc_lib_port {
 struct popc_lib_sim {
 	popc_axis *axis;
 	int admittance;   /* the admittance-type device: a velocity is exchanged */
+	int port_energy;  /* E_port kept (not POPC_LIB_SIM_NO_PORT_ENERGY) */
 	/* E_port as popc_run computes it: the update with tick k's true
 	 * position, then the commit of the command sent after it */
 	popc_port_energy port;
@@ -79,9 +79,18 @@ POPC_LIB_SAME_FIELD(flags, flags);
 _Static_assert(sizeof(popc_lib_tick) == sizeof(popc_tick), "popc_lib_tick is popc_tick");
 #undef POPC_LIB_SAME_FIELD
 
+/* The tick's halves are inlined into each caller, popc_lib_sim_tick too,
+ * whatever the compiler's estimate of their size (a call and its register
+ * saves were some 20 instructions of a tick: docs/BENCHMARKS.md 11.1). */
+#if defined(__GNUC__) || defined(__clang__)
+#define POPC_LIB_INLINE static inline __attribute__((always_inline))
+#else
+#define POPC_LIB_INLINE static inline
+#endif
+
 /* Tick k of an impedance port (p->causality checked by the caller): t and x
  * exactly as popc_run computes them, k T and count x resolution. */
-static inline void popc_lib_port_step_impedance(popc_lib_port *p, long long count,
+POPC_LIB_INLINE void popc_lib_port_step_impedance(popc_lib_port *p, long long count,
 						popc_lib_tick *out)
 {
 	popc_tick t;
@@ -92,24 +101,26 @@ static inline void popc_lib_port_step_impedance(popc_lib_port *p, long long coun
 }
 
 /* The public sample of an impedance device, with E_port(k) updated by the
- * true position of the tick sampled. */
-static inline void popc_lib_sample_out(popc_lib_sim *sim, const popc_axis_sample *in,
+ * true position of the tick sampled; 0 without E_port (as popc_run leaves
+ * the summary's E_port unmade when nothing reads it). */
+POPC_LIB_INLINE void popc_lib_sample_out(popc_lib_sim *sim, const popc_axis_sample *in,
 				       popc_lib_sample *out)
 {
 	out->count = in->count;
 	out->x_true_m = in->x_true_m;
-	out->E_port_J = popc_port_energy_update(&sim->port, in->x_true_m);
+	out->E_port_J = sim->port_energy ? popc_port_energy_update(&sim->port, in->x_true_m) : 0.0;
 }
 
 /* The exchange of an impedance device (sim->admittance and f_c_N's
  * finiteness checked by the caller): E_port's commit of the command, the
- * axis' exchange, the next sample. */
-static inline int popc_lib_sim_exchange_impedance(popc_lib_sim *sim, double f_c_N,
-						  popc_lib_sample *next, popc_lib_error *err)
+ * axis' exchange, the next sample. The sample's dissipated_J, which the
+ * simulated axis always sets (sim_sample) and the library never reads, is
+ * not preset to NaN as popc_run presets it for every axis kind. */
+POPC_LIB_INLINE int popc_lib_sim_exchange_impedance(popc_lib_sim *sim, double f_c_N,
+						   popc_lib_sample *next, popc_lib_error *err)
 {
 	popc_error e;
 	popc_axis_sample smp;
-	smp.dissipated_J = (double)NAN;
 	popc_port_energy_commit(&sim->port, f_c_N);
 	int st = sim->axis->ops->exchange(sim->axis, f_c_N, &smp, &e);
 	if (st)

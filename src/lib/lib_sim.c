@@ -17,6 +17,13 @@
 POPC_API int popc_lib_sim_create(const popc_lib_scene *s, popc_lib_sim **out,
 				 popc_lib_sample *first, popc_lib_error *err)
 {
+	return popc_lib_sim_create_options(s, 0, out, first, err);
+}
+
+POPC_API int popc_lib_sim_create_options(const popc_lib_scene *s, unsigned options,
+					 popc_lib_sim **out, popc_lib_sample *first,
+					 popc_lib_error *err)
+{
 	*out = NULL;
 	int st = popc_lib_scene_validate(s, err);
 	if (st)
@@ -26,9 +33,14 @@ POPC_API int popc_lib_sim_create(const popc_lib_scene *s, popc_lib_sim **out,
 					  "popc_lib_sim_create: the scene's device.causality is "
 					  "admittance; allowed: impedance (an admittance device: "
 					  "popc_lib_sim_create_admittance)");
+	if (options & ~(unsigned)POPC_LIB_SIM_NO_PORT_ENERGY)
+		return popc_lib_error_set(err, POPC_LIB_ERR_INVALID,
+					  "popc_lib_sim_create_options: unknown option bits; allowed: "
+					  "0 or POPC_LIB_SIM_NO_PORT_ENERGY (1)");
 	popc_lib_sim *sim = calloc(1, sizeof *sim);
 	if (!sim)
 		return popc_lib_error_set(err, POPC_LIB_ERR_NOMEM, "popc_lib_sim_create: out of memory");
+	sim->port_energy = !(options & POPC_LIB_SIM_NO_PORT_ENERGY);
 	popc_error e;
 	popc_axis_sample smp;
 	smp.dissipated_J = (double)NAN;

@@ -274,6 +274,59 @@ static void test_sim_tick(const char *scene_path, const char *variant)
 	popc_lib_scene_free(s);
 }
 
+/* popc_lib_sim_create_options (API 1.3): POPC_LIB_SIM_NO_PORT_ENERGY gives
+ * the default device's counts and true positions bit for bit, E_port 0;
+ * unknown option bits are refused, naming the one allowed. */
+static void test_sim_options(const char *scene_path)
+{
+	popc_lib_scene *s;
+	popc_lib_error err = {{0}};
+	popc_lib_scene_create(&s, NULL);
+	int st = popc_lib_scene_load(s, scene_path, &err);
+	if (!st)
+		st = popc_lib_scene_set(s, "run.duration", "2", &err);
+	popc_lib_port *p = NULL;
+	popc_lib_sim *full = NULL, *bare = NULL, *none = NULL;
+	popc_lib_sample m1, m2;
+	if (!st)
+		st = popc_lib_port_create_impedance(s, 0.0, &p, &err);
+	if (!st)
+		st = popc_lib_sim_create_options(s, 0, &full, &m1, &err);
+	if (!st)
+		st = popc_lib_sim_create_options(s, POPC_LIB_SIM_NO_PORT_ENERGY, &bare, &m2, &err);
+	if (st) {
+		printf("not ok - sim options: %s\n", err.msg);
+		failures++;
+		return;
+	}
+	long long ticks = popc_lib_scene_tick_count(s), k = 0, differ = -1;
+	int E_moved = 0;
+	for (; k + 1 < ticks; k++) {
+		popc_lib_tick t;
+		if (popc_lib_sim_tick(p, full, &m1, &t, NULL) ||
+		    popc_lib_sim_exchange(bare, t.f_c_N, &m2, NULL))
+			break;
+		E_moved |= m1.E_port_J != 0.0;
+		if ((m1.count != m2.count || memcmp(&m1.x_true_m, &m2.x_true_m, sizeof(double)) ||
+		     m2.E_port_J != 0.0) && differ < 0)
+			differ = k;
+	}
+	char what[700];
+	snprintf(what, sizeof what, "sim options: NO_PORT_ENERGY gives the counts and x_true, E_port 0 "
+		 "(%lld exchanges, first difference: %lld; E_port moved without it: %d)", k, differ,
+		 E_moved);
+	check(k + 1 == ticks && differ < 0 && E_moved, what);
+	st = popc_lib_sim_create_options(s, 2, &none, &m1, &err);
+	snprintf(what, sizeof what, "sim options: bit 2 refused, the allowed named (%s)",
+		 st ? err.msg : "accepted");
+	check(st == POPC_LIB_ERR_INVALID && none == NULL &&
+	      strstr(err.msg, "POPC_LIB_SIM_NO_PORT_ENERGY") != NULL, what);
+	popc_lib_sim_free(full);
+	popc_lib_sim_free(bare);
+	popc_lib_port_free(p);
+	popc_lib_scene_free(s);
+}
+
 /* The scene of a log (popc_lib_scene_from_log, API 1.3): a run of a scene
  * far from the defaults, its log's scene made over the defaults and run
  * again, gives the same file byte for byte; a recorded log and a header key
@@ -410,6 +463,7 @@ int main(int argc, char **argv)
 		test_loop_equals_run(argv[1], variants[i], argv[2]);
 	for (size_t i = 0; i < sizeof variants / sizeof variants[0]; i++)
 		test_sim_tick(argv[1], variants[i]);
+	test_sim_options(argv[1]);
 	test_scene_from_log(argv[1], argv[2]);
 	popc_lib_scene_free(NULL);
 	popc_lib_port_free(NULL);
