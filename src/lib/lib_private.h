@@ -60,11 +60,10 @@ struct popc_lib_sim {
 
 /* The public tick is the internal one field by field (the internal layout
  * may change; the public one may not). Copied field by field, not as one
- * struct: a copy of the whole struct is five 16-byte loads, each of which
- * reads two of the 8-byte stores popc_controller_step has just made, and a
- * load that spans two stores waits for both to retire (no store-to-load
- * forwarding): fewer instructions, measured 12 ns a tick slower
- * (docs/BENCHMARKS.md 11.1). The asserts keep the two alike all the same. */
+ * struct: the whole struct's copy (memcpy) had fewer instructions but
+ * measured about 12 ns a tick slower, likely its 16-byte loads of the
+ * stores popc_controller_step has just made failing store-to-load
+ * forwarding (docs/BENCHMARKS.md 11.1). The asserts keep the two alike. */
 #define POPC_LIB_SAME_FIELD(pub, in)                                                                \
 	_Static_assert(offsetof(popc_lib_tick, pub) == offsetof(popc_tick, in) &&                  \
 			       sizeof(((popc_lib_tick *)0)->pub) == sizeof(((popc_tick *)0)->in),   \
