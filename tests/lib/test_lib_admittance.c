@@ -180,6 +180,29 @@ static void test_refusals(const char *scene_path)
 	st = popc_lib_sim_exchange(sim, 0.0, &smp, &err);
 	check(st == POPC_LIB_ERR_INVALID && strstr(err.msg, "popc_lib_sim_exchange_admittance"),
 	      "an admittance device refuses a force, naming popc_lib_sim_exchange_admittance");
+	/* popc_lib_sim_tick (API 1.3) is impedance alone: an admittance port or
+	 * device refused, nothing stepped */
+	{
+		popc_lib_port *ip2 = NULL, *ap2 = NULL;
+		popc_lib_sim *isim2 = NULL;
+		popc_lib_sample s2, s2_before;
+		popc_lib_port_create_impedance(imp, 0.0, &ip2, NULL);
+		popc_lib_port_create_admittance(adm, &ap2, NULL);
+		popc_lib_sim_create(imp, &isim2, &s2, NULL);
+		s2_before = s2;
+		st = popc_lib_sim_tick(ip2, sim, &s2, &t, &err);
+		check(st == POPC_LIB_ERR_INVALID && strstr(err.msg, "impedance-type") &&
+		      !memcmp(&s2, &s2_before, sizeof s2),
+		      "popc_lib_sim_tick refuses an admittance device, naming impedance-type");
+		st = popc_lib_sim_tick(ap2, isim2, &s2, &t, &err);
+		check(st == POPC_LIB_ERR_INVALID && !memcmp(&s2, &s2_before, sizeof s2),
+		      "popc_lib_sim_tick refuses an admittance port");
+		popc_lib_port_step(ip2, s2.count, &t);
+		check(t.t_s == 0.0, "  nothing stepped: the impedance port's next step is its tick 0");
+		popc_lib_port_free(ip2);
+		popc_lib_port_free(ap2);
+		popc_lib_sim_free(isim2);
+	}
 	static const double bad[] = {(double)NAN, (double)INFINITY, -(double)INFINITY};
 	for (size_t i = 0; i < 3; i++) {
 		before = as;
