@@ -500,8 +500,12 @@ caught "$T/b" 2
 kids=$(cat /proc/$pid/task/*/children 2>/dev/null)
 check "-j 2: the sweep ($pid) has a worker beside it ($(echo $kids))" test -n "$kids"
 kill -ABRT "$pid"
-# readiness lines: the handler's, then the new popc's resume line
-n=0; until grep -q "runs already done" "$T/err" 2>/dev/null || [ $((n += 1)) -gt 6000 ]; do sleep 0.01; done
+# readiness lines: the handler's, then the new popc's resume line (not
+# waited for once the sweep has ended: a popc that did not survive the crash)
+running() { local st; st=$(cut -d' ' -f3 "/proc/$1/stat" 2>/dev/null) && [ "$st" != Z ]; }
+n=0
+until grep -q "runs already done" "$T/err" 2>/dev/null || ! running "$pid" ||
+  [ $((n += 1)) -gt 1000 ]; do sleep 0.01; done
 check "  says the sweep's process crashed beside its workers, now stopped" err_has "crashed (signal 6, Aborted) in the sweep's own process, beside its workers (now stopped); the rows so far are written; going on with worker processes only (as --isolate)"
 alive=; for c in $kids; do kill -0 "$c" 2>/dev/null && alive="$alive $c"; done
 check "  the worker ended and was reaped before popc started again (alive:${alive:- none})" test -z "$alive"
