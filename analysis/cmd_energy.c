@@ -407,6 +407,22 @@ static int energy_one(const char *path, const ana_input_options *in, const int *
 		s[i].wme_min_J = (double)INFINITY;
 		observer_for(&l, s[i].def, &s[i].obs);
 	}
+	/* A definition whose observer steps by an earlier one's rule
+	 * (popc_observer_same_rule: 'online' of a ref-energy log is eq3) is not
+	 * stepped again: it takes the earlier one's state, row by row for -o and
+	 * at the end for the table, the same numbers, as the observer reads
+	 * nothing else. Not for filtered-velocity (its T differs between
+	 * 'online' and 'filtered', step()) nor eq2 (stepped in its own order). */
+	int twin[DEF_COUNT];
+	for (int i = 0; i < n_want; i++) {
+		twin[i] = -1;
+		if (s[i].def == DEF_EQ2 || s[i].obs.variant == POPC_VARIANT_FILTERED_VELOCITY)
+			continue;
+		for (int j = 0; j < i && twin[i] < 0; j++)
+			if (twin[j] < 0 && s[j].def != DEF_EQ2 &&
+			    popc_observer_same_rule(&s[j].obs, &s[i].obs))
+				twin[i] = j;
+	}
 	const int logged = l.c_W >= 0 && l.c_E_ref >= 0;
 	if (check && !logged) {
 		ana_log_close(&l);
@@ -447,6 +463,8 @@ static int energy_one(const char *path, const ana_input_options *in, const int *
 		const popc_tick *t = &row.tick;
 		for (int i = 0; i < n_want; i++) {
 			energy_state *e = &s[i];
+			if (twin[i] >= 0)
+				continue;
 			step(e, &l, &row);
 			double W = e->obs.W_J, E = e->obs.E_ref_J;
 			if (!isfinite(W) || !isfinite(E) || !isfinite(W - E)) {
@@ -491,7 +509,7 @@ static int energy_one(const char *path, const ana_input_options *in, const int *
 			ana_put_double(out, s[0].obs.E_ref_J);
 			for (int i = 0; i < n_want; i++) {
 				fputc(',', out);
-				ana_put_double(out, s[i].obs.W_J);
+				ana_put_double(out, s[twin[i] >= 0 ? twin[i] : i].obs.W_J);
 			}
 			fputc('\n', out);
 		}
@@ -515,6 +533,12 @@ static int energy_one(const char *path, const ana_input_options *in, const int *
 		fprintf(stderr, "popc-analyze energy: %s: write failed\n", out_path);
 		return POPC_EXIT_USAGE;
 	}
+	for (int i = 0; i < n_want; i++)
+		if (twin[i] >= 0) {
+			const definition d = s[i].def;
+			s[i] = s[twin[i]];
+			s[i].def = d;
+		}
 	FILE *f = out == stdout ? stderr : stdout;
 	for (int i = 0; i < n_want; i++) {
 		const energy_state *e = &s[i];

@@ -1,7 +1,7 @@
 /* A crash among -j 1's runs (sweep_crash.h).
  *
  * The handler calls only what is async-signal-safe: write, sigprocmask,
- * fcntl, execve, sigaction, raise, and this file's own copying of bytes. Everything
+ * fcntl, kill, waitpid, execve, sigaction, raise, and this file's own copying of bytes. Everything
  * it needs (the program's path, the environment with POPC_SWEEP_ISOLATE=1,
  * the prefix of its message) is made when it is armed. */
 #define _DEFAULT_SOURCE /* readlink, sigaltstack, environ */
@@ -12,6 +12,7 @@
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "cli.h"
@@ -27,6 +28,9 @@ static struct {
 	const popc_sweep_plan *plan;
 	popc_sweep_rows_batch *volatile rows;
 	volatile long long in_hand;
+	volatile pid_t *volatile workers; /* beside this process' runs (-j N > 1) */
+	volatile int n_workers;
+	volatile int beside;          /* workers were registered: -j N > 1 */
 	char exe[PATH_MAX];
 	char **env;                   /* environ, POPC_SWEEP_ISOLATE=1 and the
 				       * lock's descriptors last */
@@ -128,9 +132,25 @@ static void on_crash(int sig, siginfo_t *si, void *context)
 	add_int(&t, sig);
 	add(&t, ", ");
 	add(&t, signal_words(sig));
-	add(&t, ") in the sweep's own process (-j 1); the rows so far are written; going on "
-		"with a worker process (as --isolate)\n");
+	if (crash.beside)
+		add(&t, ") in the sweep's own process, beside its workers (now stopped); the rows "
+			"so far are written; going on with worker processes only (as --isolate)\n");
+	else
+		add(&t, ") in the sweep's own process (-j 1); the rows so far are written; going on "
+			"with a worker process (as --isolate)\n");
 	write_all(STDERR_FILENO, t.buf, t.len);
+	/* the workers end before popc starts again: they would outlive the
+	 * execve, making runs into the directory it resumes */
+	volatile pid_t *w = crash.workers;
+	for (int k = 0; w && k < crash.n_workers; k++) {
+		pid_t pid = w[k];
+		if (pid <= 0)
+			continue;
+		kill(pid, SIGKILL);
+		while (waitpid(pid, NULL, 0) < 0 && errno == EINTR)
+			;
+		w[k] = 0;
+	}
 	/* exec keeps the signal mask: this signal is blocked while handled */
 	sigset_t set;
 	sigemptyset(&set);
@@ -215,6 +235,15 @@ void sweep_crash_in_hand(long long i)
 	crash.in_hand = i;
 }
 
+void sweep_crash_workers(volatile pid_t *pids, int n)
+{
+	crash.workers = NULL; /* never a stale array with a new count */
+	crash.n_workers = n;
+	crash.workers = pids;
+	if (pids)
+		crash.beside = 1;
+}
+
 void sweep_crash_disarm(void)
 {
 	if (!crash.armed)
@@ -226,5 +255,8 @@ void sweep_crash_disarm(void)
 	crash.env = NULL;
 	crash.rows = NULL;
 	crash.in_hand = -1;
+	crash.workers = NULL;
+	crash.n_workers = 0;
+	crash.beside = 0;
 	crash.armed = 0;
 }

@@ -12,12 +12,22 @@
  * worker process, as --isolate: the run that crashed is made again there, and
  * when it crashes again it is recorded as failed and the sweep goes on.
  * SIGKILL alone loses the held rows (ROWS_HELD_MAX runs or a second of them,
- * sweep_pool.c), which the same command again makes again. */
+ * sweep_pool.c), which the same command again makes again.
+ *
+ * -j N (N > 1) makes runs in the sweep's own process too, beside N - 1
+ * workers (sweep_pool.c says why). A crash there ends those workers first
+ * (SIGKILL, then waitpid, both async-signal-safe): a worker outlives an
+ * execve of its parent (its parent-death signal fires on the parent's exit
+ * only) and would go on writing rows into the directory the new popc
+ * resumes. What a killed worker held and had not written is made again by
+ * the new popc, as after any SIGKILL: nothing recorded is lost. */
 #ifndef POPC_CLI_SWEEP_CRASH_H
 #define POPC_CLI_SWEEP_CRASH_H
 
 #include "popc/sweep/sweep_dir.h"
 #include "popc/sweep/sweep_plan.h"
+
+#include <sys/types.h>
 
 /* Arms the handlers of SIGSEGV, SIGBUS, SIGFPE, SIGILL and SIGABRT (on a
  * stack of their own: a run's stack overflow is a crash too). Returns 0, or
@@ -30,6 +40,11 @@ void sweep_crash_hold(popc_sweep_rows_batch *rows);
 
 /* The run being made (named by the handler), -1 between runs. */
 void sweep_crash_in_hand(long long i);
+
+/* The workers beside the runs of this process (pids[k] > 0: alive), which
+ * the handler kills and reaps before it starts popc again; NULL, 0: none.
+ * The array is read by the handler: its owner keeps it up to date. */
+void sweep_crash_workers(volatile pid_t *pids, int n);
 
 /* Puts back the handlers that were there before sweep_crash_arm. */
 void sweep_crash_disarm(void);

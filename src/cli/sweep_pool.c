@@ -26,7 +26,16 @@
  *
  * -j 1 has no worker: the sweep's own process runs the worker's loop
  * (make_runs, c->here), and a crash among its runs starts popc again as
- * --isolate (sweep_crash.h says why and how). */
+ * --isolate (sweep_crash.h says why and how). -j N makes runs in the
+ * sweep's own process too, beside N - 1 workers (slot 0 is its own): at -j 2
+ * on 300 paper-scene runs of about 0.25 ms each, a parent that only watched
+ * paid a second worker's fork, copy-on-write faults and exit and left one of
+ * the two cores to its poll loop (docs/BENCHMARKS.md, "-j 2 against -j 1").
+ * It watches its workers once its own loop has found no run left; a worker
+ * that died before then is found there, its run recorded as failed, as
+ * before (only later: the runs it would have made were the parent's). A
+ * crash in the parent kills and reaps its workers before popc starts again
+ * (sweep_crash.h). */
 #define _DEFAULT_SOURCE   /* MAP_ANONYMOUS: POSIX.1-2024, and Linux, the BSDs, macOS before it */
 #include "sweep_pool.h"
 
@@ -78,7 +87,8 @@ typedef struct pool_ctx {
 	const long long *todo;
 	long long n_todo;
 	worker *w;
-	int n_workers;
+	volatile pid_t *pids;         /* per slot: the worker's pid, 0 none (read by the crash handler) */
+	int n_workers;                /* slots; with c->here slot 0 is this process' */
 	pool_shared *sh;
 	atomic_uchar *recorded;       /* per todo entry: its row is written */
 	int crash_fd;                 /* the parent's rows file, for lost runs */
@@ -86,7 +96,7 @@ typedef struct pool_ctx {
 	long long die_after_claim;    /* test hook: run index, -1 off */
 	long long crash_at;           /* test hook: run index, -1 off */
 	long long interrupt_after;    /* test hook: runs taken before ^C, -1 off */
-	int here;                     /* -j 1: the runs in this process, no worker */
+	int here;                     /* this process makes runs too: slot 0, beside the workers */
 	long long parent_recorded;    /* runs the parent recorded as failed (record_lost) */
 	/* the counts of prog when this round began */
 	long long done0, done_now0, failed_now0, parent0;
@@ -295,6 +305,15 @@ static int spawn_worker(pool_ctx *c, int slot)
 		 * died before the prctl: then this worker is already an orphan */
 		if (prctl(PR_SET_PDEATHSIG, SIGTERM) != 0 || getppid() != parent)
 			_exit(POPC_EXIT_INTERRUPTED);
+		/* a worker beside the parent's runs: a crash here is this
+		 * worker's, recorded by the parent; the rows file is its own */
+		if (c->here) {
+			c->here = 0;
+			sweep_crash_disarm();
+			if (here_rows.fd >= 0)
+				close(here_rows.fd);
+			here_rows.fd = -1;
+		}
 		/* a sibling's life pipe must see EOF when the sibling dies */
 		for (int k = 0; k < c->n_workers; k++)
 			if (c->w[k].life_fd >= 0)
@@ -306,6 +325,7 @@ static int spawn_worker(pool_ctx *c, int slot)
 	}
 	close(life[1]);
 	c->w[slot] = (worker){.pid = pid, .life_fd = life[0]};
+	c->pids[slot] = pid;
 	return 0;
 }
 
@@ -389,15 +409,17 @@ static int run_pool(pool_ctx *c, int jobs, long long **lost, long long *n_lost)
 	void *mem = mmap(NULL, sh_size, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
 	void *rec = mmap(NULL, rec_size, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
 	c->w = calloc((size_t)c->n_workers, sizeof *c->w);
+	c->pids = calloc((size_t)c->n_workers, sizeof *c->pids);
 	struct pollfd *pfd = calloc((size_t)c->n_workers, sizeof *pfd);
 	int *slot_of = calloc((size_t)c->n_workers, sizeof *slot_of);
-	if (mem == MAP_FAILED || rec == MAP_FAILED || !c->w || !pfd || !slot_of) {
+	if (mem == MAP_FAILED || rec == MAP_FAILED || !c->w || !c->pids || !pfd || !slot_of) {
 		fprintf(stderr, "popc sweep: out of memory\n");
 		if (mem != MAP_FAILED)
 			munmap(mem, sh_size);
 		if (rec != MAP_FAILED)
 			munmap(rec, rec_size);
 		free(c->w);
+		free((void *)c->pids);
 		free(pfd);
 		free(slot_of);
 		return 1;
@@ -416,17 +438,20 @@ static int run_pool(pool_ctx *c, int jobs, long long **lost, long long *n_lost)
 	c->done_now0 = c->prog->done_now;
 	c->failed_now0 = c->prog->failed_now;
 	c->parent0 = c->parent_recorded;
-	if (c->here) {
-		/* -j 1: no worker; the loop below finds none alive */
-		atomic_store(&c->sh->current[0], -1);
-		int status = make_runs(c, 0);
-		trouble = status != 0 && status != POPC_EXIT_INTERRUPTED;
-	}
-	for (int k = 0; k < c->n_workers && !trouble && !c->here; k++) {
+	/* with c->here, slot 0 is this process': workers in the others (none
+	 * at -j 1), started first so that they make runs while it does */
+	if (c->here && c->n_workers > 1)
+		sweep_crash_workers(c->pids, c->n_workers);
+	for (int k = c->here ? 1 : 0; k < c->n_workers && !trouble; k++) {
 		if (spawn_worker(c, k) != 0) {
 			fprintf(stderr, "popc sweep: cannot start a worker: %s\n", strerror(errno));
 			trouble = 1;
 		}
+	}
+	if (c->here && !trouble) {
+		atomic_store(&c->sh->current[0], -1);
+		int status = make_runs(c, 0);
+		trouble = status != 0 && status != POPC_EXIT_INTERRUPTED;
 	}
 	for (;;) {
 		if (popc_cli_stop && !stopping) {
@@ -469,6 +494,7 @@ static int run_pool(pool_ctx *c, int jobs, long long **lost, long long *n_lost)
 			close(w->life_fd);
 			w->pid = 0;
 			w->life_fd = -1;
+			c->pids[slot_of[m]] = 0;
 			if (!stopping && !popc_cli_stop)
 				trouble |= worker_ended(c, slot_of[m], wstatus, &respawns);
 		}
@@ -490,10 +516,14 @@ static int run_pool(pool_ctx *c, int jobs, long long **lost, long long *n_lost)
 			if (!atomic_load(&c->recorded[k]))
 				(*lost)[m++] = c->todo[k];
 	}
+	if (c->here)
+		sweep_crash_workers(NULL, 0);
 	munmap(mem, sh_size);
 	munmap(rec, rec_size);
 	c->sh = NULL;
 	c->recorded = NULL;
+	free((void *)c->pids);
+	c->pids = NULL;
 	free(pfd);
 	free(slot_of);
 	free(c->w);
@@ -555,11 +585,12 @@ int sweep_pool_run(const sweep_pool_config *cfg, const long long *todo, long lon
 		       .die_after_claim = cfg->die_after_claim, .crash_at = cfg->crash_at,
 		       .interrupt_after = cfg->interrupt_after,
 		       .prog = prog};
-	/* -j 1 makes its runs here unless asked not to (--isolate, or the
-	 * popc that a crash here started: sweep_crash.h), or when a crash
-	 * here could not be survived (no program to start again) */
+	/* the sweep's own process makes runs (all of them at -j 1, beside N -
+	 * 1 workers at -j N) unless asked not to (--isolate, or the popc that a
+	 * crash here started: sweep_crash.h), or when a crash here could not
+	 * be survived (no program to start again) */
 	const char *isolate = getenv("POPC_SWEEP_ISOLATE");
-	c.here = cfg->jobs == 1 && !cfg->isolate && !(isolate && isolate[0] == '1') &&
+	c.here = cfg->jobs >= 1 && !cfg->isolate && !(isolate && isolate[0] == '1') &&
 		 cfg->die_after_claim < 0 && sweep_crash_arm(cfg->plan) == 0;
 	int trouble = run_sweep(&c, cfg->jobs);
 	if (c.here)

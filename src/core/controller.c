@@ -119,6 +119,15 @@ void popc_observer_commit(popc_observer *o, const popc_observation *obs, double 
 	observer_commit(o, obs, f_e_N, f_c_N);
 }
 
+int popc_observer_same_rule(const popc_observer *a, const popc_observer *b)
+{
+	const int fa = a->variant == POPC_VARIANT_FILTERED_VELOCITY;
+	const int fb = b->variant == POPC_VARIANT_FILTERED_VELOCITY;
+	if (fa != fb || uses_ignore(a->variant) != uses_ignore(b->variant))
+		return 0;
+	return !uses_ignore(a->variant) || a->ignore_mode == b->ignore_mode;
+}
+
 /* The rings' lengths: a variant that does not use a ring gets none. */
 static size_t reversal_ring_len(const popc_controller_config *cfg)
 {

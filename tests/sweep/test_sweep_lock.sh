@@ -121,7 +121,8 @@ expect_exit 0 "  merge" "$POPC" sweep merge "$T/sh"
 check "  equal to the reference" same_nowall "$T/sh/summary.csv" "$T/ref/summary.csv"
 
 # ---- SIGKILL to the sweep: its workers end too, and make no more runs
-paused "$T/k" -j 2
+# (--isolate: workers only; without it the sweep itself may hold run 0010)
+paused "$T/k" -j 2 --isolate
 check "SIGKILL: -j 2 is in run 0010 (worker ${worker:-none})" test -n "$worker" -a "$worker" != "$pid"
 workers=$(cat /proc/$pid/task/*/children 2>/dev/null)
 kill -KILL "$pid"; wait "$pid" 2>/dev/null; pid=
@@ -135,7 +136,7 @@ check "  every run once, as the reference" same_nowall "$T/k/summary.csv" "$T/re
 
 # ---- a worker that outlives its sweep (stopped, so the parent-death signal
 # waits) keeps the lock: no resume beside it; once it has gone, the resume runs
-paused "$T/o" -j 2
+paused "$T/o" -j 2 --isolate
 check "a stopped worker outliving its sweep (worker ${worker:-none})" test -n "$worker" -a "$worker" != "$pid"
 stopped=$worker
 kill -STOP "$stopped"

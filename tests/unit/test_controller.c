@@ -402,6 +402,74 @@ static void test_foaw_offset_invariant(void **state)
 	assert_true(v == (double)(1LL << 61) * 1e-5 / 1e-3);
 }
 
+/* popc_observer_same_rule (popc-analyze energy steps one observer for two
+ * definitions that share a rule): observers that share a rule give the same
+ * bits at every step of a motion with one-count reversals and a varying
+ * force, for every pair of variants and Table I modes; and the rule is what
+ * the variant decides: seed eq. 3, Table I by its mode, filtered velocity. */
+static void test_observer_same_rule(void **state)
+{
+	(void)state;
+	static const struct {
+		popc_variant a;
+		popc_ignore_mode ma;
+		popc_variant b;
+		popc_ignore_mode mb;
+		int same;
+	} cases[] = {
+		{POPC_VARIANT_REF_ENERGY, POPC_IGNORE_UNDO, POPC_VARIANT_REF_ENERGY, POPC_IGNORE_LITERAL, 1},
+		{POPC_VARIANT_REF_ENERGY, POPC_IGNORE_LITERAL, POPC_VARIANT_NONE, POPC_IGNORE_LITERAL, 1},
+		{POPC_VARIANT_REF_ENERGY, POPC_IGNORE_LITERAL, POPC_VARIANT_IGNORE, POPC_IGNORE_LITERAL, 0},
+		{POPC_VARIANT_IGNORE, POPC_IGNORE_LITERAL, POPC_VARIANT_IGNORE, POPC_IGNORE_UNDO, 0},
+		{POPC_VARIANT_IGNORE, POPC_IGNORE_UNDO, POPC_VARIANT_IMPROVED, POPC_IGNORE_UNDO, 1},
+		{POPC_VARIANT_FILTERED_VELOCITY, POPC_IGNORE_LITERAL, POPC_VARIANT_FILTERED_VELOCITY,
+		 POPC_IGNORE_UNDO, 1},
+		{POPC_VARIANT_FILTERED_VELOCITY, POPC_IGNORE_LITERAL, POPC_VARIANT_REF_ENERGY,
+		 POPC_IGNORE_LITERAL, 0},
+	};
+	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+		popc_observer a, b;
+		popc_observer_init(&a, cases[i].a, cases[i].ma);
+		popc_observer_init(&b, cases[i].b, cases[i].mb);
+		if (popc_observer_same_rule(&a, &b) != cases[i].same ||
+		    popc_observer_same_rule(&b, &a) != cases[i].same)
+			fail_msg("case %zu: %s/%d against %s/%d: same rule expected %d", i,
+				 popc_variant_name(cases[i].a), (int)cases[i].ma,
+				 popc_variant_name(cases[i].b), (int)cases[i].mb, cases[i].same);
+	}
+	/* every pair: a shared rule gives the same bits (W, E_ref, dx, flags) */
+	static const long long counts[] = {0, 1, 2, 1, 2, 1, 0, -1, 0, 3, 2, 3, 3, 2, 1, 2};
+	const int n = (int)(sizeof counts / sizeof counts[0]);
+	int shared = 0;
+	for (int va = 0; va < POPC_VARIANT_COUNT; va++)
+		for (int vb = 0; vb < POPC_VARIANT_COUNT; vb++)
+			for (int m = 0; m < 4; m++) {
+				popc_observer a, b;
+				popc_observer_init(&a, (popc_variant)va, (popc_ignore_mode)(m & 1));
+				popc_observer_init(&b, (popc_variant)vb, (popc_ignore_mode)(m >> 1));
+				if (!popc_observer_same_rule(&a, &b))
+					continue;
+				shared++;
+				for (int k = 0; k < n; k++) {
+					const double x = (double)counts[k] * 1e-5, v = 0.3 * (double)k - 2.0;
+					const double f_e = 0.01 * (double)counts[k], f_c = f_e + 0.7 * (double)(k % 3) - 0.5;
+					popc_observation oa, ob;
+					popc_observer_update(&a, x, counts[k], v, 1e-3, f_e, &oa);
+					popc_observer_update(&b, x, counts[k], v, 1e-3, f_e, &ob);
+					popc_observer_commit(&a, &oa, f_e, f_c);
+					popc_observer_commit(&b, &ob, f_e, f_c);
+					if (memcmp(&a.W_J, &b.W_J, sizeof a.W_J) != 0 ||
+					    memcmp(&a.E_ref_J, &b.E_ref_J, sizeof a.E_ref_J) != 0 ||
+					    memcmp(&oa.dx_m, &ob.dx_m, sizeof oa.dx_m) != 0 || oa.flags != ob.flags)
+						fail_msg("%s/%d and %s/%d share a rule but differ at step %d: "
+							 "W %.17g against %.17g",
+							 popc_variant_name((popc_variant)va), m & 1,
+							 popc_variant_name((popc_variant)vb), m >> 1, k, a.W_J, b.W_J);
+				}
+			}
+	assert_true(shared > 2 * POPC_VARIANT_COUNT); /* more than each with itself */
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -417,6 +485,7 @@ int main(void)
 		cmocka_unit_test(test_environments),
 		cmocka_unit_test(test_foaw_slow_ramp),
 		cmocka_unit_test(test_foaw_offset_invariant),
+		cmocka_unit_test(test_observer_same_rule),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

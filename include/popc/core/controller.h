@@ -111,6 +111,13 @@ void popc_observer_update(popc_observer *o, double x_m, long long count, double 
 void popc_observer_commit(popc_observer *o, const popc_observation *obs, double f_e_N,
 			  double f_c_N);
 
+/* Whether a and b step by the same rule: from the same state and inputs
+ * (and, for filtered-velocity, the same period) update and commit give both
+ * the same bits. The variant decides only the branch (filtered velocity,
+ * Table I's reversal, or seed eq. 3), the Table I mode only where Table I is
+ * used. */
+int popc_observer_same_rule(const popc_observer *a, const popc_observer *b);
+
 typedef struct popc_controller_config {
 	popc_variant variant;
 	double pc_bound_N;
