@@ -15,10 +15,10 @@
 # With teleop as the third argument (issue 26), the drive is the slave of a
 # teleoperation run, the master simulated: the hard-wall scene
 # (data/scenes/teleop-wall.ini, PCs on, 100 ms each way), slave.servo for
-# admittance.servo, the slave's position xs for x; the simulated master is
-# stopped (zero force) before the drive is held, and gets no command after
-# the fault (run_teleop.c; tests/unit/test_teleop_slave.c). The same faults
-# end the same way.
+# admittance.servo, the slave's position xs for x. The same faults end the
+# same way. The simulated master gets no command after the slave's failed
+# exchange and is stopped before the drive (run_teleop.c); the loop's side
+# of it, in-process: tests/unit/test_teleop_slave.c.
 #   servo_faults.sh SERVO_SIM tcp|rtu [teleop]
 . "$(dirname "$0")/lib.sh"
 TRANSPORT=$2
