@@ -17,7 +17,16 @@
 
 unsigned popc_run_log_columns(const popc_scene *s, const popc_axis *axis)
 {
-	return axis->ops->log_columns | (s->tele_arch != POPC_TELEOP_OFF ? POPC_LOG_COL_TELEOP : 0u);
+	if (s->tele_arch == POPC_TELEOP_OFF)
+		return axis->ops->log_columns;
+	/* a teleoperation scene (run_teleop.c): the master is simulated (its
+	 * true position); the axis is the master, with the simulated slave's
+	 * true position too, or an admittance-type one, the Modbus slave, whose
+	 * measured period and round trip are logged (its other columns are the
+	 * TELEOP ones) */
+	return POPC_LOG_COL_X_TRUE | POPC_LOG_COL_TELEOP |
+	       (popc_run_teleop_axis_is_slave(axis) ? axis->ops->log_columns & POPC_LOG_COL_TIMING
+						    : POPC_LOG_COL_SLAVE_TRUE);
 }
 
 int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,

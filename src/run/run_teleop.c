@@ -76,7 +76,21 @@ static double held_energy(const link *l)
 	return l->held.seq < 0 ? 0.0 : l->held.energy_J;
 }
 
-int popc_run_teleop(const popc_scene *s, popc_axis *master, const popc_run_options *opt,
+int popc_run_teleop_axis_is_slave(const popc_axis *axis)
+{
+	return (axis->ops->log_columns & POPC_LOG_COL_ADMITTANCE) != 0;
+}
+
+/* The side the program did not give: the simulated slave, at rest where the
+ * master starts (x0_m), or the simulated master of a Modbus slave. */
+static int make_other_side(const popc_scene *s, int axis_is_slave, double x0_m, popc_axis **out,
+			   popc_error *err)
+{
+	return axis_is_slave ? popc_sim_axis_create(out, s, err)
+			     : popc_sim_slave_axis_create(out, s, x0_m, err);
+}
+
+int popc_run_teleop(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,
 		    popc_run_summary *sum, popc_error *err)
 {
 	memset(sum, 0, sizeof *sum);
@@ -95,7 +109,11 @@ int popc_run_teleop(const popc_scene *s, popc_axis *master, const popc_run_optio
 	popc_log_writer *log = opt ? opt->log : NULL;
 	const char *why = "completed";
 	double t0 = popc_now_s();
-	popc_axis *slave = NULL;
+	/* the program's axis is one side; the runner makes the other
+	 * (own), simulated */
+	const int axis_is_slave = popc_run_teleop_axis_is_slave(axis);
+	popc_axis *own = NULL;
+	popc_axis *master = axis_is_slave ? NULL : axis, *slave = axis_is_slave ? axis : NULL;
 	link fwd, bwd;
 	memset(&fwd, 0, sizeof fwd);
 	memset(&bwd, 0, sizeof bwd);
@@ -103,14 +121,24 @@ int popc_run_teleop(const popc_scene *s, popc_axis *master, const popc_run_optio
 	popc_axis_sample sm, ss;
 	memset(&sm, 0, sizeof sm);
 	memset(&ss, 0, sizeof ss);
-	int st = master->ops->start(master, err);
-	if (st)
+	int st = 0;
+	if (axis_is_slave && (st = make_other_side(s, 1, 0.0, &own, err)) != 0)
+		why = "master create failed";
+	else
+		master = axis_is_slave ? own : master;
+	if (!st && (st = master->ops->start(master, err)) != 0)
 		why = st == POPC_ERR_INTERRUPTED ? "signal" : "axis start failed";
 	if (!st && (st = master->ops->sample(master, &sm, err)) != 0)
 		why = popc_run_sample_failure(st);
-	/* the slave starts where the master does, at rest, its servo holding it */
-	if (!st && (st = popc_sim_slave_axis_create(&slave, s, sm.x_true_m, err)) != 0)
+	/* a simulated slave starts where the master does, at rest, its servo
+	 * holding it; a drive where it stands (popc-servo-sim's teleoperation
+	 * plant starts where the simulated master does) */
+	if (!st && !axis_is_slave && (st = make_other_side(s, 0, sm.x_true_m, &own, err)) != 0)
 		why = "slave create failed";
+	else if (!st && !axis_is_slave)
+		slave = own;
+	if (!st && (st = slave->ops->start(slave, err)) != 0)
+		why = st == POPC_ERR_INTERRUPTED ? "signal" : "axis start failed";
 	if (!st && (st = slave->ops->sample(slave, &ss, err)) != 0)
 		why = popc_run_sample_failure(st);
 	if (!st && (st = link_init(&fwd, s, &s->fwd, err)) != 0)
@@ -142,7 +170,9 @@ int popc_run_teleop(const popc_scene *s, popc_axis *master, const popc_run_optio
 		m->v_mps = k ? (m->x_m - xm_prev) / T : 0.0;
 		xm_prev = m->x_m;
 		r->xs_m = popc_encoder_position(ss.count, s->enc_resolution_m);
-		r->xs_true_m = ss.x_true_m;
+		/* a drive has no true position (NaN in its sample; the column is
+		 * not in its log): the summary's late window takes the measured one */
+		r->xs_true_m = axis_is_slave ? r->xs_m : ss.x_true_m;
 		r->xs_cmd_m = ss.x_cmd_m;
 		r->fs_count = ss.force_count;
 		r->fs_N = (double)ss.force_count * s->slave_force_resolution_N;
@@ -197,6 +227,8 @@ int popc_run_teleop(const popc_scene *s, popc_axis *master, const popc_run_optio
 			break;
 		}
 		row.x_true_m = sm.x_true_m;
+		row.dt_s = ss.dt_s; /* a Modbus slave's (POPC_LOG_COL_TIMING) */
+		row.rtt_s = ss.rtt_s;
 		row.E_port_J = popc_port_energy_update(&port, sm.x_true_m);
 		popc_port_energy_commit(&port, m->f_c_N);
 
@@ -220,8 +252,8 @@ int popc_run_teleop(const popc_scene *s, popc_axis *master, const popc_run_optio
 		if (fabs(r->vs_c_mps) > sum->tele_v_c_max_mps)
 			sum->tele_v_c_max_mps = fabs(r->vs_c_mps);
 		if (m->t_s >= late_from_s) {
-			sum->tele_xs_late_min_m = fmin(sum->tele_xs_late_min_m, ss.x_true_m);
-			sum->tele_xs_late_max_m = fmax(sum->tele_xs_late_max_m, ss.x_true_m);
+			sum->tele_xs_late_min_m = fmin(sum->tele_xs_late_min_m, r->xs_true_m);
+			sum->tele_xs_late_max_m = fmax(sum->tele_xs_late_max_m, r->xs_true_m);
 		}
 		popc_metrics_add(&sum->metrics, m);
 		if (opt && opt->on_tick)
@@ -241,14 +273,19 @@ int popc_run_teleop(const popc_scene *s, popc_axis *master, const popc_run_optio
 	}
 	link_free(&fwd);
 	link_free(&bwd);
-	if (slave) {
-		popc_error serr;
-		slave->ops->stop(slave, &serr);
-		popc_axis_destroy(&slave);
+	/* every way out: the simulated side's stop (a simulated master: zero
+	 * force, before the drive is held), then the program's axis' safe stop
+	 * (a Modbus slave: zero velocity or the last measured position held,
+	 * then disable; a stop it cannot confirm is the run's error), the
+	 * summary and the log */
+	if (own) {
+		popc_error oerr;
+		own->ops->stop(own, &oerr);
 	}
-	/* every way out: the master's safe stop first, then the summary and the log */
-	st = popc_run_finish(master, log, sum, st, why, t0, T, err);
-	sum->integrator_error_m =
-		master->ops->integrator_error_m ? master->ops->integrator_error_m(master) : 0.0;
+	sum->integrator_error_m = master && master->ops->integrator_error_m
+					  ? master->ops->integrator_error_m(master)
+					  : 0.0;
+	st = popc_run_finish(axis, log, sum, st, why, t0, T, err);
+	popc_axis_destroy(&own);
 	return st;
 }

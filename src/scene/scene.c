@@ -854,7 +854,8 @@ static int validate_admittance(const popc_scene *s, const char *src, popc_error 
 }
 
 /* What a teleoperation scene needs (docs/TELEOPERATION.md): an impedance
- * master on the simulated axis (the Modbus slave is not built yet), its
+ * master (simulated; axis.kind = modbus makes the slave a drive, whose
+ * register map's command.mode must match slave.servo: register_map.c), its
  * delays in the channel rather than in run.delay_ticks, a servo that holds
  * the slave. */
 static int validate_teleop(const popc_scene *s, const char *src, popc_error *err)
@@ -863,11 +864,6 @@ static int validate_teleop(const popc_scene *s, const char *src, popc_error *err
 		return popc_error_set(err, POPC_ERR_INVALID,
 				      "%s: teleop.architecture = %s needs device.causality = impedance (the "
 				      "master; the slave is [slave])",
-				      src, popc_teleop_architecture_names[s->tele_arch]);
-	if (strcmp(s->axis, "sim") != 0)
-		return popc_error_set(err, POPC_ERR_INVALID,
-				      "%s: teleop.architecture = %s needs axis.kind = sim (a Modbus slave "
-				      "is not built yet)",
 				      src, popc_teleop_architecture_names[s->tele_arch]);
 	if (s->delay_ticks != 0)
 		return popc_error_set(err, POPC_ERR_INVALID,

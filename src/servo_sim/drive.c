@@ -40,7 +40,7 @@ static void refresh(servo_drive *d)
 		/* the sensor's reading, its count (and noise) included: the count
 		 * itself when the unit is the scene's resolution, else the force
 		 * n r in the register's unit */
-		double r = d->scene.adm_force_resolution_N, n = (double)d->smp.force_count;
+		double r = d->fs_resolution_N, n = (double)d->smp.force_count;
 		double f = d->fs_passthrough && m->sensor.type != POPC_REG_FLOAT32 &&
 					   m->sensor.type != POPC_REG_FLOAT64
 				   ? n
@@ -295,6 +295,22 @@ int drive_apply_request(servo_drive *d, const uint8_t *q, int len, int hl, int64
 	return register_write(d, addr, n, p, now_ns);
 }
 
+/* A teleoperation scene's slave: popc run's simulated slave, at rest where
+ * popc run's simulated master starts (its true position at tick 0, as
+ * run_teleop.c places it), no hand on it: so that a lockstep run with the
+ * drive as the slave equals the simulated run. */
+static int teleop_slave_create(servo_drive *d, const popc_scene *scene, popc_error *err)
+{
+	popc_axis *master = NULL;
+	popc_axis_sample sm;
+	memset(&sm, 0, sizeof sm);
+	int st = popc_sim_axis_create(&master, scene, err);
+	if (!st && !(st = master->ops->start(master, err)))
+		st = master->ops->sample(master, &sm, err);
+	popc_axis_destroy(&master);
+	return st ? st : popc_sim_slave_axis_create(&d->plant, scene, sm.x_true_m, err);
+}
+
 int drive_init(servo_drive *d, const popc_register_map *map, const popc_scene *scene, int lockstep,
 	       popc_error *err)
 {
@@ -308,11 +324,16 @@ int drive_init(servo_drive *d, const popc_register_map *map, const popc_scene *s
 	if (d->period_ns < 1)
 		d->period_ns = 1;
 	d->servo = map->cmd.mode != POPC_CMD_FORCE;
-	d->fs_passthrough = popc_register_map_sensor_is_scene_counts(map, scene->adm_force_resolution_N);
+	popc_servo_kind kind;
+	const char *key;
+	popc_register_map_scene_servo(scene, &kind, &d->fs_resolution_N, &key);
+	d->fs_passthrough = popc_register_map_sensor_is_scene_counts(map, d->fs_resolution_N);
 	/* a servo-mode drive moves the admittance-type device of the scene
-	 * (the same plant, servo and sensor as popc run's simulated axis) */
-	int st = d->servo ? popc_sim_admittance_axis_create(&d->plant, scene, err)
-			  : popc_sim_axis_create(&d->plant, scene, err);
+	 * (the same plant, servo and sensor as popc run's simulated axis), or
+	 * a teleoperation scene's slave (popc run's simulated slave) */
+	int st = d->servo && scene->tele_arch != POPC_TELEOP_OFF ? teleop_slave_create(d, scene, err)
+		 : d->servo ? popc_sim_admittance_axis_create(&d->plant, scene, err)
+			    : popc_sim_axis_create(&d->plant, scene, err);
 	if (st)
 		return st;
 	if ((st = d->plant->ops->start(d->plant, err)) || (st = d->plant->ops->sample(d->plant, &d->smp, err))) {

@@ -13,7 +13,11 @@
  *   create: its servo loop and force sensor); the command register is the
  *   velocity set point, or the position set point reached by linear
  *   interpolation over the period; the force sensor register holds the
- *   sensor's reading in the map's type, scale and direction. While
+ *   sensor's reading in the map's type, scale and direction. In a
+ *   teleoperation scene the plant is its slave instead (popc_sim_slave_
+ *   axis_create: [slave]'s device against [environment], no hand, at rest
+ *   where the simulated master starts), the drive being popc run's slave
+ *   (axis.kind = modbus; docs/TELEOPERATION.md). While
  *   disabled a position drive's set point register reads its actual
  *   position, and the servo holds its position command.
  * - Lockstep: each command write while enabled advances the plant exactly one
@@ -63,6 +67,8 @@ typedef struct servo_drive {
 				      servo-mode drive's velocity (m/s) or position (m) set point */
 	int servo;                 /* command.mode = position or velocity */
 	int fs_passthrough;        /* the force sensor's unit is the scene's resolution */
+	double fs_resolution_N;    /* that resolution: admittance.force_resolution, or a
+				      teleoperation scene's slave.force_resolution */
 	long long k;               /* control periods the plant has advanced */
 	int clock_running;
 	int64_t origin_ns;         /* real time: when the plant's clock started */

@@ -27,17 +27,6 @@ else
 	LISTEN="tcp:127.0.0.1:0"
 fi
 
-# adm_cols LOG NAMES...: the named columns of a log's rows
-adm_cols() {
-	local log=$1
-	shift
-	awk -F, -v want="$*" '/^#/ { next }
-		!h { for (i = 1; i <= NF; i++) c[$i] = i; n = split(want, w, " ")
-		     for (j = 1; j <= n; j++) if (!c[w[j]]) { print "no column " w[j]; exit 1 }
-		     h = 1; next }
-		{ s = ""; for (j = 1; j <= n; j++) s = s (j > 1 ? "," : "") $c[w[j]]; print s }' "$log"
-}
-
 for servo in position velocity; do
 	MAP=$(test_map "$POPC_SOURCE_ROOT/tests/modbus/exact-$servo.ini")
 	for v in none parallel-pc parallel-ignore parallel-hold parallel-improved; do

@@ -127,6 +127,17 @@ cols() {
 		{ print $c["x"], $c["count"], $c["f_c"], $c["W"], $c["E_ref"] }' "$1"
 }
 
+# adm_cols LOG NAMES...: the named columns of a log's rows
+adm_cols() {
+	local log=$1
+	shift
+	awk -F, -v want="$*" '/^#/ { next }
+		!h { for (i = 1; i <= NF; i++) c[$i] = i; n = split(want, w, " ")
+		     for (j = 1; j <= n; j++) if (!c[w[j]]) { print "no column " w[j]; exit 1 }
+		     h = 1; next }
+		{ s = ""; for (j = 1; j <= n; j++) s = s (j > 1 ? "," : "") $c[w[j]]; print s }' "$log"
+}
+
 # rows LOG: number of data rows.
 rows() {
 	awk -F, '/^#/ { next } !h { h = 1; next } { n++ } END { print n + 0 }' "$1"

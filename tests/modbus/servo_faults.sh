@@ -11,10 +11,26 @@
 # commands, as in faults.sh: command 1 is the start's set point, command c
 # the exchange that brings tick c - 1, so a fault that stops the run at
 # command C leaves the C - 1 ticks 0 .. C - 2.
-#   servo_faults.sh SERVO_SIM tcp|rtu
+#
+# With teleop as the third argument (issue 26), the drive is the slave of a
+# teleoperation run, the master simulated: the hard-wall scene
+# (data/scenes/teleop-wall.ini, PCs on, 100 ms each way), slave.servo for
+# admittance.servo, the slave's position xs for x. The same faults end the
+# same way. The simulated master gets no command after the slave's failed
+# exchange and is stopped before the drive (run_teleop.c); the loop's side
+# of it, in-process: tests/unit/test_teleop_slave.c.
+#   servo_faults.sh SERVO_SIM tcp|rtu [teleop]
 . "$(dirname "$0")/lib.sh"
 TRANSPORT=$2
+TELEOP=${3:-}
 ADM_SCENE="$POPC_SOURCE_ROOT/data/scenes/admittance-wall.ini"
+SERVO_KEY=admittance.servo
+XCOL=x # the drive's position in the log
+if [ "$TELEOP" = teleop ]; then
+	ADM_SCENE="$POPC_SOURCE_ROOT/data/scenes/teleop-wall.ini"
+	SERVO_KEY=slave.servo
+	XCOL=xs
+fi
 DUR=0.5 # 501 ticks
 C=196   # the command the faults hit: the exchange that brings tick 195
 
@@ -45,7 +61,7 @@ check_hold() {
 			fail "$name: last writes '$got', want zero velocity then disable"
 		return
 	fi
-	want=$(col "$WORK/$name.csv" x | tail -n 1)
+	want=$(col "$WORK/$name.csv" $XCOL | tail -n 1)
 	[ -n "$want" ] || want=$x0
 	[[ $got =~ ^command\ ([^ ]+)\ \[.*\]\|enable\ 0x0000\|$ ]] &&
 		awk -v a="${BASH_REMATCH[1]}" -v b="$want" 'BEGIN { exit !(a == b) }' ||
@@ -73,12 +89,12 @@ run_case() {
 }
 
 for SERVO in position velocity; do
-	SETS="--set admittance.servo=$SERVO"
+	SETS="--set $SERVO_KEY=$SERVO"
 	MAP=$(test_map "$POPC_SOURCE_ROOT/tests/modbus/exact-$SERVO.ini")
 	# shellcheck disable=SC2086
 	"$POPC" run "$ADM_SCENE" -q $SETS --set run.duration=$DUR --log "$WORK/sim-$SERVO.csv" ||
 		fail "$SERVO: simulated run"
-	X0=$(col "$WORK/sim-$SERVO.csv" x | head -n 1)
+	X0=$(col "$WORK/sim-$SERVO.csv" $XCOL | head -n 1)
 	s=$SERVO
 
 	# timeout: one reply lost: retried with the same sequence value, the run
@@ -98,7 +114,9 @@ for SERVO in position velocity; do
 	fi
 	stop_server
 	grep -q ' 1 failed transactions' "$WORK/$s-drop1.err" || fail "$s-drop1: want 1 failed transaction"
-	for c in x count f_count W v_pc; do
+	cmp_cols="x count f_count W v_pc"
+	[ "$TELEOP" = teleop ] && cmp_cols="x count f_c W xs fs_count vs_c Ws"
+	for c in $cmp_cols; do
 		cmp -s <(col "$WORK/sim-$SERVO.csv" $c) <(col "$WORK/$s-drop1.csv" $c) ||
 			fail "$s-drop1: column $c differs from the simulated run"
 	done
@@ -148,11 +166,14 @@ for SERVO in position velocity; do
 	check_hold $s-startfault "$WORK/rec-$s-startfault.txt" "$X0"
 
 	# out of range: a position past the soft limit (soft_max_m = -4 mm, which
-	# the hand's ramp passes): safety stop at the first such sample
-	sed 's/^soft_max_m = .*/soft_max_m = -0.004/' "$MAP" >"$WORK/soft-$s.ini"
-	first=$(col "$WORK/sim-$SERVO.csv" x | awk '$1 > -0.004 { print NR - 1; exit }')
-	[ -n "$first" ] || fail "$s-soft: the simulated run never passes -4 mm"
-	run_case $s-soft 3 '^# stop = safety stop: position -0\.00[0-9]* m is outside the soft limits \[-0\.1, -0\.004\]' \
+	# the hand's ramp passes; the teleoperation slave: 0.1 mm, which it
+	# passes pushing into the wall): safety stop at the first such sample
+	soft=-0.004 soft_re='-0\.00[0-9]*' soft_lim='-0\.004'
+	[ "$TELEOP" = teleop ] && soft=0.0001 soft_re='0\.000[0-9]*' soft_lim='0\.0001'
+	sed "s/^soft_max_m = .*/soft_max_m = $soft/" "$MAP" >"$WORK/soft-$s.ini"
+	first=$(col "$WORK/sim-$SERVO.csv" $XCOL | awk -v lim=$soft '$1 > lim { print NR - 1; exit }')
+	[ -n "$first" ] || fail "$s-soft: the simulated run never passes $soft m"
+	run_case $s-soft 3 "^# stop = safety stop: position $soft_re m is outside the soft limits \\[-0\\.1, $soft_lim\\]" \
 		"${first:-0}" "$WORK/soft-$s.ini" ""
 	stop_server
 	check_hold $s-soft "$WORK/rec-$s-soft.txt" "$X0"

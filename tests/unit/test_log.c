@@ -62,7 +62,9 @@ static int same_bits(double a, double b)
 static const unsigned column_sets[] = {
 	POPC_LOG_COL_ALWAYS, POPC_LOG_COL_X_TRUE, POPC_LOG_COL_TIMING,
 	POPC_LOG_COL_X_TRUE | POPC_LOG_COL_TIMING, POPC_LOG_COL_ADMITTANCE,
-	POPC_LOG_COL_X_TRUE | POPC_LOG_COL_TELEOP,
+	POPC_LOG_COL_X_TRUE | POPC_LOG_COL_TELEOP | POPC_LOG_COL_SLAVE_TRUE,
+	/* a teleoperation run whose slave is a Modbus drive (issue 26) */
+	POPC_LOG_COL_X_TRUE | POPC_LOG_COL_TIMING | POPC_LOG_COL_TELEOP,
 };
 enum { N_SETS = sizeof column_sets / sizeof column_sets[0] };
 
@@ -99,7 +101,8 @@ static void test_column_table(void **state)
 		assert_non_null(c->meaning);
 		assert_true(strlen(c->meaning) > 5);
 		assert_true((c->fill & ~(unsigned)(POPC_LOG_COL_X_TRUE | POPC_LOG_COL_TIMING |
-					     POPC_LOG_COL_ADMITTANCE | POPC_LOG_COL_TELEOP)) == 0);
+					     POPC_LOG_COL_ADMITTANCE | POPC_LOG_COL_TELEOP |
+					     POPC_LOG_COL_SLAVE_TRUE)) == 0);
 		/* set then get: the same value, and no other column moved */
 		popc_log_row row;
 		memset(&row, 0, sizeof row);
@@ -132,6 +135,8 @@ static void test_column_names_line(void **state)
 		/* one name line, split in two (the parentheses tell clang that the
 		 * concatenation is meant, not a missing comma) */
 		("t,x,count,x_true,v,f_e,f_pc,f_c,W,E_ref,flags,E_port,xs,xs_true,xs_cmd,fs_count,fs,"
+		 "vs_rx,vs_pc,vs_c,Ws,Em_in,Em_out,Em_rx,Es_in,Es_out,Es_rx,fwd_age,bwd_age"),
+		("t,x,count,x_true,v,f_e,f_pc,f_c,W,E_ref,flags,E_port,dt,rtt,xs,xs_cmd,fs_count,fs,"
 		 "vs_rx,vs_pc,vs_c,Ws,Em_in,Em_out,Em_rx,Es_in,Es_out,Es_rx,fwd_age,bwd_age"),
 	};
 	for (int k = 0; k < N_SETS; k++) {

@@ -249,4 +249,13 @@ int popc_register_map_sensor_is_scene_counts(const popc_register_map *m, double 
  * both refuse it, exit 2, before anything connects or listens). */
 int popc_register_map_fits_scene(const popc_register_map *m, const popc_scene *s, popc_error *err);
 
+/* The servo-mode device a drive is in scene s: an admittance scene's own
+ * ([admittance]: servo, force_resolution), or a teleoperation scene's slave
+ * ([slave]: the drive is the slave, the master stays simulated;
+ * docs/TELEOPERATION.md). Returns 0 for a one-port impedance scene (the
+ * drive commands a force), else 1 with *servo, *force_resolution_N and, for
+ * messages, *servo_key ("admittance.servo" or "slave.servo"). */
+int popc_register_map_scene_servo(const popc_scene *s, popc_servo_kind *servo,
+				  double *force_resolution_N, const char **servo_key);
+
 #endif

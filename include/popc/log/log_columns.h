@@ -16,6 +16,8 @@
  *           or ADMITTANCE (an admittance-type device: docs/ADMITTANCE.md)
  *           or TELEOP (a teleoperation scene's slave and network ports:
  *           docs/TELEOPERATION.md; the columns every log has are the master's)
+ *           or SLAVE_TRUE (a teleoperation scene's simulated slave: a Modbus
+ *           slave has no true position)
  *           -- the POPC_LOG_COL_<fill> bit an axis sets in its log_columns
  *   format  DOUBLE (shortest round-trip text), COUNT (signed integer) or
  *           FLAGS (unsigned bit set, POPC_FLAG_*)
@@ -50,7 +52,7 @@
 	COLUMN(V_VE,   v_ve,   "m/s", ADMITTANCE, DOUBLE, adm.v_ve_mps, "velocity of the admittance VE")     \
 	COLUMN(V_PC,   v_pc,   "m/s", ADMITTANCE, DOUBLE, adm.v_pc_mps, "parallel PC velocity, beta f")   \
 	COLUMN(XS,     xs,     "m",   TELEOP, DOUBLE, tele.xs_m,     "slave measured position")              \
-	COLUMN(XS_TRUE, xs_true, "m", TELEOP, DOUBLE, tele.xs_true_m, "slave true position")                 \
+	COLUMN(XS_TRUE, xs_true, "m", SLAVE_TRUE, DOUBLE, tele.xs_true_m, "slave true position")             \
 	COLUMN(XS_CMD, xs_cmd, "m",   TELEOP, DOUBLE, tele.xs_cmd_m, "slave servo's position command")       \
 	COLUMN(FS_COUNT, fs_count, "", TELEOP, COUNT, tele.fs_count, "slave force sensor count")             \
 	COLUMN(FS,     fs,     "N",   TELEOP, DOUBLE, tele.fs_N,     "slave force reading (environment on slave)") \
@@ -75,6 +77,9 @@ enum popc_log_columns {
 	POPC_LOG_COL_TIMING = 2,  /* dt (measured period) and rtt (Modbus transaction time) */
 	POPC_LOG_COL_ADMITTANCE = 4, /* force count and reading, commanded motion, PC velocity */
 	POPC_LOG_COL_TELEOP = 8,  /* the slave and both network ports (docs/TELEOPERATION.md) */
+	/* a teleoperation scene's simulated slave: its true position (with
+	 * TELEOP; a Modbus slave, axis.kind = modbus, has none) */
+	POPC_LOG_COL_SLAVE_TRUE = 16,
 };
 
 typedef enum popc_log_cell_format {

@@ -69,7 +69,11 @@ typedef struct popc_run_options {
 } popc_run_options;
 
 /* The log's column set for a run of scene s on axis: the axis' columns, and
- * in a teleoperation scene the slave's and the network's (log_columns.h). */
+ * in a teleoperation scene the slave's and the network's (log_columns.h);
+ * there the axis is the simulated master, or the Modbus slave (axis.kind =
+ * modbus: the master is then simulated by the runner), and the column set
+ * the simulated master's, the TELEOP ones, and the simulated slave's true
+ * position or the Modbus slave's timing. */
 unsigned popc_run_log_columns(const popc_scene *s, const popc_axis *axis);
 
 /* Runs the scene on the axis. Always calls the axis' stop() and writes the

@@ -1273,15 +1273,22 @@ int popc_modbus_axis_create(popc_axis **out, const popc_scene *s, const popc_mod
 	}
 	if (a->servo) {
 		/* the scene's force sensor, without noise: a drive's noise is in
-		 * its reading already */
-		popc_force_sensor_init(&a->fsens, s->adm_force_resolution_N, 0.0, 0);
-		a->fs_passthrough = popc_register_map_sensor_is_scene_counts(m, s->adm_force_resolution_N);
+		 * its reading already ([admittance]'s, or a teleoperation
+		 * slave's: popc_register_map_scene_servo) */
+		popc_servo_kind kind;
+		double res_N;
+		const char *key;
+		int tele = s->tele_arch != POPC_TELEOP_OFF;
+		popc_register_map_scene_servo(s, &kind, &res_N, &key);
+		popc_force_sensor_init(&a->fsens, res_N, 0.0, 0);
+		a->fs_passthrough = popc_register_map_sensor_is_scene_counts(m, res_N);
 		if (!a->fs_passthrough && a->opt.notes)
 			fprintf(a->opt.notes,
 				"popc: modbus: the force sensor's unit newton_per_unit = %g N is not "
-				"admittance.force_resolution = %g N: readings are re-quantized to "
-				"admittance.force_resolution\n",
-				m->sensor.newton_per_unit, s->adm_force_resolution_N);
+				"%s = %g N: readings are re-quantized to %s\n",
+				m->sensor.newton_per_unit,
+				tele ? "slave.force_resolution" : "admittance.force_resolution", res_N,
+				tele ? "slave.force_resolution" : "admittance.force_resolution");
 	}
 	/* a sequence register within reach of the block is read back with the
 	 * position: the drive holds the value last written, which ties each

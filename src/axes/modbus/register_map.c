@@ -38,11 +38,29 @@ int popc_register_map_sensor_is_scene_counts(const popc_register_map *m, double 
 	return resolution_N > 0.0 && fabs(m->sensor.newton_per_unit / resolution_N - 1.0) < 1e-9;
 }
 
+int popc_register_map_scene_servo(const popc_scene *s, popc_servo_kind *servo,
+				  double *force_resolution_N, const char **servo_key)
+{
+	if (s->tele_arch != POPC_TELEOP_OFF) {
+		*servo = s->slave_servo;
+		*force_resolution_N = s->slave_force_resolution_N;
+		*servo_key = "slave.servo";
+		return 1;
+	}
+	*servo = s->adm_servo;
+	*force_resolution_N = s->adm_force_resolution_N;
+	*servo_key = "admittance.servo";
+	return s->causality == POPC_CAUSALITY_ADMITTANCE;
+}
+
 int popc_register_map_fits_scene(const popc_register_map *m, const popc_scene *s, popc_error *err)
 {
 	const char *mode = popc_cmd_mode_names[m->cmd.mode];
 	const char *scene = s->source[0] ? s->source : "the scene";
-	if (s->causality != POPC_CAUSALITY_ADMITTANCE) {
+	popc_servo_kind kind;
+	double res_N;
+	const char *key;
+	if (!popc_register_map_scene_servo(s, &kind, &res_N, &key)) {
 		if (m->cmd.mode == POPC_CMD_FORCE)
 			return 0;
 		return popc_error_set(err, POPC_ERR_INVALID,
@@ -50,18 +68,21 @@ int popc_register_map_fits_scene(const popc_register_map *m, const popc_scene *s
 				      "which commands a force; the map needs command.mode = force",
 				      m->path, mode, scene);
 	}
-	const char *servo = popc_servo_kind_names[s->adm_servo];
+	const char *servo = popc_servo_kind_names[kind];
+	/* a teleoperation scene's drive is its slave (the master is simulated) */
+	const char *device = s->tele_arch != POPC_TELEOP_OFF ? "a teleoperation slave"
+							     : "device.causality = admittance";
 	if (m->cmd.mode == POPC_CMD_FORCE)
 		return popc_error_set(err, POPC_ERR_INVALID,
-				      "%s: command.mode = force: %s has device.causality = admittance "
-				      "with admittance.servo = %s, which commands a %s; the map needs "
+				      "%s: command.mode = force: %s has %s "
+				      "with %s = %s, which commands a %s; the map needs "
 				      "command.mode = %s and a [force_sensor]",
-				      m->path, scene, servo, servo, servo);
-	if ((m->cmd.mode == POPC_CMD_POSITION) != (s->adm_servo == POPC_SERVO_POSITION))
+				      m->path, scene, device, key, servo, servo, servo);
+	if ((m->cmd.mode == POPC_CMD_POSITION) != (kind == POPC_SERVO_POSITION))
 		return popc_error_set(err, POPC_ERR_INVALID,
-				      "%s: command.mode = %s: %s has admittance.servo = %s; the map "
+				      "%s: command.mode = %s: %s has %s = %s; the map "
 				      "needs command.mode = %s",
-				      m->path, mode, scene, servo, servo);
+				      m->path, mode, scene, key, servo, servo);
 	return 0;
 }
 
