@@ -112,6 +112,7 @@ void popc_channel_config_from_scene(popc_channel_config *c, const popc_scene_cha
 	c->loss = dir->loss;
 	c->in_order = dir->in_order;
 	c->seed = (uint64_t)dir->seed;
+	c->jitter_walk = dir->jitter_model; /* delay_trace.h converts delay_s and reads trace */
 }
 
 /* The keys behind each popc_plant_config field, as the two adapters above sum

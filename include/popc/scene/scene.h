@@ -37,6 +37,12 @@ typedef struct popc_scene_channel {
 	double loss;
 	int in_order;
 	int seed;
+	/* written only when used (not 0, not empty): the delay and jitter in
+	 * seconds (whole ticks at run.rate, docs/TELEOPERATION.md), a trace file
+	 * of delays, the jitter's distribution (0 uniform, 1 a random walk) */
+	double delay_s, jitter_s;
+	char trace[POPC_PATH_MAX];
+	int jitter_model;
 } popc_scene_channel;
 
 typedef struct popc_scene {
