@@ -100,8 +100,19 @@ void popc_teleop_slave_plant_config_from_scene(popc_admittance_plant_config *c,
 	c->servo_damping_Nspm = s->slave_servo_damping_Nspm;
 	c->method = s->integrator;
 	c->substeps = s->substeps;
-	c->period_s = popc_scene_period_s(s);
+	const int n = popc_scene_slave_substeps(s);
+	c->period_s = popc_scene_period_s(s) / (double)(n > 0 ? n : 1); /* T / 1 is T, bit for bit */
 	c->x_origin_m = x_origin_m;
+}
+
+int popc_scene_slave_substeps(const popc_scene *s)
+{
+	if (s->slave_rate_Hz == 0.0)
+		return 1;
+	const double r = s->slave_rate_Hz / s->rate_Hz, n = nearbyint(r);
+	if (!(fabs(r - n) <= 1e-9 * n) || n < 1.0 || n > POPC_SLAVE_MAX_SUBSTEPS)
+		return 0;
+	return (int)n;
 }
 
 void popc_channel_config_from_scene(popc_channel_config *c, const popc_scene_channel *dir)

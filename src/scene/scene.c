@@ -14,6 +14,7 @@
 
 #include "popc/scene/data_path.h"
 #include "popc/scene/delay_trace.h"
+#include "popc/scene/from_scene.h"
 #include "popc/scene/ini_lines.h"
 #include "popc/util/numfmt.h"
 #include "popc/util/parse.h"
@@ -203,6 +204,9 @@ static const scene_key scene_keys[] = {
 		 "servo velocity gain K_v"),
 	NUM_TELE("slave", "force_resolution", slave_force_resolution_N, "0.01", 0, 1e3, 1, "N",
 		 "force sensor resolution, N per count"),
+	{"slave", "rate", KEY_DOUBLE, OFF(slave_rate_Hz), 0, 1e9, 0, "Hz", NULL,
+	 "the slave's local loop rate, N x run.rate (N whole, 1 to 1000): contact, servo and "
+	 "plant in N sub-ticks a tick; 0: run.rate", "0", TELEOP_USED},
 	CHANNEL_KEYS("forward", fwd, "1"),
 	CHANNEL_KEYS("backward", bwd, "2"),
 
@@ -921,6 +925,11 @@ static int validate_teleop(const popc_scene *s, const char *src, popc_error *err
 				      "%s: slave.servo = position needs slave.servo_stiffness > 0 N/m (K_p; "
 				      "or slave.servo = velocity)",
 				      src);
+	if (popc_scene_slave_substeps(s) < 1)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: slave.rate = %g Hz is not a whole multiple of run.rate = %g "
+				      "Hz; allowed 0 (run.rate) or N x run.rate with N whole, 1 to %d",
+				      src, s->slave_rate_Hz, s->rate_Hz, POPC_SLAVE_MAX_SUBSTEPS);
 	const popc_scene_channel *dir[2] = {&s->fwd, &s->bwd};
 	const char *name[2] = {"forward", "backward"};
 	for (int i = 0; i < 2; i++) {

@@ -6,10 +6,13 @@
 # delay that is no whole number of ticks, two spellings of one delay and bad
 # trace files are exit 2 naming the key or file:line and the allowed range;
 # a trace's digest is in the log header; the channel log's events add up,
-# per direction, against the main log's flags. No clock: events are counted.
+# per direction, against the main log's flags; slave.rate = run.rate runs
+# today's rows, a faster slave passes energy --check and the two-port
+# condition. No clock: events are counted. Argument: the popc-analyze program.
 set -u
 POPC=${POPC:?POPC must name the popc program}
 SRC=${POPC_SOURCE_ROOT:?}
+ANALYZE=${1:?popc-analyze}
 T=$(mktemp -d /tmp/popc-teleop-channel-XXXXXX)
 trap 'rm -rf "$T"' EXIT
 . "$SRC/tests/check.sh"
@@ -117,4 +120,18 @@ check "  says so" err_has "are the same file"
 cp "$TRACE" "$T/in.txt"
 expect_exit 2 "--channel-log onto the trace" "$POPC" run "$WALL" --set forward.delay_ticks=0 --set "forward.trace=$T/in.txt" --channel-log "$T/in.txt"
 check "  the trace kept" cmp -s "$TRACE" "$T/in.txt"
+
+# each side its own rate: the slave's local loop N times a tick
+expect_exit 0 "slave.rate = run.rate" "$POPC" run "$WALL" -q --set run.duration=2 --set slave.rate=1000 --log "$T/rate1.csv"
+check "  today's rows, bit for bit" cmp -s <(rows "$T/ticks.csv") <(rows "$T/rate1.csv")
+check "  slave.rate written, under [slave]" sh -c "grep -A8 -x '# \[slave\]' '$T/rate1.csv' | grep -qx '# rate = 1000'"
+for n in 4 10; do
+	expect_exit 0 "slave.rate = $n x run.rate, 200 ms round trip" "$POPC" run "$WALL" -q --set run.duration=2 \
+		--set slave.rate=${n}000 --log "$T/rate$n.csv"
+	check "  other rows (the slave steps T / $n)" bash -c "! cmp -s <(grep -v '^#' '$T/ticks.csv') <(grep -v '^#' '$T/rate$n.csv')"
+	expect_exit 0 "  energy --check: both ports bit for bit, the two-port condition" "$ANALYZE" energy --check "$T/rate$n.csv"
+	check "  no row differing, the condition never broken" grep -q "rows differing 0  two-port condition broken on 0 rows" "$T/out"
+done
+bad_case "a slave rate no whole multiple" "slave.rate = 1500 Hz is not a whole multiple of run.rate = 1000 Hz; allowed 0 (run.rate) or N x run.rate with N whole, 1 to 1000" slave.rate=1500
+bad_case "a slave slower than the master" "slave.rate = 500 Hz is not a whole multiple" slave.rate=500
 check_summary

@@ -28,6 +28,12 @@ void popc_admittance_config_from_scene(popc_admittance_config *c, const popc_sce
  * input, held over the period). */
 void popc_teleop_slave_plant_config_from_scene(popc_admittance_plant_config *c,
 					       const popc_scene *s, double x_origin_m);
+/* The slave's sub-ticks a tick, N = slave.rate / run.rate (1 when slave.rate
+ * is 0): its plant steps T / N (docs/TELEOPERATION.md, "Each side its own
+ * rate"); 0 when slave.rate is no whole multiple within 1e-9 or N is beyond
+ * POPC_SLAVE_MAX_SUBSTEPS. */
+#define POPC_SLAVE_MAX_SUBSTEPS 1000
+int popc_scene_slave_substeps(const popc_scene *s);
 /* One direction of a teleoperation scene's channel, [forward] or [backward]. */
 void popc_channel_config_from_scene(popc_channel_config *c, const popc_scene_channel *dir);
 void popc_admittance_plant_config_from_scene(popc_admittance_plant_config *c, const popc_scene *s,

@@ -99,6 +99,7 @@ typedef struct popc_scene {
 	double slave_servo_stiffness_Npm, slave_servo_damping_Nspm;
 	double slave_force_resolution_N;
 	popc_scene_channel fwd, bwd;
+	double slave_rate_Hz;                /* 0: run.rate; else N x run.rate (written when set) */
 	/* [integrator] */
 	popc_integrator integrator;
 	int substeps;
