@@ -8,7 +8,6 @@
 #include <string.h>
 #include <sys/types.h>
 
-#include "popc/scene/from_scene.h"
 #include "popc/util/parse.h"
 #include "popc/util/text.h"
 
@@ -201,20 +200,4 @@ void popc_delay_trace_free(popc_delay_trace *t)
 	free(t->ticks);
 	t->ticks = NULL;
 	t->n = 0;
-}
-
-int popc_channel_config_load(popc_channel_config *c, const popc_scene *s,
-			     const popc_scene_channel *dir, const char *name, popc_delay_trace *trace,
-			     popc_error *err)
-{
-	memset(trace, 0, sizeof *trace);
-	popc_channel_config_from_scene(c, dir);
-	int st = popc_scene_channel_ticks(s, dir, name, &c->delay_ticks, &c->jitter_ticks, err);
-	if (st || !dir->trace[0])
-		return st;
-	if ((st = popc_delay_trace_load(dir->trace, s->rate_Hz, trace, err)) != 0)
-		return st;
-	c->trace_ticks = trace->ticks;
-	c->n_trace = trace->n;
-	return 0;
 }

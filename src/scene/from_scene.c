@@ -8,6 +8,7 @@
 #include <string.h>
 #include <sys/types.h>
 
+#include "popc/scene/delay_trace.h"
 #include "popc/util/parse.h"
 #include "popc/util/text.h"
 
@@ -105,16 +106,6 @@ void popc_teleop_slave_plant_config_from_scene(popc_admittance_plant_config *c,
 	c->x_origin_m = x_origin_m;
 }
 
-int popc_scene_slave_substeps(const popc_scene *s)
-{
-	if (s->slave_rate_Hz == 0.0)
-		return 1;
-	const double r = s->slave_rate_Hz / s->rate_Hz, n = nearbyint(r);
-	if (!(fabs(r - n) <= 1e-9 * n) || n < 1.0 || n > POPC_SLAVE_MAX_SUBSTEPS)
-		return 0;
-	return (int)n;
-}
-
 void popc_channel_config_from_scene(popc_channel_config *c, const popc_scene_channel *dir)
 {
 	memset(c, 0, sizeof *c);
@@ -124,6 +115,23 @@ void popc_channel_config_from_scene(popc_channel_config *c, const popc_scene_cha
 	c->in_order = dir->in_order;
 	c->seed = (uint64_t)dir->seed;
 	c->jitter_walk = dir->jitter_model; /* delay_trace.h converts delay_s and reads trace */
+}
+
+/* delay_trace.h does the seconds and reads the trace */
+int popc_channel_config_load(popc_channel_config *c, const popc_scene *s,
+			     const popc_scene_channel *dir, const char *name, popc_delay_trace *trace,
+			     popc_error *err)
+{
+	memset(trace, 0, sizeof *trace);
+	popc_channel_config_from_scene(c, dir);
+	int st = popc_scene_channel_ticks(s, dir, name, &c->delay_ticks, &c->jitter_ticks, err);
+	if (st || !dir->trace[0])
+		return st;
+	if ((st = popc_delay_trace_load(dir->trace, s->rate_Hz, trace, err)) != 0)
+		return st;
+	c->trace_ticks = trace->ticks;
+	c->n_trace = trace->n;
+	return 0;
 }
 
 /* The keys behind each popc_plant_config field, as the two adapters above sum

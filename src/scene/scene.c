@@ -14,7 +14,6 @@
 
 #include "popc/scene/data_path.h"
 #include "popc/scene/delay_trace.h"
-#include "popc/scene/from_scene.h"
 #include "popc/scene/ini_lines.h"
 #include "popc/util/numfmt.h"
 #include "popc/util/parse.h"
@@ -1147,4 +1146,14 @@ long long popc_scene_ticks(const popc_scene *s)
 {
 	/* round, so that 5 s at 1 kHz is 5000 ticks despite 5 * 1000 rounding */
 	return llround(s->duration_s * s->rate_Hz);
+}
+
+int popc_scene_slave_substeps(const popc_scene *s)
+{
+	if (s->slave_rate_Hz == 0.0)
+		return 1;
+	const double r = s->slave_rate_Hz / s->rate_Hz, n = nearbyint(r);
+	if (!(fabs(r - n) <= 1e-9 * n) || n < 1.0 || n > POPC_SLAVE_MAX_SUBSTEPS)
+		return 0;
+	return (int)n;
 }

@@ -50,11 +50,4 @@ void popc_delay_trace_free(popc_delay_trace *t);
 int popc_scene_channel_ticks(const popc_scene *s, const popc_scene_channel *dir, const char *name,
 			     int *delay_ticks, int *jitter_ticks, popc_error *err);
 
-/* The channel of one direction as popc_channel_config_from_scene, its delays
- * in seconds converted and its trace read into *trace (free it with
- * popc_delay_trace_free after popc_channel_init, which copies it). */
-int popc_channel_config_load(popc_channel_config *c, const popc_scene *s,
-			     const popc_scene_channel *dir, const char *name, popc_delay_trace *trace,
-			     popc_error *err);
-
 #endif

@@ -13,6 +13,7 @@
 #include "popc/core/environment.h"
 #include "popc/core/intent.h"
 #include "popc/core/plant.h"
+#include "popc/scene/delay_trace.h"
 #include "popc/scene/scene.h"
 #include "popc/util/error.h"
 
@@ -28,14 +29,14 @@ void popc_admittance_config_from_scene(popc_admittance_config *c, const popc_sce
  * input, held over the period). */
 void popc_teleop_slave_plant_config_from_scene(popc_admittance_plant_config *c,
 					       const popc_scene *s, double x_origin_m);
-/* The slave's sub-ticks a tick, N = slave.rate / run.rate (1 when slave.rate
- * is 0): its plant steps T / N (docs/TELEOPERATION.md, "Each side its own
- * rate"); 0 when slave.rate is no whole multiple within 1e-9 or N is beyond
- * POPC_SLAVE_MAX_SUBSTEPS. */
-#define POPC_SLAVE_MAX_SUBSTEPS 1000
-int popc_scene_slave_substeps(const popc_scene *s);
 /* One direction of a teleoperation scene's channel, [forward] or [backward]. */
 void popc_channel_config_from_scene(popc_channel_config *c, const popc_scene_channel *dir);
+/* The same, its delays in seconds converted and its trace read into *trace
+ * (delay_trace.h; free it with popc_delay_trace_free after
+ * popc_channel_init, which copies it). */
+int popc_channel_config_load(popc_channel_config *c, const popc_scene *s,
+			     const popc_scene_channel *dir, const char *name, popc_delay_trace *trace,
+			     popc_error *err);
 void popc_admittance_plant_config_from_scene(popc_admittance_plant_config *c, const popc_scene *s,
 					     double x_origin_m);
 

@@ -183,6 +183,13 @@ int popc_scene_to_text(const popc_scene *s, char **text, size_t *len, popc_error
 double popc_scene_period_s(const popc_scene *s);
 long long popc_scene_ticks(const popc_scene *s);
 
+/* The slave's sub-ticks a tick, N = slave.rate / run.rate (1 when slave.rate
+ * is 0): its plant steps T / N (docs/TELEOPERATION.md, "Each side its own
+ * rate"); 0 when slave.rate is no whole multiple within 1e-9 or N is beyond
+ * POPC_SLAVE_MAX_SUBSTEPS. */
+#define POPC_SLAVE_MAX_SUBSTEPS 1000
+int popc_scene_slave_substeps(const popc_scene *s);
+
 /* Key reference for --help and the README: one line per key with its unit,
  * default and allowed range. */
 void popc_scene_print_keys(FILE *f);
