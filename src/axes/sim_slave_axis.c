@@ -36,8 +36,9 @@ typedef struct slave_axis {
 	popc_plant_state st;  /* y = x - x0, v */
 	double x0_m, x_cmd_m;
 	double f_s_N;         /* the environment's force on the slave, held over the period */
-	double period_s, delta_m, diverged_m;
-	long long k;
+	double period_s, delta_m, diverged_m; /* period_s: the sub-tick's, T / n_sub */
+	int n_sub;            /* sub-ticks a tick (slave.rate / run.rate; 1: none) */
+	long long k;          /* sub-ticks so far */
 } slave_axis;
 
 static int slave_start(popc_axis *a, popc_error *err)
@@ -83,12 +84,23 @@ static int slave_exchange(popc_axis *a, double v_c_mps, popc_axis_sample *next_o
 			  popc_error *err)
 {
 	slave_axis *s = a->priv;
-	const popc_plant_input held = {.u0_N = s->f_s_N};
-	popc_plant_input u;
-	popc_admittance_plant_input(&s->plant, &held, s->x_cmd_m, v_c_mps, 0.0, &u);
-	popc_plant_step(&s->plant.plant, &s->st, &u);
-	s->k++;
-	s->x_cmd_m += v_c_mps * s->period_s;
+	/* slave.rate = n_sub x run.rate: the velocity command held over the
+	 * tick, the contact force evaluated and held, the position command
+	 * advanced and the plant stepped each sub-tick of T / n_sub; the sample
+	 * is the last sub-tick's, the next tick's (n_sub = 1: one step of T) */
+	for (int j = 0; j < s->n_sub; j++) {
+		if (j > 0) {
+			int st = fill_sample(s, next_out, err);
+			if (st)
+				return st;
+		}
+		const popc_plant_input held = {.u0_N = s->f_s_N};
+		popc_plant_input u;
+		popc_admittance_plant_input(&s->plant, &held, s->x_cmd_m, v_c_mps, 0.0, &u);
+		popc_plant_step(&s->plant.plant, &s->st, &u);
+		s->k++;
+		s->x_cmd_m += v_c_mps * s->period_s;
+	}
 	return fill_sample(s, next_out, err);
 }
 
@@ -125,7 +137,10 @@ int popc_sim_slave_axis_create(popc_axis **out, const popc_scene *sc, double x0_
 		free(s);
 		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
 	}
-	s->period_s = popc_scene_period_s(sc);
+	s->n_sub = popc_scene_slave_substeps(sc);
+	if (s->n_sub < 1)
+		s->n_sub = 1; /* popc_scene_validate refuses such a slave.rate */
+	s->period_s = popc_scene_period_s(sc) / (double)s->n_sub;
 	s->delta_m = sc->enc_resolution_m;
 	s->x0_m = x0_m;
 	s->x_cmd_m = x0_m;

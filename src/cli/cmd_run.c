@@ -52,7 +52,9 @@ static void usage(FILE *f)
 	      "  --free-run               modbus: no deadlines, each tick as soon as the last\n"
 	      "                           is done (lockstep dry runs against popc-servo-sim)\n"
 	      "  --rt                     modbus: try SCHED_FIFO and mlockall (notes if denied)\n"
-	      "  -q, --quiet              no summary and no progress line on standard error\n"
+	      "  --channel-log FILE       teleoperation: one row per packet event (sent, lost,\n"
+	      "                           delivered, stale) of both channels to FILE\n"
+	      "                           (docs/TELEOPERATION.md)\n"	      "  -q, --quiet              no summary and no progress line on standard error\n"
 	      "  -h, --help               this help\n"
 	      "\n"
 	      "A relative path (operator.table, axis.map) is relative to where it is written:\n"
@@ -74,7 +76,7 @@ static void usage(FILE *f)
 }
 
 enum { OPT_SET = 256, OPT_VARIANT, OPT_LOG, OPT_SUMMARY, OPT_SUMMARY_FORMAT, OPT_AXIS, OPT_MAP,
-       OPT_CONNECT, OPT_FREE_RUN, OPT_RT };
+       OPT_CONNECT, OPT_FREE_RUN, OPT_RT, OPT_CHANNEL_LOG };
 
 static const popc_option run_options[] = {
 	{"set", 0, OPT_SET, "KEY=VALUE"},
@@ -87,6 +89,7 @@ static const popc_option run_options[] = {
 	{"connect", 0, OPT_CONNECT, "URI"},
 	{"free-run", 0, OPT_FREE_RUN, NULL},
 	{"rt", 0, OPT_RT, NULL},
+	{"channel-log", 0, OPT_CHANNEL_LOG, "FILE"},
 	{"quiet", 'q', 'q', NULL},
 	{"help", 'h', 'h', NULL},
 	POPC_OPTION_END,
@@ -244,8 +247,10 @@ static int write_summary_file(FILE *f, int json, const popc_run_summary *sum,
  * that does not exist yet is no input. Returns 0, or -1 after saying which
  * option names which file. */
 static int refuse_overwriting_inputs(const popc_scene *s, const char *scene_path,
-				     const char *log_path, const char *summary_path)
+				     const char *log_path, const char *summary_path,
+				     const char *channel_log_path)
 {
+	const int tele = s->tele_arch != POPC_TELEOP_OFF;
 	const struct {
 		const char *what, *path;
 	} inputs[] = {
@@ -253,10 +258,13 @@ static int refuse_overwriting_inputs(const popc_scene *s, const char *scene_path
 		{"the operator table (operator.table)",
 		 s->intent == POPC_INTENT_TABLE ? s->op_table : NULL},
 		{"the register map (axis.map)", strcmp(s->axis, "modbus") == 0 ? s->axis_map : NULL},
+		{"the forward delay trace (forward.trace)", tele ? s->fwd.trace : NULL},
+		{"the backward delay trace (backward.trace)", tele ? s->bwd.trace : NULL},
 	};
 	const struct {
 		const char *option, *path;
-	} outputs[] = {{"--log", log_path}, {"--summary", summary_path}};
+	} outputs[] = {{"--log", log_path}, {"--summary", summary_path},
+		       {"--channel-log", channel_log_path}};
 	for (size_t o = 0; o < sizeof outputs / sizeof outputs[0]; o++)
 		for (size_t i = 0; i < sizeof inputs / sizeof inputs[0]; i++)
 			if (popc_same_file(outputs[o].path, inputs[i].path)) {
@@ -276,6 +284,17 @@ static int refuse_overwriting_inputs(const popc_scene *s, const char *scene_path
 			log_path, summary_path);
 		return -1;
 	}
+	/* the channel log beside the other two outputs */
+	const char *other[2] = {log_path, summary_path}, *other_opt[2] = {"--log", "--summary"};
+	for (int i = 0; channel_log_path && i < 2; i++)
+		if (other[i] && (strcmp(other[i], channel_log_path) == 0 ||
+				 popc_same_file(other[i], channel_log_path))) {
+			fprintf(stderr,
+				"popc run: --channel-log %s and %s %s are the same file: give each its "
+				"own\n",
+				channel_log_path, other_opt[i], other[i]);
+			return -1;
+		}
 	return 0;
 }
 
@@ -399,7 +418,7 @@ int popc_cmd_run(int argc, char **argv)
 	popc_cli_getopt_tables(popc_cli_run_opts, opts, shorts);
 	char **sets = NULL;
 	int n_sets = 0, quiet = 0, c;
-	const char *variant = NULL, *log_path = NULL, *summary_path = NULL;
+	const char *variant = NULL, *log_path = NULL, *summary_path = NULL, *channel_log_path = NULL;
 	int summary_json = 0;
 	const char *axis_opt[3] = {NULL, NULL, NULL}; /* --axis, --map, --connect */
 	/* a signal ends a real axis' retries and waits too */
@@ -430,6 +449,7 @@ int popc_cmd_run(int argc, char **argv)
 		case OPT_CONNECT: axis_opt[2] = optarg; break;
 		case OPT_FREE_RUN: axis_create.free_run = 1; break;
 		case OPT_RT: axis_create.realtime = 1; break;
+		case OPT_CHANNEL_LOG: channel_log_path = optarg; break;
 		case 'q': quiet = 1; break;
 		case 'h': usage(stdout); free(sets); return 0;
 		default: popc_option_hint(argv[0], opts, argc, argv); free(sets); return POPC_EXIT_USAGE;
@@ -470,7 +490,16 @@ int popc_cmd_run(int argc, char **argv)
 	free(sets);
 	if (st)
 		return popc_cli_fail("run", st, &err);
-	if (refuse_overwriting_inputs(&s, argv[optind], log_path, summary_path) != 0 ||
+	if (channel_log_path && (s.tele_arch == POPC_TELEOP_OFF || strcmp(channel_log_path, "-") == 0)) {
+		fprintf(stderr,
+			"popc run: --channel-log %s: %s\n", channel_log_path,
+			s.tele_arch == POPC_TELEOP_OFF
+				? "only for a teleoperation scene (teleop.architecture is off: the "
+				  "scene has no channel)"
+				: "give a file (standard output is for --log - or --summary -)");
+		return POPC_EXIT_USAGE;
+	}
+	if (refuse_overwriting_inputs(&s, argv[optind], log_path, summary_path, channel_log_path) != 0 ||
 	    refuse_mixed_summary(summary_path, summary_json,
 				 s.causality == POPC_CAUSALITY_ADMITTANCE) != 0)
 		return POPC_EXIT_USAGE;
@@ -516,6 +545,14 @@ int popc_cmd_run(int argc, char **argv)
 	/* -q without --summary: nobody reads the summary's metrics (run.h) */
 	popc_run_options ro = {.log = NULL, .stop_flag = &popc_cli_stop,
 			       .summary_unread = quiet && !summary_path};
+	if (channel_log_path && !(ro.channel_log = fopen(channel_log_path, "w"))) {
+		st = popc_error_set(&err, POPC_ERR_IO, "%s: cannot open the channel log: %s",
+				    channel_log_path, strerror(errno));
+		if (summary && summary != stdout)
+			fclose(summary);
+		popc_axis_destroy(&axis);
+		return popc_cli_fail("run", st, &err);
+	}
 	if (log_path) {
 		st = popc_log_open(&log, log_path, popc_run_log_columns(&s, axis), &err);
 		/* which build, when, what command: the header says how to make
@@ -532,6 +569,8 @@ int popc_cmd_run(int argc, char **argv)
 				if (summary_created)
 					remove(summary_path);
 			}
+			if (ro.channel_log)
+				fclose(ro.channel_log);
 			popc_axis_destroy(&axis);
 			return popc_cli_fail("run", st, &err);
 		}
@@ -554,6 +593,9 @@ int popc_cmd_run(int argc, char **argv)
 	progress_end(&prog, run_st == 0 && !popc_cli_stop);
 	popc_error cerr;
 	int close_st = log_path ? popc_log_close(&log, &cerr) : 0;
+	if (ro.channel_log && (ferror(ro.channel_log) | fclose(ro.channel_log)) && !close_st)
+		close_st = popc_error_set(&cerr, POPC_ERR_IO, "%s: cannot write the channel log",
+					  channel_log_path);
 	/* a run that failed before its first tick (a drive that could not be
 	 * reached) has no statistics: ten lines of zeros would hide the error,
 	 * which popc_cli_fail prints below, with what to check */

@@ -6,6 +6,29 @@
 
 #include "popc/core/random.h"
 
+const char *const popc_channel_event_names[] = {"sent", "lost", "delivered", "stale", NULL};
+
+static void emit(popc_channel *ch, long long k, long long seq, popc_channel_event ev,
+		 long long delay)
+{
+	if (ch->on_event)
+		ch->on_event(ch->event_user, k, seq, ev, delay);
+}
+
+/* jitter_walk's next jitter: the first uniform in [0, J], then +-1 or 0
+ * (one draw in {0, 1, 2}), held within [0, J] */
+static uint32_t walk_step(popc_channel *ch)
+{
+	const int J = ch->c.jitter_ticks;
+	if (ch->walk_ticks < 0) {
+		ch->walk_ticks = (int)popc_uniform_int(&ch->state, (uint32_t)J);
+		return (uint32_t)ch->walk_ticks;
+	}
+	int j = ch->walk_ticks + (int)popc_uniform_int(&ch->state, 2u) - 1;
+	ch->walk_ticks = j < 0 ? 0 : j > J ? J : j;
+	return (uint32_t)ch->walk_ticks;
+}
+
 /* the delay (ticks) packet seq takes, given its jitter draw */
 static int delay_of(const popc_channel *ch, long long seq, uint32_t jitter_draw)
 {
@@ -54,6 +77,7 @@ int popc_channel_init(popc_channel *ch, const popc_channel_config *c, popc_error
 	ch->state = c->seed;
 	ch->last_sent = -1;
 	ch->last_arrive = -1;
+	ch->walk_ticks = -1;
 	ch->slot = calloc((size_t)hi + 1u, sizeof *ch->slot);
 	if (c->n_trace > 0)
 		ch->trace = malloc((size_t)c->n_trace * sizeof *ch->trace);
@@ -82,15 +106,21 @@ int popc_channel_send(popc_channel *ch, long long k, const popc_packet *p)
 	 * only for what the channel has: a lossless constant channel draws none) */
 	const int lost = ch->c.loss > 0.0 && popc_uniform(&ch->state) < ch->c.loss;
 	const uint32_t jitter =
-		ch->c.jitter_ticks > 0 ? popc_uniform_int(&ch->state, (uint32_t)ch->c.jitter_ticks) : 0;
+		ch->c.jitter_ticks <= 0 ? 0
+		: ch->c.jitter_walk    ? walk_step(ch)
+				       : popc_uniform_int(&ch->state, (uint32_t)ch->c.jitter_ticks);
 	ch->last_sent = k;
 	ch->stats.sent++;
 	popc_channel_slot *s = &ch->slot[k % (ch->max_delay + 1)];
-	if (s->pending) /* not received in time: receive was not called every tick */
+	if (s->pending) { /* not received in time: receive was not called every tick */
 		ch->stats.lost++;
+		emit(ch, k, s->p.seq, POPC_CHANNEL_LOST, -1);
+	}
 	s->pending = 0;
 	if (lost) {
 		ch->stats.lost++;
+		emit(ch, k, k, POPC_CHANNEL_SENT, -1);
+		emit(ch, k, k, POPC_CHANNEL_LOST, -1);
 		return 1;
 	}
 	long long arrive = k + delay_of(ch, k, jitter);
@@ -104,6 +134,7 @@ int popc_channel_send(popc_channel *ch, long long k, const popc_packet *p)
 	s->p.seq = k;
 	s->arrive = arrive;
 	s->pending = 1;
+	emit(ch, k, k, POPC_CHANNEL_SENT, arrive - k);
 	return 0;
 }
 
@@ -127,11 +158,21 @@ int popc_channel_receive(popc_channel *ch, long long k, popc_packet *held, int *
 		if (s->p.seq > held->seq) {
 			*held = s->p;
 			newer++;
+			emit(ch, k, seq, POPC_CHANNEL_DELIVERED, k - seq);
 		} else {
 			ch->stats.stale++;
+			emit(ch, k, seq, POPC_CHANNEL_STALE, k - seq);
 		}
 	}
 	if (fresh)
 		*fresh = newer;
 	return arrived;
+}
+
+long long popc_channel_in_flight(const popc_channel *ch)
+{
+	long long n = 0;
+	for (int i = 0; ch->slot && i <= ch->max_delay; i++)
+		n += ch->slot[i].pending != 0;
+	return n;
 }

@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include "popc/log/log.h"
+#include "popc/scene/delay_trace.h"
 #include "popc/util/numfmt.h"
 #include "popc_config.h"
 
@@ -205,6 +206,18 @@ int popc_log_write_header(popc_log_writer *w, const char *source, const popc_sce
 							  : popc_variant_name(s->variant));
 	if (extra && extra[0])
 		fputs(extra, m);
+	/* a teleoperation channel's trace: its content's digest beside the path
+	 * the scene names, so that a run is reproducible (delay_trace.h) */
+	const popc_scene_channel *dir[2] = {&s->fwd, &s->bwd};
+	for (int i = 0; s->tele_arch != POPC_TELEOP_OFF && i < 2; i++) {
+		popc_delay_trace tr;
+		popc_error terr;
+		if (dir[i]->trace[0] && popc_delay_trace_load(dir[i]->trace, s->rate_Hz, &tr, &terr) == 0) {
+			fprintf(m, "# %s_trace = fnv1a-%016" PRIx64 " (%d delays)\n",
+				i ? "backward" : "forward", tr.fnv1a, tr.n);
+			popc_delay_trace_free(&tr);
+		}
+	}
 	popc_scene_write(s, m, "# ");
 	char names[POPC_LOG_NAMES_LINE_MAX];
 	popc_log_column_names(w->columns, names, sizeof names);

@@ -12,6 +12,7 @@
  * channel of no delay and no loss, each side holds the other's packet of
  * this tick: the same rows. */
 #include "run_teleop.h"
+#include "channel_log.h"
 #include "run_stop.h"
 
 #include <math.h>
@@ -22,6 +23,7 @@
 #include "popc/core/encoder.h"
 #include "popc/core/port_energy.h"
 #include "popc/core/teleop.h"
+#include "popc/scene/delay_trace.h"
 #include "popc/scene/from_scene.h"
 #include "popc/util/clock.h"
 
@@ -30,22 +32,38 @@ typedef struct link {
 	int direct;
 	popc_channel ch;
 	popc_packet held;
+	popc_channel_log_dir *log; /* the channel log (NULL, or f NULL: none) */
 } link;
 
-static int link_init(link *l, const popc_scene *s, const popc_scene_channel *dir, popc_error *err)
+/* name: "forward" or "backward", for messages and the channel log; chlog
+ * (may be NULL) the channel log's file */
+static int link_init(link *l, const popc_scene *s, const popc_scene_channel *dir, const char *name,
+		     popc_channel_log_dir *chlog, popc_error *err)
 {
 	memset(l, 0, sizeof *l);
 	l->held.seq = -1;
 	l->direct = s->tele_link == POPC_TELEOP_LINK_DIRECT;
+	l->log = chlog;
 	if (l->direct)
 		return 0;
 	popc_channel_config c;
-	popc_channel_config_from_scene(&c, dir);
-	return popc_channel_init(&l->ch, &c, err);
+	popc_delay_trace trace; /* delays in seconds, a trace file: delay_trace.h */
+	int st = popc_channel_config_load(&c, s, dir, name, &trace, err);
+	if (!st)
+		st = popc_channel_init(&l->ch, &c, err);
+	popc_delay_trace_free(&trace); /* init copied it */
+	if (!st && chlog && chlog->f) {
+		l->ch.on_event = popc_channel_log_event;
+		l->ch.event_user = chlog;
+	}
+	return st;
 }
 
 static void link_free(link *l)
 {
+	if (l->log && l->log->f) /* what is still travelling when the run ends */
+		popc_channel_log_in_flight(l->log->f, l->log->name,
+					   l->direct ? 0 : popc_channel_in_flight(&l->ch));
 	if (!l->direct)
 		popc_channel_free(&l->ch);
 }
@@ -57,6 +75,10 @@ static unsigned link_tick(link *l, long long k, const popc_packet *p, unsigned l
 	if (l->direct) {
 		l->held = *p;
 		l->held.seq = k;
+		if (l->log && l->log->f) { /* the direct link: sent, delivered at once */
+			popc_channel_log_event(l->log, k, k, POPC_CHANNEL_SENT, 0);
+			popc_channel_log_event(l->log, k, k, POPC_CHANNEL_DELIVERED, 0);
+		}
 		return fresh_flag;
 	}
 	unsigned f = popc_channel_send(&l->ch, k, p) ? lost_flag : 0u;
@@ -141,9 +163,13 @@ int popc_run_teleop(const popc_scene *s, popc_axis *axis, const popc_run_options
 		why = st == POPC_ERR_INTERRUPTED ? "signal" : "axis start failed";
 	if (!st && (st = slave->ops->sample(slave, &ss, err)) != 0)
 		why = popc_run_sample_failure(st);
-	if (!st && (st = link_init(&fwd, s, &s->fwd, err)) != 0)
+	popc_channel_log_dir chlog[2] = {{opt ? opt->channel_log : NULL, "forward"},
+					 {opt ? opt->channel_log : NULL, "backward"}};
+	if (chlog[0].f)
+		popc_channel_log_header(chlog[0].f, s);
+	if (!st && (st = link_init(&fwd, s, &s->fwd, "forward", &chlog[0], err)) != 0)
 		why = "channel create failed";
-	if (!st && (st = link_init(&bwd, s, &s->bwd, err)) != 0)
+	if (!st && (st = link_init(&bwd, s, &s->bwd, "backward", &chlog[1], err)) != 0)
 		why = "channel create failed";
 
 	popc_tdpa_side side_m, side_s;

@@ -13,7 +13,7 @@
 
 const char *popc_data_kind_dir(popc_data_kind kind)
 {
-	return kind == POPC_DATA_DRIVES ? "drives" : "scenes";
+	return kind == POPC_DATA_DRIVES ? "drives" : kind == POPC_DATA_TRACES ? "traces" : "scenes";
 }
 
 /* The i-th data directory into out (0 when there is none): the data path's

@@ -8,6 +8,7 @@
 #include <string.h>
 #include <sys/types.h>
 
+#include "popc/scene/delay_trace.h"
 #include "popc/util/parse.h"
 #include "popc/util/text.h"
 
@@ -100,7 +101,8 @@ void popc_teleop_slave_plant_config_from_scene(popc_admittance_plant_config *c,
 	c->servo_damping_Nspm = s->slave_servo_damping_Nspm;
 	c->method = s->integrator;
 	c->substeps = s->substeps;
-	c->period_s = popc_scene_period_s(s);
+	const int n = popc_scene_slave_substeps(s);
+	c->period_s = popc_scene_period_s(s) / (double)(n > 0 ? n : 1); /* T / 1 is T, bit for bit */
 	c->x_origin_m = x_origin_m;
 }
 
@@ -112,6 +114,24 @@ void popc_channel_config_from_scene(popc_channel_config *c, const popc_scene_cha
 	c->loss = dir->loss;
 	c->in_order = dir->in_order;
 	c->seed = (uint64_t)dir->seed;
+	c->jitter_walk = dir->jitter_model; /* delay_trace.h converts delay_s and reads trace */
+}
+
+/* delay_trace.h does the seconds and reads the trace */
+int popc_channel_config_load(popc_channel_config *c, const popc_scene *s,
+			     const popc_scene_channel *dir, const char *name, popc_delay_trace *trace,
+			     popc_error *err)
+{
+	memset(trace, 0, sizeof *trace);
+	popc_channel_config_from_scene(c, dir);
+	int st = popc_scene_channel_ticks(s, dir, name, &c->delay_ticks, &c->jitter_ticks, err);
+	if (st || !dir->trace[0])
+		return st;
+	if ((st = popc_delay_trace_load(dir->trace, s->rate_Hz, trace, err)) != 0)
+		return st;
+	c->trace_ticks = trace->ticks;
+	c->n_trace = trace->n;
+	return 0;
 }
 
 /* The keys behind each popc_plant_config field, as the two adapters above sum

@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "popc/scene/data_path.h"
+#include "popc/scene/delay_trace.h"
 #include "popc/scene/ini_lines.h"
 #include "popc/util/numfmt.h"
 #include "popc/util/parse.h"
@@ -39,14 +40,18 @@ typedef struct scene_key {
 				   * a key of energy-bounding, written only when that is the
 				   * variant, so that every other variant's log keeps its bytes;
 				   * TELEOP_ONLY: only in a scene with teleop.architecture
-				   * not off (every one-port scene keeps its bytes) */
+				   * not off (every one-port scene keeps its bytes);
+				   * TELEOP_USED: a teleoperation key written only when
+				   * not at its default (0, the first name, empty), so
+				   * every teleoperation log before it keeps its bytes */
 } scene_key;
 
 /* declared_only's values beside 0 (always written) and 1 (written when not 0) */
-enum { ADMITTANCE_ONLY = 2, WRITTEN_FOR_EB = 3, TELEOP_ONLY = 4 };
+enum { ADMITTANCE_ONLY = 2, WRITTEN_FOR_EB = 3, TELEOP_ONLY = 4, TELEOP_USED = 5 };
 
 static const char *const axis_names[] = {"sim", "modbus", NULL};
 static const char *const off_on_names[] = {"off", "on", NULL};
+static const char *const jitter_model_names[] = {"uniform", "walk", NULL};
 
 #define OFF(field) offsetof(popc_scene, field)
 #define NUM(sec, k, field, def, lo, hi, open, unit, help) \
@@ -70,7 +75,19 @@ static const char *const off_on_names[] = {"off", "on", NULL};
 	{sec, "in_order", KEY_ENUM, OFF(dir.in_order), 0, 0, 0, "", off_on_names,                   \
 	 "on: first sent, first delivered (TCP); off: jitter reorders (UDP)", "on", TELEOP_ONLY},  \
 	INT_TELE(sec, "seed", dir.seed, seed0, 0, 2147483647.0, "",                                  \
-		 "seed of the loss and jitter draws (splitmix64)")
+		 "seed of the loss and jitter draws (splitmix64)"),                                    \
+	{sec, "delay_s", KEY_DOUBLE, OFF(dir.delay_s), 0, 100, 0, "s", NULL,                       \
+	 "constant delay in seconds, a whole number of periods (instead of delay_ticks)", "0",      \
+	 TELEOP_USED},                                                                             \
+	{sec, "jitter_s", KEY_DOUBLE, OFF(dir.jitter_s), 0, 100, 0, "s", NULL,                     \
+	 "jitter in seconds, a whole number of periods (instead of jitter_ticks)", "0",            \
+	 TELEOP_USED},                                                                             \
+	{sec, "jitter_model", KEY_ENUM, OFF(dir.jitter_model), 0, 0, 0, "", jitter_model_names,    \
+	 "uniform: each packet's jitter drawn anew; walk: a random walk of +-1 tick a packet "    \
+	 "within [0, jitter]", "uniform", TELEOP_USED},                                             \
+	{sec, "trace", KEY_STRING, OFF(dir.trace), 0, 0, 0, "path", NULL,                          \
+	 "file of delays, one a packet, repeated (instead of the delay and jitter keys)", "",       \
+	 TELEOP_USED}
 
 static const scene_key scene_keys[] = {
 	NUM("run", "duration", duration_s, "5", 0, 1e7, 1, "s", "simulated time"),
@@ -186,6 +203,9 @@ static const scene_key scene_keys[] = {
 		 "servo velocity gain K_v"),
 	NUM_TELE("slave", "force_resolution", slave_force_resolution_N, "0.01", 0, 1e3, 1, "N",
 		 "force sensor resolution, N per count"),
+	{"slave", "rate", KEY_DOUBLE, OFF(slave_rate_Hz), 0, 1e9, 0, "Hz", NULL,
+	 "the slave's local loop rate, N x run.rate (N whole, 1 to 1000): contact, servo and "
+	 "plant in N sub-ticks a tick; 0: run.rate", "0", TELEOP_USED},
 	CHANNEL_KEYS("forward", fwd, "1"),
 	CHANNEL_KEYS("backward", bwd, "2"),
 
@@ -267,7 +287,8 @@ static const scene_key *find_key(const char *section, const char *key, int *sect
 	return NULL;
 }
 
-/* operator.table, axis.map: files, made absolute by resolve_relative() */
+/* operator.table, axis.map, forward.trace, backward.trace: files, made
+ * absolute by resolve_relative() */
 static int is_path_key(const scene_key *k)
 {
 	return k->type == KEY_STRING && strcmp(k->unit, "path") == 0;
@@ -275,6 +296,17 @@ static int is_path_key(const scene_key *k)
 
 static int resolve_relative(char *field, const char *scene_path, const char *key, int is_map,
 			    const char *data_path, popc_error *err);
+
+/* resolve_relative's is_map for path key k: 1 axis.map (drives/), 2 a
+ * channel's trace (traces/), 0 operator.table (never looked up) */
+static int path_lookup(const scene_key *k)
+{
+	if (k->offset == offsetof(popc_scene, axis_map))
+		return 1;
+	return k->offset == offsetof(popc_scene, fwd.trace) || k->offset == offsetof(popc_scene, bwd.trace)
+		       ? 2
+		       : 0;
+}
 
 static void describe_range(const scene_key *k, char *buf, size_t cap)
 {
@@ -522,8 +554,8 @@ static int set_found(popc_scene *s, const scene_key *k, const char *sec, const c
 	if (is_path_key(k))
 		set_who(who, sizeof who, option, sec, name);
 	if (!st && is_path_key(k))
-		st = resolve_relative((char *)s + k->offset, NULL, who,
-				      k->offset == offsetof(popc_scene, axis_map), s->data_path, err);
+		st = resolve_relative((char *)s + k->offset, NULL, who, path_lookup(k), s->data_path,
+				      err);
 	char why[160];
 	if (!st && is_path_key(k) && unwritable(k, (char *)s + k->offset, why, sizeof why))
 		st = popc_error_set(err, POPC_ERR_INVALID,
@@ -714,13 +746,13 @@ static int resolve_relative(char *field, const char *scene_path, const char *key
 	 * "cia402-lohi.ini") is an installed drive map (data_path.h). Found nowhere,
 	 * it stays relative as before: the map's reader then names the path, and
 	 * only when an axis.kind = modbus run reads it. */
-	if (is_map) {
+	if (is_map) { /* 1: a drive map, 2: a delay trace (path_lookup) */
 		char dir[POPC_PATH_MAX] = "", found[POPC_PATH_MAX];
 		const char *slash = scene_path ? strrchr(scene_path, '/') : NULL;
 		if (slash)
 			snprintf(dir, sizeof dir, "%.*s", (int)(slash - scene_path), scene_path);
 		popc_error lookup_err;
-		if (popc_data_find(POPC_DATA_DRIVES, field, slash ? dir : NULL, data_path, found,
+		if (popc_data_find(is_map == 2 ? POPC_DATA_TRACES : POPC_DATA_DRIVES, field, slash ? dir : NULL, data_path, found,
 				   sizeof found, &lookup_err) == 1) {
 			memcpy(field, found, strlen(found) + 1);
 			return 0;
@@ -799,6 +831,14 @@ int popc_scene_load(popc_scene *s, const char *path, popc_error *err)
 		st = resolve_relative(s->op_table, path, "operator.table", 0, s->data_path, err);
 	if (!st && strcmp(map_before, s->axis_map) != 0)
 		st = resolve_relative(s->axis_map, path, "axis.map", 1, s->data_path, err);
+	/* a channel's trace: resolved when this file gave it */
+	for (size_t i = 0; !st && i < N_KEYS; i++) {
+		const scene_key *k = &scene_keys[i];
+		char name[80];
+		snprintf(name, sizeof name, "%s.%s", k->section, k->key);
+		if (is_path_key(k) && path_lookup(k) == 2 && c.seen_line[i])
+			st = resolve_relative((char *)s + k->offset, path, name, 2, s->data_path, err);
+	}
 	if (st)
 		return st;
 	/* resolved, a path must still be one a scene file can hold */
@@ -880,16 +920,42 @@ static int validate_teleop(const popc_scene *s, const char *src, popc_error *err
 				      "%s: slave.servo = position needs slave.servo_stiffness > 0 N/m (K_p; "
 				      "or slave.servo = velocity)",
 				      src);
+	if (popc_scene_slave_substeps(s) < 1)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: slave.rate = %g Hz is not a whole multiple of run.rate = %g "
+				      "Hz; allowed 0 (run.rate) or N x run.rate with N whole, 1 to %d",
+				      src, s->slave_rate_Hz, s->rate_Hz, POPC_SLAVE_MAX_SUBSTEPS);
 	const popc_scene_channel *dir[2] = {&s->fwd, &s->bwd};
 	const char *name[2] = {"forward", "backward"};
-	for (int i = 0; i < 2; i++)
-		if ((long long)dir[i]->delay_ticks + dir[i]->jitter_ticks > POPC_CHANNEL_MAX_DELAY_TICKS)
+	for (int i = 0; i < 2; i++) {
+		int delay, jitter; /* from the tick keys or the seconds keys (delay_trace.h) */
+		int st = popc_scene_channel_ticks(s, dir[i], name[i], &delay, &jitter, err);
+		if (st)
+			return st;
+		if ((long long)delay + jitter > POPC_CHANNEL_MAX_DELAY_TICKS)
 			return popc_error_set(err, POPC_ERR_INVALID,
 					      "%s: %s.delay_ticks + %s.jitter_ticks = %lld; allowed at "
 					      "most %d",
-					      src, name[i], name[i],
-					      (long long)dir[i]->delay_ticks + dir[i]->jitter_ticks,
+					      src, name[i], name[i], (long long)delay + jitter,
 					      POPC_CHANNEL_MAX_DELAY_TICKS);
+		if (dir[i]->jitter_model != 0 && jitter == 0)
+			return popc_error_set(err, POPC_ERR_INVALID,
+					      "%s: %s.jitter_model = walk needs %s.jitter_ticks (or "
+					      "jitter_s) > 0: the range it walks in",
+					      src, name[i], name[i]);
+		if (dir[i]->trace[0] && (delay || jitter || dir[i]->jitter_model))
+			return popc_error_set(err, POPC_ERR_INVALID,
+					      "%s: %s.trace and %s's delay (%d ticks), jitter (%d ticks) "
+					      "or jitter_model: give the trace, or the delay and jitter",
+					      src, name[i], name[i], delay, jitter);
+		/* the trace read now, so that a bad one is refused before any work
+		 * (exit 2), naming its file and line */
+		popc_delay_trace tr;
+		if (dir[i]->trace[0] && (st = popc_delay_trace_load(dir[i]->trace, s->rate_Hz, &tr, err)))
+			return st;
+		if (dir[i]->trace[0])
+			popc_delay_trace_free(&tr);
+	}
 	return 0;
 }
 
@@ -976,6 +1042,10 @@ static int key_written(const popc_scene *s, const scene_key *k)
 		return s->variant == POPC_VARIANT_ENERGY_BOUNDING;
 	if (k->declared_only == TELEOP_ONLY)
 		return s->tele_arch != POPC_TELEOP_OFF;
+	if (k->declared_only == TELEOP_USED && s->tele_arch == POPC_TELEOP_OFF)
+		return 0;
+	if (k->declared_only == TELEOP_USED && k->type == KEY_STRING)
+		return field[0] != '\0';
 	if (k->declared_only && k->type == KEY_ENUM)
 		return *(const int *)(const void *)field != 0;
 	if (k->declared_only)
@@ -1072,4 +1142,14 @@ long long popc_scene_ticks(const popc_scene *s)
 {
 	/* round, so that 5 s at 1 kHz is 5000 ticks despite 5 * 1000 rounding */
 	return llround(s->duration_s * s->rate_Hz);
+}
+
+int popc_scene_slave_substeps(const popc_scene *s)
+{
+	if (s->slave_rate_Hz == 0.0)
+		return 1;
+	const double r = s->slave_rate_Hz / s->rate_Hz, n = nearbyint(r);
+	if (!(fabs(r - n) <= 1e-9 * n) || n < 1.0 || n > POPC_SLAVE_MAX_SUBSTEPS)
+		return 0;
+	return (int)n;
 }

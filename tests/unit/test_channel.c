@@ -4,7 +4,9 @@
  * in time (reordered ones arrive stale); in order, none is stale and
  * arrivals keep their order; losses hold the last packet; the same seed
  * gives the same run and another seed another; a trace gives its delays;
- * a bad configuration is refused naming the parameter. Counting only: no
+ * a bad configuration is refused naming the parameter; every packet's
+ * events (sent, then lost, delivered, stale or in flight) add up, and a
+ * random walk of jitter steps by one tick at most. Counting only: no
  * clock. */
 #include <math.h>
 #include <setjmp.h>
@@ -231,6 +233,81 @@ static void test_refusals(void **state)
 	}
 }
 
+/* the events a channel reports (on_event), counted */
+typedef struct event_count {
+	long long n[4];
+	long long last_sent_seq, bad_order;
+	int last_delay, max_step, min_delay, max_delay;
+} event_count;
+
+static void count_event(void *user, long long k, long long seq, popc_channel_event ev,
+			long long delay)
+{
+	event_count *c = user;
+	c->n[ev]++;
+	if (ev == POPC_CHANNEL_SENT) {
+		if (seq != k || seq != c->last_sent_seq + 1)
+			c->bad_order++;
+		c->last_sent_seq = seq;
+		if (delay >= 0) {
+			if (c->last_delay >= 0 && abs((int)delay - c->last_delay) > c->max_step)
+				c->max_step = abs((int)delay - c->last_delay);
+			c->min_delay = delay < c->min_delay ? (int)delay : c->min_delay;
+			c->max_delay = delay > c->max_delay ? (int)delay : c->max_delay;
+		}
+		c->last_delay = (int)delay; /* -1 after a loss: the next step is not counted */
+	}
+	if ((ev == POPC_CHANNEL_DELIVERED || ev == POPC_CHANNEL_STALE) && delay != k - seq)
+		c->bad_order++;
+}
+
+/* Every packet is sent once and then lost, delivered, stale, or still in
+ * flight; the counts match the channel's stats; a random walk of jitter moves
+ * by at most one tick between consecutive packets and covers its range */
+static void test_events_and_walk(void **state)
+{
+	(void)state;
+	const struct {
+		popc_channel_config c;
+		int walk_lo, walk_hi; /* walk: the delays it must reach (0, 0: not a walk) */
+	} cases[] = {
+		{{.delay_ticks = 5, .jitter_ticks = 9, .loss = 0.2, .seed = 3}, 0, 0},
+		{{.delay_ticks = 5, .jitter_ticks = 9, .loss = 0.2, .in_order = 1, .seed = 4}, 0, 0},
+		{{.delay_ticks = 40, .jitter_ticks = 12, .seed = 5, .jitter_walk = 1}, 40, 52},
+		{{.delay_ticks = 2, .jitter_ticks = 3, .loss = 0.1, .seed = 6, .jitter_walk = 1}, 2, 5},
+	};
+	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+		popc_channel ch = open_channel(cases[i].c);
+		event_count c = {.last_sent_seq = -1, .last_delay = -1, .min_delay = 1 << 30};
+		ch.on_event = count_event;
+		ch.event_user = &c;
+		popc_packet held = {.seq = -1};
+		const long long n = 20000;
+		for (long long k = 0; k < n; k++) {
+			popc_packet p = packet_at(k);
+			popc_channel_send(&ch, k, &p);
+			popc_channel_receive(&ch, k, &held, NULL);
+		}
+		const long long in_flight = popc_channel_in_flight(&ch);
+		assert_int_equal(c.n[POPC_CHANNEL_SENT], n);
+		assert_int_equal(c.n[POPC_CHANNEL_SENT], c.n[POPC_CHANNEL_DELIVERED] +
+								 c.n[POPC_CHANNEL_STALE] +
+								 c.n[POPC_CHANNEL_LOST] + in_flight);
+		assert_int_equal(c.n[POPC_CHANNEL_LOST], ch.stats.lost);
+		assert_int_equal(c.n[POPC_CHANNEL_STALE], ch.stats.stale);
+		assert_int_equal(c.n[POPC_CHANNEL_DELIVERED] + c.n[POPC_CHANNEL_STALE],
+				 ch.stats.delivered);
+		assert_int_equal(c.bad_order, 0);
+		assert_true(in_flight <= ch.max_delay + 1);
+		if (cases[i].walk_hi) {
+			assert_int_equal(c.max_step, 1);
+			assert_int_equal(c.min_delay, cases[i].walk_lo);
+			assert_int_equal(c.max_delay, cases[i].walk_hi);
+		}
+		popc_channel_free(&ch);
+	}
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -241,6 +318,7 @@ int main(void)
 		cmocka_unit_test(test_seeded),
 		cmocka_unit_test(test_trace),
 		cmocka_unit_test(test_refusals),
+		cmocka_unit_test(test_events_and_walk),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -5,8 +5,9 @@
  * it for its delay and hands it over at the tick it arrives, or loses it.
  *
  *   - delay: a constant number of ticks, plus a whole number drawn uniformly
- *     in [0, jitter_ticks] for each packet, or a trace of delays in ticks
- *     (packet k takes trace[k mod n]);
+ *     in [0, jitter_ticks] for each packet (or walking in that range by +-1
+ *     tick a packet: jitter_walk), or a trace of delays in ticks (packet k
+ *     takes trace[k mod n]);
  *   - loss: each packet is lost with probability loss;
  *   - order: with in_order, a packet never arrives before one sent earlier
  *     (it waits for it, as over TCP); without, a packet that jitter delays
@@ -43,6 +44,9 @@ typedef struct popc_channel_config {
 	double loss;            /* probability a packet is lost, in [0, 1) */
 	int in_order;           /* 1: first sent, first delivered; 0: reordering */
 	uint64_t seed;
+	int jitter_walk;        /* 0: the jitter uniform anew a packet; 1: a bounded random
+				 * walk, j(k) = min(max(j(k-1) + s, 0), jitter_ticks) with s
+				 * uniform in {-1, 0, +1}, j(0) uniform in [0, jitter_ticks] */
 } popc_channel_config;
 
 typedef struct popc_channel_stats {
@@ -55,6 +59,25 @@ typedef struct popc_channel_slot {
 	int pending;
 } popc_channel_slot;
 
+/* A packet's events, for a per-packet log (popc_channel.on_event): every
+ * packet is sent once, then lost (at send, or never received in time),
+ * delivered (it became the held packet) or stale (it arrived older than the
+ * held one), or is still in flight when the run ends. */
+typedef enum popc_channel_event {
+	POPC_CHANNEL_SENT,
+	POPC_CHANNEL_LOST,
+	POPC_CHANNEL_DELIVERED,
+	POPC_CHANNEL_STALE,
+} popc_channel_event;
+
+/* Names in channel logs ("sent", "lost", "delivered", "stale"), index = value. */
+extern const char *const popc_channel_event_names[];
+
+/* Called at tick k for packet seq: delay_ticks is the delay drawn (sent;
+ * -1 when lost at send), k - seq (delivered, stale), -1 (lost). */
+typedef void (*popc_channel_event_fn)(void *user, long long k, long long seq,
+				      popc_channel_event ev, long long delay_ticks);
+
 typedef struct popc_channel {
 	popc_channel_config c;
 	int *trace;              /* owned copy of trace_ticks */
@@ -64,6 +87,9 @@ typedef struct popc_channel {
 	long long last_sent;     /* -1 before the first */
 	long long last_arrive;   /* in order: the latest arrival scheduled */
 	popc_channel_stats stats;
+	int walk_ticks;          /* jitter_walk: the last packet's jitter, -1 before it */
+	popc_channel_event_fn on_event; /* NULL (init's), or set after init: each event */
+	void *event_user;
 } popc_channel;
 
 /* Checks c (a refusal names the parameter and its allowed range) and
@@ -82,5 +108,8 @@ int popc_channel_send(popc_channel *ch, long long k, const popc_packet *p);
  * replaced the held one. Before the first arrival *held is what the caller
  * set (seq -1: nothing yet). */
 int popc_channel_receive(popc_channel *ch, long long k, popc_packet *held, int *fresh);
+
+/* The packets sent and neither lost nor received yet. */
+long long popc_channel_in_flight(const popc_channel *ch);
 
 #endif

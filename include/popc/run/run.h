@@ -66,6 +66,10 @@ typedef struct popc_run_options {
 	 * for the log's column; its status, stop reason, ticks and times are
 	 * filled as always. 0 (the default): everything. */
 	int summary_unread;
+	/* a teleoperation run's channel log (NULL: none): one row per packet
+	 * event (popc run --channel-log; docs/TELEOPERATION.md); the caller
+	 * opens and closes it */
+	FILE *channel_log;
 } popc_run_options;
 
 /* The log's column set for a run of scene s on axis: the axis' columns, and

@@ -29,9 +29,10 @@
 typedef enum popc_data_kind {
 	POPC_DATA_SCENES, /* DIR/scenes */
 	POPC_DATA_DRIVES, /* DIR/drives: Modbus register maps */
+	POPC_DATA_TRACES, /* DIR/traces: a channel's delay traces (forward.trace) */
 } popc_data_kind;
 
-/* The subdirectory name of a kind: "scenes" or "drives". */
+/* The subdirectory name of a kind: "scenes", "drives" or "traces". */
 const char *popc_data_kind_dir(popc_data_kind kind);
 
 /* Looks name up by the rule above. base_dir: the directory a relative name is

@@ -13,6 +13,7 @@
 #include "popc/core/environment.h"
 #include "popc/core/intent.h"
 #include "popc/core/plant.h"
+#include "popc/scene/delay_trace.h"
 #include "popc/scene/scene.h"
 #include "popc/util/error.h"
 
@@ -30,6 +31,12 @@ void popc_teleop_slave_plant_config_from_scene(popc_admittance_plant_config *c,
 					       const popc_scene *s, double x_origin_m);
 /* One direction of a teleoperation scene's channel, [forward] or [backward]. */
 void popc_channel_config_from_scene(popc_channel_config *c, const popc_scene_channel *dir);
+/* The same, its delays in seconds converted and its trace read into *trace
+ * (delay_trace.h; free it with popc_delay_trace_free after
+ * popc_channel_init, which copies it). */
+int popc_channel_config_load(popc_channel_config *c, const popc_scene *s,
+			     const popc_scene_channel *dir, const char *name, popc_delay_trace *trace,
+			     popc_error *err);
 void popc_admittance_plant_config_from_scene(popc_admittance_plant_config *c, const popc_scene *s,
 					     double x_origin_m);
 

@@ -37,6 +37,12 @@ typedef struct popc_scene_channel {
 	double loss;
 	int in_order;
 	int seed;
+	/* written only when used (not 0, not empty): the delay and jitter in
+	 * seconds (whole ticks at run.rate, docs/TELEOPERATION.md), a trace file
+	 * of delays, the jitter's distribution (0 uniform, 1 a random walk) */
+	double delay_s, jitter_s;
+	char trace[POPC_PATH_MAX];
+	int jitter_model;
 } popc_scene_channel;
 
 typedef struct popc_scene {
@@ -93,6 +99,7 @@ typedef struct popc_scene {
 	double slave_servo_stiffness_Npm, slave_servo_damping_Nspm;
 	double slave_force_resolution_N;
 	popc_scene_channel fwd, bwd;
+	double slave_rate_Hz;                /* 0: run.rate; else N x run.rate (written when set) */
 	/* [integrator] */
 	popc_integrator integrator;
 	int substeps;
@@ -175,6 +182,13 @@ int popc_scene_to_text(const popc_scene *s, char **text, size_t *len, popc_error
 /* The control period T = 1 / rate (s), and the number of control ticks. */
 double popc_scene_period_s(const popc_scene *s);
 long long popc_scene_ticks(const popc_scene *s);
+
+/* The slave's sub-ticks a tick, N = slave.rate / run.rate (1 when slave.rate
+ * is 0): its plant steps T / N (docs/TELEOPERATION.md, "Each side its own
+ * rate"); 0 when slave.rate is no whole multiple within 1e-9 or N is beyond
+ * POPC_SLAVE_MAX_SUBSTEPS. */
+#define POPC_SLAVE_MAX_SUBSTEPS 1000
+int popc_scene_slave_substeps(const popc_scene *s);
 
 /* Key reference for --help and the README: one line per key with its unit,
  * default and allowed range. */
