@@ -17,7 +17,9 @@
 
 unsigned popc_run_log_columns(const popc_scene *s, const popc_axis *axis)
 {
-	return axis->ops->log_columns | (s->tele_arch != POPC_TELEOP_OFF ? POPC_LOG_COL_TELEOP : 0u);
+	return axis->ops->log_columns | (s->tele_arch != POPC_TELEOP_OFF ? POPC_LOG_COL_TELEOP : 0u) |
+	       (s->tele_arch != POPC_TELEOP_OFF && s->tele_drift != POPC_DRIFT_OFF ? POPC_LOG_COL_DRIFT
+										   : 0u);
 }
 
 int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,

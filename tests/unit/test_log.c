@@ -63,6 +63,7 @@ static const unsigned column_sets[] = {
 	POPC_LOG_COL_ALWAYS, POPC_LOG_COL_X_TRUE, POPC_LOG_COL_TIMING,
 	POPC_LOG_COL_X_TRUE | POPC_LOG_COL_TIMING, POPC_LOG_COL_ADMITTANCE,
 	POPC_LOG_COL_X_TRUE | POPC_LOG_COL_TELEOP,
+	POPC_LOG_COL_X_TRUE | POPC_LOG_COL_TELEOP | POPC_LOG_COL_DRIFT,
 };
 enum { N_SETS = sizeof column_sets / sizeof column_sets[0] };
 
@@ -99,7 +100,8 @@ static void test_column_table(void **state)
 		assert_non_null(c->meaning);
 		assert_true(strlen(c->meaning) > 5);
 		assert_true((c->fill & ~(unsigned)(POPC_LOG_COL_X_TRUE | POPC_LOG_COL_TIMING |
-					     POPC_LOG_COL_ADMITTANCE | POPC_LOG_COL_TELEOP)) == 0);
+					     POPC_LOG_COL_ADMITTANCE | POPC_LOG_COL_TELEOP |
+					     POPC_LOG_COL_DRIFT)) == 0);
 		/* set then get: the same value, and no other column moved */
 		popc_log_row row;
 		memset(&row, 0, sizeof row);

@@ -65,7 +65,9 @@
 	COLUMN(ES_OUT, Es_out, "J",   TELEOP, DOUBLE, tele.Es_out_J, "energy out of the network at the slave") \
 	COLUMN(ES_RX,  Es_rx,  "J",   TELEOP, DOUBLE, tele.Es_rx_J,  "master's E_in as the slave holds it")  \
 	COLUMN(FWD_AGE, fwd_age, "",  TELEOP, COUNT, tele.fwd_age,   "ticks since the slave's held packet was sent (-1: none)") \
-	COLUMN(BWD_AGE, bwd_age, "",  TELEOP, COUNT, tele.bwd_age,   "ticks since the master's held packet was sent (-1: none)")
+	COLUMN(BWD_AGE, bwd_age, "",  TELEOP, COUNT, tele.bwd_age,   "ticks since the master's held packet was sent (-1: none)") \
+	COLUMN(XM_RX,  xm_rx,  "m",   DRIFT, DOUBLE, tele.xm_rx_m,   "master position the slave holds (0: none yet)") \
+	COLUMN(VS_DC,  vs_dc,  "m/s", DRIFT, DOUBLE, tele.vs_dc_mps, "slave drift compensation velocity")
 
 /* Which axes fill a column: the bits of an axis' log_columns. A column is
  * written when all its bits are in the log's set (ALWAYS has none). */
@@ -75,6 +77,7 @@ enum popc_log_columns {
 	POPC_LOG_COL_TIMING = 2,  /* dt (measured period) and rtt (Modbus transaction time) */
 	POPC_LOG_COL_ADMITTANCE = 4, /* force count and reading, commanded motion, PC velocity */
 	POPC_LOG_COL_TELEOP = 8,  /* the slave and both network ports (docs/TELEOPERATION.md) */
+	POPC_LOG_COL_DRIFT = 16,  /* with TELEOP: the slave's drift compensation (teleop.drift) */
 };
 
 typedef enum popc_log_cell_format {
@@ -91,6 +94,7 @@ typedef struct popc_teleop_row {
 	double vs_rx_mps, vs_pc_mps, vs_c_mps, Ws_J;
 	double Em_in_J, Em_out_J, Em_rx_J, Es_in_J, Es_out_J, Es_rx_J;
 	long long fwd_age, bwd_age;
+	double xm_rx_m, vs_dc_mps; /* POPC_LOG_COL_DRIFT only */
 } popc_teleop_row;
 
 /* One row of the log: a controller tick and what the axis measured. */
