@@ -135,6 +135,8 @@ static void test_column_names_line(void **state)
 		 * concatenation is meant, not a missing comma) */
 		("t,x,count,x_true,v,f_e,f_pc,f_c,W,E_ref,flags,E_port,xs,xs_true,xs_cmd,fs_count,fs,"
 		 "vs_rx,vs_pc,vs_c,Ws,Em_in,Em_out,Em_rx,Es_in,Es_out,Es_rx,fwd_age,bwd_age"),
+		("t,x,count,x_true,v,f_e,f_pc,f_c,W,E_ref,flags,E_port,xs,xs_true,xs_cmd,fs_count,fs,"
+		 "vs_rx,vs_pc,vs_c,Ws,Em_in,Em_out,Em_rx,Es_in,Es_out,Es_rx,fwd_age,bwd_age,xm_rx,vs_dc"),
 	};
 	for (int k = 0; k < N_SETS; k++) {
 		const unsigned set = column_sets[k];
