@@ -143,6 +143,7 @@ extern const popc_option *const ana_report_opts[];
 #define ANA_COLUMN_NAME_ADMITTANCE(text)
 #define ANA_COLUMN_NAME_TELEOP(text)
 #define ANA_COLUMN_NAME_SLAVE_TRUE(text)
+#define ANA_COLUMN_NAME_DRIFT(text)
 #define ANA_COLUMN_NAME(ID, name, unit, fill, format, field, meaning) ANA_COLUMN_NAME_##fill(" " #name)
 #define ANA_COLUMN_NAMES POPC_LOG_COLUMN_TABLE(ANA_COLUMN_NAME)
 #define ANA_INPUT_HELP                                                                         \

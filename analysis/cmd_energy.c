@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "analyze.h"
+#include "popc/core/tdpa_drift.h"
 #include "popc/core/teleop.h"
 #include "popc/programs/table_out.h"
 #include "popc/programs/usage_hint.h"
@@ -268,10 +269,24 @@ static int energy_teleop(ana_log *l, const char *path, popc_table_out *table, in
 				path, popc_teleop_architecture_names[sc.tele_arch], names[i]);
 			return POPC_EXIT_USAGE;
 		}
+	/* teleop.drift: the slave's compensation from the master position it
+	 * held, its position command and whether it held a packet yet */
+	static const char *const drift_names[] = {"xm_rx", "xs_cmd", "fwd_age", "vs_dc"};
+	int dcol[4] = {-1, -1, -1, -1};
+	const popc_drift_config drift = {sc.tele_drift, sc.tele_drift_max_mps, sc.tele_drift_ratio};
+	for (int i = 0; drift.law != POPC_DRIFT_OFF && i < 4; i++)
+		if ((dcol[i] = popc_log_reader_column(&r, drift_names[i])) < 0) {
+			popc_log_reader_close(&r);
+			fprintf(stderr,
+				"popc-analyze energy: %s: teleop.drift = %s needs the column %s "
+				"(docs/TELEOPERATION.md)\n",
+				path, popc_drift_law_names[sc.tele_drift], drift_names[i]);
+			return POPC_EXIT_USAGE;
+		}
 	const double T = popc_scene_period_s(&sc);
 	popc_tdpa_side m, sl;
-	popc_tdpa_side_init(&m, sc.tele_master_bound_N);
-	popc_tdpa_side_init(&sl, sc.tele_slave_bound_mps);
+	popc_tdpa_side_init_excess(&m, sc.tele_master_bound_N, sc.tele_excess_J);
+	popc_tdpa_side_init_excess(&sl, sc.tele_slave_bound_mps, sc.tele_excess_J);
 	long long rows = 0, mismatches = 0, broken = 0, first_broken = 0, first_mismatch = 0;
 	double margin_min[2] = {0.0, 0.0};
 	double v[POPC_LOG_MAX_COLUMNS];
@@ -280,13 +295,19 @@ static int energy_teleop(ana_log *l, const char *path, popc_table_out *table, in
 		for (int i = 0; i < TC_COUNT; i++)
 			c[i] = v[col[i]];
 		popc_tdpa_step pm = popc_teleop_port(&m, c[TC_Em_rx], c[TC_f_e], -c[TC_v], T, sc.tele_tdpa);
-		popc_tdpa_step ps = popc_teleop_port(&sl, c[TC_Es_rx], c[TC_vs_rx], -c[TC_fs], T, sc.tele_tdpa);
+		popc_tdpa_step ps;
+		double v_dc = 0.0;
+		if (drift.law != POPC_DRIFT_OFF)
+			ps = popc_drift_port(&sl, &drift, c[TC_Es_rx], c[TC_vs_rx], -c[TC_fs], T, sc.tele_tdpa,
+					     v[dcol[2]] < 0.0 ? (double)NAN : v[dcol[0]], v[dcol[1]], &v_dc);
+		else
+			ps = popc_teleop_port(&sl, c[TC_Es_rx], c[TC_vs_rx], -c[TC_fs], T, sc.tele_tdpa);
 		const double mine[] = {pm.d, pm.u, pm.W_J, popc_energy_flow_in(&m.flow),
 				       popc_energy_flow_out(&m.flow), ps.d, ps.u, ps.W_J,
 				       popc_energy_flow_in(&sl.flow), popc_energy_flow_out(&sl.flow)};
 		const int theirs[] = {TC_f_pc, TC_f_c, TC_W, TC_Em_in, TC_Em_out,
 				      TC_vs_pc, TC_vs_c, TC_Ws, TC_Es_in, TC_Es_out};
-		int differ = 0;
+		int differ = drift.law != POPC_DRIFT_OFF && !same_bits(v_dc + 0.0, v[dcol[3]] + 0.0);
 		for (size_t i = 0; i < sizeof theirs / sizeof theirs[0]; i++)
 			differ |= !same_bits(mine[i] + 0.0, c[theirs[i]] + 0.0); /* -0 is 0 */
 		if (differ && !mismatches++)
@@ -296,8 +317,9 @@ static int energy_teleop(ana_log *l, const char *path, popc_table_out *table, in
 		for (int i = 0; i < 2; i++)
 			if (mg[i] < margin_min[i])
 				margin_min[i] = mg[i];
-		if (!popc_teleop_condition_holds(m.remote_in_J, popc_energy_flow_out(&m.flow)) ||
-		    !popc_teleop_condition_holds(sl.remote_in_J, popc_energy_flow_out(&sl.flow))) {
+		if (!popc_teleop_condition_holds(m.remote_in_J + m.excess_J, popc_energy_flow_out(&m.flow)) ||
+		    !popc_teleop_condition_holds(sl.remote_in_J + sl.excess_J,
+						 popc_energy_flow_out(&sl.flow))) {
 			if (!broken++)
 				first_broken = r.lineno;
 		}

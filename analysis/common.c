@@ -511,6 +511,22 @@ static int header_checks(ana_log *l, const ana_input_options *o, popc_error *err
 	const char *vkey = causality && strcmp(causality, "admittance") == 0 ? "admittance.variant"
 									     : "controller.variant";
 	const char *cvariant = popc_log_reader_header(r, vkey);
+	/* a teleoperation log's variant names the network's PCs and drift
+	 * compensation (core/teleop.h), not controller.variant, which it does
+	 * not run: checked against teleop.tdpa and teleop.drift (a log written
+	 * before that line named controller.variant: still read) */
+	if (l->scene.tele_arch != POPC_TELEOP_OFF) {
+		const char *tvariant = popc_teleop_variant_name(l->scene.tele_tdpa, l->scene.tele_drift);
+		if (variant && strcmp(variant, tvariant) != 0 &&
+		    !(cvariant && strcmp(variant, cvariant) == 0 && l->scene.tele_drift == POPC_DRIFT_OFF))
+			return popc_error_set(err, POPC_ERR_INVALID,
+					      "%s:%lld: header: variant = %s, but teleop.tdpa = %s and "
+					      "teleop.drift = %s run '%s': the header contradicts itself",
+					      r->path, popc_log_reader_header_line(r, "variant"), variant,
+					      l->scene.tele_tdpa ? "on" : "off",
+					      popc_drift_law_names[l->scene.tele_drift], tvariant);
+		cvariant = NULL;
+	}
 	if (variant && cvariant && strcmp(variant, cvariant) != 0)
 		return popc_error_set(err, POPC_ERR_INVALID,
 				      "%s:%lld: header: variant = %s, but %s = %s (line "

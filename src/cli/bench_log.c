@@ -117,6 +117,7 @@ static int write_popc(const char *path, const popc_scene *s, const popc_log_row 
 #define IN_SIM_LOG_ADMITTANCE(...)
 #define IN_SIM_LOG_TELEOP(...)
 #define IN_SIM_LOG_SLAVE_TRUE(...)
+#define IN_SIM_LOG_DRIFT(...)
 #define PRINTF_DOUBLE ",%.17g"
 #define PRINTF_COUNT ",%lld"
 #define PRINTF_FLAGS ",%u"

@@ -10,6 +10,12 @@ void popc_tdpa_side_init(popc_tdpa_side *s, double bound)
 	s->bound = bound;
 }
 
+void popc_tdpa_side_init_excess(popc_tdpa_side *s, double bound, double excess_J)
+{
+	popc_tdpa_side_init(s, bound);
+	s->excess_J = excess_J;
+}
+
 void popc_tdpa_receive(popc_tdpa_side *s, double remote_in_J)
 {
 	if (isfinite(remote_in_J) && remote_in_J > s->remote_in_J)
@@ -20,7 +26,8 @@ void popc_tdpa_receive(popc_tdpa_side *s, double remote_in_J)
  * minus what would */
 static double observer_J(const popc_tdpa_side *s, double e)
 {
-	return s->remote_in_J - (popc_energy_flow_out(&s->flow) + (e > 0.0 ? e : 0.0));
+	/* remote + 0.0 is remote's bits (>= +0): no excess, the same W */
+	return s->remote_in_J + s->excess_J - (popc_energy_flow_out(&s->flow) + (e > 0.0 ? e : 0.0));
 }
 
 popc_tdpa_step popc_tdpa_observe(popc_tdpa_side *s, double u, double c, double T)

@@ -202,8 +202,9 @@ int popc_log_write_header(popc_log_writer *w, const char *source, const popc_sce
 		return popc_error_set(err, POPC_ERR_NOMEM, "%s: out of memory", w->path);
 	fprintf(m, "# popc log\n# format = %d\n# popc_version = %s\n# source = %s\n# variant = %s\n",
 		POPC_LOG_FORMAT_VERSION, POPC_VERSION, source,
-		s->causality == POPC_CAUSALITY_ADMITTANCE ? popc_admittance_variant_name(s->adm_variant)
-							  : popc_variant_name(s->variant));
+		s->tele_arch != POPC_TELEOP_OFF ? popc_teleop_variant_name(s->tele_tdpa, s->tele_drift)
+		: s->causality == POPC_CAUSALITY_ADMITTANCE ? popc_admittance_variant_name(s->adm_variant)
+							    : popc_variant_name(s->variant));
 	if (extra && extra[0])
 		fputs(extra, m);
 	/* a teleoperation channel's trace: its content's digest beside the path

@@ -23,10 +23,11 @@ unsigned popc_run_log_columns(const popc_scene *s, const popc_axis *axis)
 	 * true position); the axis is the master, with the simulated slave's
 	 * true position too, or an admittance-type one, the Modbus slave, whose
 	 * measured period and round trip are logged (its other columns are the
-	 * TELEOP ones) */
+	 * TELEOP ones); with drift compensation, its two columns */
 	return POPC_LOG_COL_X_TRUE | POPC_LOG_COL_TELEOP |
 	       (popc_run_teleop_axis_is_slave(axis) ? axis->ops->log_columns & POPC_LOG_COL_TIMING
-						    : POPC_LOG_COL_SLAVE_TRUE);
+						    : POPC_LOG_COL_SLAVE_TRUE) |
+	       (s->tele_drift != POPC_DRIFT_OFF ? POPC_LOG_COL_DRIFT : 0u);
 }
 
 int popc_run(const popc_scene *s, popc_axis *axis, const popc_run_options *opt,

@@ -132,6 +132,9 @@ static void summary_values(const popc_run_summary *sum, const popc_scene *s,
 
 const char *popc_run_variant_name(const popc_scene *s)
 {
+	/* a teleoperation scene runs the network's PCs, not controller.variant */
+	if (s->tele_arch != POPC_TELEOP_OFF)
+		return popc_teleop_variant_name(s->tele_tdpa, s->tele_drift);
 	return s->causality == POPC_CAUSALITY_ADMITTANCE ? popc_admittance_variant_name(s->adm_variant)
 							 : popc_variant_name(s->variant);
 }

@@ -22,6 +22,7 @@
 #include "popc/core/channel.h"
 #include "popc/core/encoder.h"
 #include "popc/core/port_energy.h"
+#include "popc/core/tdpa_drift.h"
 #include "popc/core/teleop.h"
 #include "popc/scene/delay_trace.h"
 #include "popc/scene/from_scene.h"
@@ -173,8 +174,10 @@ int popc_run_teleop(const popc_scene *s, popc_axis *axis, const popc_run_options
 		why = "channel create failed";
 
 	popc_tdpa_side side_m, side_s;
-	popc_tdpa_side_init(&side_m, s->tele_master_bound_N);
-	popc_tdpa_side_init(&side_s, s->tele_slave_bound_mps);
+	popc_tdpa_side_init_excess(&side_m, s->tele_master_bound_N, s->tele_excess_J);
+	popc_tdpa_side_init_excess(&side_s, s->tele_slave_bound_mps, s->tele_excess_J);
+	/* the slave's drift compensation (tdpa_drift.h), teleop.drift */
+	const popc_drift_config drift = {s->tele_drift, s->tele_drift_max_mps, s->tele_drift_ratio};
 	const int pc_on = s->tele_tdpa;
 	popc_port_energy port;
 	popc_port_energy_init(&port);
@@ -219,7 +222,15 @@ int popc_run_teleop(const popc_scene *s, popc_axis *axis, const popc_run_options
 
 		/* the slave's port: u = v_c, c = -f_s */
 		r->vs_rx_mps = held_value(&fwd, POPC_TELEOP_FWD_V);
-		popc_tdpa_step ps = popc_teleop_port(&side_s, held_energy(&fwd), r->vs_rx_mps, -r->fs_N, T, pc_on);
+		popc_tdpa_step ps;
+		r->xm_rx_m = held_value(&fwd, POPC_TELEOP_FWD_X);
+		r->vs_dc_mps = 0.0;
+		if (drift.law != POPC_DRIFT_OFF) /* toward the master position held; none before the first */
+			ps = popc_drift_port(&side_s, &drift, held_energy(&fwd), r->vs_rx_mps, -r->fs_N, T,
+					     pc_on, fwd.held.seq < 0 ? (double)NAN : r->xm_rx_m,
+					     r->xs_cmd_m, &r->vs_dc_mps);
+		else
+			ps = popc_teleop_port(&side_s, held_energy(&fwd), r->vs_rx_mps, -r->fs_N, T, pc_on);
 		r->vs_pc_mps = ps.d;
 		r->vs_c_mps = ps.u;
 		r->Ws_J = ps.W_J;
@@ -259,13 +270,15 @@ int popc_run_teleop(const popc_scene *s, popc_axis *axis, const popc_run_options
 		popc_port_energy_commit(&port, m->f_c_N);
 
 		/* the summary's two-port condition and bounds */
-		const double mm = r->Em_rx_J - r->Em_out_J, ms = r->Es_rx_J - r->Es_out_J;
+		/* with the passivity excess E_0 (0: the same bits) */
+		const double rm = r->Em_rx_J + side_m.excess_J, rs = r->Es_rx_J + side_s.excess_J;
+		const double mm = rm - r->Em_out_J, ms = rs - r->Es_out_J;
 		if (mm < sum->tele_margin_min_J[0])
 			sum->tele_margin_min_J[0] = mm;
 		if (ms < sum->tele_margin_min_J[1])
 			sum->tele_margin_min_J[1] = ms;
-		if (!popc_teleop_condition_holds(r->Em_rx_J, r->Em_out_J) ||
-		    !popc_teleop_condition_holds(r->Es_rx_J, r->Es_out_J))
+		if (!popc_teleop_condition_holds(rm, r->Em_out_J) ||
+		    !popc_teleop_condition_holds(rs, r->Es_out_J))
 			sum->tele_violations++;
 		sum->tele_active[0] += (pm.flags & POPC_TDPA_ACTIVE) != 0;
 		sum->tele_active[1] += (ps.flags & POPC_TDPA_ACTIVE) != 0;

@@ -43,11 +43,12 @@ typedef struct scene_key {
 				   * not off (every one-port scene keeps its bytes);
 				   * TELEOP_USED: a teleoperation key written only when
 				   * not at its default (0, the first name, empty), so
-				   * every teleoperation log before it keeps its bytes */
+				   * every teleoperation log before it keeps its bytes;
+				   * DRIFT_ONLY: with teleop.drift not off */
 } scene_key;
 
 /* declared_only's values beside 0 (always written) and 1 (written when not 0) */
-enum { ADMITTANCE_ONLY = 2, WRITTEN_FOR_EB = 3, TELEOP_ONLY = 4, TELEOP_USED = 5 };
+enum { ADMITTANCE_ONLY = 2, WRITTEN_FOR_EB = 3, TELEOP_ONLY = 4, TELEOP_USED = 5, DRIFT_ONLY = 6 };
 
 static const char *const axis_names[] = {"sim", "modbus", NULL};
 static const char *const off_on_names[] = {"off", "on", NULL};
@@ -192,6 +193,16 @@ static const scene_key scene_keys[] = {
 		 "bound on the master PC's force |d|"),
 	NUM_TELE("teleop", "slave_pc_bound", tele_slave_bound_mps, "10", 0, 1e3, 1, "m/s",
 		 "bound on the slave PC's velocity |d|"),
+	{"teleop", "drift", KEY_ENUM, OFF(tele_drift), 0, 0, 0, "", popc_drift_law_names,
+	 "the slave's position-drift compensation within the observer's energy: off, "
+	 "artigas2010 or coelho2018 (docs/TELEOPERATION.md)", "off", TELEOP_USED},
+	{"teleop", "drift_max_velocity", KEY_DOUBLE, OFF(tele_drift_max_mps), 0, 1e3, 1, "m/s", NULL,
+	 "bound on the drift compensation's velocity |v_dc|", "0.5", DRIFT_ONLY},
+	{"teleop", "drift_ratio", KEY_DOUBLE, OFF(tele_drift_ratio), 0, 10, 1, "", NULL,
+	 "coelho2018: |v_dc| at most this times the proposed slave velocity", "0.5", DRIFT_ONLY},
+	{"teleop", "excess", KEY_DOUBLE, OFF(tele_excess_J), 0, 1e3, 0, "J", NULL,
+	 "passivity excess: energy each side may deliver beyond what it received (0: none)", "0",
+	 TELEOP_USED},
 	NUM_TELE("slave", "mass", slave_mass_kg, "0.2", 0, 1e3, 1, "kg", "slave device mass"),
 	NUM_TELE("slave", "damping", slave_damping_Nspm, "0", 0, 1e6, 0, "N s/m", "slave device damping"),
 	{"slave", "servo", KEY_ENUM, OFF(slave_servo), 0, 0, 0, "", popc_servo_kind_names,
@@ -999,6 +1010,17 @@ int popc_scene_validate(const popc_scene *s, popc_error *err)
 		if (st)
 			return st;
 	}
+	/* a one-port scene has no network port to compensate or grant an excess */
+	if (s->tele_arch == POPC_TELEOP_OFF && s->tele_drift != POPC_DRIFT_OFF)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: teleop.drift = %s needs teleop.architecture = position-force "
+				      "(a one-port scene has no slave to compensate)",
+				      src, popc_drift_law_names[s->tele_drift]);
+	if (s->tele_arch == POPC_TELEOP_OFF && s->tele_excess_J != 0.0)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: teleop.excess = %g J needs teleop.architecture = position-force "
+				      "(a one-port scene has no network port)",
+				      src, s->tele_excess_J);
 	if (s->tele_arch != POPC_TELEOP_OFF) {
 		int st = validate_teleop(s, src, err);
 		if (st)
@@ -1042,6 +1064,8 @@ static int key_written(const popc_scene *s, const scene_key *k)
 		return s->variant == POPC_VARIANT_ENERGY_BOUNDING;
 	if (k->declared_only == TELEOP_ONLY)
 		return s->tele_arch != POPC_TELEOP_OFF;
+	if (k->declared_only == DRIFT_ONLY)
+		return s->tele_arch != POPC_TELEOP_OFF && s->tele_drift != POPC_DRIFT_OFF;
 	if (k->declared_only == TELEOP_USED && s->tele_arch == POPC_TELEOP_OFF)
 		return 0;
 	if (k->declared_only == TELEOP_USED && k->type == KEY_STRING)

@@ -67,6 +67,50 @@ bad_case "delay plus jitter beyond the channel" "forward.delay_ticks + forward.j
 bad_case "run.delay_ticks in a teleop scene" "run.delay_ticks = 0" run.delay_ticks=2
 bad_case "an admittance master" "device.causality = impedance" device.causality=admittance
 
+# the variant line names what ran (the PCs, the drift law), not controller.variant
+check "the variant line of a run with the PCs on" grep -qx '# variant = tdpa' "$T/on.csv"
+check "  and with them off" grep -qx '# variant = none' "$T/off.csv"
+sed 's/^# variant = tdpa$/# variant = none/' "$T/on.csv" >"$T/lie.csv"
+expect_exit 2 "energy on a log whose variant line contradicts teleop.tdpa" "$ANALYZE" energy "$T/lie.csv"
+check "  names the line and the keys" err_has "variant = none, but teleop.tdpa = on and teleop.drift = off run 'tdpa'"
+
+# drift compensation (teleop.drift): its columns and keys, energy --check
+# recomputing v_dc bit for bit, the condition at every row, on a lossy channel too
+for law in artigas2010 coelho2018; do
+	expect_exit 0 "teleop.drift = $law" "$POPC" run "$WALL" --set teleop.drift=$law --log "$T/$law.csv"
+	check "  the columns, xm_rx and vs_dc last" grep -qx "$COLUMNS,xm_rx,vs_dc" "$T/$law.csv"
+	check "  the variant line" grep -qx "# variant = tdpa-$law" "$T/$law.csv"
+	check "  its keys in the header" sh -c "grep -qx '# drift = $law' '$T/$law.csv' && grep -qx '# drift_max_velocity = 0.5' '$T/$law.csv'"
+	check "  no NaN or inf in a cell" sh -c "! grep -v '^#' '$T/$law.csv' | grep -qiE 'nan|inf'"
+	expect_exit 0 "  energy --check" "$ANALYZE" energy --check "$T/$law.csv"
+	check "  no row differing, the condition never broken" grep -q "rows differing 0  two-port condition broken on 0 rows" "$T/out"
+	expect_exit 0 "  on the lossy channel" "$POPC" run "$WALL" "${set_lossy[@]}" --set teleop.drift=$law --log "$T/$law-lossy.csv"
+	expect_exit 0 "  energy --check" "$ANALYZE" energy --check "$T/$law-lossy.csv"
+	check "  no row differing, the condition never broken" grep -q "rows differing 0  two-port condition broken on 0 rows" "$T/out"
+done
+check "the drift law acted (a vs_dc cell not 0)" sh -c "grep -v '^#' '$T/coelho2018.csv' | awk -F, 'NR > 1 && \$31 != 0 {f = 1} END {exit !f}'"
+# a vs_dc cell changed: --check finds it
+awk -F, 'BEGIN{OFS=","} /^#/ || /^t,/ {print; next} {n++} $31 != 0 && !done {$31 = $31 * 2; done = 1} {print}' \
+	"$T/coelho2018.csv" >"$T/dc.csv"
+check "  (the copy differs)" sh -c "! cmp -s '$T/coelho2018.csv' '$T/dc.csv'"
+expect_exit 1 "energy --check on a changed vs_dc" "$ANALYZE" energy --check "$T/dc.csv"
+check "  one row differing" grep -q "rows differing 1 " "$T/out"
+
+# the passivity excess: written when used, and --check counts it
+expect_exit 0 "teleop.excess = 0.001" "$POPC" run "$WALL" --set teleop.excess=0.001 --log "$T/excess.csv"
+check "  in the header" grep -qx '# excess = 0.001' "$T/excess.csv"
+expect_exit 0 "  energy --check" "$ANALYZE" energy --check "$T/excess.csv"
+check "  no row differing, the condition never broken" grep -q "rows differing 0  two-port condition broken on 0 rows" "$T/out"
+check "a run without drift or excess writes neither key" sh -c "! grep -qE '^# (drift|excess)' '$T/on.csv'"
+
+bad_case "an unknown drift law" "allowed one of off|artigas2010|coelho2018" teleop.drift=ryu2004
+bad_case "a drift bound of 0" "teleop.drift_max_velocity" teleop.drift_max_velocity=0
+bad_case "a negative excess" "teleop.excess" teleop.excess=-1
+rm -f "$T/bad.csv"
+expect_exit 2 "a drift law in a one-port scene" "$POPC" run "$SRC/data/scenes/paper.ini" --set teleop.drift=coelho2018 --log "$T/bad.csv"
+check "  says what it needs" err_has "teleop.drift = coelho2018 needs teleop.architecture = position-force"
+check "  no log written" test ! -e "$T/bad.csv"
+
 # a one-port scene: no teleop key in its resolved scene
 expect_exit 0 "popc scene show of the paper scene" "$POPC" scene show "$SRC/data/scenes/paper.ini"
 check "  no [teleop], [slave], [forward], [backward]" sh -c "! grep -qE '^\[(teleop|slave|forward|backward)\]' '$T/out'"

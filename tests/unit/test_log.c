@@ -65,6 +65,7 @@ static const unsigned column_sets[] = {
 	POPC_LOG_COL_X_TRUE | POPC_LOG_COL_TELEOP | POPC_LOG_COL_SLAVE_TRUE,
 	/* a teleoperation run whose slave is a Modbus drive (issue 26) */
 	POPC_LOG_COL_X_TRUE | POPC_LOG_COL_TIMING | POPC_LOG_COL_TELEOP,
+	POPC_LOG_COL_X_TRUE | POPC_LOG_COL_TELEOP | POPC_LOG_COL_SLAVE_TRUE | POPC_LOG_COL_DRIFT,
 };
 enum { N_SETS = sizeof column_sets / sizeof column_sets[0] };
 
@@ -102,7 +103,7 @@ static void test_column_table(void **state)
 		assert_true(strlen(c->meaning) > 5);
 		assert_true((c->fill & ~(unsigned)(POPC_LOG_COL_X_TRUE | POPC_LOG_COL_TIMING |
 					     POPC_LOG_COL_ADMITTANCE | POPC_LOG_COL_TELEOP |
-					     POPC_LOG_COL_SLAVE_TRUE)) == 0);
+					     POPC_LOG_COL_SLAVE_TRUE | POPC_LOG_COL_DRIFT)) == 0);
 		/* set then get: the same value, and no other column moved */
 		popc_log_row row;
 		memset(&row, 0, sizeof row);
@@ -138,6 +139,8 @@ static void test_column_names_line(void **state)
 		 "vs_rx,vs_pc,vs_c,Ws,Em_in,Em_out,Em_rx,Es_in,Es_out,Es_rx,fwd_age,bwd_age"),
 		("t,x,count,x_true,v,f_e,f_pc,f_c,W,E_ref,flags,E_port,dt,rtt,xs,xs_cmd,fs_count,fs,"
 		 "vs_rx,vs_pc,vs_c,Ws,Em_in,Em_out,Em_rx,Es_in,Es_out,Es_rx,fwd_age,bwd_age"),
+		("t,x,count,x_true,v,f_e,f_pc,f_c,W,E_ref,flags,E_port,xs,xs_true,xs_cmd,fs_count,fs,"
+		 "vs_rx,vs_pc,vs_c,Ws,Em_in,Em_out,Em_rx,Es_in,Es_out,Es_rx,fwd_age,bwd_age,xm_rx,vs_dc"),
 	};
 	for (int k = 0; k < N_SETS; k++) {
 		const unsigned set = column_sets[k];

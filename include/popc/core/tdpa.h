@@ -67,6 +67,9 @@ typedef struct popc_tdpa_side {
 	popc_energy_flow flow; /* this port's */
 	double remote_in_J;    /* the other side's E_in, the largest received */
 	double bound;          /* |d| at most this (> 0), or 0: unbounded */
+	double excess_J;       /* the passivity excess: energy the side may deliver beyond
+				* what it received, E(0) of the passivity definition (0:
+				* Ryu et al. 2010's condition; docs/TELEOPERATION.md) */
 } popc_tdpa_side;
 
 enum {
@@ -83,6 +86,10 @@ typedef struct popc_tdpa_step {
 } popc_tdpa_step;
 
 void popc_tdpa_side_init(popc_tdpa_side *s, double bound);
+
+/* popc_tdpa_side_init with a passivity excess E_0 >= 0 (J): the observer is
+ * W = E_in,remote + E_0 - E_out (E_0 = 0: the same bits as without). */
+void popc_tdpa_side_init_excess(popc_tdpa_side *s, double bound, double excess_J);
 
 /* A received E_in of the other side: kept when larger (a non-finite value,
  * which no sender makes, is ignored). */

@@ -74,8 +74,14 @@ static inline popc_tdpa_step popc_teleop_port(popc_tdpa_side *s, double remote_i
  * received, E_out,local - E_in,remote <= tol; the margin remote - out (J). */
 static inline double popc_teleop_margin_J(const popc_tdpa_side *s)
 {
-	return s->remote_in_J - popc_energy_flow_out(&s->flow);
+	return s->remote_in_J + s->excess_J - popc_energy_flow_out(&s->flow);
 }
+
+/* The name of a teleoperation run's controllers, the log's `variant` line and
+ * the summary's variant cell: "tdpa" (the PCs on) or "none" (observed only),
+ * with "-" and the drift law's name when one compensates (tdpa_drift.h's
+ * names: "tdpa-coelho2018"). */
+const char *popc_teleop_variant_name(int tdpa_on, int drift_law);
 
 /* Whether the condition holds within rounding: the margin remote_J - out_J
  * at least -(1e-12 J + 1e-12 x the larger energy). When the PC sets this

@@ -67,7 +67,9 @@
 	COLUMN(ES_OUT, Es_out, "J",   TELEOP, DOUBLE, tele.Es_out_J, "energy out of the network at the slave") \
 	COLUMN(ES_RX,  Es_rx,  "J",   TELEOP, DOUBLE, tele.Es_rx_J,  "master's E_in as the slave holds it")  \
 	COLUMN(FWD_AGE, fwd_age, "",  TELEOP, COUNT, tele.fwd_age,   "ticks since the slave's held packet was sent (-1: none)") \
-	COLUMN(BWD_AGE, bwd_age, "",  TELEOP, COUNT, tele.bwd_age,   "ticks since the master's held packet was sent (-1: none)")
+	COLUMN(BWD_AGE, bwd_age, "",  TELEOP, COUNT, tele.bwd_age,   "ticks since the master's held packet was sent (-1: none)") \
+	COLUMN(XM_RX,  xm_rx,  "m",   DRIFT, DOUBLE, tele.xm_rx_m,   "master position the slave holds (0: none yet)") \
+	COLUMN(VS_DC,  vs_dc,  "m/s", DRIFT, DOUBLE, tele.vs_dc_mps, "slave drift compensation velocity")
 
 /* Which axes fill a column: the bits of an axis' log_columns. A column is
  * written when all its bits are in the log's set (ALWAYS has none). */
@@ -80,6 +82,7 @@ enum popc_log_columns {
 	/* a teleoperation scene's simulated slave: its true position (with
 	 * TELEOP; a Modbus slave, axis.kind = modbus, has none) */
 	POPC_LOG_COL_SLAVE_TRUE = 16,
+	POPC_LOG_COL_DRIFT = 32,  /* with TELEOP: the slave's drift compensation (teleop.drift) */
 };
 
 typedef enum popc_log_cell_format {
@@ -96,6 +99,7 @@ typedef struct popc_teleop_row {
 	double vs_rx_mps, vs_pc_mps, vs_c_mps, Ws_J;
 	double Em_in_J, Em_out_J, Em_rx_J, Es_in_J, Es_out_J, Es_rx_J;
 	long long fwd_age, bwd_age;
+	double xm_rx_m, vs_dc_mps; /* POPC_LOG_COL_DRIFT only */
 } popc_teleop_row;
 
 /* One row of the log: a controller tick and what the axis measured. */

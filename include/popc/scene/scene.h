@@ -17,6 +17,7 @@
 #include "popc/core/plant.h"
 #include "popc/core/port.h"
 #include "popc/core/teleop.h"
+#include "popc/core/tdpa_drift.h"
 #include "popc/util/error.h"
 
 /* The connection URI notation of axis.connect (popc_modbus_uri), spelt the
@@ -94,6 +95,10 @@ typedef struct popc_scene {
 	int tele_tdpa;                       /* 0 off, 1 on */
 	double tele_master_bound_N;          /* |d| of the master's PC, a force */
 	double tele_slave_bound_mps;         /* |d| of the slave's PC, a velocity */
+	popc_drift_law tele_drift;           /* the slave's drift compensation (tdpa_drift.h) */
+	double tele_drift_max_mps;           /* its |v_dc| bound */
+	double tele_drift_ratio;             /* coelho2018: |v_dc| at most ratio |u| */
+	double tele_excess_J;                /* each side's passivity excess E_0 (tdpa.h) */
 	double slave_mass_kg, slave_damping_Nspm;
 	popc_servo_kind slave_servo;
 	double slave_servo_stiffness_Npm, slave_servo_damping_Nspm;
