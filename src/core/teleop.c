@@ -3,5 +3,5 @@
 
 #include <stddef.h>
 
-const char *const popc_teleop_architecture_names[] = {"off", "position-force", NULL};
+const char *const popc_teleop_architecture_names[] = {"off", "position-force", "position-position", NULL};
 const char *const popc_teleop_link_names[] = {"channel", "direct", NULL};

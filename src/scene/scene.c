@@ -43,7 +43,7 @@ typedef struct scene_key {
 } scene_key;
 
 /* declared_only's values beside 0 (always written) and 1 (written when not 0) */
-enum { ADMITTANCE_ONLY = 2, WRITTEN_FOR_EB = 3, TELEOP_ONLY = 4 };
+enum { ADMITTANCE_ONLY = 2, WRITTEN_FOR_EB = 3, TELEOP_ONLY = 4, PP_ONLY = 5 };
 
 static const char *const axis_names[] = {"sim", "modbus", NULL};
 static const char *const off_on_names[] = {"off", "on", NULL};
@@ -57,6 +57,8 @@ static const char *const off_on_names[] = {"off", "on", NULL};
 	{"admittance", k, KEY_DOUBLE, OFF(field), lo, hi, open, unit, NULL, help, def, ADMITTANCE_ONLY}
 #define NUM_TELE(sec, k, field, def, lo, hi, open, unit, help) \
 	{sec, k, KEY_DOUBLE, OFF(field), lo, hi, open, unit, NULL, help, def, TELEOP_ONLY}
+#define NUM_PP(k, field, def, lo, hi, open, unit, help) \
+	{"teleop", k, KEY_DOUBLE, OFF(field), lo, hi, open, unit, NULL, help, def, PP_ONLY}
 #define INT_TELE(sec, k, field, def, lo, hi, unit, help) \
 	{sec, k, KEY_INT, OFF(field), lo, hi, 0, unit, NULL, help, def, TELEOP_ONLY}
 /* one direction of the channel (core/channel.h), [forward] or [backward] */
@@ -175,6 +177,12 @@ static const scene_key scene_keys[] = {
 		 "bound on the master PC's force |d|"),
 	NUM_TELE("teleop", "slave_pc_bound", tele_slave_bound_mps, "10", 0, 1e3, 1, "m/s",
 		 "bound on the slave PC's velocity |d|"),
+	NUM_PP("coupling_stiffness", tele_coupling_K_Npm, "1000", 0, 1e9, 0, "N/m",
+	       "position-position: each side's coupling spring K_c to the remote position"),
+	NUM_PP("coupling_damping", tele_coupling_B_Nspm, "20", 0, 1e6, 0, "N s/m",
+	       "position-position: each side's coupling damper B_c to the remote velocity"),
+	NUM_PP("slave_pc_force_bound", tele_slave_bound_N, "100", 0, 1e6, 1, "N",
+	       "position-position: bound on the slave PC's force |d|"),
 	NUM_TELE("slave", "mass", slave_mass_kg, "0.2", 0, 1e3, 1, "kg", "slave device mass"),
 	NUM_TELE("slave", "damping", slave_damping_Nspm, "0", 0, 1e6, 0, "N s/m", "slave device damping"),
 	{"slave", "servo", KEY_ENUM, OFF(slave_servo), 0, 0, 0, "", popc_servo_kind_names,
@@ -884,6 +892,13 @@ static int validate_teleop(const popc_scene *s, const char *src, popc_error *err
 				      "%s: slave.servo = position needs slave.servo_stiffness > 0 N/m (K_p; "
 				      "or slave.servo = velocity)",
 				      src);
+	if (s->tele_arch == POPC_TELEOP_POSITION_POSITION && !(s->tele_coupling_K_Npm > 0.0) &&
+	    !(s->tele_coupling_B_Nspm > 0.0))
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: teleop.architecture = position-position needs "
+				      "teleop.coupling_stiffness > 0 N/m or teleop.coupling_damping > 0 "
+				      "N s/m (no coupling: master and slave would not interact)",
+				      src);
 	const popc_scene_channel *dir[2] = {&s->fwd, &s->bwd};
 	const char *name[2] = {"forward", "backward"};
 	for (int i = 0; i < 2; i++)
@@ -980,6 +995,8 @@ static int key_written(const popc_scene *s, const scene_key *k)
 		return s->variant == POPC_VARIANT_ENERGY_BOUNDING;
 	if (k->declared_only == TELEOP_ONLY)
 		return s->tele_arch != POPC_TELEOP_OFF;
+	if (k->declared_only == PP_ONLY)
+		return s->tele_arch == POPC_TELEOP_POSITION_POSITION;
 	if (k->declared_only && k->type == KEY_ENUM)
 		return *(const int *)(const void *)field != 0;
 	if (k->declared_only)

@@ -88,6 +88,9 @@ typedef struct popc_scene {
 	int tele_tdpa;                       /* 0 off, 1 on */
 	double tele_master_bound_N;          /* |d| of the master's PC, a force */
 	double tele_slave_bound_mps;         /* |d| of the slave's PC, a velocity */
+	double tele_coupling_K_Npm;          /* position-position: each side's coupling K_c */
+	double tele_coupling_B_Nspm;         /* ... and B_c */
+	double tele_slave_bound_N;           /* position-position: |d| of the slave's PC, a force */
 	double slave_mass_kg, slave_damping_Nspm;
 	popc_servo_kind slave_servo;
 	double slave_servo_stiffness_Npm, slave_servo_damping_Nspm;
