@@ -97,7 +97,8 @@ int popc_run_teleop(const popc_scene *s, popc_axis *master, const popc_run_optio
 	sum->integrator = s->integrator;
 	sum->substeps = s->substeps;
 	sum->has_teleop = 1;
-	sum->tele_pp = s->tele_arch == POPC_TELEOP_POSITION_POSITION;
+	const int pp = s->tele_arch == POPC_TELEOP_POSITION_POSITION;
+	sum->tele_pp = pp;
 	const double late_from_s = s->duration_s - 1.0;
 	sum->tele_xs_late_min_m = (double)INFINITY;
 	sum->tele_xs_late_max_m = -(double)INFINITY;
@@ -133,14 +134,11 @@ int popc_run_teleop(const popc_scene *s, popc_axis *master, const popc_run_optio
 
 	popc_tdpa_side side_m, side_s;
 	popc_tdpa_side_init(&side_m, s->tele_master_bound_N);
-	popc_tdpa_side_init(&side_s, s->tele_arch == POPC_TELEOP_POSITION_POSITION
-					     ? s->tele_slave_bound_N
-					     : s->tele_slave_bound_mps);
+	popc_tdpa_side_init(&side_s, pp ? s->tele_slave_bound_N : s->tele_slave_bound_mps);
 	const int pc_on = s->tele_tdpa;
 	popc_port_energy port;
 	popc_port_energy_init(&port);
 	double xm_prev = 0.0;
-	const int pp = s->tele_arch == POPC_TELEOP_POSITION_POSITION;
 	double xs_prev = 0.0, v_s = 0.0, xm_start = 0.0, xs_start = 0.0;
 	for (long long k = 0; !st && k < n_ticks; k++) {
 		if (opt && opt->stop_flag && *opt->stop_flag) {
