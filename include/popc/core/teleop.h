@@ -61,10 +61,12 @@ enum popc_teleop_flag {
 	POPC_TELEOP_FLAG_BWD_FRESH = 128,/* the master received a newer packet this tick */
 };
 
-/* One side's port for a tick: the received energy first (popc_tdpa_receive),
- * then the output u against the conjugate c, corrected when pc_on (tdpa.h)
- * or only observed when not (d = 0, the energies split the same way, W may
- * go below 0). The same function online and in popc-analyze energy --check. */
+/* One side's port for a tick, in either architecture (u a velocity at the
+ * position-force slave, a force at every other port): the received energy
+ * first (popc_tdpa_receive), then the output u against the conjugate c,
+ * corrected when pc_on (tdpa.h) or only observed when not (d = 0, the
+ * energies split the same way, W may go below 0). The same function online
+ * and in popc-analyze energy --check. */
 static inline popc_tdpa_step popc_teleop_port(popc_tdpa_side *s, double remote_in_J, double u,
 					      double c, double T, int pc_on)
 {
