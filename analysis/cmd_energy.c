@@ -231,10 +231,13 @@ static int energy_admittance(ana_log *l, const char *path, popc_table_out *table
  * conjugate c), its correction, output, observer and energy split compared
  * bit for bit; and the two-port condition checked at every row. Reads the
  * file again with its own reader (the columns are the teleop set's, by
- * name). Takes over l (closes it). */
+ * name). Takes over l (closes it). Position-position: the slave's port
+ * from its coupling, recomputed from the cells too (xs_cmd and vs_rx the
+ * master's position and velocity the slave holds, v_s the backward
+ * difference of xs as online: core/teleop.h). */
 #define TELE_COLS(X)                                                                             \
 	X(f_e) X(v) X(f_pc) X(f_c) X(W) X(fs) X(vs_rx) X(vs_pc) X(vs_c) X(Ws) X(Em_in) X(Em_out) \
-	X(Em_rx) X(Es_in) X(Es_out) X(Es_rx)
+	X(Em_rx) X(Es_in) X(Es_out) X(Es_rx) X(xs) X(xs_cmd)
 enum {
 #define TELE_ENUM(n) TC_##n,
 	TELE_COLS(TELE_ENUM)
@@ -286,7 +289,10 @@ static int energy_teleop(ana_log *l, const char *path, popc_table_out *table, in
 	const double T = popc_scene_period_s(&sc);
 	popc_tdpa_side m, sl;
 	popc_tdpa_side_init_excess(&m, sc.tele_master_bound_N, sc.tele_excess_J);
-	popc_tdpa_side_init_excess(&sl, sc.tele_slave_bound_mps, sc.tele_excess_J);
+	const int pp = sc.tele_arch == POPC_TELEOP_POSITION_POSITION;
+	popc_tdpa_side_init_excess(&sl, pp ? sc.tele_slave_bound_N : sc.tele_slave_bound_mps,
+				   sc.tele_excess_J);
+	double xs_prev = 0.0;
 	long long rows = 0, mismatches = 0, broken = 0, first_broken = 0, first_mismatch = 0;
 	double margin_min[2] = {0.0, 0.0};
 	double v[POPC_LOG_MAX_COLUMNS];
@@ -297,11 +303,18 @@ static int energy_teleop(ana_log *l, const char *path, popc_table_out *table, in
 		popc_tdpa_step pm = popc_teleop_port(&m, c[TC_Em_rx], c[TC_f_e], -c[TC_v], T, sc.tele_tdpa);
 		popc_tdpa_step ps;
 		double v_dc = 0.0;
-		if (drift.law != POPC_DRIFT_OFF)
+		if (pp) {
+			const double v_s = rows ? (c[TC_xs] - xs_prev) / T : 0.0;
+			const double F_S = popc_teleop_coupling_N(sc.tele_coupling_K_Npm, sc.tele_coupling_B_Nspm,
+								  c[TC_xs_cmd], c[TC_xs], c[TC_vs_rx], v_s);
+			ps = popc_teleop_port(&sl, c[TC_Es_rx], F_S, v_s, T, sc.tele_tdpa);
+		} else if (drift.law != POPC_DRIFT_OFF) {
 			ps = popc_drift_port(&sl, &drift, c[TC_Es_rx], c[TC_vs_rx], -c[TC_fs], T, sc.tele_tdpa,
 					     v[dcol[2]] < 0.0 ? (double)NAN : v[dcol[0]], v[dcol[1]], &v_dc);
-		else
+		} else {
 			ps = popc_teleop_port(&sl, c[TC_Es_rx], c[TC_vs_rx], -c[TC_fs], T, sc.tele_tdpa);
+		}
+		xs_prev = c[TC_xs];
 		const double mine[] = {pm.d, pm.u, pm.W_J, popc_energy_flow_in(&m.flow),
 				       popc_energy_flow_out(&m.flow), ps.d, ps.u, ps.W_J,
 				       popc_energy_flow_in(&sl.flow), popc_energy_flow_out(&sl.flow)};

@@ -15,7 +15,13 @@
  * the force sensor between device and environment reads exactly that held
  * force, f_s = -f_env (the force the environment puts on the slave).
  * Left out: contact dynamics within a period, the environment's own mass,
- * friction, the sensor's noise. */
+ * friction, the sensor's noise.
+ *
+ * With teleop.architecture = position-position the slave is commanded a
+ * force instead (docs/TELEOPERATION.md, "Position-position"): the coupling
+ * controller F_S (core/teleop.h) takes the servo's place, held over the
+ * period beside the contact force, on the slave's mass and damping alone
+ * (the plant built with no servo gains; slave.servo* are not used). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -39,6 +45,7 @@ typedef struct slave_axis {
 	double period_s, delta_m, diverged_m; /* period_s: the sub-tick's, T / n_sub */
 	int n_sub;            /* sub-ticks a tick (slave.rate / run.rate; 1: none) */
 	long long k;          /* sub-ticks so far */
+	int force_cmd;        /* position-position: the command is a force (N) */
 } slave_axis;
 
 static int slave_start(popc_axis *a, popc_error *err)
@@ -84,22 +91,31 @@ static int slave_exchange(popc_axis *a, double v_c_mps, popc_axis_sample *next_o
 			  popc_error *err)
 {
 	slave_axis *s = a->priv;
-	/* slave.rate = n_sub x run.rate: the velocity command held over the
-	 * tick, the contact force evaluated and held, the position command
-	 * advanced and the plant stepped each sub-tick of T / n_sub; the sample
-	 * is the last sub-tick's, the next tick's (n_sub = 1: one step of T) */
+	/* slave.rate = n_sub x run.rate: the command held over the tick, the
+	 * contact force evaluated and held, the position command advanced and
+	 * the plant stepped each sub-tick of T / n_sub; the sample is the last
+	 * sub-tick's, the next tick's (n_sub = 1: one step of T) */
 	for (int j = 0; j < s->n_sub; j++) {
 		if (j > 0) {
 			int st = fill_sample(s, next_out, err);
 			if (st)
 				return st;
 		}
-		const popc_plant_input held = {.u0_N = s->f_s_N};
 		popc_plant_input u;
-		popc_admittance_plant_input(&s->plant, &held, s->x_cmd_m, v_c_mps, 0.0, &u);
+		if (s->force_cmd) {
+			/* position-position: the command is the coupling's force, held
+			 * with the contact's; no servo gains in the plant, so its input
+			 * is the two forces */
+			const popc_plant_input held = {.u0_N = s->f_s_N + v_c_mps};
+			popc_admittance_plant_input(&s->plant, &held, s->x_cmd_m, 0.0, 0.0, &u);
+		} else {
+			const popc_plant_input held = {.u0_N = s->f_s_N};
+			popc_admittance_plant_input(&s->plant, &held, s->x_cmd_m, v_c_mps, 0.0, &u);
+		}
 		popc_plant_step(&s->plant.plant, &s->st, &u);
 		s->k++;
-		s->x_cmd_m += v_c_mps * s->period_s;
+		if (!s->force_cmd)
+			s->x_cmd_m += v_c_mps * s->period_s;
 	}
 	return fill_sample(s, next_out, err);
 }
@@ -148,6 +164,12 @@ int popc_sim_slave_axis_create(popc_axis **out, const popc_scene *sc, double x0_
 	popc_environment_from_scene(&s->env, sc);
 	popc_admittance_plant_config pc;
 	popc_teleop_slave_plant_config_from_scene(&pc, sc, x0_m);
+	s->force_cmd = sc->tele_arch == POPC_TELEOP_POSITION_POSITION;
+	if (s->force_cmd) {
+		/* no servo: K_p = 0 (a velocity servo) and K_v = 0 */
+		pc.servo = POPC_SERVO_VELOCITY;
+		pc.servo_damping_Nspm = 0.0;
+	}
 	int st = popc_admittance_plant_init(&s->plant, &pc, err);
 	if (st) {
 		free(s);

@@ -4,7 +4,7 @@
 
 #include <stddef.h>
 
-const char *const popc_teleop_architecture_names[] = {"off", "position-force", NULL};
+const char *const popc_teleop_architecture_names[] = {"off", "position-force", "position-position", NULL};
 const char *const popc_teleop_link_names[] = {"channel", "direct", NULL};
 
 const char *popc_teleop_variant_name(int tdpa_on, int drift_law)

@@ -180,10 +180,12 @@ void popc_run_summary_print(const popc_run_summary *sum, const popc_scene *s, FI
 	if (sum->has_teleop)
 		fprintf(f, "  teleoperation (the lines above are the master's): two-port condition broken "
 			"on %lld ticks, smallest margin master %.3g J, slave %.3g J; PCs active %lld, %lld "
-			"ticks, clamped %lld, %lld; largest |f_c| %.4g N, |v_c| %.4g m/s\n",
+			"ticks, clamped %lld, %lld; largest |f_c| %.4g N, %s %.4g %s\n",
 			sum->tele_violations, sum->tele_margin_min_J[0], sum->tele_margin_min_J[1],
 			sum->tele_active[0], sum->tele_active[1], sum->tele_clamped[0],
-			sum->tele_clamped[1], sum->tele_f_c_max_N, sum->tele_v_c_max_mps);
+			sum->tele_clamped[1], sum->tele_f_c_max_N,
+			sum->tele_pp ? "|F_S|" : "|v_c|", sum->tele_v_c_max_mps,
+			sum->tele_pp ? "N" : "m/s");
 	if (sum->has_port_energy)
 		fprintf(f, "  true port energy E_port: final %.4g J; observer error W - E_port: final %.4g J, "
 			"largest |.| %.4g J\n",

@@ -10,7 +10,12 @@
  * slave (f_s(k), E_in,S through k-1), then each receives (channel.h: a delay
  * of 0 arrives in the tick it is sent), so with teleop.link = direct, or a
  * channel of no delay and no loss, each side holds the other's packet of
- * this tick: the same rows. */
+ * this tick: the same rows.
+ *
+ * Position-position (teleop.h, popc_teleop_coupling_N): the slave also sends
+ * its position and velocity, each side's coupling computes the force on its
+ * own device, and both ports are of impedance type; the slave's command is
+ * that force (sim_slave_axis.c). */
 #include "run_teleop.h"
 #include "channel_log.h"
 #include "run_stop.h"
@@ -94,6 +99,13 @@ static double held_value(const link *l, int i)
 	return l->held.seq < 0 ? 0.0 : l->held.value[i];
 }
 
+/* a position before the first packet: the common start (both sides start
+ * there at rest), so that no coupling pulls before anything arrived */
+static double held_position(const link *l, int i, double start_m)
+{
+	return l->held.seq < 0 ? start_m : l->held.value[i];
+}
+
 static double held_energy(const link *l)
 {
 	return l->held.seq < 0 ? 0.0 : l->held.energy_J;
@@ -122,6 +134,8 @@ int popc_run_teleop(const popc_scene *s, popc_axis *axis, const popc_run_options
 	sum->integrator = s->integrator;
 	sum->substeps = s->substeps;
 	sum->has_teleop = 1;
+	const int pp = s->tele_arch == POPC_TELEOP_POSITION_POSITION;
+	sum->tele_pp = pp;
 	const double late_from_s = s->duration_s - 1.0;
 	sum->tele_xs_late_min_m = (double)INFINITY;
 	sum->tele_xs_late_max_m = -(double)INFINITY;
@@ -175,13 +189,15 @@ int popc_run_teleop(const popc_scene *s, popc_axis *axis, const popc_run_options
 
 	popc_tdpa_side side_m, side_s;
 	popc_tdpa_side_init_excess(&side_m, s->tele_master_bound_N, s->tele_excess_J);
-	popc_tdpa_side_init_excess(&side_s, s->tele_slave_bound_mps, s->tele_excess_J);
+	popc_tdpa_side_init_excess(&side_s, pp ? s->tele_slave_bound_N : s->tele_slave_bound_mps,
+				   s->tele_excess_J);
 	/* the slave's drift compensation (tdpa_drift.h), teleop.drift */
 	const popc_drift_config drift = {s->tele_drift, s->tele_drift_max_mps, s->tele_drift_ratio};
 	const int pc_on = s->tele_tdpa;
 	popc_port_energy port;
 	popc_port_energy_init(&port);
 	double xm_prev = 0.0;
+	double xs_prev = 0.0, v_s = 0.0, xm_start = 0.0, xs_start = 0.0;
 	for (long long k = 0; !st && k < n_ticks; k++) {
 		if (opt && opt->stop_flag && *opt->stop_flag) {
 			st = popc_error_set(err, POPC_ERR_INTERRUPTED, "interrupted by a signal at t = %g s",
@@ -205,6 +221,13 @@ int popc_run_teleop(const popc_scene *s, popc_axis *axis, const popc_run_options
 		r->xs_cmd_m = ss.x_cmd_m;
 		r->fs_count = ss.force_count;
 		r->fs_N = (double)ss.force_count * s->slave_force_resolution_N;
+		/* the slave's velocity, as the master's (position-position only) */
+		v_s = k ? (r->xs_m - xs_prev) / T : 0.0;
+		xs_prev = r->xs_m;
+		if (k == 0) {
+			xm_start = m->x_m;
+			xs_start = r->xs_m;
+		}
 
 		/* each side's packet, with its input energy through tick k-1 */
 		popc_packet pf, pb;
@@ -214,28 +237,43 @@ int popc_run_teleop(const popc_scene *s, popc_axis *axis, const popc_run_options
 		pf.value[POPC_TELEOP_FWD_V] = m->v_mps;
 		pf.energy_J = popc_energy_flow_in(&side_m.flow);
 		pb.value[POPC_TELEOP_BWD_F] = r->fs_N;
+		pb.value[POPC_TELEOP_BWD_X] = r->xs_m;
+		pb.value[POPC_TELEOP_BWD_V] = v_s;
 		pb.energy_J = popc_energy_flow_in(&side_s.flow);
 		unsigned flags = link_tick(&fwd, k, &pf, POPC_TELEOP_FLAG_FWD_LOST, POPC_TELEOP_FLAG_FWD_FRESH);
 		flags |= link_tick(&bwd, k, &pb, POPC_TELEOP_FLAG_BWD_LOST, POPC_TELEOP_FLAG_BWD_FRESH);
 		r->fwd_age = fwd.held.seq < 0 ? -1 : k - fwd.held.seq;
 		r->bwd_age = bwd.held.seq < 0 ? -1 : k - bwd.held.seq;
 
-		/* the slave's port: u = v_c, c = -f_s */
+		/* the slave's port: u = v_c, c = -f_s; position-position: u = F_S,
+		 * c = v_s, and xs_cmd, vs_pc, vs_c hold x_m,rx, d_S (N), F_S + d_S (N) */
 		r->vs_rx_mps = held_value(&fwd, POPC_TELEOP_FWD_V);
 		popc_tdpa_step ps;
 		r->xm_rx_m = held_value(&fwd, POPC_TELEOP_FWD_X);
 		r->vs_dc_mps = 0.0;
-		if (drift.law != POPC_DRIFT_OFF) /* toward the master position held; none before the first */
+		if (pp) {
+			r->xs_cmd_m = held_position(&fwd, POPC_TELEOP_FWD_X, xs_start);
+			const double F_S = popc_teleop_coupling_N(s->tele_coupling_K_Npm, s->tele_coupling_B_Nspm,
+								  r->xs_cmd_m, r->xs_m, r->vs_rx_mps, v_s);
+			ps = popc_teleop_port(&side_s, held_energy(&fwd), F_S, v_s, T, pc_on);
+		} else if (drift.law != POPC_DRIFT_OFF) { /* toward the master position held; none before the first */
 			ps = popc_drift_port(&side_s, &drift, held_energy(&fwd), r->vs_rx_mps, -r->fs_N, T,
 					     pc_on, fwd.held.seq < 0 ? (double)NAN : r->xm_rx_m,
 					     r->xs_cmd_m, &r->vs_dc_mps);
-		else
+		} else {
 			ps = popc_teleop_port(&side_s, held_energy(&fwd), r->vs_rx_mps, -r->fs_N, T, pc_on);
+		}
 		r->vs_pc_mps = ps.d;
 		r->vs_c_mps = ps.u;
 		r->Ws_J = ps.W_J;
-		/* the master's port: u = f_c, c = -v_m (the device receives -f_c) */
-		m->f_e_N = 0.0 - held_value(&bwd, POPC_TELEOP_BWD_F); /* +0 when f_s = 0 */
+		/* the master's port: u = f_c, c = -v_m (the device receives -f_c);
+		 * position-position: f_c = -F_M, the master's coupling force */
+		if (pp)
+			m->f_e_N = -popc_teleop_coupling_N(s->tele_coupling_K_Npm, s->tele_coupling_B_Nspm,
+							   held_position(&bwd, POPC_TELEOP_BWD_X, xm_start), m->x_m,
+							   held_value(&bwd, POPC_TELEOP_BWD_V), m->v_mps);
+		else
+			m->f_e_N = 0.0 - held_value(&bwd, POPC_TELEOP_BWD_F); /* +0 when f_s = 0 */
 		popc_tdpa_step pm = popc_teleop_port(&side_m, held_energy(&bwd), m->f_e_N, -m->v_mps, T, pc_on);
 		m->f_pc_N = pm.d;
 		m->f_c_N = pm.u;

@@ -48,7 +48,8 @@ typedef struct scene_key {
 } scene_key;
 
 /* declared_only's values beside 0 (always written) and 1 (written when not 0) */
-enum { ADMITTANCE_ONLY = 2, WRITTEN_FOR_EB = 3, TELEOP_ONLY = 4, TELEOP_USED = 5, DRIFT_ONLY = 6 };
+enum { ADMITTANCE_ONLY = 2, WRITTEN_FOR_EB = 3, TELEOP_ONLY = 4, TELEOP_USED = 5, DRIFT_ONLY = 6,
+       PP_ONLY = 7 };
 
 static const char *const axis_names[] = {"sim", "modbus", NULL};
 static const char *const off_on_names[] = {"off", "on", NULL};
@@ -63,6 +64,8 @@ static const char *const jitter_model_names[] = {"uniform", "walk", NULL};
 	{"admittance", k, KEY_DOUBLE, OFF(field), lo, hi, open, unit, NULL, help, def, ADMITTANCE_ONLY}
 #define NUM_TELE(sec, k, field, def, lo, hi, open, unit, help) \
 	{sec, k, KEY_DOUBLE, OFF(field), lo, hi, open, unit, NULL, help, def, TELEOP_ONLY}
+#define NUM_PP(k, field, def, lo, hi, open, unit, help) \
+	{"teleop", k, KEY_DOUBLE, OFF(field), lo, hi, open, unit, NULL, help, def, PP_ONLY}
 #define INT_TELE(sec, k, field, def, lo, hi, unit, help) \
 	{sec, k, KEY_INT, OFF(field), lo, hi, 0, unit, NULL, help, def, TELEOP_ONLY}
 /* one direction of the channel (core/channel.h), [forward] or [backward] */
@@ -203,6 +206,12 @@ static const scene_key scene_keys[] = {
 	{"teleop", "excess", KEY_DOUBLE, OFF(tele_excess_J), 0, 1e3, 0, "J", NULL,
 	 "passivity excess: energy each side may deliver beyond what it received (0: none)", "0",
 	 TELEOP_USED},
+	NUM_PP("coupling_stiffness", tele_coupling_K_Npm, "1000", 0, 1e9, 0, "N/m",
+	       "position-position: each side's coupling spring K_c to the remote position"),
+	NUM_PP("coupling_damping", tele_coupling_B_Nspm, "20", 0, 1e6, 0, "N s/m",
+	       "position-position: each side's coupling damper B_c to the remote velocity"),
+	NUM_PP("slave_pc_force_bound", tele_slave_bound_N, "100", 0, 1e6, 1, "N",
+	       "position-position: bound on the slave PC's force |d|"),
 	NUM_TELE("slave", "mass", slave_mass_kg, "0.2", 0, 1e3, 1, "kg", "slave device mass"),
 	NUM_TELE("slave", "damping", slave_damping_Nspm, "0", 0, 1e6, 0, "N s/m", "slave device damping"),
 	{"slave", "servo", KEY_ENUM, OFF(slave_servo), 0, 0, 0, "", popc_servo_kind_names,
@@ -936,6 +945,28 @@ static int validate_teleop(const popc_scene *s, const char *src, popc_error *err
 				      "%s: slave.rate = %g Hz is not a whole multiple of run.rate = %g "
 				      "Hz; allowed 0 (run.rate) or N x run.rate with N whole, 1 to %d",
 				      src, s->slave_rate_Hz, s->rate_Hz, POPC_SLAVE_MAX_SUBSTEPS);
+	if (s->tele_arch == POPC_TELEOP_POSITION_POSITION && !(s->tele_coupling_K_Npm > 0.0) &&
+	    !(s->tele_coupling_B_Nspm > 0.0))
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: teleop.architecture = position-position needs "
+				      "teleop.coupling_stiffness > 0 N/m or teleop.coupling_damping > 0 "
+				      "N s/m (no coupling: master and slave would not interact)",
+				      src);
+	/* position-position commands the slave a force (sim_slave_axis.c); a
+	 * drive takes a position or a velocity, and the drift laws correct a
+	 * velocity command (tdpa_drift.h) */
+	if (s->tele_arch == POPC_TELEOP_POSITION_POSITION && strcmp(s->axis, "sim") != 0)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: teleop.architecture = position-position needs axis.kind = sim "
+				      "(its slave is commanded a force; a Modbus slave drive takes a "
+				      "position or a velocity: position-force)",
+				      src);
+	if (s->tele_arch == POPC_TELEOP_POSITION_POSITION && s->tele_drift != POPC_DRIFT_OFF)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: teleop.drift = %s needs teleop.architecture = position-force "
+				      "(it corrects the slave's velocity command; position-position's "
+				      "couplings pull the positions together)",
+				      src, popc_drift_law_names[s->tele_drift]);
 	const popc_scene_channel *dir[2] = {&s->fwd, &s->bwd};
 	const char *name[2] = {"forward", "backward"};
 	for (int i = 0; i < 2; i++) {
@@ -1070,6 +1101,8 @@ static int key_written(const popc_scene *s, const scene_key *k)
 		return 0;
 	if (k->declared_only == TELEOP_USED && k->type == KEY_STRING)
 		return field[0] != '\0';
+	if (k->declared_only == PP_ONLY)
+		return s->tele_arch == POPC_TELEOP_POSITION_POSITION;
 	if (k->declared_only && k->type == KEY_ENUM)
 		return *(const int *)(const void *)field != 0;
 	if (k->declared_only)

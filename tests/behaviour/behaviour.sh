@@ -59,7 +59,7 @@ for scene in "$SRC"/data/scenes/*.ini; do
 		done
 		continue
 	fi
-	if grep -q '^architecture *= *position-force' "$scene"; then # docs/TELEOPERATION.md
+	if grep -qE '^architecture *= *position-(force|position)' "$scene"; then # docs/TELEOPERATION.md
 		for pc in on off; do
 			case_run "$s.tdpa-$pc" "$scene" --set teleop.tdpa=$pc
 		done

@@ -61,7 +61,7 @@ bad_case() { # DESC TEXT ASSIGNMENT...
 }
 bad_case "a delay beyond the channel" "forward.delay_ticks" forward.delay_ticks=100001
 bad_case "a loss of 1" "backward.loss" backward.loss=1
-bad_case "an unknown architecture" "allowed one of off|position-force" teleop.architecture=position-position
+bad_case "an unknown architecture" "allowed one of off|position-force|position-position" teleop.architecture=force-force
 bad_case "delay plus jitter beyond the channel" "forward.delay_ticks + forward.jitter_ticks" \
 	forward.delay_ticks=90000 forward.jitter_ticks=20000
 bad_case "run.delay_ticks in a teleop scene" "run.delay_ticks = 0" run.delay_ticks=2

@@ -106,7 +106,7 @@ static void test_keys(void **state)
 		{"forward", "delay_ticks", "100001", "forward.delay_ticks"},
 		{"backward", "jitter_ticks", "-1", "backward.jitter_ticks"},
 		{"forward", "loss", "1", "forward.loss"},
-		{"teleop", "architecture", "position-position", "teleop.architecture"},
+		{"teleop", "architecture", "force-force", "teleop.architecture"},
 		{"teleop", "master_pc_bound", "0", "teleop.master_pc_bound"},
 		{"slave", "mass", "0", "slave.mass"},
 		{"backward", "in_order", "yes", "backward.in_order"},

@@ -25,10 +25,11 @@
 typedef enum popc_teleop_architecture {
 	POPC_TELEOP_OFF,            /* not a teleoperation scene (every one-port scene) */
 	POPC_TELEOP_POSITION_FORCE, /* master motion forward, slave force back */
+	POPC_TELEOP_POSITION_POSITION, /* motion both ways, a coupling controller at each side */
 	POPC_TELEOP_ARCHITECTURE_COUNT
 } popc_teleop_architecture;
 
-/* Names in scenes ("off", "position-force"), index = value, NULL-terminated. */
+/* Names in scenes ("off", "position-force", "position-position"), index = value, NULL-terminated. */
 extern const char *const popc_teleop_architecture_names[];
 
 typedef enum popc_teleop_link {
@@ -43,6 +44,8 @@ enum {
 	POPC_TELEOP_FWD_X = 0, /* master position x_m(k), m */
 	POPC_TELEOP_FWD_V = 1, /* master velocity v_m(k), m/s */
 	POPC_TELEOP_BWD_F = 0, /* slave sensed force f_s(k), N */
+	POPC_TELEOP_BWD_X = 1, /* position-position: slave position x_s(k), m */
+	POPC_TELEOP_BWD_V = 2, /* position-position: slave velocity v_s(k), m/s */
 };
 
 /* Bits of a teleoperation log's flags column: each side's tdpa.h flags, and
@@ -58,15 +61,36 @@ enum popc_teleop_flag {
 	POPC_TELEOP_FLAG_BWD_FRESH = 128,/* the master received a newer packet this tick */
 };
 
-/* One side's port for a tick: the received energy first (popc_tdpa_receive),
- * then the output u against the conjugate c, corrected when pc_on (tdpa.h)
- * or only observed when not (d = 0, the energies split the same way, W may
- * go below 0). The same function online and in popc-analyze energy --check. */
+/* One side's port for a tick, in either architecture (u a velocity at the
+ * position-force slave, a force at every other port): the received energy
+ * first (popc_tdpa_receive), then the output u against the conjugate c,
+ * corrected when pc_on (tdpa.h) or only observed when not (d = 0, the
+ * energies split the same way, W may go below 0). The same function online
+ * and in popc-analyze energy --check. */
 static inline popc_tdpa_step popc_teleop_port(popc_tdpa_side *s, double remote_in_J, double u,
 					      double c, double T, int pc_on)
 {
 	popc_tdpa_receive(s, remote_in_J);
 	return pc_on ? popc_tdpa_correct(s, u, c, T) : popc_tdpa_observe(s, u, c, T);
+}
+
+/* Position-position (Artigas, Ryu, Preusche and Hirzinger, Presence 19(5),
+ * 2010; docs/TELEOPERATION.md, "Position-position"): the coupling
+ * controller of a side, a spring K_c and a damper B_c between the remote
+ * position and velocity it holds and its own measured ones, the force on its
+ * own device,
+ *
+ *     F = K_c (x_rx - x) + B_c (v_rx - v),
+ *
+ * at the master F_M (the device receives -f_c: f_e = -F_M, c = -v_m), at the
+ * slave F_S (its force command: u = F_S, c = v_s). Both ports are then of
+ * impedance type (a force out, a velocity in), each stepped by
+ * popc_teleop_port, the same function as position-force's. The same
+ * expression online and in popc-analyze energy --check. */
+static inline double popc_teleop_coupling_N(double K_Npm, double B_Nspm, double x_rx_m, double x_m,
+					    double v_rx_mps, double v_mps)
+{
+	return K_Npm * (x_rx_m - x_m) + B_Nspm * (v_rx_mps - v_mps);
 }
 
 /* The two-port condition at a side after its tick (Ryu et al. 2010): what

@@ -47,7 +47,8 @@ typedef struct popc_run_summary {
 	int has_teleop;
 	double tele_margin_min_J[2];
 	long long tele_violations, tele_active[2], tele_clamped[2];
-	double tele_f_c_max_N, tele_v_c_max_mps;
+	double tele_f_c_max_N, tele_v_c_max_mps; /* position-position: |v_c| is the slave's |F_S| (N) */
+	int tele_pp;                  /* position-position (the slave's command a force) */
 	double tele_d_max[2];          /* the largest |d| of each PC (N, m/s) */
 	double tele_xs_late_min_m, tele_xs_late_max_m;
 	int status;                   /* 0 or the popc_status that stopped the run */

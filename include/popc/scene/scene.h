@@ -99,6 +99,9 @@ typedef struct popc_scene {
 	double tele_drift_max_mps;           /* its |v_dc| bound */
 	double tele_drift_ratio;             /* coelho2018: |v_dc| at most ratio |u| */
 	double tele_excess_J;                /* each side's passivity excess E_0 (tdpa.h) */
+	double tele_coupling_K_Npm;          /* position-position: each side's coupling K_c */
+	double tele_coupling_B_Nspm;         /* ... and B_c */
+	double tele_slave_bound_N;           /* position-position: |d| of the slave's PC, a force */
 	double slave_mass_kg, slave_damping_Nspm;
 	popc_servo_kind slave_servo;
 	double slave_servo_stiffness_Npm, slave_servo_damping_Nspm;
