@@ -134,7 +134,7 @@ int ana_cmd_replay(int argc, char **argv)
 		case OPT_VARIANT: {
 			/* a teleoperation log's: both ports' PCs off or on */
 			if (strcmp(optarg, "tdpa-off") == 0 || strcmp(optarg, "tdpa-on") == 0) {
-				tele_mask |= optarg[5] == 'n' ? 2u : 1u;
+				tele_mask |= strcmp(optarg, "tdpa-on") == 0 ? 2u : 1u;
 				if (!tele_only)
 					tele_only = optarg;
 				break;
