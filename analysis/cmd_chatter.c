@@ -54,6 +54,9 @@ static void usage(FILE *f)
 	      "verdict: 0 or 1 when chatter was checked (a 0.1 to 1 s log), 2 when it was not.\n"
 	      "Exit 0 says nothing was flagged, not that there is no limit cycle.\n",
 	      f);
+	fputs("A teleoperation log is checked per port, LOG:master (f_pc, N, PC scale 20 K_e\n"
+	      "delta) and LOG:slave (vs_pc, m/s, PC scale 20 r / (K_e T)): docs/TELEOPERATION.md.\n",
+	      f);
 }
 
 enum { OPT_FORMAT = 256, OPT_THRESHOLD };

@@ -420,6 +420,10 @@ static void usage(FILE *f)
 	      "Exit status: 0 done, 2 bad usage or input (the other logs are still compared).\n",
 	      f);
 	fputs(ANA_FOREIGN_HELP, f); /* its own string: C99 promises 4095 characters */
+	fputs("\nTeleoperation logs (teleop.architecture in the header) get the two-port table\n"
+	      "of 'popc-analyze teleop' (each port's PC and chatter, energies, margins, drift,\n"
+	      "force tracking); one comparison of them with one-port logs is refused (exit 2).\n",
+	      f);
 }
 
 enum { OPT_FORMAT = 256, OPT_LATE, OPT_THRESHOLD };

@@ -29,6 +29,7 @@ static void usage(FILE *f)
 	      "\n"
 	      "Exit status: 0 done, 2 bad usage or input (a one-port log is refused).\n",
 	      f);
+	fputs(ANA_FOREIGN_HELP, f); /* its own string: C99 promises 4095 characters */
 }
 
 enum { OPT_FORMAT = 256, OPT_THRESHOLD };
