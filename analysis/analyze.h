@@ -20,6 +20,7 @@
 #include "popc/log/log_reader.h"
 #include "popc/scene/scene.h"
 #include "read_foreign.h"
+#include "teleop_log.h"
 
 /* Options every verb that reads logs accepts (--column, --delimiter,
  * --decimal, --comment, --set, --scale). */
@@ -134,6 +135,7 @@ extern const popc_option *const ana_compare_opts[];
 extern const popc_option *const ana_replay_opts[];
 extern const popc_option *const ana_events_opts[];
 extern const popc_option *const ana_report_opts[];
+extern const popc_option *const ana_teleop_opts[];
 /* popc's column names, each after a space: " t x count ..."; an admittance
  * log's own columns are left out (a recorded admittance device's log is a
  * later phase, docs/ADMITTANCE.md), and so are a teleoperation log's */
@@ -409,8 +411,14 @@ int ana_cmd_replay(int argc, char **argv);
 int ana_replay_admittance(ana_log *l, const char *path, const popc_scene *base,
 			  const popc_admittance_variant *variants, char (*out_paths)[1100], int n,
 			  int quiet);
+/* replay_teleop.c: a teleoperation log's two PCs off (mask bit 0) and on
+ * (bit 1) over the recorded channel into out_paths[0], [1] (checked by the
+ * caller); returns an exit status. */
+int ana_replay_teleop(const char *path, const popc_scene *sc, unsigned mask,
+		      char (*out_paths)[1100], int quiet);
 int ana_cmd_report(int argc, char **argv);
 int ana_cmd_events(int argc, char **argv);
+int ana_cmd_teleop(int argc, char **argv);
 
 /* compare's one row, shared by compare and report. */
 typedef struct ana_summary {
@@ -445,6 +453,12 @@ typedef struct ana_summary {
 	/* an admittance log's (report_admittance.c's parameter box) */
 	double adm_force_resolution_N, adm_virtual_mass_kg, adm_virtual_damping_Nspm;
 	double adm_pc_velocity_bound_mps;
+	/* a teleoperation log (teleop.architecture not off): only log, variant,
+	 * ticks, duration_s and period_s above are set; its figures are tele's
+	 * (teleop_log.h), the scene tele_scene */
+	int teleop;
+	ana_tele_summary tele;
+	popc_scene tele_scene;
 } ana_summary;
 
 /* Chatter has a verdict: the log has a PC force and at least one full

@@ -17,6 +17,8 @@ int main(int argc, char **argv)
 		 "run controller variants over a recorded position trace", ana_replay_opts, NULL, 0},
 		{"events", ana_cmd_events, "LOG...",
 		 "the paper's timeline: velocity settling, Fig. 5 and Fig. 8 events", ana_events_opts, NULL, 0},
+		{"teleop", ana_cmd_teleop, "LOG...",
+		 "teleoperation logs: position drift, force tracking, each port's PC", ana_teleop_opts, NULL, 0},
 		{"report", ana_cmd_report, "LOG... -o DIR", "gnuplot figures (PNG, PDF), table and index page", ana_report_opts, NULL, 0},
 	};
 	static const popc_program analyze = {

@@ -54,6 +54,9 @@ static void usage(FILE *f)
 	      "verdict: 0 or 1 when chatter was checked (a 0.1 to 1 s log), 2 when it was not.\n"
 	      "Exit 0 says nothing was flagged, not that there is no limit cycle.\n",
 	      f);
+	fputs("A teleoperation log is checked per port, LOG:master (f_pc, N, PC scale 20 K_e\n"
+	      "delta) and LOG:slave (vs_pc, m/s, PC scale 20 r / (K_e T)): docs/TELEOPERATION.md.\n",
+	      f);
 }
 
 enum { OPT_FORMAT = 256, OPT_THRESHOLD };
@@ -161,6 +164,42 @@ static void print_csv(FILE *f, const ana_summary *s)
 	}
 }
 
+/* A teleoperation log's two ports (master f_pc in N, slave vs_pc in m/s),
+ * each as a one-port log would be reported; returns 0, or -1 when a port was
+ * not checked (the exit status is then 2, as for a one-port log). */
+static int teleop_chatter(ana_summary port[2], const char *path, int quiet, popc_table_out *table,
+			  int *flagged)
+{
+	int bad = 0;
+	for (int p = 0; p < 2; p++) {
+		const ana_summary *s = &port[p];
+		popc_error err;
+		if (s->chatter.n_intervals || s->chatter.limit_cycle)
+			*flagged = 1;
+		if (!ana_chatter_checked(s)) {
+			ana_chatter_too_short(&err, path, s);
+			fprintf(stderr, "popc-analyze chatter: %s (%s port)\n", err.msg,
+				p ? "slave" : "master");
+			bad = -1;
+		}
+		if (!ana_lc_checked(s)) {
+			ana_lc_too_short(&err, path, s);
+			fprintf(stderr, "popc-analyze chatter: %s%s (%s port)\n",
+				ana_chatter_checked(s) ? "note: " : "", err.msg, p ? "slave" : "master");
+		}
+		if (quiet)
+			continue;
+		if (table) {
+			print_csv(popc_table_out_row(table), s);
+			if (popc_table_out_flush(table) != 0)
+				bad = -1;
+		} else {
+			print_text(s);
+		}
+	}
+	return bad;
+}
+
 int ana_cmd_chatter(int argc, char **argv)
 {
 	struct option opts[ANA_MAX_OPTIONS];
@@ -220,6 +259,25 @@ int ana_cmd_chatter(int argc, char **argv)
 		if (st) {
 			ana_fail("chatter", st, &err);
 			rc = POPC_EXIT_USAGE;
+			continue;
+		}
+		if (s.teleop) {
+			/* each port its own detector, thresholds from its own scale
+			 * (teleop_log.h): reported as LOG:master and LOG:slave */
+			ana_summary port[2];
+			const ana_tele_port *tp[2] = {&s.tele.m, &s.tele.s};
+			for (int p = 0; p < 2; p++) {
+				memset(&port[p], 0, sizeof port[p]);
+				snprintf(port[p].log, sizeof port[p].log, "%.200s:%s", s.log,
+					 p ? "slave" : "master");
+				port[p].chatter = tp[p]->chatter;
+				port[p].has_pc_force = port[p].has_w = 1;
+				port[p].admittance = p; /* the slave's PC is a velocity */
+				port[p].ticks = s.tele.ticks;
+				port[p].period_s = s.tele.period_s;
+			}
+			if (teleop_chatter(port, argv[i], quiet, tabled ? &table : NULL, &flagged) != 0)
+				rc = POPC_EXIT_USAGE;
 			continue;
 		}
 		if (s.chatter.n_intervals || s.chatter.limit_cycle)

@@ -93,6 +93,16 @@ int ana_summarize(const char *path, const ana_input_options *o, const popc_chatt
 					l.period_s);
 	snprintf(s->ignore_mode, sizeof s->ignore_mode, "%s",
 		 popc_ignore_mode_names[l.scene.ignore_mode]);
+	if (l.scene.tele_arch != POPC_TELEOP_OFF) {
+		/* two ports: the file again, by the teleop columns' names */
+		s->teleop = 1;
+		s->tele_scene = l.scene;
+		ana_log_close(&l);
+		st = ana_tele_summarize(path, &s->tele_scene, ccfg, &s->tele, NULL, NULL, err);
+		s->ticks = s->tele.ticks;
+		s->duration_s = s->tele.duration_s;
+		return st;
+	}
 	if (late_from_s < 0.0) {
 		/* the online summary's late window: the second half of the run, the
 		 * seed's low-velocity phase; a log without a duration: all of it */
@@ -410,6 +420,10 @@ static void usage(FILE *f)
 	      "Exit status: 0 done, 2 bad usage or input (the other logs are still compared).\n",
 	      f);
 	fputs(ANA_FOREIGN_HELP, f); /* its own string: C99 promises 4095 characters */
+	fputs("\nTeleoperation logs (teleop.architecture in the header) get the two-port table\n"
+	      "of 'popc-analyze teleop' (each port's PC and chatter, energies, margins, drift,\n"
+	      "force tracking); one comparison of them with one-port logs is refused (exit 2).\n",
+	      f);
 }
 
 enum { OPT_FORMAT = 256, OPT_LATE, OPT_THRESHOLD };
@@ -484,36 +498,89 @@ int ana_cmd_compare(int argc, char **argv)
 		rc = POPC_EXIT_RUN_FAILED;
 		goto out;
 	}
-	ana_summary_print_header(stdout, fmt);
-	for (int i = optind; i < argc; i++) {
-		ana_summary s;
+	/* every log first: teleoperation logs have their own table (two ports,
+	 * drift, tracking), and one table cannot hold both kinds */
+	const int n_logs = argc - optind;
+	ana_summary *all = calloc((size_t)n_logs, sizeof *all);
+	int *ok = calloc((size_t)n_logs, sizeof *ok);
+	if (!all || !ok) {
+		fprintf(stderr, "popc-analyze compare: out of memory\n");
+		free(all);
+		free(ok);
+		free(names);
+		rc = POPC_EXIT_RUN_FAILED;
+		goto out;
+	}
+	int first_tele = -1, first_port = -1;
+	for (int i = 0; i < n_logs; i++) {
 		popc_error err;
-		int st = ana_summarize(argv[i], &in, &cc, late_from, &s, NULL, NULL, &err);
+		int st = ana_summarize(argv[optind + i], &in, &cc, late_from, &all[i], NULL, NULL, &err);
 		if (st) {
 			rc = ana_fail("compare", st, &err);
 			continue;
 		}
-		snprintf(s.log, sizeof s.log, "%s", names[i - optind]);
-		if (!s.has_pc_force) {
-			popc_error why;
-			ana_no_pc_force(&why, argv[i]);
-			fprintf(stderr, "popc-analyze compare: note: %s; its PC and chatter columns%s are n/a\n",
-				why.msg, s.has_w ? "" : " and W - E_ref");
-		} else if (!ana_chatter_checked(&s)) {
-			popc_error why;
-			ana_chatter_too_short(&why, argv[i], &s);
-			fprintf(stderr, "popc-analyze compare: note: %s; its chatter columns are n/a\n",
-				why.msg);
-		}
-		if (!ana_lc_checked(&s)) {
-			popc_error why;
-			ana_lc_too_short(&why, argv[i], &s);
-			fprintf(stderr,
-				"popc-analyze compare: note: %s; its limit-cycle columns are n/a\n",
-				why.msg);
-		}
-		ana_summary_print_row(stdout, fmt, &s);
+		ok[i] = 1;
+		if (all[i].teleop && first_tele < 0)
+			first_tele = i;
+		if (!all[i].teleop && first_port < 0)
+			first_port = i;
 	}
+	if (first_tele >= 0 && first_port >= 0) {
+		fprintf(stderr,
+			"popc-analyze compare: %s is a teleoperation log (teleop.architecture = %s) and "
+			"%s a one-port log: compare one kind at a time (docs/TELEOPERATION.md, "
+			"\"Analysing a log\")\n",
+			argv[optind + first_tele],
+			popc_teleop_architecture_names[all[first_tele].tele_scene.tele_arch],
+			argv[optind + first_port]);
+		rc = POPC_EXIT_USAGE;
+	} else if (first_tele >= 0) {
+		char **lognames = calloc((size_t)n_logs, sizeof *lognames);
+		const ana_tele_summary **ts = calloc((size_t)n_logs, sizeof *ts);
+		if (!lognames || !ts) {
+			rc = POPC_EXIT_RUN_FAILED;
+		} else {
+			for (int i = 0; i < n_logs; i++) {
+				lognames[i] = names[i];
+				ts[i] = ok[i] ? &all[i].tele : NULL;
+			}
+			if (ana_tele_table(stdout, fmt, lognames, ts, n_logs) != 0) {
+				fprintf(stderr, "popc-analyze compare: out of memory\n");
+				rc = POPC_EXIT_RUN_FAILED;
+			}
+		}
+		free(lognames);
+		free(ts);
+	} else {
+		ana_summary_print_header(stdout, fmt);
+		for (int i = optind; i < argc; i++) {
+			if (!ok[i - optind])
+				continue;
+			ana_summary s = all[i - optind];
+			snprintf(s.log, sizeof s.log, "%s", names[i - optind]);
+			if (!s.has_pc_force) {
+				popc_error why;
+				ana_no_pc_force(&why, argv[i]);
+				fprintf(stderr, "popc-analyze compare: note: %s; its PC and chatter columns%s are n/a\n",
+					why.msg, s.has_w ? "" : " and W - E_ref");
+			} else if (!ana_chatter_checked(&s)) {
+				popc_error why;
+				ana_chatter_too_short(&why, argv[i], &s);
+				fprintf(stderr, "popc-analyze compare: note: %s; its chatter columns are n/a\n",
+					why.msg);
+			}
+			if (!ana_lc_checked(&s)) {
+				popc_error why;
+				ana_lc_too_short(&why, argv[i], &s);
+				fprintf(stderr,
+					"popc-analyze compare: note: %s; its limit-cycle columns are n/a\n",
+					why.msg);
+			}
+			ana_summary_print_row(stdout, fmt, &s);
+		}
+	}
+	free(all);
+	free(ok);
 	free(names);
 	if (fflush(stdout) != 0)
 		rc = POPC_EXIT_USAGE;

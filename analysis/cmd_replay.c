@@ -34,7 +34,10 @@ static void usage(FILE *f)
 	      "                           hold, improved, pc-off-reversals, energy-bounding,\n"
 	      "                           windowed-po, or 'all' (repeatable); an admittance\n"
 	      "                           log: none, parallel-pc, parallel-ignore,\n"
-	      "                           parallel-hold, parallel-improved or 'all'\n"
+	      "                           parallel-hold, parallel-improved or 'all'; a\n"
+	      "                           teleoperation log: tdpa-off, tdpa-on or 'all' (both\n"
+	      "                           ports' PCs over the recorded channel; bounds from\n"
+	      "                           --set teleop.master_pc_bound=, .slave_pc_bound=)\n"
 	      "  -o, --output-dir DIR     write DIR/<log>.<variant>.csv (default: .); makes DIR\n"
 	      "  --prefix P               write P<variant>.csv instead\n"
 	      "  -q, --quiet              do not list the files written\n" ANA_INPUT_HELP
@@ -117,6 +120,9 @@ int ana_cmd_replay(int argc, char **argv)
 	 * name that only one causality has */
 	unsigned adm_mask = 0;
 	const char *adm_only = NULL, *imp_only = NULL;
+	/* teleoperation: bit 0 tdpa-off, bit 1 tdpa-on; the first such name */
+	unsigned tele_mask = 0;
+	const char *tele_only = NULL;
 	const char *dir = NULL, *prefix = NULL;
 	replay_out *outs = NULL;
 	ana_log l;
@@ -126,6 +132,15 @@ int ana_cmd_replay(int argc, char **argv)
 	while ((c = getopt_long(argc, argv, shorts, opts, NULL)) != -1) {
 		switch (c) {
 		case OPT_VARIANT: {
+			/* a teleoperation log's: both ports' PCs off or on */
+			if (strcmp(optarg, "tdpa-off") == 0 || strcmp(optarg, "tdpa-on") == 0) {
+				tele_mask |= strcmp(optarg, "tdpa-on") == 0 ? 2u : 1u;
+				if (!tele_only)
+					tele_only = optarg;
+				break;
+			}
+			if (strcmp(optarg, "all") == 0)
+				tele_mask = 3u;
 			popc_variant v;
 			popc_admittance_variant av;
 			int all = strcmp(optarg, "all") == 0;
@@ -172,11 +187,11 @@ int ana_cmd_replay(int argc, char **argv)
 		default: popc_option_hint(argv[0], opts, argc, argv); rc = POPC_EXIT_USAGE; goto out;
 		}
 	}
-	if (optind + 1 != argc || (n_var == 0 && adm_mask == 0) || (dir && prefix)) {
+	if (optind + 1 != argc || (n_var == 0 && adm_mask == 0 && tele_mask == 0) || (dir && prefix)) {
 		fprintf(stderr, "popc-analyze replay: %s\n",
 			optind >= argc       ? "missing LOG"
 			: optind + 1 < argc  ? "exactly one LOG"
-			: n_var == 0 && adm_mask == 0 ? "missing --variant"
+			: n_var == 0 && adm_mask == 0 && tele_mask == 0 ? "missing --variant"
 					     : "--output-dir and --prefix exclude each other");
 		popc_help_hint(argv[0], "options");
 		rc = POPC_EXIT_USAGE;
@@ -208,7 +223,7 @@ int ana_cmd_replay(int argc, char **argv)
 	ana_log_name(path, log_name, sizeof log_name);
 	/* an admittance variant's paths are checked once the log says its
 	 * causality (below) */
-	for (int i = 0; !adm_only && i < n_var; i++)
+	for (int i = 0; !adm_only && !tele_only && i < n_var; i++)
 		if ((rc = output_path(outs[i].path, sizeof outs[i].path, popc_variant_name(variants[i]),
 				      dir, prefix, log_name, path)) != 0)
 			goto out;
@@ -218,6 +233,34 @@ int ana_cmd_replay(int argc, char **argv)
 		goto out;
 	}
 	log_open = 1;
+	if (l.scene.tele_arch != POPC_TELEOP_OFF || tele_only) {
+		const int tele = l.scene.tele_arch != POPC_TELEOP_OFF;
+		const char *other = imp_only ? imp_only : adm_only;
+		if (!tele || other) {
+			fprintf(stderr,
+				tele ? "popc-analyze replay: %s is a teleoperation log (teleop.architecture "
+				       "= %s): --variant '%s' is a one-port variant; a teleoperation log "
+				       "replays tdpa-off, tdpa-on or all (docs/TELEOPERATION.md)\n"
+				     : "popc-analyze replay: %s is a one-port log (teleop.architecture = "
+				       "%s): --variant '%s' is a teleoperation variant\n",
+				path, popc_teleop_architecture_names[l.scene.tele_arch],
+				tele ? other : tele_only);
+			rc = POPC_EXIT_USAGE;
+			goto out;
+		}
+		char tele_paths[2][1100];
+		static const char *const tele_names[2] = {"tdpa-off", "tdpa-on"};
+		for (int on = 0; on < 2; on++)
+			if ((tele_mask & (1u << on)) &&
+			    (rc = output_path(tele_paths[on], sizeof tele_paths[on], tele_names[on], dir,
+					      prefix, log_name, path)) != 0)
+				goto out;
+		const popc_scene sc = l.scene;
+		ana_log_close(&l);
+		log_open = 0;
+		rc = ana_replay_teleop(path, &sc, tele_mask, tele_paths, quiet);
+		goto out;
+	}
 	if (l.scene.causality == POPC_CAUSALITY_ADMITTANCE || adm_only) {
 		int adm = l.scene.causality == POPC_CAUSALITY_ADMITTANCE;
 		if (adm && imp_only) {

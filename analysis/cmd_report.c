@@ -433,6 +433,8 @@ int ana_cmd_report(int argc, char **argv)
 	double zoom_s = (double)NAN;
 	report_log *logs = NULL;
 	report_name *names = NULL;
+	report_own *own = NULL; /* admittance and teleoperation logs' own figures */
+	int n_own = 0;
 	optind = 1;
 	while ((c = getopt_long(argc, argv, shorts, opts, NULL)) != -1) {
 		switch (c) {
@@ -497,7 +499,8 @@ int ana_cmd_report(int argc, char **argv)
 	const report_out ro = {dir, argv + optind, argc - optind};
 	logs = calloc((size_t)(argc - optind), sizeof *logs);
 	names = calloc((size_t)(argc - optind), sizeof *names);
-	if (!logs || !names) {
+	own = calloc((size_t)(argc - optind), sizeof *own);
+	if (!logs || !names || !own) {
 		rc = POPC_EXIT_USAGE;
 		goto out;
 	}
@@ -539,6 +542,35 @@ int ana_cmd_report(int argc, char **argv)
 		}
 		popc_error err;
 		int st = ana_summarize(argv[i], &in, &cc, -1.0, &lg->sum, on_row, &pass, &err);
+		if (!st && lg->sum.teleop) {
+			/* two ports: its own figure (report_teleop.c), listed in the
+			 * index with the admittance logs' */
+			ana_decim_free(&pass.dec);
+			ana_decim_free(&pass.adm);
+			report_capture_free(&pass.cap);
+			snprintf(lg->name, sizeof lg->name, "%s", names[i - optind].name);
+			if (report_teleop_write(&ro, lg, &in, (int)points, &err) != 0) {
+				rc = POPC_EXIT_USAGE;
+				goto out;
+			}
+			report_own *o = &own[n_own++];
+			snprintf(o->name, sizeof o->name, "%s", lg->name);
+			snprintf(o->kind, sizeof o->kind, "teleoperation");
+			snprintf(o->file, sizeof o->file, "%s" REPORT_TELE_SUFFIX, lg->name);
+			snprintf(o->caption, sizeof o->caption,
+				 "%s: master and slave positions, f_c against -fs, energies per port "
+				 "(in, out, received), drift x - xs (PCs %s)",
+				 o->file, lg->sum.tele.tdpa ? "on" : "off");
+			int d = no_draw ? 0 : draw(gnuplot, &ro, o->file, verbose);
+			o->drawn = !no_draw && d == 0;
+			if (d == -2)
+				rc = POPC_EXIT_USAGE;
+			else if (d != 0 && rc == 0)
+				rc = POPC_EXIT_RUN_FAILED;
+			if (!quiet)
+				printf("%s/%s.%s\n", dir, o->file, no_draw ? "gp" : "png");
+			continue;
+		}
 		if (!st && lg->sum.admittance) {
 			/* the series PC's figures (f_pc in N, the encoder's x) are
 			 * not its: its own figure, f_meas, v_ve/v, v_pc and W, drawn
@@ -561,6 +593,14 @@ int ana_cmd_report(int argc, char **argv)
 				rc = POPC_EXIT_RUN_FAILED;
 			if (!quiet)
 				printf("%s/%s.%s\n", dir, file, no_draw ? "gp" : "png");
+			report_own *o = &own[n_own++];
+			snprintf(o->name, sizeof o->name, "%s", lg->name);
+			snprintf(o->kind, sizeof o->kind, "admittance");
+			snprintf(o->file, sizeof o->file, "%s", file);
+			snprintf(o->caption, sizeof o->caption,
+				 "%s: force reading, VE velocity and command, parallel PC's v_pc, W",
+				 file);
+			o->drawn = !no_draw && d == 0;
 			continue;
 		}
 		if (st) {
@@ -626,6 +666,15 @@ int ana_cmd_report(int argc, char **argv)
 			goto out;
 		}
 		n++;
+	}
+	if (n == 0 && n_own > 0) {
+		/* only logs with figures of their own: the index lists them */
+		const report_index ix = {title, 0, 0, 0, own, n_own};
+		if (report_write_index(&ro, &ix, logs, 0) != 0)
+			rc = POPC_EXIT_USAGE;
+		else if (!quiet)
+			printf("%s/index.html\n", dir);
+		goto out;
 	}
 	if (n == 0)
 		goto out;
@@ -714,7 +763,7 @@ int ana_cmd_report(int argc, char **argv)
 			rc = POPC_EXIT_RUN_FAILED;
 		drawn = !failed;
 	}
-	const report_index ix = {title, tables, drawn, figs};
+	const report_index ix = {title, tables, drawn, figs, own, n_own};
 	if (report_write_index(&ro, &ix, logs, n) != 0) {
 		rc = POPC_EXIT_USAGE;
 		goto out;
@@ -722,6 +771,7 @@ int ana_cmd_report(int argc, char **argv)
 	if (!quiet)
 		printf("%s/index.html\n", dir);
 out:
+	free(own);
 	free(logs);
 	free(names);
 	ana_input_free(&in);

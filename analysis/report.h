@@ -164,6 +164,15 @@ enum { RA_F_MEAS, RA_V_VE, RA_V_PC, RA_V, RA_W, RA_COLS };
 	"t f_meas_min v_ve_min v_pc_min v_min W_min f_meas_max v_ve_max v_pc_max v_max W_max"
 /* Adds an admittance row (has_adm) to d, a decimator of RA_COLS columns. */
 void report_admittance_sample(ana_decimator *d, const ana_row *r);
+/* A teleoperation log's figure (report_teleop.c): NAME-teleop.png from
+ * NAME-teleop.dat, whose columns after t are these, minima then maxima. */
+enum { RT_X, RT_XS, RT_F_C, RT_NEG_FS, RT_EM_IN, RT_EM_OUT, RT_EM_RX, RT_ES_IN, RT_ES_OUT,
+       RT_ES_RX, RT_DRIFT, RT_COLS };
+#define REPORT_TELE_SUFFIX "-teleop"
+#define REPORT_TELE_COLUMNS                                                                        \
+	"t x_min xs_min f_c_min -fs_min Em_in_min Em_out_min Em_rx_min Es_in_min Es_out_min "      \
+	"Es_rx_min x-xs_min x_max xs_max f_c_max -fs_max Em_in_max Em_out_max Em_rx_max "          \
+	"Es_in_max Es_out_max Es_rx_max x-xs_max"
 /* Where the report goes, and the logs it reads: no output may replace one. */
 typedef struct report_out {
 	const char *dir;
@@ -182,6 +191,10 @@ int report_close(FILE *f, const char *path, int failed);
 /* NAME-admittance.dat and .gp of an admittance log (lg->t_first_s, t_last_s
  * and sum set); 0, or -1 after one message. */
 int report_admittance_write(const report_out *ro, const report_log *lg, const ana_decimator *d);
+/* NAME-teleop.dat and .gp of a teleoperation log (lg->path, name, t_first_s
+ * and sum set): reads the log's two ports again; 0, or -1 after one message. */
+int report_teleop_write(const report_out *ro, const report_log *lg, const ana_input_options *in,
+			int points, popc_error *err);
 /* Text from a log made safe for a double-quoted gnuplot string. */
 void report_safe_text(const char *in, char *out, size_t cap);
 
@@ -192,7 +205,20 @@ typedef struct report_index {
 	int tables;             /* compare table and overlay written */
 	int drawn;              /* gnuplot drew every figure */
 	unsigned figs;          /* the figures asked for: bit (1u << report_fig) */
+	/* the logs with a figure of their own kind (admittance, teleoperation),
+	 * drawn outside the paper's figures and the comparison */
+	const struct report_own *own;
+	int n_own;
 } report_index;
+
+/* An admittance or teleoperation log's own figure, for the index. */
+typedef struct report_own {
+	char name[256];         /* the log's name in the report */
+	char kind[32];          /* "admittance", "teleoperation" */
+	char file[300];         /* NAME-admittance, NAME-teleop (no extension) */
+	char caption[600];
+	int drawn;
+} report_own;
 
 /* Whether log lg has figure fig in this report (its event found, its data). */
 int report_log_has(const report_log *lg, report_fig fig, unsigned figs);

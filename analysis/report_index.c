@@ -256,6 +256,20 @@ int report_write_index(const report_out *ro, const report_index *ix, const repor
 			md_figure(md, html, dir, file, data, cap, ix->drawn);
 		}
 	}
+	if (ix->n_own > 0) {
+		/* admittance and teleoperation logs: a figure of their own kind,
+		 * outside the paper's figures and the comparison */
+		fputs("## Logs with figures of their own\n\n", md);
+		fputs("<h2>Logs with figures of their own</h2>\n", html);
+		for (int i = 0; i < ix->n_own; i++) {
+			const report_own *o = &ix->own[i];
+			fprintf(md, "### %s (%s log)\n\n", o->name, o->kind);
+			fprintf(html, "<h3 id=\"%s\">", o->file);
+			html_escape(html, o->name);
+			fprintf(html, " (%s log)</h3>\n", o->kind);
+			md_figure(md, html, dir, o->file, o->file, o->caption, o->drawn);
+		}
+	}
 	fputs("</body></html>\n", html);
 	int bad = report_close(md, md_path, 0) != 0;
 	bad |= report_close(html, path, 0) != 0;

@@ -133,6 +133,7 @@ expect_exit 0 "report of the admittance log, --no-draw" "$ANALYZE" report "$T/aw
 check "  the script plots f_meas, v_ve, v, v_pc and W" grep -q 'title "f_meas".*' "$T/rep0/aw-admittance.gp"
 check "  its data: t and five columns' min and max" awk '/^#/ { next } { exit !(NF == 11) }' \
 	"$T/rep0/aw-admittance.dat"
+check "  index.html lists its figure" grep -q 'aw-admittance.gp' "$T/rep0/index.html"
 check "  the data's largest v_pc (column 9) is the run's v_pc_max" awk -v want="$(col "$T/aw.sum.csv" v_pc_max)" \
 	'/^#/ { next } { if ($9 > m) m = $9 } END { exit !(m == want + 0) }' \
 	"$T/rep0/aw-admittance.dat"
@@ -141,6 +142,7 @@ if command -v gnuplot >/dev/null 2>&1; then
 	check "  a PNG of the four panels (> 20 kB)" sh -c "head -c 8 '$T/rep/aw-admittance.png' | od -An -tx1 |
 		grep -q '89 50 4e 47 0d 0a 1a 0a' && [ \$(wc -c < '$T/rep/aw-admittance.png') -gt 20000 ]"
 	check "  and its PDF" test -s "$T/rep/aw-admittance.pdf"
+	check "  index.html shows it" grep -q '<img src="aw-admittance.png"' "$T/rep/index.html"
 else
 	echo "# gnuplot not installed: the drawn figure is not checked"
 fi

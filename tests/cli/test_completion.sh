@@ -81,12 +81,12 @@ offers "sweep merge's options" _popc popc "sweep merge --a" "--allow-other-build
 offers "scene actions" _popc popc "scene " "keys list show"
 offers "scene list --maps" _popc popc "scene list --m" "--maps"
 offers "bench kinds" _popc popc "bench " "integrators log loop"
-offers "popc-analyze verbs" _popc_analyze popc-analyze "" "--help --version chatter compare energy events replay report"
+offers "popc-analyze verbs" _popc_analyze popc-analyze "" "--help --version chatter compare energy events replay report teleop"
 offers "  events --format" _popc_analyze popc-analyze "events x.csv --format " "csv json text"
 offers "sweep's sub-verbs and scenes" _popc popc "sweep st" "stats"
 offers "  sweep stats' options" _popc popc "sweep stats DIR --f" "--format"
 offers "  sweep stats --format" _popc popc "sweep stats DIR --format " "csv json markdown text"
-offers "  replay --variant: names and all (an admittance log's too)" _popc_analyze popc-analyze "replay x.csv --variant " "all energy-bounding filtered-velocity hold ignore improved none parallel-hold parallel-ignore parallel-improved parallel-pc pc-off-reversals po-pc ref-energy windowed-po"
+offers "  replay --variant: names and all (an admittance log's and a teleoperation log's too)" _popc_analyze popc-analyze "replay x.csv --variant " "all energy-bounding filtered-velocity hold ignore improved none parallel-hold parallel-ignore parallel-improved parallel-pc pc-off-reversals po-pc ref-energy tdpa-off tdpa-on windowed-po"
 includes "  a verb's options, from its table" _popc_analyze popc-analyze "energy --" --observer --check --output --column --set
 offers "  --format" _popc_analyze popc-analyze "compare x.csv --format m" "markdown"
 if [ -e "$T/bin/popc-servo-sim" ]; then
