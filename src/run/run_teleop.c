@@ -223,6 +223,7 @@ int popc_run_teleop(const popc_scene *s, popc_axis *master, const popc_run_optio
 			sum->tele_xs_late_min_m = fmin(sum->tele_xs_late_min_m, ss.x_true_m);
 			sum->tele_xs_late_max_m = fmax(sum->tele_xs_late_max_m, ss.x_true_m);
 		}
+		sum->tele_drift_end_m = m->x_m - r->xs_m;
 		popc_metrics_add(&sum->metrics, m);
 		if (opt && opt->on_tick)
 			opt->on_tick(opt->tick_user, m);
