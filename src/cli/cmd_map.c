@@ -47,7 +47,8 @@ static void usage(FILE *f)
 	      "kept as in popc sweep (DIR/rows/); running the same map again resumes it.\n"
 	      "\n"
 	      "  --variant V[,V...]       controller variants (repeatable; admittance.variant\n"
-	      "                           on an admittance scene)\n"
+	      "                           on an admittance scene, teleop.tdpa (off, on) on a\n"
+	      "                           teleoperation scene)\n"
 	      "  --vary section.key=LIST  another axis of the map (repeatable), e.g.\n"
 	      "                           --vary environment.damping=0:0.75:16\n"
 	      "  --set section.key=value  a fixed override of the scene (repeatable)\n"
@@ -57,8 +58,10 @@ static void usage(FILE *f)
 	      "                           factor 1.37 at 2 %); a fold narrower than that\n"
 	      "                           may go unseen\n"
 	      "  --criterion C[,C...]     diverged, limit-cycle, chatter, passive,\n"
-	      "                           device-passive (default passive; diverged on an\n"
-	      "                           admittance scene); one boundary per criterion\n"
+	      "                           device-passive, stable (default passive; diverged\n"
+	      "                           on an admittance scene; stable, completed and\n"
+	      "                           settled, on a teleoperation scene, its only one\n"
+	      "                           with diverged); one boundary per criterion\n"
 	      "  --port-tol J             passive: E_port never below -J; device-passive:\n"
 	      "                           E_dev = E_port + the plant's damping's dissipation\n"
 	      "                           never below -J (default 1e-6 J)\n"
@@ -98,7 +101,7 @@ static const popc_option map_options[] = {
 	{"tol", 0, OPT_TOL, "R"},
 	{"scan", 0, OPT_SCAN, "N"},
 	/* popc_map_criterion_name's names (sweep_map.c), a comma list */
-	{"criterion", 0, OPT_CRITERION, "diverged|limit-cycle|chatter|passive|device-passive"},
+	{"criterion", 0, OPT_CRITERION, "diverged|limit-cycle|chatter|passive|device-passive|stable"},
 	{"port-tol", 0, OPT_PORT_TOL, "J"},
 	{"output", 'o', 'o', "DIR"},
 	{"jobs", 'j', 'j', "N"},
@@ -266,6 +269,9 @@ static void put_cell(FILE *f, const map_state *m, const popc_sweep_plan *p, long
  *   test on its 2 x 2 step). A value <= 0 means no K is. */
 static double line_condition_Npm(const popc_scene *s)
 {
+	/* a teleoperation line: no such line is derived here (an empty cell) */
+	if (s->tele_arch != POPC_TELEOP_OFF)
+		return (double)NAN;
 	double T = popc_scene_period_s(s);
 	double B = fabs(s->env_damping_Nspm);
 	if (s->causality == POPC_CAUSALITY_ADMITTANCE) {
@@ -428,7 +434,8 @@ static int make_plan(map_args *a, popc_sweep_plan *plan, popc_error *err)
 	for (int m = 0; m < a->n_sets && !st; m++) {
 		if (popc_cli_set_names_key(a->sets[m], "environment", "stiffness") ||
 		    popc_cli_set_names_key(a->sets[m], "controller", "variant") ||
-		    popc_cli_set_names_key(a->sets[m], "admittance", "variant"))
+		    popc_cli_set_names_key(a->sets[m], "admittance", "variant") ||
+		    popc_cli_set_names_key(a->sets[m], "teleop", "tdpa"))
 			return popc_error_set(err, POPC_ERR_INVALID,
 					      "--set %s: the map varies this key itself (--stiffness, "
 					      "--variant)",
@@ -452,6 +459,26 @@ static int make_plan(map_args *a, popc_sweep_plan *plan, popc_error *err)
 				      a->criteria & (1u << POPC_MAP_PASSIVE) ? "passive" : "device-passive",
 				      a->scene_path);
 	}
+	/* a teleoperation scene (docs/MAPS.md, "Teleoperation: stiffness against
+	 * delay"): --variant names teleop.tdpa, the PCs off or on; its runs have
+	 * the tele_* verdict, stable; the master's E_port and E_dev are not in
+	 * their summary, and limit-cycle and chatter would judge the master's
+	 * log columns alone */
+	const int teleop = base.tele_arch != POPC_TELEOP_OFF;
+	if (teleop && !a->criteria_given)
+		a->criteria = 1u << POPC_MAP_STABLE;
+	if (teleop && (a->criteria & ~(1u << POPC_MAP_STABLE | 1u << POPC_MAP_DIVERGED)))
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "--criterion: %s is a teleoperation scene (teleop.architecture "
+				      "= %s): its criteria are stable and diverged (docs/MAPS.md, "
+				      "\"Teleoperation\")",
+				      a->scene_path, popc_teleop_architecture_names[base.tele_arch]);
+	if (!teleop && (a->criteria & (1u << POPC_MAP_STABLE)))
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "--criterion stable: %s is not a teleoperation scene "
+				      "(teleop.architecture = off); stable judges a teleoperation run's "
+				      "slave (docs/MAPS.md, \"Teleoperation\")",
+				      a->scene_path);
 	double k_lo = 1e2, k_hi = 1e6;
 	if (a->stiffness) {
 		const char *colon = strchr(a->stiffness, ':');
@@ -477,8 +504,9 @@ static int make_plan(map_args *a, popc_sweep_plan *plan, popc_error *err)
 		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
 	/* an admittance scene's controller is the parallel PC of [admittance]
 	 * (docs/ADMITTANCE.md): --variant names its variants */
-	const char *variant_key = base.causality == POPC_CAUSALITY_ADMITTANCE ? "admittance.variant="
-									      : "controller.variant=";
+	const char *variant_key = teleop ? "teleop.tdpa="
+				  : base.causality == POPC_CAUSALITY_ADMITTANCE ? "admittance.variant="
+										: "controller.variant=";
 	used += (size_t)snprintf(spec, sizeof spec, "%s", variant_key);
 	for (int v = 0; v < a->n_variants && used < sizeof spec; v++)
 		used += (size_t)snprintf(spec + used, sizeof spec - used, "%s%s", v ? "," : "", a->variants[v]);
@@ -490,7 +518,9 @@ static int make_plan(map_args *a, popc_sweep_plan *plan, popc_error *err)
 			    (strcmp(axes[k + 1].section, "controller") == 0 &&
 			     strcmp(axes[k + 1].key, "variant") == 0) ||
 			    (strcmp(axes[k + 1].section, "admittance") == 0 &&
-			     strcmp(axes[k + 1].key, "variant") == 0)))
+			     strcmp(axes[k + 1].key, "variant") == 0) ||
+			    (strcmp(axes[k + 1].section, "teleop") == 0 &&
+			     strcmp(axes[k + 1].key, "tdpa") == 0)))
 			st = popc_error_set(err, POPC_ERR_INVALID,
 					    "--vary %s: the map varies this key itself (--stiffness, "
 					    "--variant)",

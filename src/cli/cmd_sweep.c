@@ -378,6 +378,13 @@ static int sweep_main(const sweep_args *a)
 		return popc_cli_fail("sweep", st, &err);
 	}
 	st = popc_sweep_plan_init(&plan, &base, axes, n_vary, 1, &err);
+	/* popc run's summary row has no tele_* cells: a teleoperation sweep's
+	 * rows are made from the summary in the sweep's own process */
+	if (!st && plan.teleop && a->list)
+		st = popc_error_set(&err, POPC_ERR_INVALID,
+				    "--list: a teleoperation sweep makes its tele_* columns from each "
+				    "run's summary in its own process; run it without --list (with "
+				    "--shard I/N on each machine)");
 	if (st) {
 		popc_sweep_plan_free(&plan);
 		return popc_cli_fail("sweep", st, &err);

@@ -30,6 +30,8 @@ static const char *unit_of(const char *section, const char *key)
 		return "m";
 	if (strcmp(key, "mass") == 0)
 		return "kg";
+	if (strcmp(key, "delay_ticks") == 0 || strcmp(key, "jitter_ticks") == 0)
+		return "periods";
 	(void)section;
 	return "";
 }
@@ -96,13 +98,15 @@ int popc_map_figure_write(const popc_sweep_plan *p, const char *dir, const char 
 		char xv[64];
 		snprintf(xv, sizeof xv, "%d", v);
 		const char *x = has_x ? "column(2)" : xv;
+		/* a teleoperation map's variants are teleop.tdpa's values */
+		const char *what = strcmp(p->axes[0].section, "teleop") == 0 ? "PCs " : "";
 		for (int c = 0; c < n_criteria; c++) {
 			fprintf(f,
 				"  'boundary.csv' every ::1 using (strcol(1) eq '%s' && strcol(%d) eq '%s' && "
 				"(strcol(%d) eq 'bracket' || strcol(%d) eq 'not-monotonic') ? %s : NaN)"
-				":%d:%d:%d with yerrorlines lc %d dt %d title '%s (%s)', \\\n",
+				":%d:%d:%d with yerrorlines lc %d dt %d title '%s%s (%s)', \\\n",
 				name, c_crit, criteria[c], c_out, c_out, x, c_ok, c_ok, c_bad, v + 1, c + 1,
-				name, criteria[c]);
+				what, name, criteria[c]);
 			/* the band: from the first failure up to the last acceptable K */
 			fprintf(f,
 				"  'boundary.csv' every ::1 using (strcol(1) eq '%s' && strcol(%d) eq '%s' && "
@@ -111,11 +115,15 @@ int popc_map_figure_write(const popc_sweep_plan *p, const char *dir, const char 
 				name, c_crit, criteria[c], c_out, x, c_bad, c_bad, c_last_ok, v + 1);
 		}
 	}
-	fprintf(f,
-		"  'boundary.csv' every ::1 using (strcol(1) eq '%s' && strcol(%d) eq '%s' && column(%d) > 0 "
-		"? %s : NaN):%d with lines lw 2 lc rgb 'black' dt 3 "
-		"title 'Colgate-Schenkel: b > K T/2 + |B|'\n",
-		first_variant, c_crit, criteria[0], c_cs, has_x ? "column(2)" : "0", c_cs);
+	/* a teleoperation map has no such line (boundary.csv's cell is empty) */
+	if (p->teleop)
+		fputs("  NaN notitle\n", f);
+	else
+		fprintf(f,
+			"  'boundary.csv' every ::1 using (strcol(1) eq '%s' && strcol(%d) eq '%s' && "
+			"column(%d) > 0 ? %s : NaN):%d with lines lw 2 lc rgb 'black' dt 3 "
+			"title 'Colgate-Schenkel: b > K T/2 + |B|'\n",
+			first_variant, c_crit, criteria[0], c_cs, has_x ? "column(2)" : "0", c_cs);
 	fputs("if (GPVAL_Y_MIN > 0 && GPVAL_Y_MAX <= 1000 * GPVAL_Y_MIN) {\n"
 	      "  do for [d = -3:12] {\n"
 	      "    set ytics add (sprintf('2\u00d710^{%d}', d) 2 * 10.0**d, "

@@ -93,8 +93,11 @@ static int split_csv(char *line, char **cells, int max)
  * chatter columns; not the id, the exit status or the wall time (no science). */
 static int metric_known(const char *name)
 {
-	for (int c = 0; c < popc_sweep_n_columns; c++) {
-		const popc_sweep_column *col = &popc_sweep_columns[c];
+	/* the teleoperation table: the one-port columns and the tele_* ones */
+	int n_columns;
+	const popc_sweep_column *columns = popc_sweep_columns_of(1, &n_columns);
+	for (int c = 0; c < n_columns; c++) {
+		const popc_sweep_column *col = &columns[c];
 		if (!col->name || strcmp(col->name, name) != 0)
 			continue;
 		return col->source != POPC_SWEEP_CELL_RUN_ID &&

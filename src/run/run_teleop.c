@@ -332,6 +332,7 @@ int popc_run_teleop(const popc_scene *s, popc_axis *axis, const popc_run_options
 			sum->tele_xs_late_min_m = fmin(sum->tele_xs_late_min_m, r->xs_true_m);
 			sum->tele_xs_late_max_m = fmax(sum->tele_xs_late_max_m, r->xs_true_m);
 		}
+		sum->tele_drift_end_m = m->x_m - r->xs_m;
 		popc_metrics_add(&sum->metrics, m);
 		if (opt && opt->on_tick)
 			opt->on_tick(opt->tick_user, m);

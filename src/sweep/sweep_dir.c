@@ -369,7 +369,12 @@ int popc_sweep_plan_read(popc_sweep_plan *p, const char *path, popc_error *err)
 		p->id_width++;
 	p->plan_id = plan_id;
 	popc_sweep_plan_set_build(p, version, build);
-	p->columns = popc_sweep_columns_header(axes, n_axes);
+	/* a teleoperation sweep's plan names the tele_* columns (sweep_columns.h) */
+	char *teleop_columns = popc_sweep_columns_header_of(axes, n_axes, 1);
+	p->teleop = teleop_columns && strncmp(teleop_columns, columns, strlen(columns)) == 0 &&
+		    strlen(teleop_columns) == strlen(columns) + 1;
+	free(teleop_columns);
+	p->columns = popc_sweep_columns_header_of(axes, n_axes, p->teleop);
 	if (!p->columns)
 		st = popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
 	else if (p->n_runs != runs)

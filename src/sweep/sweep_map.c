@@ -15,6 +15,7 @@ static const char *const criterion_names[POPC_MAP_N_CRITERIA] = {
 	[POPC_MAP_CHATTER] = "chatter",
 	[POPC_MAP_PASSIVE] = "passive",
 	[POPC_MAP_DEVICE_PASSIVE] = "device-passive",
+	[POPC_MAP_STABLE] = "stable",
 };
 
 const char *popc_map_criterion_name(popc_map_criterion c)
@@ -36,7 +37,7 @@ int popc_map_criteria_parse(const char *text, unsigned *set, popc_error *err)
 			return popc_error_set(err, POPC_ERR_INVALID,
 					      "--criterion '%.*s': not a criterion (allowed: diverged, "
 					      "limit-cycle, chatter, passive, device-passive, "
-					      "comma-separated)",
+					      "stable, comma-separated)",
 					      (int)l, p);
 		*set |= 1u << found;
 		if (p[l] != ',')
@@ -102,6 +103,14 @@ int popc_map_facts_from_row(const popc_sweep_plan *p, const char *row, popc_map_
 		f->has_device_energy_min = 1;
 		f->device_energy_min_J = d;
 	}
+	/* a teleoperation sweep's verdict (no such column in a one-port sweep:
+	 * stable is undecided there) */
+	int c_osc = header_index(p, "tele_oscillating");
+	if (c_osc >= 0 && n > c_osc && len[c_osc] > 0 &&
+	    popc_parse_ll_span(cell[c_osc], cell[c_osc] + len[c_osc], 0, 1, 0, &v) == 0) {
+		f->has_tele_oscillating = 1;
+		f->tele_oscillating = (int)v;
+	}
 	return 0;
 }
 
@@ -145,6 +154,10 @@ popc_map_verdict popc_map_verdict_of(popc_map_criterion c, const popc_map_facts 
 		if (!f->has_device_energy_min)
 			return POPC_MAP_UNDECIDED;
 		return f->device_energy_min_J < -port_tol_J ? POPC_MAP_BAD : POPC_MAP_OK;
+	case POPC_MAP_STABLE:
+		if (!f->has_tele_oscillating)
+			return POPC_MAP_UNDECIDED;
+		return f->tele_oscillating ? POPC_MAP_BAD : POPC_MAP_OK;
 	default:
 		return POPC_MAP_UNDECIDED;
 	}

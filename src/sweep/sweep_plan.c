@@ -447,6 +447,36 @@ void popc_sweep_run_describe(const popc_sweep_plan *p, long long i, char *buf, s
 					p->axes[a].values[idx[a]]);
 }
 
+/* Whether the plan's runs are teleoperation scenes (p->teleop): the base
+ * scene's teleop.architecture, or that of every value of a --vary of it.
+ * Values that make both a teleoperation and a one-port scene are refused: the
+ * two have different columns (sweep_columns.h), and one table must hold every
+ * row, as an admittance and an impedance run share theirs. */
+static int plan_teleop(popc_sweep_plan *p, popc_error *err)
+{
+	p->teleop = p->base.tele_arch != POPC_TELEOP_OFF;
+	for (int a = 0; a < p->n_axes; a++) {
+		const popc_sweep_axis *ax = &p->axes[a];
+		if (strcmp(ax->section, "teleop") != 0 || strcmp(ax->key, "architecture") != 0)
+			continue;
+		for (int v = 0; v < ax->n_values; v++) {
+			popc_scene scratch = p->base;
+			popc_error e;
+			if (popc_scene_set(&scratch, ax->section, ax->key, ax->values[v], &e) != 0)
+				continue; /* refused by the value checks before */
+			int t = scratch.tele_arch != POPC_TELEOP_OFF;
+			if (v > 0 && t != p->teleop)
+				return popc_error_set(err, POPC_ERR_INVALID,
+						      "--vary teleop.architecture=%s: '%s' and '%s' make "
+						      "one-port and teleoperation runs, whose summaries "
+						      "have different columns: make one sweep of each",
+						      ax->spec, ax->values[0], ax->values[v]);
+			p->teleop = t;
+		}
+	}
+	return 0;
+}
+
 int popc_sweep_plan_init(popc_sweep_plan *p, const popc_scene *base, popc_sweep_axis *axes,
 			 int n_axes, int check_every_run, popc_error *err)
 {
@@ -495,7 +525,9 @@ int popc_sweep_plan_init(popc_sweep_plan *p, const popc_scene *base, popc_sweep_
 	p->id_width = 4;
 	for (long long m = 10000; m < p->n_runs; m *= 10)
 		p->id_width++;
-	p->columns = popc_sweep_columns_header(axes, n_axes);
+	if ((st = plan_teleop(p, err)) != 0)
+		return st;
+	p->columns = popc_sweep_columns_header_of(axes, n_axes, p->teleop);
 	if (!p->columns)
 		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
 

@@ -99,7 +99,7 @@ static int load_rows_file(popc_sweep_results *r, const popc_sweep_plan *p, const
 			"the second", path);
 		body = text + k + lc;
 	}
-	int want_cells = popc_sweep_columns_count(p->n_axes);
+	int want_cells = popc_sweep_columns_count_of(p->n_axes, p->teleop);
 	long lineno = 1; /* of the line at body */
 	for (const char *c = text; c < body; c++)
 		lineno += *c == '\n';
@@ -379,7 +379,7 @@ int popc_sweep_results_write(const popc_sweep_results *r, const popc_sweep_plan 
 	if (pl < 4 || strcmp(out_path + pl - 4, ".csv") != 0 || pl - 4 + 7 > sizeof json_path)
 		return popc_error_set(err, POPC_ERR_INVALID, "%s: a summary's name ends in .csv", out_path);
 	snprintf(json_path, sizeof json_path, "%.*s.jsonl", (int)(pl - 4), out_path);
-	int n_cells = popc_sweep_columns_count(p->n_axes);
+	int n_cells = popc_sweep_columns_count_of(p->n_axes, p->teleop);
 	char *names_line = strdup(p->columns);
 	const char **names = malloc((size_t)n_cells * sizeof *names);
 	popc_json_kind *kinds = malloc((size_t)n_cells * sizeof *kinds);
@@ -390,7 +390,7 @@ int popc_sweep_results_write(const popc_sweep_results *r, const popc_sweep_plan 
 		return popc_error_set(err, POPC_ERR_NOMEM, "out of memory");
 	}
 	int n_names = popc_json_csv_names(names_line, names, n_cells);
-	popc_sweep_columns_json_kinds(p->n_axes, kinds);
+	popc_sweep_columns_json_kinds_of(p->n_axes, p->teleop, kinds);
 	/* the names escaped once as keys, not once a row */
 	char *keys = popc_json_csv_keys(n_names, names);
 	free(names_line);

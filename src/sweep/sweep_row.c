@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "popc/run/run.h"
+#include "popc/sweep/sweep_teleop.h"
 #include "popc/util/numfmt.h"
 #include "popc/util/parse.h"
 #include "popc/util/text_builder.h"
@@ -58,6 +59,8 @@ typedef struct row_input {
 	const size_t *hlen, *rlen;
 	int n_cells;
 	int *cell_of_column; /* kept header cells by sweep column, or NULL */
+	int column;          /* the index of the column being made (make_row): the
+			      * one-port columns have the same in both tables */
 	const popc_chatter_result *chatter; /* NULL: no detector result */
 	double wall_time_s;
 } row_input;
@@ -129,7 +132,7 @@ static int cell_get(const popc_sweep_column *col, const row_input *in, cell_valu
 		return 0;
 	case POPC_SWEEP_CELL_EXIT_STATUS: v->whole = in->exit_status; return 0;
 	case POPC_SWEEP_CELL_RUN_SUMMARY: {
-		int *known = in->cell_of_column ? &in->cell_of_column[col - popc_sweep_columns] : NULL;
+		int *known = in->cell_of_column ? &in->cell_of_column[in->column] : NULL;
 		/* found by name once per header kept (split_header) */
 		int c = known && *known >= 0 ? *known : -1;
 		if (c < 0 && admittance_pc_column(col->name)) /* an admittance run's summary */
@@ -156,7 +159,8 @@ static int cell_get(const popc_sweep_column *col, const row_input *in, cell_valu
 		v->kind = POPC_SWEEP_FORMAT_DOUBLE;
 		v->real = in->wall_time_s;
 		return 0;
-	case POPC_SWEEP_CELL_AXES: break;
+	case POPC_SWEEP_CELL_AXES:
+	case POPC_SWEEP_CELL_TELEOP: break;
 	}
 	return popc_error_set(err, POPC_ERR_INVALID, "summary column %s: no single value",
 			      col->name ? col->name : "(axes)");
@@ -238,9 +242,10 @@ static int make_row(const popc_sweep_plan *p, long long i, row_input *in, char *
 	int idx[POPC_SWEEP_AXES_MAX];
 	popc_sweep_run_values(p, i, idx);
 	popc_text_builder t = {.buf = buf, .cap = cap, .len = 0};
-	int cells = 0;
-	for (int c = 0; c < popc_sweep_n_columns; c++) {
-		const popc_sweep_column *col = &popc_sweep_columns[c];
+	int cells = 0, n_columns;
+	const popc_sweep_column *columns = popc_sweep_columns_of(p->teleop, &n_columns);
+	for (int c = 0; c < n_columns; c++) {
+		const popc_sweep_column *col = &columns[c];
 		if (col->source == POPC_SWEEP_CELL_AXES) {
 			for (int a = 0; a < p->n_axes; a++) {
 				if (cells++)
@@ -254,6 +259,25 @@ static int make_row(const popc_sweep_plan *p, long long i, row_input *in, char *
 			popc_text_put(&t, ",", 1);
 		if (cell_is_empty(col->empty, in))
 			continue;
+		if (col->source == POPC_SWEEP_CELL_TELEOP) {
+			/* from the summary itself: popc run's CSV row has no
+			 * tele_* cells (a teleoperation sweep refuses --list) */
+			if (!in->sum)
+				return popc_error_set(err, POPC_ERR_INVALID,
+						      "summary column %s: a teleoperation run's "
+						      "figures come from its summary in this process",
+						      col->name);
+			popc_sweep_teleop_value v;
+			int has = popc_sweep_teleop_cell(col->name, in->sum, in->exit_status, &v);
+			if (has < 0)
+				return popc_error_set(err, POPC_ERR_INVALID, "summary column %s: no such "
+						      "teleoperation figure", col->name);
+			if (has && v.is_whole)
+				popc_text_put_integer(&t, v.whole);
+			else if (has)
+				popc_text_put_double_point(&t, v.real);
+			continue;
+		}
 		if (col->source == POPC_SWEEP_CELL_RUN_SUMMARY && in->sum) {
 			/* the summary's own cell text, not its whole row made
 			 * and split again */
@@ -270,6 +294,7 @@ static int make_row(const popc_sweep_plan *p, long long i, row_input *in, char *
 			continue;
 		}
 		cell_value v;
+		in->column = c;
 		int st = cell_get(col, in, &v, err);
 		if (st)
 			return st;
@@ -342,14 +367,15 @@ int popc_sweep_row_check(const popc_sweep_plan *p, long long i, const char *row,
 	int idx[POPC_SWEEP_AXES_MAX];
 	popc_sweep_run_values(p, i, idx);
 	const char *cell = row, *end = row + len;
-	int c = 0;
-	for (int k = 0; k < popc_sweep_n_columns; k++) {
-		const popc_sweep_column *col = &popc_sweep_columns[k];
+	int c = 0, n_columns;
+	const popc_sweep_column *columns = popc_sweep_columns_of(p->teleop, &n_columns);
+	for (int k = 0; k < n_columns; k++) {
+		const popc_sweep_column *col = &columns[k];
 		int n = col->source == POPC_SWEEP_CELL_AXES ? p->n_axes : 1;
 		for (int a = 0; a < n; a++, c++) {
 			if (cell > end)
 				return popc_error_set(err, POPC_ERR_INVALID, "%d cells, a row has %d", c,
-						      popc_sweep_columns_count(p->n_axes));
+						      popc_sweep_columns_count_of(p->n_axes, p->teleop));
 			const char *stop = memchr(cell, ',', (size_t)(end - cell));
 			if (!stop)
 				stop = end;
@@ -375,7 +401,7 @@ int popc_sweep_row_check(const popc_sweep_plan *p, long long i, const char *row,
 	}
 	if (cell <= end)
 		return popc_error_set(err, POPC_ERR_INVALID, "more cells than a row's %d",
-				      popc_sweep_columns_count(p->n_axes));
+				      popc_sweep_columns_count_of(p->n_axes, p->teleop));
 	return 0;
 }
 

@@ -50,7 +50,7 @@ includes() {
 offers "verbs" _popc popc "" "--help --version bench map run scene sweep"
 offers "a verb's start" _popc popc "sw" "sweep"
 includes "popc map's options, from its --help" _popc popc "map --" --variant --vary --stiffness --tol --scan --criterion --port-tol --shard
-offers "map --criterion: the criteria" _popc popc "map paper --criterion " "chatter device-passive diverged limit-cycle passive"
+offers "map --criterion: the criteria" _popc popc "map paper --criterion " "chatter device-passive diverged limit-cycle passive stable"
 offers "  after a comma" _popc popc "map paper --criterion passive,d" "passive,device-passive passive,diverged"
 includes "popc run's options, from its table" _popc popc "run --" --set --variant --log --summary --axis --map --connect --free-run --rt --channel-log --quiet --help
 complete_line _popc popc "run --"

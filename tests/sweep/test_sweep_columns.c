@@ -1,6 +1,7 @@
 /* summary.csv's column table (sweep_columns.h): the header, the rows, the
  * cell count and the exit_status cell all follow it, and its run-summary
  * metrics are columns that popc run's summary really has. */
+#include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -15,6 +16,7 @@
 #include "popc/sweep/sweep_columns.h"
 #include "popc/sweep/sweep_plan.h"
 #include "popc/sweep/sweep_row.h"
+#include "popc/sweep/sweep_teleop.h"
 
 static popc_sweep_plan make_plan(const char *const *vary, int n_axes)
 {
@@ -270,6 +272,95 @@ static void test_run_csv_cells(void **state)
 	assert_int_equal(popc_sweep_run_csv_status(header, "none,0,5\n", &status), -1);
 }
 
+/* The teleoperation table (issue 26): the one-port columns in their order,
+ * then the tele_* columns, then wall_time_s; every tele_* column has a cell
+ * function; the one-port table is unchanged by it. */
+static void test_teleop_table(void **state)
+{
+	(void)state;
+	int n1, nt;
+	const popc_sweep_column *one = popc_sweep_columns_of(0, &n1);
+	const popc_sweep_column *tele = popc_sweep_columns_of(1, &nt);
+	assert_ptr_equal(one, popc_sweep_columns);
+	assert_int_equal(n1, popc_sweep_n_columns);
+	assert_true(nt > n1);
+	for (int c = 0; c < n1 - 1; c++) /* the same columns, wall_time_s aside */
+		assert_ptr_equal(one[c].name, tele[c].name);
+	assert_string_equal(tele[nt - 1].name, "wall_time_s");
+	popc_run_summary sum;
+	memset(&sum, 0, sizeof sum);
+	sum.has_teleop = 1;
+	for (int c = n1 - 1; c < nt - 1; c++) {
+		assert_int_equal(tele[c].source, POPC_SWEEP_CELL_TELEOP);
+		assert_memory_equal(tele[c].name, "tele_", 5);
+		popc_sweep_teleop_value v;
+		assert_int_not_equal(popc_sweep_teleop_cell(tele[c].name, &sum, 0, &v), -1);
+	}
+	popc_sweep_teleop_value v;
+	assert_int_equal(popc_sweep_teleop_cell("pc_rms", &sum, 0, &v), -1);
+	char *h1 = popc_sweep_columns_header_of(NULL, 0, 0), *ht = popc_sweep_columns_header_of(NULL, 0, 1);
+	char *h0 = popc_sweep_columns_header(NULL, 0);
+	assert_string_equal(h0, h1);
+	assert_null(strstr(h1, "tele_"));
+	assert_non_null(strstr(ht, ",limit_cycle,tele_violations,"));
+	assert_int_equal(popc_sweep_columns_count_of(2, 1), popc_sweep_columns_count(2) + nt - n1);
+	free(h0);
+	free(h1);
+	free(ht);
+}
+
+/* The tele_* cells, table-driven: a count, a margin, the late peak to peak
+ * and the verdict, and when each is empty. */
+static void test_teleop_cells(void **state)
+{
+	(void)state;
+	popc_run_summary done, short_run, one_port;
+	memset(&done, 0, sizeof done);
+	done.has_teleop = 1;
+	done.tele_violations = 7;
+	done.tele_margin_min_J[1] = -0.25;
+	done.tele_xs_late_min_m = 0.001;
+	done.tele_xs_late_max_m = 0.0015; /* 0.5 mm: settled */
+	short_run = done;
+	short_run.tele_xs_late_min_m = (double)INFINITY; /* stopped before its last second */
+	short_run.tele_xs_late_max_m = -(double)INFINITY;
+	memset(&one_port, 0, sizeof one_port);
+	popc_run_summary wide = done;
+	wide.tele_xs_late_max_m = 0.0031; /* 2.1 mm: oscillating */
+	static const struct {
+		const char *name;
+		int which, exit_status, has, whole;
+		double value;
+	} cases[] = {
+		{"tele_violations", 0, 0, 1, 1, 7},
+		{"tele_margin_min_s", 0, 0, 1, 0, -0.25},
+		{"tele_xs_late_pp", 0, 0, 1, 0, 0.0005},
+		{"tele_oscillating", 0, 0, 1, 1, 0},
+		{"tele_oscillating", 3, 0, 1, 1, 1},
+		{"tele_oscillating", 1, 6, 1, 1, 1},  /* diverged: oscillating */
+		{"tele_xs_late_pp", 1, 6, 0, 0, 0},   /* no last second */
+		{"tele_oscillating", 1, 1, 0, 0, 0},  /* stopped otherwise: no verdict */
+		{"tele_oscillating", 0, 1, 0, 0, 0},
+		{"tele_violations", 2, 0, 0, 0, 0},   /* a one-port summary */
+		{"tele_violations", -1, 0, 0, 0, 0},  /* no summary */
+	};
+	const popc_run_summary *sums[] = {&done, &short_run, &one_port, &wide};
+	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+		popc_sweep_teleop_value v;
+		const popc_run_summary *sum = cases[i].which < 0 ? NULL : sums[cases[i].which];
+		int has = popc_sweep_teleop_cell(cases[i].name, sum, cases[i].exit_status, &v);
+		if (has != cases[i].has)
+			fail_msg("case %zu (%s): has %d, expected %d", i, cases[i].name, has, cases[i].has);
+		if (!has)
+			continue;
+		assert_int_equal(v.is_whole, cases[i].whole);
+		if (v.is_whole)
+			assert_int_equal(v.whole, (long long)cases[i].value);
+		else
+			assert_true(fabs(v.real - cases[i].value) <= 1e-15);
+	}
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -278,6 +369,8 @@ int main(void)
 		cmocka_unit_test(test_rows_have_header_cells),
 		cmocka_unit_test(test_run_csv_cells),
 		cmocka_unit_test(test_row_of_run_is_row_of_text),
+		cmocka_unit_test(test_teleop_table),
+		cmocka_unit_test(test_teleop_cells),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -52,15 +52,16 @@ static void test_criteria(void **state)
 	popc_error err;
 	assert_int_equal(popc_map_criteria_parse("passive,diverged", &set, &err), 0);
 	assert_int_equal(set, (1u << POPC_MAP_PASSIVE) | (1u << POPC_MAP_DIVERGED));
-	assert_int_not_equal(popc_map_criteria_parse("passive,stable", &set, &err), 0);
-	assert_non_null(strstr(err.msg, "'stable'"));
+	assert_int_not_equal(popc_map_criteria_parse("passive,steady", &set, &err), 0);
+	assert_non_null(strstr(err.msg, "'steady'"));
 	assert_non_null(strstr(err.msg, "limit-cycle"));
 	assert_int_not_equal(popc_map_criteria_parse("", &set, &err), 0);
 
 	popc_map_facts f = {.exit_status = 0, .has_limit_cycle = 1, .limit_cycle = 0,
 			    .has_chatter = 1, .chatter_s = 0, .has_port_energy_min = 1,
 			    .port_energy_min_J = -5e-7, .has_device_energy_min = 1,
-			    .device_energy_min_J = -2e-7};
+			    .device_energy_min_J = -2e-7, .has_tele_oscillating = 1,
+			    .tele_oscillating = 0};
 	for (int c = 0; c < POPC_MAP_N_CRITERIA; c++)
 		assert_int_equal(popc_map_verdict_of((popc_map_criterion)c, &f, 1e-6), POPC_MAP_OK);
 	assert_int_equal(popc_map_verdict_of(POPC_MAP_PASSIVE, &f, 1e-7), POPC_MAP_BAD);
@@ -69,6 +70,17 @@ static void test_criteria(void **state)
 	assert_int_equal(popc_map_verdict_of(POPC_MAP_DEVICE_PASSIVE, &f, 1e-7), POPC_MAP_BAD);
 	assert_int_equal(popc_map_criteria_parse("device-passive", &set, &err), 0);
 	assert_int_equal(set, 1u << POPC_MAP_DEVICE_PASSIVE);
+	/* stable (issue 26) reads a teleoperation sweep's tele_oscillating:
+	 * undecided without it (a one-port sweep), bad when it says 1 */
+	assert_int_equal(popc_map_criteria_parse("stable,diverged", &set, &err), 0);
+	assert_int_equal(set, (1u << POPC_MAP_STABLE) | (1u << POPC_MAP_DIVERGED));
+	f.tele_oscillating = 1;
+	assert_int_equal(popc_map_verdict_of(POPC_MAP_STABLE, &f, 1e-6), POPC_MAP_BAD);
+	assert_int_equal(popc_map_verdict_of(POPC_MAP_DIVERGED, &f, 1e-6), POPC_MAP_OK);
+	f.has_tele_oscillating = 0;
+	assert_int_equal(popc_map_verdict_of(POPC_MAP_STABLE, &f, 1e-6), POPC_MAP_UNDECIDED);
+	f.has_tele_oscillating = 1;
+	f.tele_oscillating = 0;
 	f.chatter_s = 0.001;
 	assert_int_equal(popc_map_verdict_of(POPC_MAP_CHATTER, &f, 1e-6), POPC_MAP_BAD);
 	f.has_limit_cycle = 0;

@@ -51,6 +51,7 @@ typedef struct popc_run_summary {
 	int tele_pp;                  /* position-position (the slave's command a force) */
 	double tele_d_max[2];          /* the largest |d| of each PC (N, m/s) */
 	double tele_xs_late_min_m, tele_xs_late_max_m;
+	double tele_drift_end_m;       /* x_m - x_s (encoder) at the last tick logged */
 	int status;                   /* 0 or the popc_status that stopped the run */
 	char stop_reason[POPC_ERROR_MSG_MAX + 64];
 } popc_run_summary;

@@ -33,6 +33,9 @@ typedef enum popc_sweep_cell_source {
 	POPC_SWEEP_CELL_LIMIT_CYCLE,
 	POPC_SWEEP_CELL_WALL_TIME_S,       /* the run's wall time: the one cell that
 					    * differs between two sweeps of one plan */
+	POPC_SWEEP_CELL_TELEOP,            /* a teleoperation run's two-port figures
+					    * (sweep_teleop.h): in a teleoperation
+					    * sweep's table only */
 } popc_sweep_cell_source;
 
 /* How a cell's value is written. */
@@ -68,6 +71,17 @@ typedef struct popc_sweep_column {
 /* The table, in column order. */
 extern const popc_sweep_column popc_sweep_columns[];
 extern const int popc_sweep_n_columns;
+
+/* The table of a sweep whose runs are one-port scenes (teleop 0: the table
+ * above) or teleoperation scenes (teleop 1: the same columns with the tele_*
+ * columns before wall_time_s, docs/SWEEPS.md "Teleoperation scenes"); its
+ * column count in *n. A sweep is one or the other (popc_sweep_plan_init
+ * refuses a mix), so every one-port summary keeps its columns. The functions
+ * below without _of are those of the one-port table. */
+const popc_sweep_column *popc_sweep_columns_of(int teleop, int *n);
+char *popc_sweep_columns_header_of(const popc_sweep_axis *axes, int n_axes, int teleop);
+int popc_sweep_columns_count_of(int n_axes, int teleop);
+void popc_sweep_columns_json_kinds_of(int n_axes, int teleop, popc_json_kind *kinds);
 
 /* The summary.csv header line (with '\n') of a sweep over these axes. Caller
  * frees; NULL when out of memory. */

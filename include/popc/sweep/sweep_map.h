@@ -33,6 +33,10 @@ typedef enum popc_map_criterion {
 	POPC_MAP_PASSIVE,       /* ... and E_port never below -port_tol_J */
 	POPC_MAP_DEVICE_PASSIVE, /* ... and E_dev = E_port + the plant's damping's
 				  * dissipation never below -port_tol_J */
+	POPC_MAP_STABLE,        /* a teleoperation run: completed (exit 0), so
+				 * bounded, and settled (tele_oscillating = 0:
+				 * its slave within 1 mm peak to peak over the
+				 * last second, sweep_teleop.h) */
 	POPC_MAP_N_CRITERIA
 } popc_map_criterion;
 
@@ -60,6 +64,7 @@ typedef struct popc_map_facts {
 	double port_energy_min_J;
 	int has_device_energy_min;
 	double device_energy_min_J;
+	int has_tele_oscillating, tele_oscillating; /* a teleoperation sweep's */
 } popc_map_facts;
 
 /* The facts of a sweep row of plan p (a row of its summary.csv). */

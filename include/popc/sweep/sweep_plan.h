@@ -50,6 +50,9 @@ typedef struct popc_sweep_plan {
 	int id_width;
 	uint64_t plan_id;                /* FNV-1a of base scene text, axes and columns */
 	char *columns;                   /* summary.csv header line, with '\n' (sweep_columns.h) */
+	int teleop;                      /* 1: every run a teleoperation scene, whose
+					  * table has the tele_* columns; 0: every
+					  * run one-port (a mix is refused) */
 	/* which popc made the plan: its version and build id (set by the program
 	 * with popc_sweep_plan_set_build; read back by popc_sweep_plan_from_dir;
 	 * "" when not recorded: a plan file of a popc before build ids). Not
