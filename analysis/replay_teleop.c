@@ -26,6 +26,7 @@
 #include <string.h>
 
 #include "analyze.h"
+#include "popc/core/tdpa_drift.h"
 #include "popc/core/teleop.h"
 #include "popc/util/numfmt.h"
 
@@ -51,6 +52,13 @@ static int put_line(FILE *o, const char *line)
 static int replay_one(const char *path, const popc_scene *sc, int pc_on, const char *out,
 		      popc_error *err)
 {
+	/* the drift laws' v_dc would be replayed from xm_rx and xs_cmd, which
+	 * an open-loop replay keeps as recorded: not built */
+	if (sc->tele_drift != POPC_DRIFT_OFF)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: teleop.drift = %s: replay runs the PCs without drift "
+				      "compensation only (docs/TELEOPERATION.md, \"Next\")",
+				      path, popc_drift_law_names[sc->tele_drift]);
 	ana_tele_log l;
 	int st = ana_tele_open(&l, path, sc, err);
 	if (st)
@@ -67,10 +75,10 @@ static int replay_one(const char *path, const popc_scene *sc, int pc_on, const c
 	}
 	const double T = l.period_s;
 	popc_tdpa_side m, s;
-	popc_tdpa_side_init(&m, sc->tele_master_bound_N);
-	popc_tdpa_side_init(&s, sc->tele_slave_bound_mps);
+	popc_tdpa_side_init_excess(&m, sc->tele_master_bound_N, sc->tele_excess_J);
+	popc_tdpa_side_init_excess(&s, sc->tele_slave_bound_mps, sc->tele_excess_J);
 	long long lineno = 0, k = 0;
-	int in_teleop = 0, in_header = 1;
+	int in_teleop = 0, in_header = 1, in_section = 0;
 	ana_tele_row row;
 	while ((st = ana_tele_next(&l, &row, err)) == 1) {
 		/* the lines before this row: header, column names, comments */
@@ -80,11 +88,18 @@ static int replay_one(const char *path, const popc_scene *sc, int pc_on, const c
 			char buf[160];
 			const char *text = line;
 			if (in_header && line[0] == '#') {
-				if (strncmp(line, "# [", 3) == 0)
+				if (strncmp(line, "# [", 3) == 0) {
+					in_section = 1;
 					in_teleop = strncmp(line, "# [teleop]", 10) == 0;
+				}
 				char num[POPC_DOUBLE_TEXT_MAX + 1];
 				if (strncmp(line, "# source = ", 11) == 0) {
 					text = "# source = replay\n";
+				} else if (!in_section && strncmp(line, "# variant = ", 12) == 0) {
+					/* the top line names what ran (teleop.h) */
+					snprintf(buf, sizeof buf, "# variant = %s\n",
+						 popc_teleop_variant_name(pc_on, sc->tele_drift));
+					text = buf;
 				} else if (in_teleop && strncmp(line, "# tdpa = ", 9) == 0) {
 					snprintf(buf, sizeof buf, "# tdpa = %s\n", pc_on ? "on" : "off");
 					text = buf;

@@ -28,6 +28,15 @@ int ana_tele_open(ana_tele_log *l, const char *path, const popc_scene *sc, popc_
 				      "stdin: a teleoperation log (teleop.architecture = %s) is read "
 				      "twice, its header then its two ports: give it as a file",
 				      popc_teleop_architecture_names[sc->tele_arch]);
+	/* position-position's slave PC is a force and its xs_cmd the master
+	 * position held (docs/TELEOPERATION.md): the per-port figures here are
+	 * position-force's; energy --check reads both architectures */
+	if (sc->tele_arch == POPC_TELEOP_POSITION_POSITION)
+		return popc_error_set(err, POPC_ERR_INVALID,
+				      "%s: teleop.architecture = position-position: chatter, teleop, "
+				      "compare, replay and report read position-force logs only (energy "
+				      "--check reads both; docs/TELEOPERATION.md, \"Next\")",
+				      path);
 	int st = popc_log_reader_open(&l->r, path, NULL, err);
 	if (st)
 		return st;

@@ -63,9 +63,11 @@ for scene in "$SRC"/data/scenes/*.ini; do
 		for pc in on off; do
 			case_run "$s.tdpa-$pc" "$scene" --set teleop.tdpa=$pc
 		done
-		for law in artigas2010 coelho2018; do # the drift laws, and an excess
-			case_run "$s.drift-$law" "$scene" --set teleop.drift=$law --set teleop.excess=0.001
-		done
+		# the drift laws, and an excess (position-force: they correct a velocity command)
+		grep -q '^architecture *= *position-force' "$scene" &&
+			for law in artigas2010 coelho2018; do
+				case_run "$s.drift-$law" "$scene" --set teleop.drift=$law --set teleop.excess=0.001
+			done
 		continue
 	fi
 	for v in $variants; do

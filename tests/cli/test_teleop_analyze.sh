@@ -110,4 +110,25 @@ if command -v gnuplot >/dev/null 2>&1; then
 else
 	echo "# gnuplot not installed: the drawn figure is not checked"
 fi
+# what the verbs do not read yet: a position-position log (its slave PC is a
+# force), and replay of a drift-compensated log; energy --check reads both
+expect_exit 0 "a position-position log" "$POPC" run "$SRC/data/scenes/teleop-pp-wall.ini" \
+	--set run.duration=0.5 --log "$T/pp.csv" -q
+for verb in chatter teleop compare "replay --variant all -o $T/rpp"; do
+	expect_exit 2 "  ${verb%% *} refuses it" "$ANALYZE" $verb "$T/pp.csv"
+	check "  naming the architecture" grep -q 'position-position: chatter, teleop' "$T/err"
+done
+expect_exit 0 "  energy --check reads it" "$ANALYZE" energy --check "$T/pp.csv"
+expect_exit 0 "a drift-compensated log with an excess" "$POPC" run "$WALL" --set run.duration=0.5 \
+	--set teleop.drift=coelho2018 --set teleop.excess=0.001 --log "$T/dr.csv" -q
+expect_exit 2 "  replay refuses it" "$ANALYZE" replay --variant all "$T/dr.csv" -o "$T/rpd"
+check "  naming the law" grep -q 'teleop.drift = coelho2018: replay' "$T/err"
+expect_exit 0 "  teleop reads it" "$ANALYZE" teleop "$T/dr.csv"
+expect_exit 0 "a log with an excess" "$POPC" run "$WALL" --set run.duration=0.5 \
+	--set teleop.excess=0.001 --log "$T/ex.csv" -q
+expect_exit 0 "  replayed with the PCs on" "$ANALYZE" replay --variant tdpa-on "$T/ex.csv" -o "$T/rpx"
+check "  its own setting: every row bit for bit (the excess counted)" cmp -s <(rows "$T/ex.csv") \
+	<(rows "$T/rpx/ex.tdpa-on.csv")
+check "  the variant line names what ran" grep -q '^# variant = tdpa$' "$T/rpx/ex.tdpa-on.csv"
+
 check_summary
