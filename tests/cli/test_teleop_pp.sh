@@ -58,6 +58,11 @@ bad_case "a negative coupling stiffness" "teleop.coupling_stiffness" teleop.coup
 bad_case "a slave PC force bound of 0" "teleop.slave_pc_force_bound" teleop.slave_pc_force_bound=0
 bad_case "no coupling at all" "needs teleop.coupling_stiffness > 0 N/m or teleop.coupling_damping > 0" \
 	teleop.coupling_stiffness=0 teleop.coupling_damping=0
+bad_case "a drift law (it corrects a velocity command)" \
+	"teleop.drift = coelho2018 needs teleop.architecture = position-force" teleop.drift=coelho2018
+bad_case "a Modbus slave (a drive takes a position or a velocity)" \
+	"teleop.architecture = position-position needs axis.kind = sim" axis.kind=modbus \
+	axis.map=servo-position.ini axis.connect=tcp:127.0.0.1:1502
 
 # the coupling keys only for position-position
 expect_exit 0 "popc scene show of teleop-wall (position-force)" "$POPC" scene show "$SRC/data/scenes/teleop-wall.ini"
