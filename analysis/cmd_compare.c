@@ -544,7 +544,7 @@ int ana_cmd_compare(int argc, char **argv)
 				lognames[i] = names[i];
 				ts[i] = ok[i] ? &all[i].tele : NULL;
 			}
-			if (ana_tele_table(stdout, fmt, lognames, ts, n_logs) != 0) {
+			if (ana_tele_table(stdout, (int)fmt, lognames, ts, n_logs) != 0) {
 				fprintf(stderr, "popc-analyze compare: out of memory\n");
 				rc = POPC_EXIT_RUN_FAILED;
 			}

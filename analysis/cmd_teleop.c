@@ -148,7 +148,7 @@ int ana_cmd_teleop(int argc, char **argv)
 		if (fmt == ANA_TEXT)
 			print_text(names[i], &all[i].tele_scene, &all[i].tele);
 	}
-	if (fmt != ANA_TEXT && ana_tele_table(stdout, fmt, lognames, ts, n) != 0) {
+	if (fmt != ANA_TEXT && ana_tele_table(stdout, (int)fmt, lognames, ts, n) != 0) {
 		fprintf(stderr, "popc-analyze teleop: out of memory\n");
 		rc = POPC_EXIT_RUN_FAILED;
 	}

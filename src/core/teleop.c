@@ -7,7 +7,7 @@
 const char *const popc_teleop_architecture_names[] = {"off", "position-force", "position-position", NULL};
 const char *const popc_teleop_link_names[] = {"channel", "direct", NULL};
 
-const char *popc_teleop_variant_name(int tdpa_on, int drift_law)
+const char *popc_teleop_variant_name(int tdpa_on, popc_drift_law drift_law)
 {
 	/* index: drift law (tdpa_drift.h's order), then the PCs off or on */
 	static const char *const names[][2] = {
@@ -16,7 +16,6 @@ const char *popc_teleop_variant_name(int tdpa_on, int drift_law)
 		{"none-coelho2018", "tdpa-coelho2018"},
 	};
 	_Static_assert(sizeof names / sizeof names[0] == POPC_DRIFT_LAW_COUNT, "a name per law");
-	if (drift_law < 0 || drift_law >= (int)(sizeof names / sizeof names[0]))
-		drift_law = 0;
-	return names[drift_law][tdpa_on ? 1 : 0];
+	const unsigned law = (unsigned)drift_law < POPC_DRIFT_LAW_COUNT ? (unsigned)drift_law : 0u;
+	return names[law][tdpa_on ? 1 : 0];
 }

@@ -21,6 +21,7 @@
 #define POPC_CORE_TELEOP_H
 
 #include "popc/core/tdpa.h"
+#include "popc/core/tdpa_drift.h"
 
 typedef enum popc_teleop_architecture {
 	POPC_TELEOP_OFF,            /* not a teleoperation scene (every one-port scene) */
@@ -105,7 +106,7 @@ static inline double popc_teleop_margin_J(const popc_tdpa_side *s)
  * the summary's variant cell: "tdpa" (the PCs on) or "none" (observed only),
  * with "-" and the drift law's name when one compensates (tdpa_drift.h's
  * names: "tdpa-coelho2018"). */
-const char *popc_teleop_variant_name(int tdpa_on, int drift_law);
+const char *popc_teleop_variant_name(int tdpa_on, popc_drift_law drift_law);
 
 /* Whether the condition holds within rounding: the margin remote_J - out_J
  * at least -(1e-12 J + 1e-12 x the larger energy). When the PC sets this
