@@ -22,49 +22,13 @@
 #include "popc/log/log_reader.h"
 #include "popc/run/run.h"
 
+#include "teleop_harness.h"
 #include "test_tmpdir.h"
 
 static void load_pp(popc_scene *s)
 {
-	char path[1024];
-	popc_error err;
-	snprintf(path, sizeof path, "%s/data/scenes/teleop-pp-wall.ini", getenv("POPC_SOURCE_ROOT"));
-	popc_scene_defaults(s);
-	assert_int_equal(popc_scene_load(s, path, &err), 0);
-	assert_int_equal(popc_scene_validate(s, &err), 0);
+	teleop_load(s, "teleop-pp-wall.ini");
 	assert_int_equal(s->tele_arch, POPC_TELEOP_POSITION_POSITION);
-}
-
-/* Runs s (log to path unless NULL); returns the run's status. */
-static int run(const popc_scene *s, const char *path, popc_run_summary *sum)
-{
-	popc_axis *axis;
-	popc_error err;
-	assert_int_equal(popc_axis_create(&axis, s, NULL, &err), 0);
-	popc_log_writer w;
-	popc_run_options ro = {0};
-	if (path) {
-		assert_int_equal(popc_log_open(&w, path, popc_run_log_columns(s, axis), &err), 0);
-		assert_int_equal(popc_log_write_header(&w, "sim", s, NULL, &err), 0);
-		ro.log = &w;
-	}
-	int st = popc_run(s, axis, &ro, sum, &err);
-	if (path)
-		assert_int_equal(popc_log_close(&w, &err), 0);
-	popc_axis_destroy(&axis);
-	return st;
-}
-
-static char *slurp(const char *path, size_t *n)
-{
-	FILE *f = fopen(path, "rb");
-	assert_non_null(f);
-	char *b = malloc(1 << 24);
-	assert_non_null(b);
-	*n = fread(b, 1, (1 << 24) - 1, f);
-	b[*n] = '\0';
-	fclose(f);
-	return b;
 }
 
 /* Zero delay, no loss, the PCs off: the channel is a direct coupling. The
@@ -80,11 +44,11 @@ static void test_direct_equals_zero_delay(void **state)
 	snprintf(a, sizeof a, "%s/channel.csv", tmpdir);
 	snprintf(b, sizeof b, "%s/direct.csv", tmpdir);
 	popc_run_summary sum;
-	assert_int_equal(run(&s, a, &sum), 0);
+	assert_int_equal(teleop_run(&s, a, &sum), 0);
 	s.tele_link = POPC_TELEOP_LINK_DIRECT;
-	assert_int_equal(run(&s, b, &sum), 0);
+	assert_int_equal(teleop_run(&s, b, &sum), 0);
 	size_t na, nb;
-	char *ta = slurp(a, &na), *tb = slurp(b, &nb);
+	char *ta = teleop_slurp(a, &na), *tb = teleop_slurp(b, &nb);
 	const char *la = strstr(ta, "# link = channel\n"), *lb = strstr(tb, "# link = direct\n");
 	assert_non_null(la);
 	assert_non_null(lb);
@@ -113,7 +77,7 @@ static void test_zero_delay_one_coupling(void **state)
 	char a[512];
 	snprintf(a, sizeof a, "%s/one.csv", tmpdir);
 	popc_run_summary sum;
-	assert_int_equal(run(&s, a, &sum), 0);
+	assert_int_equal(teleop_run(&s, a, &sum), 0);
 	popc_log_reader rd;
 	popc_error err;
 	assert_int_equal(popc_log_reader_open(&rd, a, NULL, &err), 0);
@@ -193,71 +157,24 @@ static void test_keys(void **state)
 	free(text);
 }
 
-/* The study: round trip 2 d ticks at 1 kHz, start offsets operator.t0 = 0.1 s
- * + i x 0.37 ms (contact at a different phase of the tick and the delay). */
-#define N_OFFSETS 20
-static const int study_d[4] = {0, 25, 100, 350};
-
-typedef struct study_cell {
-	int completed, oscillating, violations, clamped;
-	double pp_m[N_OFFSETS], fmax_N[N_OFFSETS];
-} study_cell;
-
-static int cmp_double(const void *a, const void *b)
-{
-	double x = *(const double *)a, y = *(const double *)b;
-	return (x > y) - (x < y);
-}
-
-/* a run that stopped diverged, or whose slave still moves by more than
- * 1 mm peak to peak over the last second, oscillates (test_teleop.c's rule) */
-#define OSC_PP_M 1e-3
-
-static void study(int d, int pc_on, study_cell *c)
-{
-	memset(c, 0, sizeof *c);
-	for (int i = 0; i < N_OFFSETS; i++) {
-		popc_scene s;
-		load_pp(&s);
-		s.fwd.delay_ticks = s.bwd.delay_ticks = d;
-		s.tele_tdpa = pc_on;
-		s.op_t0_s = 0.1 + 0.00037 * i;
-		popc_run_summary sum;
-		int st = run(&s, NULL, &sum);
-		c->completed += st == 0;
-		double pp = st == 0 ? sum.tele_xs_late_max_m - sum.tele_xs_late_min_m : (double)INFINITY;
-		c->oscillating += !(pp <= OSC_PP_M);
-		c->violations += sum.tele_violations > 0;
-		c->clamped += sum.tele_clamped[0] + sum.tele_clamped[1] > 0;
-		c->pp_m[i] = pp;
-		c->fmax_N[i] = sum.tele_f_c_max_N;
-	}
-	qsort(c->pp_m, N_OFFSETS, sizeof c->pp_m[0], cmp_double);
-	qsort(c->fmax_N, N_OFFSETS, sizeof c->fmax_N[0], cmp_double);
-	print_message("position-position, round trip %3d ms, PCs %-3s: completed %2d/20, oscillating "
-		      "%2d/20, condition broken %2d/20, clamped %2d/20; late peak to peak median %.3g mm "
-		      "[%.3g, %.3g]; max |f_c| median %.3g N [%.3g, %.3g]\n",
-		      2 * d, pc_on ? "on" : "off", c->completed, c->oscillating, c->violations, c->clamped,
-		      0.5e3 * (c->pp_m[9] + c->pp_m[10]), 1e3 * c->pp_m[0], 1e3 * c->pp_m[19],
-		      0.5 * (c->fmax_N[9] + c->fmax_N[10]), c->fmax_N[0], c->fmax_N[19]);
-}
-
 static void test_study(void **state)
 {
 	(void)state;
+	popc_scene base;
+	load_pp(&base);
 	for (int j = 0; j < 4; j++) {
-		study_cell off, on;
-		study(study_d[j], 0, &off);
-		study(study_d[j], 1, &on);
+		teleop_study_cell off, on;
+		teleop_study(&base, teleop_study_delays[j], 0, "position-position, ", &off);
+		teleop_study(&base, teleop_study_delays[j], 1, "position-position, ", &on);
 		/* with the PCs: every run completes, settles, and the condition
 		 * holds at every tick, no PC ever at its bound */
-		assert_int_equal(on.completed, N_OFFSETS);
+		assert_int_equal(on.completed, TELEOP_STUDY_OFFSETS);
 		assert_int_equal(on.oscillating, 0);
 		assert_int_equal(on.violations, 0);
 		assert_int_equal(on.clamped, 0);
 		/* without: stable at 0 ms, oscillating or diverging from 50 ms */
-		if (study_d[j] == 0)
-			assert_true(off.oscillating <= N_OFFSETS - 18);
+		if (teleop_study_delays[j] == 0)
+			assert_true(off.oscillating <= TELEOP_STUDY_OFFSETS - 18);
 		else
 			assert_true(off.oscillating >= 18);
 	}
@@ -275,19 +192,11 @@ static void test_random_channels(void **state)
 		popc_scene s;
 		load_pp(&s);
 		s.duration_s = 3;
-		popc_scene_channel *dir[2] = {&s.fwd, &s.bwd};
-		for (int j = 0; j < 2; j++) {
-			dir[j]->delay_ticks = (int)(popc_uniform_int(&rng, 299));
-			dir[j]->jitter_ticks = (int)(popc_uniform_int(&rng, 59));
-			dir[j]->loss = 0.6 * popc_uniform(&rng);
-			dir[j]->in_order = (int)popc_uniform_int(&rng, 1);
-			dir[j]->seed = (int)popc_uniform_int(&rng, 2147483646u);
-		}
-		s.op_t0_s = 0.1 + 0.01 * popc_uniform(&rng);
+		teleop_random_channel(&s, &rng);
 		char path[512];
 		snprintf(path, sizeof path, "%s/random.csv", tmpdir);
 		popc_run_summary sum;
-		assert_int_equal(run(&s, path, &sum), 0);
+		assert_int_equal(teleop_run(&s, path, &sum), 0);
 		if (sum.tele_violations || sum.tele_clamped[0] || sum.tele_clamped[1])
 			fail_msg("run %d (delays %d+%d, %d+%d, loss %g, %g): %lld ticks break the condition, "
 				 "%lld + %lld clamped",
@@ -299,20 +208,7 @@ static void test_random_channels(void **state)
 		active += sum.tele_active[0] > 0 || sum.tele_active[1] > 0;
 		active_m += sum.tele_active[0] > 0;
 		active_s += sum.tele_active[1] > 0;
-		popc_log_reader rd;
-		popc_error err;
-		assert_int_equal(popc_log_reader_open(&rd, path, NULL, &err), 0);
-		double val[POPC_LOG_MAX_COLUMNS];
-		long long rows = 0;
-		int st, n = rd.n_cols;
-		while ((st = popc_log_reader_next(&rd, val, &err)) == 1) {
-			for (int c = 0; c < n; c++)
-				assert_true(isfinite(val[c]));
-			rows++;
-		}
-		assert_int_equal(st, 0);
-		assert_int_equal(rows, 3001);
-		popc_log_reader_close(&rd);
+		assert_int_equal(teleop_rows_finite(path), 3001); /* every cell finite */
 	}
 	/* the PCs had work to do: a PC acted in most runs, each side's in some */
 	print_message("position-position: a PC acted in %d of %d runs (the master's in %d, the "
