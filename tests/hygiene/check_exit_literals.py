@@ -45,6 +45,7 @@ TRUTH = {
     ("analysis/report_out.c", "report_log_has"): "whether the log has the figure's columns",
     ("analysis/common.c", "set_given"): "whether --set gave the key",
     ("analysis/common.c", "ana_log_next"): "1: a row, 0: the end",
+    ("analysis/teleop_log.c", "ana_tele_next"): "1: a row, 0: the end",
     ("src/cli/bench_log.c", "child_read_rss_kib"): "a measuring child's status, 0 or 1, read by bench_log",
     ("src/cli/cli_common.c", "popc_cli_assignment_split"): "whether a value lacks its '=' (caller exits 2)",
     ("src/cli/sweep_dry_run.c", "sweep_dry_run_dir"): "whether the sweep would be refused",
