@@ -78,7 +78,13 @@ int popc_channel_init(popc_channel *ch, const popc_channel_config *c, popc_error
 	ch->last_sent = -1;
 	ch->last_arrive = -1;
 	ch->walk_ticks = -1;
-	ch->slot = calloc((size_t)hi + 1u, sizeof *ch->slot);
+	/* a power of two at least hi + 1 slots: a slot is reused max_delay + 1
+	 * or more ticks after its packet was sent, when that one has arrived */
+	long long n_slots = 1;
+	while (n_slots < (long long)hi + 1)
+		n_slots *= 2;
+	ch->ring_mask = n_slots - 1;
+	ch->slot = calloc((size_t)n_slots, sizeof *ch->slot);
 	if (c->n_trace > 0)
 		ch->trace = malloc((size_t)c->n_trace * sizeof *ch->trace);
 	if (!ch->slot || (c->n_trace > 0 && !ch->trace)) {
@@ -111,7 +117,7 @@ int popc_channel_send(popc_channel *ch, long long k, const popc_packet *p)
 				       : popc_uniform_int(&ch->state, (uint32_t)ch->c.jitter_ticks);
 	ch->last_sent = k;
 	ch->stats.sent++;
-	popc_channel_slot *s = &ch->slot[k % (ch->max_delay + 1)];
+	popc_channel_slot *s = &ch->slot[k & ch->ring_mask];
 	if (s->pending) { /* not received in time: receive was not called every tick */
 		ch->stats.lost++;
 		emit(ch, k, s->p.seq, POPC_CHANNEL_LOST, -1);
@@ -149,7 +155,7 @@ int popc_channel_receive(popc_channel *ch, long long k, popc_packet *held, int *
 	if (last > ch->last_sent)
 		last = ch->last_sent;
 	for (long long seq = first; seq <= last; seq++) {
-		popc_channel_slot *s = &ch->slot[seq % (ch->max_delay + 1)];
+		popc_channel_slot *s = &ch->slot[seq & ch->ring_mask];
 		if (!s->pending || s->p.seq != seq || s->arrive > k)
 			continue;
 		s->pending = 0;
@@ -172,7 +178,7 @@ int popc_channel_receive(popc_channel *ch, long long k, popc_packet *held, int *
 long long popc_channel_in_flight(const popc_channel *ch)
 {
 	long long n = 0;
-	for (int i = 0; ch->slot && i <= ch->max_delay; i++)
+	for (long long i = 0; ch->slot && i <= ch->ring_mask; i++)
 		n += ch->slot[i].pending != 0;
 	return n;
 }

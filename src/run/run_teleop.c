@@ -196,6 +196,10 @@ int popc_run_teleop(const popc_scene *s, popc_axis *axis, const popc_run_options
 	const int pc_on = s->tele_tdpa;
 	popc_port_energy port;
 	popc_port_energy_init(&port);
+	/* scenes that ask for less pay for less (as run.c): without a reader of
+	 * the summary its impedance metrics are not kept (the two-port figures
+	 * are, for the run's own verdicts) */
+	const int summary_read = !(opt && opt->summary_unread);
 	double xm_prev = 0.0;
 	double xs_prev = 0.0, v_s = 0.0, xm_start = 0.0, xs_start = 0.0;
 	for (long long k = 0; !st && k < n_ticks; k++) {
@@ -304,8 +308,10 @@ int popc_run_teleop(const popc_scene *s, popc_axis *axis, const popc_run_options
 		row.x_true_m = sm.x_true_m;
 		row.dt_s = ss.dt_s; /* a Modbus slave's (POPC_LOG_COL_TIMING) */
 		row.rtt_s = ss.rtt_s;
-		row.E_port_J = popc_port_energy_update(&port, sm.x_true_m);
-		popc_port_energy_commit(&port, m->f_c_N);
+		/* the master's E_port is a log column only */
+		row.E_port_J = log ? popc_port_energy_update(&port, sm.x_true_m) : 0.0;
+		if (log)
+			popc_port_energy_commit(&port, m->f_c_N);
 
 		/* the summary's two-port condition and bounds */
 		/* with the passivity excess E_0 (0: the same bits) */
@@ -333,7 +339,8 @@ int popc_run_teleop(const popc_scene *s, popc_axis *axis, const popc_run_options
 			sum->tele_xs_late_max_m = fmax(sum->tele_xs_late_max_m, r->xs_true_m);
 		}
 		sum->tele_drift_end_m = m->x_m - r->xs_m;
-		popc_metrics_add(&sum->metrics, m);
+		if (summary_read)
+			popc_metrics_add(&sum->metrics, m);
 		if (opt && opt->on_tick)
 			opt->on_tick(opt->tick_user, m);
 		if (log && (st = popc_log_write_row(log, &row, err)) != 0) {

@@ -82,7 +82,9 @@ typedef struct popc_channel {
 	popc_channel_config c;
 	int *trace;              /* owned copy of trace_ticks */
 	int min_delay, max_delay;
-	popc_channel_slot *slot; /* max_delay + 1, packet seq at seq mod (max_delay + 1) */
+	popc_channel_slot *slot; /* ring_mask + 1 >= max_delay + 1 (a power of two), packet
+				  * seq at seq & ring_mask: no division a tick */
+	long long ring_mask;
 	uint64_t state;
 	long long last_sent;     /* -1 before the first */
 	long long last_arrive;   /* in order: the latest arrival scheduled */
