@@ -57,7 +57,10 @@ static int slave_start(popc_axis *a, popc_error *err)
 
 /* The sample of the current tick: the contact force evaluated here (and
  * held over the coming period), its count, the position's count. */
-static int fill_sample(slave_axis *s, popc_axis_sample *out, popc_error *err)
+/* inlined into both clones of the axis' sample and exchange (POPC_FLOOR_CLONES,
+ * encoder.h: the encoder's floor one instruction with SSE4.1) */
+static inline __attribute__((always_inline)) int fill_sample(slave_axis *s, popc_axis_sample *out,
+							  popc_error *err)
 {
 	const double x = s->x0_m + s->st.x_m;
 	if (!isfinite(x) || !isfinite(s->st.v_mps))
@@ -82,11 +85,13 @@ static int fill_sample(slave_axis *s, popc_axis_sample *out, popc_error *err)
 	return 0;
 }
 
+POPC_FLOOR_CLONES
 static int slave_sample(popc_axis *a, popc_axis_sample *out, popc_error *err)
 {
 	return fill_sample(a->priv, out, err);
 }
 
+POPC_FLOOR_CLONES
 static int slave_exchange(popc_axis *a, double v_c_mps, popc_axis_sample *next_out,
 			  popc_error *err)
 {
