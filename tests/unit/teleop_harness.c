@@ -58,6 +58,34 @@ char *teleop_slurp(const char *path, size_t *n)
 	return b;
 }
 
+char *teleop_direct_equals_zero_delay(const popc_scene *s0, const char *dir, size_t min_bytes)
+{
+	popc_scene s = *s0;
+	s.fwd.delay_ticks = s.bwd.delay_ticks = 0;
+	s.tele_tdpa = 0;
+	char a[512], b[512];
+	snprintf(a, sizeof a, "%s/channel.csv", dir);
+	snprintf(b, sizeof b, "%s/direct.csv", dir);
+	popc_run_summary sum;
+	assert_int_equal(teleop_run(&s, a, &sum), 0);
+	s.tele_link = POPC_TELEOP_LINK_DIRECT;
+	assert_int_equal(teleop_run(&s, b, &sum), 0);
+	size_t na, nb;
+	char *ta = teleop_slurp(a, &na), *tb = teleop_slurp(b, &nb);
+	const char *la = strstr(ta, "# link = channel\n"), *lb = strstr(tb, "# link = direct\n");
+	assert_non_null(la);
+	assert_non_null(lb);
+	/* before the line, and after it: the rest of the header and every row */
+	assert_int_equal(la - ta, lb - tb);
+	assert_memory_equal(ta, tb, (size_t)(la - ta));
+	const char *ra = la + strlen("# link = channel\n"), *rb = lb + strlen("# link = direct\n");
+	assert_int_equal(na - (size_t)(ra - ta), nb - (size_t)(rb - tb));
+	assert_memory_equal(ra, rb, na - (size_t)(ra - ta));
+	assert_true(na > min_bytes);
+	free(tb);
+	return ta;
+}
+
 int teleop_cmp_double(const void *a, const void *b)
 {
 	double x = *(const double *)a, y = *(const double *)b;

@@ -20,6 +20,12 @@ int teleop_run(const popc_scene *s, const char *path, popc_run_summary *sum);
 /* The file's bytes, NUL-terminated (at most 16 MiB); the caller frees. */
 char *teleop_slurp(const char *path, size_t *n);
 
+/* Runs s with a zero-delay channel, then with teleop.link = direct, the PCs
+ * off, each into a log in dir: the two logs are the same bytes but for the
+ * resolved scene's link line (asserted), and longer than min_bytes. Returns
+ * the channel run's log text (the caller frees). */
+char *teleop_direct_equals_zero_delay(const popc_scene *s, const char *dir, size_t min_bytes);
+
 /* qsort's order of doubles, ascending */
 int teleop_cmp_double(const void *a, const void *b);
 

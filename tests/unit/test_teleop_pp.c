@@ -38,29 +38,9 @@ static void test_direct_equals_zero_delay(void **state)
 	(void)state;
 	popc_scene s;
 	load_pp(&s);
-	s.fwd.delay_ticks = s.bwd.delay_ticks = 0;
-	s.tele_tdpa = 0;
-	char a[512], b[512];
-	snprintf(a, sizeof a, "%s/channel.csv", tmpdir);
-	snprintf(b, sizeof b, "%s/direct.csv", tmpdir);
-	popc_run_summary sum;
-	assert_int_equal(teleop_run(&s, a, &sum), 0);
-	s.tele_link = POPC_TELEOP_LINK_DIRECT;
-	assert_int_equal(teleop_run(&s, b, &sum), 0);
-	size_t na, nb;
-	char *ta = teleop_slurp(a, &na), *tb = teleop_slurp(b, &nb);
-	const char *la = strstr(ta, "# link = channel\n"), *lb = strstr(tb, "# link = direct\n");
-	assert_non_null(la);
-	assert_non_null(lb);
+	char *ta = teleop_direct_equals_zero_delay(&s, tmpdir, 5000 * 100);
 	assert_non_null(strstr(ta, "# coupling_stiffness = 3000\n"));
-	assert_int_equal(la - ta, lb - tb);
-	assert_memory_equal(ta, tb, (size_t)(la - ta));
-	const char *ra = la + strlen("# link = channel\n"), *rb = lb + strlen("# link = direct\n");
-	assert_int_equal(na - (size_t)(ra - ta), nb - (size_t)(rb - tb));
-	assert_memory_equal(ra, rb, na - (size_t)(ra - ta));
-	assert_true(na > 5000 * 100);
 	free(ta);
-	free(tb);
 }
 
 /* With no delay the two couplings are one spring-damper: the master's force
